@@ -1,0 +1,166 @@
+//! Command-line definitions only; `app` does the work. Names are parsed here so that a bad value
+//! fails before anything runs, with clap's exit status 2 and the list of valid choices.
+
+use crate::sampling::{Distribution, SeedMode, Sequence};
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "hemilab",
+    version,
+    about = "Hemisphere sampling experiments for ray-traced ambient occlusion"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run an experiment spec: render every job, measure it against the reference, write results and report.
+    Run(RunArgs),
+    /// Print the job list of a spec and an estimate of its rays and time, without rendering.
+    Plan(PlanArgs),
+    /// (Re)build the reference images a spec needs.
+    Reference(ReferenceArgs),
+    /// Render one AO image of a scene.
+    Render(RenderArgs),
+    /// Measure AO rays per second on a scene (the performance figure of record).
+    Bench(BenchArgs),
+    /// Draw one point set on the hemisphere (a panel of the paper's Table 1 / Figures 2-4).
+    Points(PointsArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct Common {
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// No progress bars.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// Experiment spec (TOML).
+    pub spec: PathBuf,
+    /// Output directory (default: out/<spec name>/).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Redo every job, ignoring finished results.
+    #[arg(long)]
+    pub force: bool,
+    /// Stop with an error instead of rendering a missing or mismatched reference.
+    #[arg(long)]
+    pub no_build_reference: bool,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+#[derive(Debug, Args)]
+pub struct PlanArgs {
+    /// Experiment spec (TOML).
+    pub spec: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct ReferenceArgs {
+    /// Experiment spec (TOML).
+    pub spec: PathBuf,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+#[derive(Debug, Args)]
+pub struct SamplingArgs {
+    #[arg(long, value_parser = parse_distribution, value_name = "D")]
+    pub distribution: Distribution,
+    #[arg(long, value_parser = parse_sequence, value_name = "S")]
+    pub sequence: Sequence,
+    #[arg(long, value_parser = parse_seed_mode, value_name = "M")]
+    pub seed_mode: SeedMode,
+    /// Run seed: different seeds give independent images.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
+    /// AO rays per pixel.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
+    pub rays: u32,
+    /// Image size, WxH (default: the scene's).
+    #[arg(long, value_parser = parse_resolution)]
+    pub resolution: Option<(u32, u32)>,
+    /// Output EXR (Y = AO with 1 = open, A = coverage); a PNG preview is written beside it.
+    #[arg(long)]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    /// AO rays per pixel.
+    #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..=65_536))]
+    pub rays: u32,
+    /// Image size, WxH (default: the scene's).
+    #[arg(long, value_parser = parse_resolution)]
+    pub resolution: Option<(u32, u32)>,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct PointsArgs {
+    #[arg(long, value_parser = parse_distribution, value_name = "D")]
+    pub distribution: Distribution,
+    #[arg(long, value_parser = parse_sequence, value_name = "S")]
+    pub sequence: Sequence,
+    #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "static")]
+    pub seed_mode: SeedMode,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Number of points.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub count: u32,
+    /// Output image (.png or .svg).
+    #[arg(long)]
+    pub output: PathBuf,
+}
+
+fn parse_distribution(s: &str) -> Result<Distribution, String> {
+    s.parse()
+}
+
+fn parse_sequence(s: &str) -> Result<Sequence, String> {
+    s.parse()
+}
+
+fn parse_seed_mode(s: &str) -> Result<SeedMode, String> {
+    s.parse()
+}
+
+/// Largest image side accepted: beyond this, a float image no longer fits a sane memory budget.
+pub const MAX_SIDE: u32 = 16_384;
+
+/// Parses `WxH` with both sides in 1..=MAX_SIDE.
+pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("resolution '{s}' must be WxH with each side in 1..={MAX_SIDE}, e.g. 320x240");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        return Err(bad());
+    }
+    Ok((w, h))
+}

@@ -1,0 +1,147 @@
+//! Float images and their encodings (EXR, PNG) as bytes. No filesystem access here.
+
+use std::io::Cursor;
+
+/// One float channel, row-major, `data[y * width + x]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub data: Vec<f32>,
+}
+
+impl Image {
+    pub fn new(width: u32, height: u32) -> Self {
+        Self { width, height, data: vec![0.0; width as usize * height as usize] }
+    }
+
+    pub fn from_vec(width: u32, height: u32, data: Vec<f32>) -> Self {
+        assert_eq!(data.len(), width as usize * height as usize, "image data does not match its size");
+        Self { width, height, data }
+    }
+
+    pub fn len(&self) -> usize {
+        self.data.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+
+    pub fn at(&self, x: u32, y: u32) -> f32 {
+        self.data[y as usize * self.width as usize + x as usize]
+    }
+
+    pub fn same_size(&self, other: &Image) -> bool {
+        self.width == other.width && self.height == other.height
+    }
+}
+
+/// A named channel for an EXR file.
+pub struct Channel<'a> {
+    pub name: &'a str,
+    pub image: &'a Image,
+}
+
+/// Encodes single-precision channels losslessly (round trips bit-exactly).
+/// Viewers show "Y" as grey and "A" as alpha, so AO goes in Y and coverage in A.
+pub fn encode_exr(channels: &[Channel]) -> Result<Vec<u8>, String> {
+    use exr::prelude::*;
+    let first = channels.first().ok_or("an EXR needs at least one channel")?;
+    let (w, h) = (first.image.width as usize, first.image.height as usize);
+    let list: SmallVec<[AnyChannel<FlatSamples>; 4]> =
+        channels.iter().map(|c| AnyChannel::new(c.name, FlatSamples::F32(c.image.data.clone()))).collect();
+    if channels.iter().any(|c| c.image.width as usize != w || c.image.height as usize != h) {
+        return Err("EXR channels differ in size".into());
+    }
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::named("hemilab"),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(list),
+    );
+    let mut bytes = Cursor::new(Vec::new());
+    exr::prelude::Image::from_layer(layer).write().to_buffered(&mut bytes).map_err(|e| e.to_string())?;
+    Ok(bytes.into_inner())
+}
+
+/// Decodes every channel of the first layer as f32, by name.
+pub fn decode_exr(bytes: &[u8]) -> Result<Vec<(String, Image)>, String> {
+    use exr::prelude::*;
+    let img = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(Cursor::new(bytes))
+        .map_err(|e| e.to_string())?;
+    let size = img.layer_data.size;
+    Ok(img
+        .layer_data
+        .channel_data
+        .list
+        .iter()
+        .map(|c| {
+            let data: Vec<f32> = c.sample_data.values_as_f32().collect();
+            (c.name.to_string(), crate::image::Image::from_vec(size.0 as u32, size.1 as u32, data))
+        })
+        .collect())
+}
+
+/// 8-bit grey PNG of values in [0,1] (clamped), for previews.
+pub fn encode_png_gray(image: &Image) -> Result<Vec<u8>, String> {
+    let pixels: Vec<u8> = image.data.iter().map(|&v| to_u8(v)).collect();
+    encode_png(image.width, image.height, ::image::ExtendedColorType::L8, &pixels)
+}
+
+/// 8-bit RGB PNG from interleaved bytes.
+pub fn encode_png_rgb(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, String> {
+    encode_png(width, height, ::image::ExtendedColorType::Rgb8, rgb)
+}
+
+fn encode_png(
+    width: u32,
+    height: u32,
+    color: ::image::ExtendedColorType,
+    pixels: &[u8],
+) -> Result<Vec<u8>, String> {
+    use ::image::ImageEncoder;
+    let mut out = Vec::new();
+    ::image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(pixels, width, height, color)
+        .map_err(|e| e.to_string())?;
+    Ok(out)
+}
+
+/// Quantizes [0,1] to 0..=255, treating NaN as 0.
+pub fn to_u8(v: f32) -> u8 {
+    if v.is_nan() { 0 } else { (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exr_round_trip_is_bit_exact() {
+        let a = Image::from_vec(3, 2, vec![0.0, 1.0, 0.25, f32::MIN_POSITIVE, 0.1, 1e-30]);
+        let m = Image::from_vec(3, 2, vec![1.0, 0.0, 1.0, 1.0, 0.0, 1.0]);
+        let bytes =
+            encode_exr(&[Channel { name: "Y", image: &a }, Channel { name: "A", image: &m }]).unwrap();
+        let back = decode_exr(&bytes).unwrap();
+        let y = &back.iter().find(|(n, _)| n == "Y").unwrap().1;
+        let al = &back.iter().find(|(n, _)| n == "A").unwrap().1;
+        assert_eq!(
+            y.data.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            a.data.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+        );
+        assert_eq!(al, &m);
+    }
+
+    #[test]
+    fn png_starts_with_signature() {
+        let png = encode_png_gray(&Image::from_vec(2, 1, vec![0.0, 1.0])).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    }
+}

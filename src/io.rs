@@ -1,0 +1,70 @@
+//! All filesystem access of hemilab. Every error names the path; every write is atomic
+//! (temporary file in the same directory, then rename), so a crash never leaves a half-written file.
+
+use crate::error::{Error, Result};
+use crate::image::{self, Channel, Image};
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+pub fn read_string(path: &Path) -> Result<String> {
+    fs::read_to_string(path).map_err(|e| Error::io(path, e))
+}
+
+pub fn read_bytes(path: &Path) -> Result<Vec<u8>> {
+    fs::read(path).map_err(|e| Error::io(path, e))
+}
+
+pub fn exists(path: &Path) -> bool {
+    path.exists()
+}
+
+/// Creates `dir` (and parents) and proves it writable by creating and removing a probe file,
+/// so an unusable output directory fails before any rendering.
+pub fn ensure_writable_dir(dir: &Path) -> Result<()> {
+    fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let probe = dir.join(format!(".hemilab-probe-{}", std::process::id()));
+    fs::write(&probe, b"").map_err(|e| Error::io(dir, e))?;
+    fs::remove_file(&probe).map_err(|e| Error::io(&probe, e))
+}
+
+/// Writes `bytes` to `path` atomically: a temporary sibling, fsync, then rename over the target.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
+    let result = (|| {
+        let mut f = fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        fs::rename(&tmp, path)
+    })();
+    if let Err(e) = result {
+        let _ = fs::remove_file(&tmp);
+        return Err(Error::io(path, e));
+    }
+    Ok(())
+}
+
+pub fn write_exr(path: &Path, channels: &[Channel]) -> Result<()> {
+    let bytes =
+        image::encode_exr(channels).map_err(|e| Error::input(path, format!("cannot encode EXR: {e}")))?;
+    write_atomic(path, &bytes)
+}
+
+pub fn read_exr(path: &Path) -> Result<Vec<(String, Image)>> {
+    let bytes = read_bytes(path)?;
+    image::decode_exr(&bytes).map_err(|e| Error::input(path, format!("not a readable EXR: {e}")))
+}
+
+pub fn remove_file_if_exists(path: &Path) -> Result<()> {
+    match fs::remove_file(path) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(Error::io(path, e)),
+    }
+}

@@ -1,0 +1,33 @@
+//! Orthonormal basis around a surface normal.
+
+use glam::Vec3;
+
+/// Local frame with `z` = the normal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frame {
+    pub x: Vec3,
+    pub y: Vec3,
+    pub z: Vec3,
+}
+
+impl Frame {
+    /// Duff et al. 2017, "Building an Orthonormal Basis, Revisited" (JCGT 6(1)), branchless.
+    pub fn from_normal(n: Vec3) -> Self {
+        let sign = 1.0f32.copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        let x = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+        let y = Vec3::new(b, sign + n.y * n.y * a, -n.y);
+        Self { x, y, z: n }
+    }
+
+    /// Local (z = normal) to world.
+    pub fn to_world(&self, v: Vec3) -> Vec3 {
+        self.x * v.x + self.y * v.y + self.z * v.z
+    }
+}
+
+/// Turns every -0.0 component into +0.0 (obvhs 0.4.0's 8-wide traversal misses all geometry on -0.0).
+pub fn canonical(v: Vec3) -> Vec3 {
+    v + Vec3::ZERO
+}

@@ -17,4 +17,5 @@ pub mod cli;
 pub mod error;
 pub mod image;
 pub mod io;
+pub mod report;
 pub mod sampling;

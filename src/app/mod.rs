@@ -1,6 +1,8 @@
 //! The one orchestrator: load → validate everything → plan → render → measure → export.
 //! Only this module (through `io`) touches the filesystem.
 
+pub mod points;
+
 use crate::cli::{Cli, Command};
 use crate::error::{Error, Result};
 
@@ -12,6 +14,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render(_) | Command::Bench(_) => {
             Err(Error::Usage("`render` and `bench` arrive with the renderer (issue 3)".into()))
         }
-        Command::Points(_) => Err(Error::Usage("`points` arrives with the report (issue 5)".into())),
+        Command::Points(args) => points::run(&args),
     }
 }

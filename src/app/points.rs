@@ -1,0 +1,39 @@
+//! `hemilab points`: one point-set panel (a cell of the paper's Table 1 / Figures 2-4) on its own.
+//! Also the one place that turns sampling settings into directions for the report's point figures.
+
+use crate::cli::PointsArgs;
+use crate::error::{Error, Result};
+use crate::io;
+use crate::report::{self, Format, PointSet};
+use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use glam::{Vec2, Vec3};
+
+pub fn run(args: &PointsArgs) -> Result<()> {
+    let path = &args.output;
+    let format =
+        path.extension().and_then(|e| e.to_str()).and_then(Format::from_extension).ok_or_else(|| {
+            Error::Usage(format!("{}: the output must end in .png or .svg", path.display()))
+        })?;
+    let dirs = directions(args.distribution, args.sequence, args.seed_mode, args.count, args.seed)?;
+    let title = format!("{} · {} · {} seed", args.distribution, args.sequence, args.seed_mode);
+    let set = PointSet { title: format!("{} points", args.count), dirs };
+    let bytes = report::point_panels(&title, &[(String::new(), vec![set])], true, format)
+        .map_err(|e| Error::Refused(format!("{}: cannot draw the points: {e}", path.display())))?;
+    io::write_atomic(path, &bytes)
+}
+
+/// The `count` directions (local frame, z = normal) of pixel 0 of an image sampled with these
+/// settings: exactly the set the renderer would use there.
+pub fn directions(
+    distribution: Distribution,
+    sequence: Sequence,
+    seed_mode: SeedMode,
+    count: u32,
+    seed: u64,
+) -> Result<Vec<Vec3>> {
+    let config =
+        SamplerConfig::new(sequence, seed_mode, count, seed).map_err(|e| Error::Usage(e.to_string()))?;
+    let mut pts = vec![Vec2::ZERO; count as usize];
+    config.fill_pixel(0, &mut pts);
+    Ok(pts.into_iter().map(|u| distribution.sample(u).dir).collect())
+}

@@ -1,0 +1,278 @@
+//! The paper's Tables 2 and 3 as pictures: AO images in a rows × columns table, each labelled with
+//! its row, column and caption (RMSE, error autocorrelation), the reference beside; and the same
+//! layout showing the signed error (image − reference) in a diverging colour map with its scale.
+
+use super::canvas::{Align, Canvas, text_size};
+use super::colormap::{BACKGROUND, diverging, grey};
+use crate::image::Image;
+
+/// One table cell: an AO image (1 = open = white), its coverage mask (0 = no surface) and a caption.
+pub struct GridCell<'a> {
+    pub image: &'a Image,
+    pub mask: Option<&'a Image>,
+    pub caption: String,
+}
+
+const PAD: i64 = 16;
+const TITLE_PX: f64 = 28.0;
+const LABEL_PX: f64 = 21.0;
+const CAPTION_PX: f64 = 18.0;
+/// Small AO images are enlarged by whole pixels to at least this width so noise stays visible
+/// as pixels rather than blur; large ones are shrunk to at most `MAX_CELL`.
+const MIN_CELL: u32 = 240;
+const MAX_CELL: u32 = 480;
+const INK: [u8; 3] = [60, 60, 60];
+
+/// A cell already turned into colours at display size.
+struct Tile {
+    rgb: Vec<[u8; 3]>,
+    caption: String,
+}
+
+/// What goes in the extra column right of the table.
+enum Side {
+    Reference(Tile),
+    ColourBar { scale: f32 },
+}
+
+/// AO images (grey, 1 = white) with the reference image beside the first row.
+pub fn image_grid(
+    title: &str,
+    row_labels: &[String],
+    col_labels: &[String],
+    cells: &[Vec<GridCell>],
+    reference: Option<&GridCell>,
+) -> Result<Vec<u8>, String> {
+    let (w, h) = check(row_labels, col_labels, cells, reference)?;
+    let size = display_size(w, h);
+    let tiles = cells.iter().map(|row| row.iter().map(|c| tile(c, size, grey)).collect()).collect();
+    let side = reference.map(|r| Side::Reference(tile(r, size, grey)));
+    compose(title, row_labels, col_labels, tiles, side, size)
+}
+
+/// Signed error of each cell against `reference` (blue = too dark, red = too bright, white = exact)
+/// on one symmetric scale for the whole table, so cells compare at a glance. `scale` = None uses the
+/// 99th percentile of |error| over all covered pixels, so a few outliers do not wash out the rest.
+pub fn error_grid(
+    title: &str,
+    row_labels: &[String],
+    col_labels: &[String],
+    cells: &[Vec<GridCell>],
+    reference: &GridCell,
+    scale: Option<f32>,
+) -> Result<Vec<u8>, String> {
+    let (w, h) = check(row_labels, col_labels, cells, Some(reference))?;
+    let size = display_size(w, h);
+    let errors: Vec<Vec<Image>> =
+        cells.iter().map(|row| row.iter().map(|c| signed_error(c, reference)).collect()).collect();
+    let scale = match scale {
+        Some(s) if s.is_finite() && s > 0.0 => s,
+        Some(s) => return Err(format!("error scale must be a positive number, got {s}")),
+        None => robust_scale(errors.iter().flatten()),
+    };
+    let tiles = cells
+        .iter()
+        .zip(&errors)
+        .map(|(row, errs)| {
+            row.iter()
+                .zip(errs)
+                .map(|(c, e)| {
+                    let cell = GridCell { image: e, mask: None, caption: c.caption.clone() };
+                    tile(&cell, size, |v| diverging(v / scale))
+                })
+                .collect()
+        })
+        .collect();
+    compose(title, row_labels, col_labels, tiles, Some(Side::ColourBar { scale }), size)
+}
+
+/// Validates shapes; returns the common image size.
+fn check(
+    row_labels: &[String],
+    col_labels: &[String],
+    cells: &[Vec<GridCell>],
+    reference: Option<&GridCell>,
+) -> Result<(u32, u32), String> {
+    if cells.is_empty() || cells[0].is_empty() {
+        return Err("an image grid needs at least one row and one column".into());
+    }
+    if cells.len() != row_labels.len() {
+        return Err(format!("{} rows of images but {} row labels", cells.len(), row_labels.len()));
+    }
+    let first = cells[0][0].image;
+    let (w, h) = (first.width, first.height);
+    if w == 0 || h == 0 || first.data.len() != w as usize * h as usize {
+        return Err(format!("image of {w}x{h} pixels cannot be shown"));
+    }
+    for (r, row) in cells.iter().enumerate() {
+        if row.len() != col_labels.len() {
+            return Err(format!(
+                "row {r} has {} images but there are {} column labels",
+                row.len(),
+                col_labels.len()
+            ));
+        }
+    }
+    let all = cells
+        .iter()
+        .enumerate()
+        .flat_map(|(r, row)| row.iter().enumerate().map(move |(c, x)| (format!("cell ({r}, {c})"), x)));
+    for (name, cell) in all.chain(reference.map(|r| ("reference".to_string(), r))) {
+        for (what, img) in std::iter::once(("image", cell.image)).chain(cell.mask.map(|m| ("mask", m))) {
+            if img.width != w || img.height != h || img.data.len() != w as usize * h as usize {
+                return Err(format!("{name} {what} is {}x{} but the grid is {w}x{h}", img.width, img.height));
+            }
+        }
+    }
+    Ok((w, h))
+}
+
+fn display_size(w: u32, h: u32) -> (u32, u32) {
+    let (cw, ch) = if w < MIN_CELL {
+        let k = MIN_CELL.div_ceil(w);
+        (w * k, h * k)
+    } else if w > MAX_CELL {
+        (MAX_CELL, ((h as u64 * MAX_CELL as u64) / w as u64).max(1) as u32)
+    } else {
+        (w, h)
+    };
+    // Very tall images: keep the table on a screen.
+    if ch > 2 * MAX_CELL {
+        ((cw as u64 * 2 * MAX_CELL as u64 / ch as u64).max(1) as u32, 2 * MAX_CELL)
+    } else {
+        (cw, ch)
+    }
+}
+
+/// Resamples (nearest neighbour) to `size`, colouring covered pixels with `color`.
+fn tile(cell: &GridCell, size: (u32, u32), color: impl Fn(f32) -> [u8; 3]) -> Tile {
+    let (w, h) = (cell.image.width as u64, cell.image.height as u64);
+    let (cw, ch) = (size.0 as u64, size.1 as u64);
+    let mut rgb = Vec::with_capacity((cw * ch) as usize);
+    for y in 0..ch {
+        let sy = (y * h / ch) as u32;
+        for x in 0..cw {
+            let sx = (x * w / cw) as u32;
+            let covered = cell.mask.is_none_or(|m| m.at(sx, sy) >= 0.5);
+            rgb.push(if covered { color(cell.image.at(sx, sy)) } else { BACKGROUND });
+        }
+    }
+    Tile { rgb, caption: cell.caption.clone() }
+}
+
+/// image − reference where both cover the pixel, NaN (background) elsewhere.
+fn signed_error(cell: &GridCell, reference: &GridCell) -> Image {
+    let covered = |m: Option<&Image>, i: usize| m.is_none_or(|m| m.data[i] >= 0.5);
+    let data = (0..cell.image.data.len())
+        .map(|i| {
+            if covered(cell.mask, i) && covered(reference.mask, i) {
+                cell.image.data[i] - reference.image.data[i]
+            } else {
+                f32::NAN
+            }
+        })
+        .collect();
+    Image::from_vec(cell.image.width, cell.image.height, data)
+}
+
+fn robust_scale<'a>(errors: impl Iterator<Item = &'a Image>) -> f32 {
+    let mut abs: Vec<f32> =
+        errors.flat_map(|e| e.data.iter()).filter(|v| v.is_finite()).map(|v| v.abs()).collect();
+    if abs.is_empty() {
+        return 1.0;
+    }
+    let k = ((abs.len() - 1) as f64 * 0.99).round() as usize;
+    let (_, v, _) = abs.select_nth_unstable_by(k, f32::total_cmp);
+    if *v > 0.0 { *v } else { 1e-6 }
+}
+
+fn compose(
+    title: &str,
+    row_labels: &[String],
+    col_labels: &[String],
+    tiles: Vec<Vec<Tile>>,
+    side: Option<Side>,
+    (cw, ch): (u32, u32),
+) -> Result<Vec<u8>, String> {
+    let widest = |texts: &mut dyn Iterator<Item = &str>, px: f64| {
+        texts.map(|t| text_size(t, px, false).0).max().unwrap_or(0)
+    };
+    let caption_w = widest(&mut tiles.iter().flatten().map(|t| t.caption.as_str()), CAPTION_PX);
+    let col_w = cw.max(caption_w).max(widest(&mut col_labels.iter().map(|s| s.as_str()), LABEL_PX)) as i64;
+    let left = widest(&mut row_labels.iter().map(|s| s.as_str()), LABEL_PX) as i64 + 2 * PAD;
+    let title_h = 52i64;
+    let head_h = 36i64;
+    let cap_h = 32i64;
+    let row_h = ch as i64 + cap_h + PAD / 2;
+    let side_w = match &side {
+        None => 0,
+        Some(Side::Reference(t)) => 2 * PAD + col_w.max(text_size(&t.caption, CAPTION_PX, false).0 as i64),
+        Some(Side::ColourBar { .. }) => 2 * PAD + 150,
+    };
+    let ncols = col_labels.len() as i64;
+    let width = left + ncols * (col_w + PAD) + side_w + PAD;
+    let width = width.max(text_size(title, TITLE_PX, true).0 as i64 + 2 * PAD);
+    let height = title_h + head_h + tiles.len() as i64 * row_h + PAD;
+    let mut cv = Canvas::new(width as u32, height as u32, [255, 255, 255])?;
+    cv.label(title, width / 2, title_h / 2 + 4, TITLE_PX, Align::Center, true);
+    let top = title_h + head_h;
+    for (c, label) in col_labels.iter().enumerate() {
+        let x = left + c as i64 * (col_w + PAD) + col_w / 2;
+        cv.label(label.as_str(), x, title_h + head_h / 2, LABEL_PX, Align::Center, true);
+    }
+    for (r, (label, row)) in row_labels.iter().zip(&tiles).enumerate() {
+        let y = top + r as i64 * row_h;
+        cv.label(label.as_str(), left - PAD, y + ch as i64 / 2, LABEL_PX, Align::Right, true);
+        for (c, t) in row.iter().enumerate() {
+            let x = left + c as i64 * (col_w + PAD);
+            draw_tile(&mut cv, t, x + (col_w - cw as i64) / 2, y, (cw, ch), x + col_w / 2);
+        }
+    }
+    let sx = left + ncols * (col_w + PAD) + PAD;
+    match side {
+        None => {}
+        Some(Side::Reference(t)) => {
+            cv.label("reference", sx + col_w / 2, title_h + head_h / 2, LABEL_PX, Align::Center, true);
+            draw_tile(&mut cv, &t, sx + (col_w - cw as i64) / 2, top, (cw, ch), sx + col_w / 2);
+        }
+        Some(Side::ColourBar { scale }) => colour_bar(&mut cv, sx, top, ch.max(160) as i64, scale),
+    }
+    cv.into_png()
+}
+
+fn draw_tile(cv: &mut Canvas, t: &Tile, x: i64, y: i64, (cw, ch): (u32, u32), centre: i64) {
+    cv.outline(x, y, cw, ch, INK);
+    for (i, c) in t.rgb.iter().enumerate() {
+        cv.put(x + (i as u32 % cw) as i64, y + (i as u32 / cw) as i64, *c);
+    }
+    cv.label(t.caption.as_str(), centre, y + ch as i64 + 17, CAPTION_PX, Align::Center, false);
+}
+
+/// Vertical bar from +scale (red, top) through 0 (white) to -scale (blue, bottom), with ticks.
+fn colour_bar(cv: &mut Canvas, x: i64, y: i64, h: i64, scale: f32) {
+    let bw = 24u32;
+    cv.label("image − ref.", x, y - 14, CAPTION_PX, Align::Left, false);
+    let (y, h) = (y + 8, h - 16);
+    for j in 0..h {
+        let t = 1.0 - 2.0 * j as f32 / (h - 1).max(1) as f32;
+        cv.fill_rect(x, y + j, bw, 1, diverging(t));
+    }
+    cv.outline(x, y, bw, h as u32, INK);
+    for (t, text) in
+        [(1.0, format!("+{}", fmt_scale(scale))), (0.0, "0".into()), (-1.0, format!("−{}", fmt_scale(scale)))]
+    {
+        let ty = y + ((1.0 - t) / 2.0 * (h - 1) as f32).round() as i64;
+        cv.fill_rect(x + bw as i64, ty, 6, 1, INK);
+        cv.label(text, x + bw as i64 + 10, ty, CAPTION_PX, Align::Left, false);
+    }
+}
+
+/// Three significant digits, no exponent for the usual AO error range.
+pub(crate) fn fmt_scale(v: f32) -> String {
+    if v >= 0.001 && v < 1000.0 {
+        let digits = (2 - v.log10().floor() as i32).max(0) as usize;
+        format!("{v:.digits$}")
+    } else {
+        format!("{v:.2e}")
+    }
+}

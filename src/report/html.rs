@@ -1,0 +1,121 @@
+//! One offline page with every figure and the results table, as HTML and as Markdown. Figures are
+//! referenced by relative path (the page lives beside them), so the output directory can be moved
+//! or zipped and still read; nothing is fetched from the network.
+
+/// A figure file (relative to the page) with its caption and optional extra files linked below
+/// it (e.g. the SVG version of a PNG).
+pub struct Figure {
+    pub path: String,
+    pub caption: String,
+    pub links: Vec<String>,
+}
+
+/// A results table: header and rows of already formatted cells.
+pub struct Table {
+    pub title: String,
+    pub header: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+}
+
+const STYLE: &str = "body{font-family:sans-serif;max-width:1400px;margin:2em auto;padding:0 1em;color:#222}\
+table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #bbb;padding:.3em .6em;text-align:right}\
+th{background:#eee}td:first-child,th:first-child{text-align:left}\
+figure{margin:2em 0}img{max-width:100%;border:1px solid #ddd}figcaption{margin-top:.4em}";
+
+/// The HTML page: title, intro paragraph(s) (plain text, blank line = new paragraph), tables, figures.
+pub fn html_report(title: &str, intro: &str, tables: &[Table], figures: &[Figure]) -> String {
+    let mut s = String::new();
+    s += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
+    s += &format!("<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n", esc(title));
+    s += &format!("<h1>{}</h1>\n", esc(title));
+    for p in intro.split("\n\n").map(str::trim).filter(|p| !p.is_empty()) {
+        s += &format!("<p>{}</p>\n", esc(p));
+    }
+    for t in tables {
+        s += &format!("<h2>{}</h2>\n<table>\n<tr>", esc(&t.title));
+        for h in &t.header {
+            s += &format!("<th>{}</th>", esc(h));
+        }
+        s += "</tr>\n";
+        for row in &t.rows {
+            s += "<tr>";
+            for c in row {
+                s += &format!("<td>{}</td>", esc(c));
+            }
+            s += "</tr>\n";
+        }
+        s += "</table>\n";
+    }
+    for f in figures {
+        s += &format!(
+            "<figure>\n<a href=\"{0}\"><img src=\"{0}\" alt=\"{1}\"></a>\n<figcaption>{1}",
+            esc(&f.path),
+            esc(&f.caption)
+        );
+        for l in &f.links {
+            s += &format!(" <a href=\"{0}\">[{0}]</a>", esc(l));
+        }
+        s += "</figcaption>\n</figure>\n";
+    }
+    s += "</body>\n</html>\n";
+    s
+}
+
+/// The same content as Markdown (renders on GitHub and in any Markdown viewer).
+pub fn markdown_report(title: &str, intro: &str, tables: &[Table], figures: &[Figure]) -> String {
+    let cell = |c: &str| c.replace('|', "\\|").replace('\n', " ");
+    let mut s = format!("# {title}\n\n");
+    for p in intro.split("\n\n").map(str::trim).filter(|p| !p.is_empty()) {
+        s += &format!("{p}\n\n");
+    }
+    for t in tables {
+        s += &format!("## {}\n\n", t.title);
+        s += &format!("| {} |\n", t.header.iter().map(|h| cell(h)).collect::<Vec<_>>().join(" | "));
+        s += &format!("|{}\n", "---|".repeat(t.header.len().max(1)));
+        for row in &t.rows {
+            s += &format!("| {} |\n", row.iter().map(|c| cell(c)).collect::<Vec<_>>().join(" | "));
+        }
+        s += "\n";
+    }
+    for f in figures {
+        s += &format!("![{}]({})\n\n{}", f.caption.replace(['[', ']'], ""), md_path(&f.path), f.caption);
+        for l in &f.links {
+            s += &format!(" [{l}]({})", md_path(l));
+        }
+        s += "\n\n";
+    }
+    s
+}
+
+/// Every local file an HTML page links to or embeds (`src` and `href` attributes, excluding web,
+/// mail and in-page links), without duplicates. Lets a test (or the
+/// app) check that a page references only files that exist.
+pub fn referenced_files(html: &str) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for attr in ["src=\"", "href=\""] {
+        let mut rest = html;
+        while let Some(i) = rest.find(attr) {
+            rest = &rest[i + attr.len()..];
+            let Some(end) = rest.find('"') else { break };
+            let target = unesc(&rest[..end]);
+            let remote = ["http:", "https:", "mailto:", "data:", "#"].iter().any(|p| target.starts_with(p));
+            if !remote && !target.is_empty() && !out.contains(&target) {
+                out.push(target);
+            }
+        }
+    }
+    out
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+fn unesc(s: &str) -> String {
+    s.replace("&quot;", "\"").replace("&gt;", ">").replace("&lt;", "<").replace("&amp;", "&")
+}
+
+/// Markdown link targets with spaces or parentheses need angle brackets.
+fn md_path(p: &str) -> String {
+    if p.contains([' ', '(', ')']) { format!("<{p}>") } else { p.to_string() }
+}

@@ -1,0 +1,281 @@
+//! Plots, one function per figure: error against ray count or run time (log-log, mean ± sd over
+//! replicates, fitted slope in the legend, the reference's own noise as a floor) and the
+//! structured-error (banding) metric per configuration.
+
+use super::canvas::text_size;
+use super::{FONT, Format, render};
+use plotters::coord::Shift;
+use plotters::coord::ranged1d::SegmentValue;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+/// One configuration's curve: (x, mean y, sd y) per point, and its fitted log-log slope.
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64, f64)>,
+    pub slope: Option<f64>,
+}
+
+/// Tableau 10: distinguishable, and still distinguishable for the common colour-vision deficiencies
+/// when paired with the marker shapes below.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+const W: u32 = 960;
+const H: u32 = 620;
+const LEGEND_PX: f64 = 18.0;
+
+/// Draws series `$i`'s marker at `$at` on `$area`; shapes cycle (circle, triangle, square) so
+/// series stay apart in grey print and for readers who confuse colours.
+macro_rules! marker {
+    ($area:expr, $i:expr, $at:expr, $c:expr) => {{
+        let c: RGBColor = $c;
+        match $i % 3 {
+            0 => $area.draw(&(EmptyElement::at($at) + Circle::new((0, 0), 5, c.filled()))),
+            1 => $area.draw(&(EmptyElement::at($at) + TriangleMarker::new((0, 0), 7, c.filled()))),
+            _ => $area.draw(&(EmptyElement::at($at) + Rectangle::new([(-4, -4), (5, 5)], c.filled()))),
+        }
+    }};
+}
+
+/// Log-log plot of mean ± sd against x for every series; `floor` (e.g. the reference's own RMSE) is
+/// a dashed horizontal line, below which no configuration can be measured.
+pub fn convergence_plot(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    floor: Option<f64>,
+    format: Format,
+) -> Result<Vec<u8>, String> {
+    if series.is_empty() {
+        return Err("a convergence plot needs at least one series".into());
+    }
+    for s in series {
+        if s.points.is_empty() {
+            return Err(format!("series '{}' has no points", s.label));
+        }
+        if let Some(p) = s.points.iter().find(|(x, m, sd)| {
+            !(x.is_finite() && *x > 0.0 && m.is_finite() && *m > 0.0 && sd.is_finite() && *sd >= 0.0)
+        }) {
+            return Err(format!(
+                "series '{}': point {p:?} cannot go on a log-log plot (x and mean must be positive, sd >= 0)",
+                s.label
+            ));
+        }
+    }
+    if let Some(f) = floor.filter(|f| !(f.is_finite() && *f > 0.0)) {
+        return Err(format!("noise floor {f} must be a positive number"));
+    }
+    let pts = || series.iter().flat_map(|s| s.points.iter());
+    let (x0, x1) = bounds(pts().map(|p| p.0));
+    let lows = pts().map(|p| if p.1 - p.2 > 0.0 { p.1 - p.2 } else { p.1 }).chain(floor);
+    let (y0, _) = bounds(lows);
+    let (_, y1) = bounds(pts().map(|p| p.1 + p.2).chain(floor));
+    let ranges = (x0 / 1.25, x1 * 1.25, y0 / 1.4, y1 * 1.4);
+    let entries: Vec<String> = series
+        .iter()
+        .map(|s| match s.slope {
+            Some(k) if k.is_finite() => format!("{} (slope {})", s.label, signed(k)),
+            _ => s.label.clone(),
+        })
+        .chain(floor.map(|_| "reference noise floor".to_string()))
+        .collect();
+    let legend_w = entries.iter().map(|e| text_size(e, LEGEND_PX, false).0).max().unwrap_or(0) + 70;
+    let h = H.max(80 + 26 * entries.len() as u32);
+    render!(format, W + legend_w, h, |root: &DrawingArea<_, Shift>| {
+        draw_convergence(root, title, (x_label, y_label), series, floor, ranges, &entries, legend_w)
+    })
+}
+
+fn bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)))
+}
+
+fn signed(k: f64) -> String {
+    format!("{}{:.2}", if k < 0.0 { "−" } else { "+" }, k.abs())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn draw_convergence<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    series: &[Series],
+    floor: Option<f64>,
+    (x0, x1, y0, y1): (f64, f64, f64, f64),
+    entries: &[String],
+    legend_w: u32,
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (w, _) = root.dim_in_pixel();
+    let (plot, legend) = root.split_horizontally(w - legend_w);
+    let mut chart = ChartBuilder::on(&plot)
+        .caption(title, (FONT, 28.0).into_font().style(FontStyle::Bold))
+        .margin(16)
+        .x_label_area_size(56)
+        .y_label_area_size(84)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .axis_desc_style((FONT, 21.0))
+        .label_style((FONT, 18.0))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(200, 200, 200))
+        .draw()
+        .map_err(err)?;
+    for (i, s) in series.iter().enumerate() {
+        let c = PALETTE[i % PALETTE.len()];
+        chart
+            .draw_series(LineSeries::new(s.points.iter().map(|p| (p.0, p.1)), c.stroke_width(2)))
+            .map_err(err)?;
+        for &(x, m, sd) in &s.points {
+            let lo = if m - sd > y0 { m - sd } else { y0 };
+            let hi = (m + sd).min(y1);
+            let cap =
+                |y| EmptyElement::at((x, y)) + PathElement::new(vec![(-5, 0), (5, 0)], c.stroke_width(2));
+            chart.draw_series([PathElement::new(vec![(x, lo), (x, hi)], c.stroke_width(2))]).map_err(err)?;
+            chart.draw_series([cap(lo), cap(hi)]).map_err(err)?;
+            marker!(chart.plotting_area(), i, (x, m), c).map_err(err)?;
+        }
+    }
+    if let Some(f) = floor {
+        let style = BLACK.stroke_width(2);
+        chart.draw_series(DashedLineSeries::new([(x0, f), (x1, f)], 10, 6, style)).map_err(err)?;
+    }
+    let font = (FONT, LEGEND_PX).into_font().color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
+    for (i, e) in entries.iter().enumerate() {
+        let y = 70 + 26 * i as i32;
+        if i < series.len() {
+            let c = PALETTE[i % PALETTE.len()];
+            legend.draw(&PathElement::new(vec![(8, y), (44, y)], c.stroke_width(2))).map_err(err)?;
+            marker!(legend, i, (26, y), c).map_err(err)?;
+        } else {
+            legend.draw(&PathElement::new(vec![(8, y), (20, y)], BLACK.stroke_width(2))).map_err(err)?;
+            legend.draw(&PathElement::new(vec![(30, y), (44, y)], BLACK.stroke_width(2))).map_err(err)?;
+        }
+        legend.draw_text(e, &font, (54, y)).map_err(err)?;
+    }
+    Ok(())
+}
+
+/// Tick text for log axes: plain numbers for the usual range, exponent form outside it.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (1e-3..1e5).contains(&a) {
+        let digits = (3 - a.log10().floor() as i32 - 1).clamp(0, 4) as usize;
+        let s = format!("{v:.digits$}");
+        if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
+/// Horizontal bars of a structured-error metric (e.g. lag-1 error autocorrelation: near 0 for
+/// independent per-pixel noise, near 1 for banding) per configuration, mean ± sd over replicates.
+pub fn banding_plot(
+    title: &str,
+    x_label: &str,
+    bars: &[(String, f64, f64)],
+    format: Format,
+) -> Result<Vec<u8>, String> {
+    if bars.is_empty() {
+        return Err("a banding plot needs at least one bar".into());
+    }
+    if let Some(b) = bars.iter().find(|b| !(b.1.is_finite() && b.2.is_finite() && b.2 >= 0.0)) {
+        return Err(format!("bar '{}': mean {} ± sd {} must be finite with sd >= 0", b.0, b.1, b.2));
+    }
+    let (lo, _) = bounds(bars.iter().map(|b| b.1 - b.2).chain([0.0]));
+    let (_, hi) = bounds(bars.iter().map(|b| b.1 + b.2).chain([0.0]));
+    let span = if hi - lo > 0.0 { hi - lo } else { 1.0 };
+    let range = (lo - 0.05 * span * (lo < 0.0) as u8 as f64, hi + 0.25 * span);
+    let label_w = bars.iter().map(|b| text_size(&b.0, 18.0, false).0).max().unwrap_or(0) + 24;
+    let h = 140 + 44 * bars.len() as u32;
+    render!(format, W, h, |root: &DrawingArea<_, Shift>| draw_banding(
+        root, title, x_label, bars, range, label_w
+    ))
+}
+
+fn draw_banding<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    x_label: &str,
+    bars: &[(String, f64, f64)],
+    (x0, x1): (f64, f64),
+    label_w: u32,
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let n = bars.len();
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, (FONT, 28.0).into_font().style(FontStyle::Bold))
+        .margin(16)
+        .x_label_area_size(56)
+        .y_label_area_size(label_w)
+        .build_cartesian_2d(x0..x1, (0..n - 1).into_segmented())
+        .map_err(err)?;
+    // Bars are listed top to bottom in the order given.
+    let slot = |i: usize| n - 1 - i;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .axis_desc_style((FONT, 21.0))
+        .label_style((FONT, 18.0))
+        .y_labels(n)
+        .y_label_formatter(&|v| match v {
+            SegmentValue::CenterOf(j) if *j < n => bars[n - 1 - j].0.clone(),
+            _ => String::new(),
+        })
+        .disable_y_mesh()
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(200, 200, 200))
+        .draw()
+        .map_err(err)?;
+    let font = (FONT, 17.0).into_font().color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
+    for (i, (_, m, sd)) in bars.iter().enumerate() {
+        let j = slot(i);
+        let c = PALETTE[i % PALETTE.len()];
+        let mut rect = Rectangle::new(
+            [(0.0, SegmentValue::Exact(j)), (*m, SegmentValue::Exact(j + 1))],
+            c.mix(0.8).filled(),
+        );
+        rect.set_margin(7, 7, 0, 0);
+        chart.draw_series([rect]).map_err(err)?;
+        let y = SegmentValue::CenterOf(j);
+        let (a, b) = (m - sd, m + sd);
+        chart
+            .draw_series([PathElement::new(vec![(a, y.clone()), (b, y.clone())], BLACK.stroke_width(2))])
+            .map_err(err)?;
+        for x in [a, b] {
+            let cap = EmptyElement::at((x, y.clone()))
+                + PathElement::new(vec![(0, -7), (0, 7)], BLACK.stroke_width(2));
+            chart.draw_series([cap]).map_err(err)?;
+        }
+        let text = format!("{m:.3} ± {sd:.3}");
+        let at = EmptyElement::at((b.max(0.0), y.clone())) + Text::new(text, (10, 0), font.clone());
+        chart.draw_series([at]).map_err(err)?;
+    }
+    // The zero line, so negative (anti-correlated) values read as such.
+    chart
+        .draw_series([PathElement::new(
+            vec![(0.0, SegmentValue::Exact(0)), (0.0, SegmentValue::Last)],
+            BLACK.stroke_width(1),
+        )])
+        .map_err(err)?;
+    Ok(())
+}

@@ -1,0 +1,141 @@
+//! Point sets on the hemisphere as the paper draws them (Table 1, Figures 2-4): a top view of the
+//! unit disk (x, y), and optionally a side view (x, z) that shows how points crowd towards the pole
+//! or thin out towards the horizon.
+
+use super::canvas::text_size;
+use super::{FONT, Format, render};
+use glam::Vec3;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+/// One panel: unit directions in the local frame (z = normal) and the panel's title.
+pub struct PointSet {
+    pub title: String,
+    pub dirs: Vec<Vec3>,
+}
+
+const R: i32 = 140;
+const PAD: i32 = 18;
+const TITLE_H: i32 = 54;
+const HEAD_H: i32 = 36;
+const POINT: RGBColor = RGBColor(20, 50, 140);
+const EDGE: RGBColor = RGBColor(150, 150, 150);
+
+/// A table of panels: `rows` are (row label, panels); every row must have the same number of panels.
+pub fn point_panels(
+    title: &str,
+    rows: &[(String, Vec<PointSet>)],
+    side_view: bool,
+    format: Format,
+) -> Result<Vec<u8>, String> {
+    validate(rows)?;
+    let ncols = rows[0].1.len() as i32;
+    let left = rows.iter().map(|(l, _)| text_size(l, 21.0, true).0 as i32).max().unwrap_or(0) + 2 * PAD;
+    let left = if rows.len() == 1 && rows[0].0.is_empty() { PAD } else { left };
+    let panel_w = 2 * R + 2 * PAD;
+    let panel_h = HEAD_H + 2 * R + PAD + if side_view { R + PAD + 30 } else { 0 };
+    let w = (left + ncols * panel_w + PAD) as u32;
+    let h = (TITLE_H + rows.len() as i32 * panel_h + PAD) as u32;
+    let w = w.max(text_size(title, 28.0, true).0 + 2 * PAD as u32);
+    render!(format, w, h, |root: &DrawingArea<_, Shift>| draw(
+        root, title, rows, side_view, left, panel_w, panel_h
+    ))
+}
+
+fn validate(rows: &[(String, Vec<PointSet>)]) -> Result<(), String> {
+    let ncols = rows.first().map(|r| r.1.len()).unwrap_or(0);
+    if ncols == 0 {
+        return Err("a point figure needs at least one row with at least one panel".into());
+    }
+    for (label, sets) in rows {
+        if sets.len() != ncols {
+            return Err(format!("row '{label}' has {} panels, the first row has {ncols}", sets.len()));
+        }
+        for s in sets {
+            if s.dirs.is_empty() {
+                return Err(format!("panel '{}' of row '{label}' has no points", s.title));
+            }
+            if let Some((i, d)) = s
+                .dirs
+                .iter()
+                .enumerate()
+                .find(|(_, d)| !d.is_finite() || d.z < -1e-4 || (d.length() - 1.0).abs() > 1e-3)
+            {
+                return Err(format!(
+                    "panel '{}' of row '{label}': point {i} = {d} is not a unit direction on the upper hemisphere",
+                    s.title
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    rows: &[(String, Vec<PointSet>)],
+    side_view: bool,
+    left: i32,
+    panel_w: i32,
+    panel_h: i32,
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let centred = |px: f64| (FONT, px).into_font().color(&BLACK).pos(Pos::new(HPos::Center, VPos::Center));
+    let (w, _) = root.dim_in_pixel();
+    let bold = (FONT, 28.0)
+        .into_font()
+        .style(FontStyle::Bold)
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Center, VPos::Center));
+    root.draw_text(title, &bold, (w as i32 / 2, TITLE_H / 2)).map_err(err)?;
+    let row_font = (FONT, 21.0)
+        .into_font()
+        .style(FontStyle::Bold)
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Right, VPos::Center));
+    for (r, (label, sets)) in rows.iter().enumerate() {
+        let y0 = TITLE_H + r as i32 * panel_h;
+        if !label.is_empty() {
+            root.draw_text(label, &row_font, (left - PAD, y0 + HEAD_H + R)).map_err(err)?;
+        }
+        for (c, set) in sets.iter().enumerate() {
+            let cx = left + c as i32 * panel_w + panel_w / 2;
+            root.draw_text(&set.title, &centred(20.0), (cx, y0 + HEAD_H / 2)).map_err(err)?;
+            let cy = y0 + HEAD_H + R;
+            let radius = dot_radius(set.dirs.len());
+            root.draw(&Circle::new((cx, cy), R, EDGE.stroke_width(1))).map_err(err)?;
+            let to_px =
+                |a: f32, b: f32| (cx + (a * R as f32).round() as i32, cy - (b * R as f32).round() as i32);
+            for d in &set.dirs {
+                root.draw(&Circle::new(to_px(d.x, d.y), radius, POINT.filled())).map_err(err)?;
+            }
+            if side_view {
+                let by = cy + R + PAD + R;
+                let arc: Vec<(i32, i32)> = (0..=64)
+                    .map(|k| {
+                        let a = std::f32::consts::PI * k as f32 / 64.0;
+                        (cx + (R as f32 * a.cos()).round() as i32, by - (R as f32 * a.sin()).round() as i32)
+                    })
+                    .collect();
+                root.draw(&PathElement::new(arc, EDGE.stroke_width(1))).map_err(err)?;
+                root.draw(&PathElement::new(vec![(cx - R, by), (cx + R, by)], EDGE.stroke_width(1)))
+                    .map_err(err)?;
+                let side =
+                    |d: &Vec3| (cx + (d.x * R as f32).round() as i32, by - (d.z * R as f32).round() as i32);
+                for d in &set.dirs {
+                    root.draw(&Circle::new(side(d), radius, POINT.filled())).map_err(err)?;
+                }
+                root.draw_text("side view (x, z)", &centred(18.0), (cx, by + 16)).map_err(err)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Dots shrink with the count so 5000 points stay distinguishable yet 500 remain visible
+/// (whole pixels: the bitmap backend rounds radii anyway, and equal counts must look alike).
+fn dot_radius(n: usize) -> i32 {
+    if n <= 1500 { 2 } else { 1 }
+}

@@ -269,10 +269,99 @@ fn colour_bar(cv: &mut Canvas, x: i64, y: i64, h: i64, scale: f32) {
 
 /// Three significant digits, no exponent for the usual AO error range.
 pub(crate) fn fmt_scale(v: f32) -> String {
-    if v >= 0.001 && v < 1000.0 {
+    if (0.001..1000.0).contains(&v) {
         let digits = (2 - v.log10().floor() as i32).max(0) as usize;
         format!("{v:.digits$}")
     } else {
         format!("{v:.2e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::decode_png;
+
+    fn gradient(w: u32, h: u32) -> Image {
+        Image::from_vec(w, h, (0..w * h).map(|i| (i % w) as f32 / (w - 1) as f32).collect())
+    }
+
+    fn labels(n: usize, what: &str) -> Vec<String> {
+        (0..n).map(|i| format!("{what} {i}")).collect()
+    }
+
+    #[test]
+    fn image_grid_is_a_png_with_enlarged_cells_and_masked_background() {
+        let img = gradient(40, 30);
+        let mask = Image::from_vec(40, 30, (0..1200).map(|i| if i < 600 { 1.0 } else { 0.0 }).collect());
+        let cell = |m| GridCell { image: &img, mask: m, caption: "RMSE 0.0123  ρx 0.02".into() };
+        let cells = vec![vec![cell(None), cell(None), cell(None)], vec![cell(None), cell(None), cell(None)]];
+        let png = image_grid("t", &labels(2, "row"), &labels(3, "col"), &cells, Some(&cell(None))).unwrap();
+        let (w, h, px) = decode_png(&png);
+        assert!(w >= 4 * MIN_CELL && h >= 2 * 180, "{w}x{h}");
+        assert!(!px.contains(&BACKGROUND), "no mask, no background colour");
+        let masked = vec![vec![cell(Some(&mask))]];
+        let (_, _, px) =
+            decode_png(&image_grid("t", &labels(1, "r"), &labels(1, "c"), &masked, None).unwrap());
+        assert!(px.contains(&BACKGROUND), "masked pixels show the background colour");
+    }
+
+    #[test]
+    fn small_images_grow_by_whole_pixels_and_large_ones_shrink() {
+        assert_eq!(display_size(64, 48), (256, 192));
+        assert_eq!(display_size(320, 240), (320, 240));
+        assert_eq!(display_size(960, 480), (480, 240));
+        assert_eq!(display_size(1, 1), (240, 240));
+    }
+
+    #[test]
+    fn error_is_signed_masked_and_scaled_symmetrically() {
+        let reference = gradient(8, 2);
+        let mut img = reference.clone();
+        img.data[0] += 0.25;
+        img.data[1] -= 0.25;
+        let mask = Image::from_vec(8, 2, (0..16).map(|i| if i == 2 { 0.0 } else { 1.0 }).collect());
+        let cell = GridCell { image: &img, mask: None, caption: String::new() };
+        let refc = GridCell { image: &reference, mask: Some(&mask), caption: String::new() };
+        let e = signed_error(&cell, &refc);
+        assert!((e.data[0] - 0.25).abs() < 1e-6 && (e.data[1] + 0.25).abs() < 1e-6);
+        assert!(e.data[2].is_nan(), "uncovered pixel has no error");
+        assert_eq!(e.data[3], 0.0);
+        assert_eq!(robust_scale([&e].into_iter()), 0.25);
+        let zero = Image::new(4, 4);
+        assert!(robust_scale([&zero].into_iter()) > 0.0, "an exact image still gets a usable scale");
+        let png = error_grid("e", &labels(1, "r"), &labels(1, "c"), &[vec![cell]], &refc, None).unwrap();
+        let (_, _, px) = decode_png(&png);
+        assert!(px.contains(&diverging(1.0)) && px.contains(&diverging(-1.0)) && px.contains(&BACKGROUND));
+    }
+
+    #[test]
+    fn bad_grids_are_errors_not_panics() {
+        let a = gradient(4, 4);
+        let b = gradient(5, 4);
+        let c = |im| GridCell { image: im, mask: None, caption: String::new() };
+        let r1 = labels(1, "r");
+        let c1 = labels(1, "c");
+        assert!(image_grid("t", &[], &[], &[], None).is_err());
+        assert!(image_grid("t", &r1, &c1, &[vec![]], None).is_err());
+        assert!(image_grid("t", &labels(2, "r"), &c1, &[vec![c(&a)]], None).is_err());
+        assert!(image_grid("t", &r1, &labels(2, "c"), &[vec![c(&a)]], None).is_err());
+        assert!(image_grid("t", &r1, &labels(2, "c"), &[vec![c(&a), c(&b)]], None).is_err());
+        assert!(image_grid("t", &r1, &c1, &[vec![c(&a)]], Some(&c(&b))).is_err());
+        let bad_mask = GridCell { image: &a, mask: Some(&b), caption: String::new() };
+        assert!(image_grid("t", &r1, &c1, &[vec![bad_mask]], None).is_err());
+        let empty = Image::new(0, 0);
+        assert!(image_grid("t", &r1, &c1, &[vec![c(&empty)]], None).is_err());
+        assert!(error_grid("t", &r1, &c1, &[vec![c(&a)]], &c(&b), None).is_err());
+        for s in [0.0, -1.0, f32::NAN] {
+            assert!(error_grid("t", &r1, &c1, &[vec![c(&a)]], &c(&a), Some(s)).is_err());
+        }
+    }
+
+    #[test]
+    fn scale_labels_have_three_significant_digits() {
+        assert_eq!(fmt_scale(0.1364), "0.136");
+        assert_eq!(fmt_scale(0.01234), "0.0123");
+        assert_eq!(fmt_scale(2.5), "2.50");
     }
 }

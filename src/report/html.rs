@@ -119,3 +119,54 @@ fn unesc(s: &str) -> String {
 fn md_path(p: &str) -> String {
     if p.contains([' ', '(', ')']) { format!("<{p}>") } else { p.to_string() }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn figures() -> Vec<Figure> {
+        vec![
+            Figure { path: "table2.png".into(), caption: "Table 2 <AO>".into(), links: vec![] },
+            Figure {
+                path: "convergence_rays.png".into(),
+                caption: "RMSE & rays".into(),
+                links: vec!["convergence_rays.svg".into()],
+            },
+        ]
+    }
+
+    fn table() -> Table {
+        Table {
+            title: "RMSE".into(),
+            header: vec!["configuration".into(), "8".into()],
+            rows: vec![vec!["random | sine-cosine".into(), "0.0512".into()]],
+        }
+    }
+
+    #[test]
+    fn html_references_exactly_the_given_files() {
+        let html = html_report("Paper", "Intro.\n\nSecond <b>para</b>.", &[table()], &figures());
+        let mut files = referenced_files(&html);
+        files.sort();
+        assert_eq!(files, ["convergence_rays.png", "convergence_rays.svg", "table2.png"]);
+        assert!(html.contains("Table 2 &lt;AO&gt;") && html.contains("RMSE &amp; rays"), "text is escaped");
+        assert!(html.contains("Second &lt;b&gt;para&lt;/b&gt;.") && !html.contains("<b>"));
+        assert!(html.contains("<td>0.0512</td>"));
+        assert!(referenced_files(&html_report("t", "", &[], &[])).is_empty());
+    }
+
+    #[test]
+    fn referenced_files_skips_web_links_and_unescapes() {
+        let html = r##"<a href="https://x.org">x</a><a href="#top">t</a><img src="a&amp;b.png"><img src="a&amp;b.png">"##;
+        assert_eq!(referenced_files(html), ["a&b.png"]);
+    }
+
+    #[test]
+    fn markdown_has_the_table_and_every_figure() {
+        let md = markdown_report("Paper", "Intro.", &[table()], &figures());
+        assert!(md.starts_with("# Paper\n"));
+        assert!(md.contains("| configuration | 8 |\n|---|---|\n| random \\| sine-cosine | 0.0512 |"), "{md}");
+        assert!(md.contains("![Table 2 <AO>](table2.png)"));
+        assert!(md.contains("[convergence_rays.svg](convergence_rays.svg)"));
+    }
+}

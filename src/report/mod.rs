@@ -88,5 +88,26 @@ macro_rules! render {
 }
 pub(crate) use render;
 
+/// Test helper: checks the PNG signature and decodes, returning (width, height, RGB pixels).
 #[cfg(test)]
-mod tests;
+pub(crate) fn decode_png(bytes: &[u8]) -> (u32, u32, Vec<[u8; 3]>) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    let img = ::image::load_from_memory_with_format(bytes, ::image::ImageFormat::Png)
+        .expect("PNG decodes")
+        .to_rgb8();
+    let (w, h) = img.dimensions();
+    (w, h, img.pixels().map(|p| p.0).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Format;
+
+    #[test]
+    fn format_follows_the_extension_case_insensitively() {
+        assert_eq!(Format::from_extension("PNG"), Some(Format::Png));
+        assert_eq!(Format::from_extension("svg"), Some(Format::Svg));
+        assert_eq!(Format::from_extension("jpg"), None);
+        assert_eq!(Format::from_extension(""), None);
+    }
+}

@@ -279,3 +279,87 @@ fn draw_banding<DB: DrawingBackend>(
         .map_err(err)?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::decode_png;
+
+    fn series(slope: f64, label: &str) -> Series {
+        let points =
+            [1.0, 4.0, 16.0, 64.0].map(|n: f64| (n, 0.3 * n.powf(slope), 0.02 * n.powf(slope))).to_vec();
+        Series { label: label.into(), points, slope: Some(slope) }
+    }
+
+    #[test]
+    fn convergence_plot_is_png_and_svg_with_legend() {
+        let s = [series(-0.5, "random"), series(-0.75, "fibonacci"), series(-1.0, "sobol")];
+        let png = convergence_plot("RMSE", "rays", "RMSE", &s, Some(1e-3), Format::Png).unwrap();
+        let (w, h, _) = decode_png(&png);
+        assert!(w > W && h == H, "{w}x{h}");
+        let svg =
+            convergence_plot("RMSE vs rays", "rays per pixel", "RMSE", &s, Some(1e-3), Format::Svg).unwrap();
+        let svg = String::from_utf8(svg).unwrap();
+        for label in [
+            "<svg",
+            "RMSE vs rays",
+            "rays per pixel",
+            "random (slope −0.50)",
+            "sobol (slope −1.00)",
+            "reference noise floor",
+        ] {
+            assert!(svg.contains(label), "SVG lacks {label}");
+        }
+        let no_floor = convergence_plot("t", "x", "y", &s[..1], None, Format::Svg).unwrap();
+        assert!(!String::from_utf8(no_floor).unwrap().contains("noise floor"));
+        // sd larger than the mean: the bar is cut at the axis instead of going to log(0).
+        let wide = Series { label: "w".into(), points: vec![(1.0, 0.1, 0.5), (2.0, 0.05, 0.0)], slope: None };
+        assert!(convergence_plot("t", "x", "y", &[wide], None, Format::Png).is_ok());
+    }
+
+    #[test]
+    fn convergence_plot_rejects_what_a_log_axis_cannot_show() {
+        let p = |points| vec![Series { label: "s".into(), points, slope: None }];
+        let f = Format::Png;
+        assert!(convergence_plot("t", "x", "y", &[], None, f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![]), None, f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![(0.0, 0.1, 0.0)]), None, f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, 0.0, 0.0)]), None, f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, f64::NAN, 0.0)]), None, f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, 0.1, -0.1)]), None, f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, 0.1, 0.0)]), Some(0.0), f).is_err());
+        assert!(
+            convergence_plot("t", "x", "y", &p(vec![(1.0, 0.1, 0.0)]), None, f).is_ok(),
+            "one point is a plot"
+        );
+    }
+
+    #[test]
+    fn banding_plot_lists_every_configuration() {
+        let bars = vec![("random".to_string(), -0.02, 0.01), ("fibonacci static".to_string(), 0.95, 0.02)];
+        let svg =
+            String::from_utf8(banding_plot("Banding", "lag-1 autocorrelation", &bars, Format::Svg).unwrap())
+                .unwrap();
+        for label in
+            ["<svg", "Banding", "lag-1 autocorrelation", "random", "fibonacci static", "0.950 ± 0.020"]
+        {
+            assert!(svg.contains(label), "SVG lacks {label}");
+        }
+        let (w, _, _) = decode_png(&banding_plot("b", "x", &bars, Format::Png).unwrap());
+        assert_eq!(w, W);
+        let one = vec![("only".to_string(), 0.0, 0.0)];
+        assert!(banding_plot("b", "x", &one, Format::Png).is_ok());
+        assert!(banding_plot("b", "x", &[], Format::Png).is_err());
+        assert!(banding_plot("b", "x", &[("n".into(), f64::NAN, 0.0)], Format::Png).is_err());
+        assert!(banding_plot("b", "x", &[("n".into(), 0.1, -1.0)], Format::Svg).is_err());
+    }
+
+    #[test]
+    fn ticks_read_as_plain_numbers() {
+        assert_eq!(tick(1.0), "1");
+        assert_eq!(tick(1000.0), "1000");
+        assert_eq!(tick(0.001), "0.001");
+        assert_eq!(tick(0.05), "0.05");
+        assert_eq!(tick(1e-5), "1e-5");
+    }
+}

@@ -139,3 +139,68 @@ fn draw<DB: DrawingBackend>(
 fn dot_radius(n: usize) -> i32 {
     if n <= 1500 { 2 } else { 1 }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::decode_png;
+
+    fn ring(n: usize, z: f32) -> Vec<Vec3> {
+        let s = (1.0 - z * z).sqrt();
+        (0..n).map(|i| (i as f32 * 0.1).sin_cos()).map(|(a, b)| Vec3::new(s * b, s * a, z)).collect()
+    }
+
+    #[test]
+    fn panels_are_png_and_svg_with_their_labels() {
+        let rows: Vec<(String, Vec<PointSet>)> = ["uniform", "sine-cosine"]
+            .iter()
+            .map(|r| {
+                let sets =
+                    [10, 20, 2000].map(|n| PointSet { title: format!("{n} points"), dirs: ring(n, 0.5) });
+                (r.to_string(), sets.into_iter().collect())
+            })
+            .collect();
+        let (w, h, px) = decode_png(&point_panels("Table 1", &rows, true, Format::Png).unwrap());
+        assert!(w >= 3 * 2 * R as u32 && h >= 2 * 3 * R as u32, "{w}x{h}");
+        assert!(px.contains(&[POINT.0, POINT.1, POINT.2]), "points are drawn");
+        let svg = String::from_utf8(point_panels("Table 1", &rows, false, Format::Svg).unwrap()).unwrap();
+        for label in ["<svg", "Table 1", "sine-cosine", "2000 points"] {
+            assert!(svg.contains(label), "SVG lacks {label}");
+        }
+        assert!(!svg.contains("side view"));
+    }
+
+    #[test]
+    fn points_land_inside_the_disk() {
+        // The horizon (z = 0) is the disk's rim: every dot centre must be within R of the centre.
+        let rows = vec![(String::new(), vec![PointSet { title: "p".into(), dirs: ring(200, 0.0) }])];
+        let svg = String::from_utf8(point_panels("t", &rows, false, Format::Svg).unwrap()).unwrap();
+        let num = |s: &str, key: &str| -> f32 {
+            let i = s.find(key).unwrap() + key.len();
+            s[i..].split('"').next().unwrap().parse().unwrap()
+        };
+        let circles: Vec<&str> = svg.split("<circle").skip(1).collect();
+        let (cx, cy) = (num(circles[0], "cx=\""), num(circles[0], "cy=\""));
+        assert_eq!(num(circles[0], "r=\""), R as f32, "first circle is the disk outline");
+        for c in &circles[1..] {
+            let d = (num(c, "cx=\"") - cx).hypot(num(c, "cy=\"") - cy);
+            assert!(
+                d <= R as f32 + 0.75,
+                "dot {d} px from the centre (rounding to whole pixels allows 0.71)"
+            );
+        }
+    }
+
+    #[test]
+    fn empty_or_off_hemisphere_points_are_errors() {
+        let set = |dirs| vec![(String::from("r"), vec![PointSet { title: "p".into(), dirs }])];
+        assert!(point_panels("t", &[], false, Format::Png).is_err());
+        assert!(point_panels("t", &set(vec![]), false, Format::Png).is_err());
+        assert!(point_panels("t", &set(vec![Vec3::new(0.0, 0.0, -1.0)]), false, Format::Png).is_err());
+        assert!(point_panels("t", &set(vec![Vec3::new(f32::NAN, 0.0, 1.0)]), false, Format::Svg).is_err());
+        assert!(point_panels("t", &set(vec![Vec3::new(0.0, 0.0, 2.0)]), false, Format::Svg).is_err());
+        let mut ragged = set(vec![Vec3::Z]);
+        ragged.push(("r2".into(), vec![]));
+        assert!(point_panels("t", &ragged, false, Format::Png).is_err());
+    }
+}

@@ -113,6 +113,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let b = report::banding_plot("Structured error", "lag-1 error autocorrelation", &bars, f)?;
         write(&format!("banding.{ext}"), &b)?;
     }
+    // Many series against run time: the legend must hold every row of Tables 2-3 and the variants.
+    let many: Vec<Series> = (0..11)
+        .map(|k| Series {
+            label: format!("configuration {k} / sine-cosine"),
+            points: [0.05, 0.1, 0.2, 0.4, 0.8, 1.6]
+                .iter()
+                .map(|&t: &f64| (t * (1.0 + k as f64 * 0.1), 0.01 * t.powf(-0.5 - 0.04 * k as f64), 0.001))
+                .collect(),
+            slope: Some(-0.5 - 0.04 * k as f64),
+        })
+        .collect();
+    let c = report::convergence_plot(
+        "RMSE against render time",
+        "render time (s)",
+        "RMSE",
+        &many,
+        Some(2e-3),
+        Format::Png,
+    )?;
+    write("convergence_time.png", &c)?;
     let table = Table {
         title: "RMSE".into(),
         header: vec!["configuration".into(), "8".into(), "16".into(), "32".into()],

@@ -33,9 +33,8 @@ pub(crate) struct Canvas {
 pub(crate) fn text_size(text: &str, size: f64, bold: bool) -> (u32, u32) {
     ensure_fonts();
     let style = if bold { FontStyle::Bold } else { FontStyle::Normal };
-    (FONT, size)
+    (FONT, size, style)
         .into_font()
-        .style(style)
         .box_size(text)
         .unwrap_or((text.len() as u32 * size as u32 / 2, size as u32))
 }
@@ -89,8 +88,7 @@ impl Canvas {
                     Align::Right => HPos::Right,
                 };
                 let style = if l.bold { FontStyle::Bold } else { FontStyle::Normal };
-                let font =
-                    (FONT, l.size).into_font().style(style).color(&BLACK).pos(Pos::new(h, VPos::Center));
+                let font = (FONT, l.size, style).into_font().color(&BLACK).pos(Pos::new(h, VPos::Center));
                 root.draw_text(&l.text, &font, (l.x, l.y)).map_err(|e| e.to_string())?;
             }
             root.present().map_err(|e| e.to_string())?;

@@ -194,12 +194,13 @@ fn compose(
     side: Option<Side>,
     (cw, ch): (u32, u32),
 ) -> Result<Vec<u8>, String> {
-    let widest = |texts: &mut dyn Iterator<Item = &str>, px: f64| {
-        texts.map(|t| text_size(t, px, false).0).max().unwrap_or(0)
+    let widest = |texts: &mut dyn Iterator<Item = &str>, px: f64, bold: bool| {
+        texts.map(|t| text_size(t, px, bold).0).max().unwrap_or(0)
     };
-    let caption_w = widest(&mut tiles.iter().flatten().map(|t| t.caption.as_str()), CAPTION_PX);
-    let col_w = cw.max(caption_w).max(widest(&mut col_labels.iter().map(|s| s.as_str()), LABEL_PX)) as i64;
-    let left = widest(&mut row_labels.iter().map(|s| s.as_str()), LABEL_PX) as i64 + 2 * PAD;
+    let caption_w = widest(&mut tiles.iter().flatten().map(|t| t.caption.as_str()), CAPTION_PX, false);
+    let col_w =
+        cw.max(caption_w).max(widest(&mut col_labels.iter().map(|s| s.as_str()), LABEL_PX, true)) as i64;
+    let left = widest(&mut row_labels.iter().map(|s| s.as_str()), LABEL_PX, true) as i64 + 2 * PAD;
     let title_h = 52i64;
     let head_h = 36i64;
     let cap_h = 32i64;

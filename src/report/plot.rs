@@ -120,7 +120,7 @@ fn draw_convergence<DB: DrawingBackend>(
     let (w, _) = root.dim_in_pixel();
     let (plot, legend) = root.split_horizontally(w - legend_w);
     let mut chart = ChartBuilder::on(&plot)
-        .caption(title, (FONT, 28.0).into_font().style(FontStyle::Bold))
+        .caption(title, (FONT, 28.0, FontStyle::Bold).into_font())
         .margin(16)
         .x_label_area_size(56)
         .y_label_area_size(84)
@@ -223,7 +223,7 @@ fn draw_banding<DB: DrawingBackend>(
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let n = bars.len();
     let mut chart = ChartBuilder::on(root)
-        .caption(title, (FONT, 28.0).into_font().style(FontStyle::Bold))
+        .caption(title, (FONT, 28.0, FontStyle::Bold).into_font())
         .margin(16)
         .x_label_area_size(56)
         .y_label_area_size(label_w)

@@ -84,17 +84,11 @@ fn draw<DB: DrawingBackend>(
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let centred = |px: f64| (FONT, px).into_font().color(&BLACK).pos(Pos::new(HPos::Center, VPos::Center));
     let (w, _) = root.dim_in_pixel();
-    let bold = (FONT, 28.0)
-        .into_font()
-        .style(FontStyle::Bold)
-        .color(&BLACK)
-        .pos(Pos::new(HPos::Center, VPos::Center));
+    let bold =
+        (FONT, 28.0, FontStyle::Bold).into_font().color(&BLACK).pos(Pos::new(HPos::Center, VPos::Center));
     root.draw_text(title, &bold, (w as i32 / 2, TITLE_H / 2)).map_err(err)?;
-    let row_font = (FONT, 21.0)
-        .into_font()
-        .style(FontStyle::Bold)
-        .color(&BLACK)
-        .pos(Pos::new(HPos::Right, VPos::Center));
+    let row_font =
+        (FONT, 21.0, FontStyle::Bold).into_font().color(&BLACK).pos(Pos::new(HPos::Right, VPos::Center));
     for (r, (label, sets)) in rows.iter().enumerate() {
         let y0 = TITLE_H + r as i32 * panel_h;
         if !label.is_empty() {

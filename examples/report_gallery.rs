@@ -1,9 +1,9 @@
 //! Writes one sample of every report figure from synthetic data, so the pictures can be looked at
 //! without running an experiment: `cargo run --release --example report_gallery -- /tmp/gallery`.
 
-use hemilab::app::points::directions;
+use hemilab::app::points::figure_rows;
 use hemilab::image::Image;
-use hemilab::report::{self, Figure, Format, GridCell, PointSet, Series, Table};
+use hemilab::report::{self, Figure, Format, GridCell, Series, Table};
 use hemilab::sampling::{Distribution, SeedMode, Sequence};
 use std::path::PathBuf;
 
@@ -11,17 +11,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "/tmp/gallery".into()));
     let write = |name: &str, bytes: &[u8]| hemilab::io::write_atomic(&dir.join(name), bytes);
 
-    let mut rows = Vec::new();
-    for d in [Distribution::Uniform, Distribution::Sine, Distribution::SineCosine] {
-        let mut sets = Vec::new();
-        for n in [500, 1000, 5000] {
-            let dirs = directions(d, Sequence::Fibonacci, SeedMode::Static, n, 1)?;
-            sets.push(PointSet { title: format!("{n} points"), dirs });
-        }
-        rows.push((d.name().to_string(), sets));
-    }
+    let ds = [Distribution::Uniform, Distribution::Sine, Distribution::SineCosine];
+    let rows = figure_rows(&ds, Sequence::Fibonacci, SeedMode::Static, &[500, 1000, 5000], 1)?;
     let title = "Table 1: Fibonacci lattice through the three distributions";
     write("table1.png", &report::point_panels(title, &rows, true, Format::Png)?)?;
+    let fig2 = figure_rows(&ds[..1], Sequence::Random, SeedMode::Static, &[500, 1000, 5000], 1)?;
+    write(
+        "figure2.png",
+        &report::point_panels("Figure 2: pseudo-random, uniform", &fig2, true, Format::Png)?,
+    )?;
     write("table1.svg", &report::point_panels(title, &rows, false, Format::Svg)?)?;
 
     // A gradient "reference" with a masked-out hole; cells add noise shrinking with the ray count.

@@ -101,8 +101,11 @@ pub fn rmse_bias(err: &Image, mask: &Image) -> (f64, f64) {
     if n == 0 { (0.0, 0.0) } else { ((sq / n as f64).sqrt(), sum / n as f64) }
 }
 
+/// Error spread below this counts as a constant error (AO lies in [0, 1]; f32 resolves ~6e-8).
+pub const CONSTANT_SD: f64 = 1e-6;
+
 /// Lag-1 autocorrelation of the error (minus its mean) along x and along y, over pairs of covered
-/// neighbours, normalized by the variance. A constant error (variance 0) or no pairs gives 0.
+/// neighbours, normalized by the variance. A constant error (sd ≤ `CONSTANT_SD`) or no pairs gives 0.
 pub fn autocorrelation(err: &Image, mask: &Image) -> (f64, f64) {
     let (w, h) = (err.width as usize, err.height as usize);
     let (_, mean) = rmse_bias(err, mask);
@@ -116,8 +119,9 @@ pub fn autocorrelation(err: &Image, mask: &Image) -> (f64, f64) {
         return (0.0, 0.0);
     }
     var /= n as f64;
-    // Relative threshold: float noise in a constant error must not become a correlation.
-    if var <= 1e-24 {
+    // A constant error stored in f32 still carries rounding noise (~1e-7 for AO values in [0, 1]);
+    // that must read as "no structure", not as a correlation of rounding.
+    if var.sqrt() <= CONSTANT_SD {
         return (0.0, 0.0);
     }
     let lag = |step: usize, ok: &dyn Fn(usize) -> bool| {

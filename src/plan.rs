@@ -39,14 +39,19 @@ impl Job {
         let res = self.resolution.map_or("scene".to_string(), |[w, h]| format!("{w}x{h}"));
         let d = self.ao_distance.map_or("scene".to_string(), |d| d.canonical());
         format!(
-            "hemilab-job-v1;scene={};distribution={};sequence={};seed_mode={};rays={};replicate={};seed={};resolution={res};ao_distance={d}",
+            concat!(
+                "hemilab-job-v1;scene={};distribution={};sequence={};seed_mode={};rays={};replicate={};",
+                "seed={};resolution={};ao_distance={}"
+            ),
             self.scene_id,
             self.distribution,
             self.sequence,
             self.seed_mode,
             self.rays,
             self.replicate,
-            self.seed
+            self.seed,
+            res,
+            d
         )
     }
 

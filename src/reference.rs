@@ -182,7 +182,7 @@ pub fn target_floor(smallest_rmse: f64) -> f64 {
 /// Rays per replicate needed to bring `floor` (measured with `rays` per replicate, same replicate
 /// count) down to `target`, since the floor falls as 1/√rays. Never less than `rays`.
 pub fn rays_needed(floor: f64, rays: u32, target: f64) -> u64 {
-    if !(target > 0.0) || !floor.is_finite() || floor <= target {
+    if target.is_nan() || target <= 0.0 || !floor.is_finite() || floor <= target {
         return rays as u64;
     }
     let r = (rays as f64 * (floor / target).powi(2)).ceil();
@@ -211,5 +211,91 @@ mod tests {
         let mask = Image::from_vec(2, 1, vec![1.0, 0.0]);
         assert!((noise_floor(&se, &mask) - 0.5).abs() < 1e-6);
         assert!(mean_and_stderr(&[m]).is_err());
+    }
+}
+
+#[cfg(test)]
+mod manifest_tests {
+    use super::*;
+    use crate::sampling::{Distribution, SeedMode, Sequence};
+
+    fn wanted() -> Manifest {
+        let scene = SceneRef {
+            path: "experiments/../scenes/kitchen.toml".into(),
+            id: "../scenes/kitchen.toml".into(),
+            name: "kitchen".into(),
+        };
+        let est = Row::new(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Shift);
+        Manifest::wanted(
+            &scene,
+            "fnv:0123",
+            "eye 0 1 2; at 0 0 0; fov 60",
+            [160, 120],
+            AoDistance::Finite(1.0),
+            est,
+            4096,
+            4,
+            1,
+        )
+    }
+
+    #[test]
+    fn json_round_trip() {
+        let mut m = wanted();
+        m.noise_floor = Some(1.25e-3);
+        m.time_s = Some(12.5);
+        let text = m.to_json();
+        assert_eq!(Manifest::from_json(&text).unwrap(), m);
+        assert!(text.contains(&format!("\"hemilab_version\": \"{}\"", env!("CARGO_PKG_VERSION"))));
+        assert!(Manifest::from_json("{\"scene\": \"x\"}").is_err());
+    }
+
+    #[test]
+    fn identical_manifest_matches() {
+        let mut stored = wanted();
+        stored.noise_floor = Some(1e-3);
+        assert_eq!(stored.matches(&wanted()), Ok(()));
+    }
+
+    #[test]
+    fn every_mismatch_is_listed() {
+        let mut stored = wanted();
+        stored.scene_hash = "fnv:9999".into();
+        stored.resolution = [320, 240];
+        stored.ao_distance = AoDistance::Infinite.canonical();
+        stored.rays = 1024;
+        stored.hemilab_version = "0.0.1".into();
+        let diffs = stored.matches(&wanted()).unwrap_err();
+        let all = diffs.join("\n");
+        for key in ["scene_hash", "resolution", "ao_distance", "rays", "hemilab_version"] {
+            assert!(all.contains(key), "{key} missing from:\n{all}");
+        }
+        assert_eq!(diffs.len(), 5, "{all}");
+        assert!(all.contains("rays: stored 1024, wanted 4096"), "{all}");
+    }
+
+    #[test]
+    fn auto_rays_accept_any_count_below_the_floor() {
+        let mut stored = wanted();
+        stored.rays = 16384;
+        stored.replicates = 8;
+        assert!(stored.matches_auto(&wanted(), 1e-3).is_err(), "no floor recorded");
+        stored.noise_floor = Some(5e-4);
+        assert_eq!(stored.matches_auto(&wanted(), 1e-3), Ok(()));
+        let e = stored.matches_auto(&wanted(), 1e-4).unwrap_err();
+        assert!(e[0].starts_with("noise_floor"), "{e:?}");
+        stored.seed = 2;
+        assert!(stored.matches_auto(&wanted(), 1e-3).unwrap_err()[0].starts_with("seed"));
+    }
+
+    #[test]
+    fn file_stem_ignores_rays() {
+        let mut a = wanted();
+        let b = a.clone();
+        a.rays = 99;
+        assert_eq!(a.file_stem(), b.file_stem());
+        assert!(a.file_stem().starts_with("kitchen-160x120-"));
+        a.resolution = [80, 60];
+        assert_ne!(a.file_stem(), b.file_stem());
     }
 }

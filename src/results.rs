@@ -304,3 +304,110 @@ pub fn convergence_slopes(aggs: &[Aggregate], rays: &[u32]) -> Vec<Slope> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::{Distribution, SeedMode, Sequence};
+
+    fn job(rays: u32, replicate: u32) -> Job {
+        Job {
+            scene: "scenes/k.toml".into(),
+            scene_id: "../scenes/k.toml".into(),
+            scene_name: "k".into(),
+            distribution: Distribution::SineCosine,
+            sequence: Sequence::Fibonacci,
+            seed_mode: SeedMode::Rotation,
+            rays,
+            replicate,
+            seed: crate::plan::replicate_seed(1, replicate),
+            resolution: Some([4, 4]),
+            ao_distance: None,
+        }
+    }
+
+    fn result(rays: u32, replicate: u32, rmse: f64, time_s: f64) -> JobResult {
+        let stats = ErrorStats {
+            covered: 16,
+            rmse,
+            bias: 0.01 * replicate as f64,
+            autocorr_x: 0.1,
+            autocorr_y: -0.1,
+            lowpass_rmse: rmse / 4.0,
+        };
+        JobResult::new(
+            &job(rays, replicate),
+            &stats,
+            time_s,
+            16 * rays as u64,
+            format!("img{rays}-{replicate}.exr"),
+        )
+    }
+
+    #[test]
+    fn csv_header_columns_are_exact() {
+        let csv = to_csv(&[result(8, 0, 0.1, 0.5)]);
+        let mut lines = csv.lines();
+        assert_eq!(
+            lines.next().unwrap(),
+            "scene,distribution,sequence,seed_mode,rays,replicate,seed,rmse,bias,autocorr_x,autocorr_y,\
+             lowpass_rmse,time_s,rays_per_s,rays_cast,efficiency,covered_pixels,key,image"
+        );
+        let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+        assert_eq!(row.len(), CSV_COLUMNS.len());
+        assert_eq!(&row[..6], &["k", "sine-cosine", "fibonacci", "rotation", "8", "0"]);
+        assert_eq!(row[7], "0.1");
+        assert_eq!(row[13], "256");
+        assert_eq!(row[15], (1.0 / (0.1f64 * 0.1 * 0.5)).to_string());
+        assert_eq!(row[17], job(8, 0).key());
+    }
+
+    #[test]
+    fn csv_quotes_awkward_fields_and_leaves_undefined_empty() {
+        let mut r = result(8, 0, 0.0, 0.0);
+        r.image = "a,b \"c\".exr".into();
+        let csv = to_csv(&[r]);
+        let line = csv.lines().nth(1).unwrap();
+        assert!(line.ends_with(",\"a,b \"\"c\"\".exr\""), "{line}");
+        assert!(line.contains(",0,128,,16,"), "rays_per_s 0, efficiency empty: {line}");
+    }
+
+    #[test]
+    fn json_round_trips_exactly() {
+        let rs = vec![result(8, 0, 0.1, 0.5), result(8, 1, 0.12345678901234567, 0.0)];
+        let back = from_json(&to_json(&rs)).unwrap();
+        assert_eq!(back, rs);
+        let e = from_json("[{\"scene\": 1}]").unwrap_err();
+        assert!(e.contains("line"), "{e}");
+    }
+
+    #[test]
+    fn aggregates_over_replicates_and_slopes() {
+        let mut rs = Vec::new();
+        for rays in [1u32, 4, 16, 64] {
+            for rep in 0..3 {
+                // RMSE ∝ rays^-1/2, time ∝ rays; replicate spread ±10 %.
+                let wobble = 1.0 + 0.1 * (rep as f64 - 1.0);
+                rs.push(result(rays, rep, 0.4 / (rays as f64).sqrt() * wobble, 0.01 * rays as f64));
+            }
+        }
+        let aggs = aggregate(&rs);
+        assert_eq!(aggs.len(), 4);
+        let a = &aggs[1];
+        assert_eq!((a.rays, a.replicates), (4, 3));
+        assert!((a.rmse.mean - 0.2).abs() < 1e-12);
+        assert!((a.rmse.sd - 0.02).abs() < 1e-12, "{:?}", a.rmse);
+        assert!((a.bias.mean - 0.01).abs() < 1e-12);
+        let slopes = convergence_slopes(&aggs, &[]);
+        assert_eq!(slopes.len(), 1);
+        assert_eq!(slopes[0].points, 4);
+        assert!((slopes[0].vs_rays.unwrap() + 0.5).abs() < 1e-9);
+        assert!((slopes[0].vs_time.unwrap() + 0.5).abs() < 1e-9);
+        let two = convergence_slopes(&aggs, &[4, 16]);
+        assert_eq!(two[0].points, 2);
+        assert_eq!(convergence_slopes(&aggs, &[4])[0].vs_rays, None);
+        let csv = aggregates_to_csv(&aggs);
+        assert!(csv.starts_with("scene,distribution,sequence,seed_mode,rays,replicates,rmse_mean,rmse_sd,"));
+        assert_eq!(csv.lines().count(), 5);
+    }
+}

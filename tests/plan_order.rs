@@ -12,7 +12,10 @@ fn brief(p: &Plan) -> Vec<String> {
     p.jobs
         .iter()
         .map(|j| {
-            format!("{} {} {} {} {} {}", j.scene_name, j.distribution, j.sequence, j.seed_mode, j.rays, j.replicate)
+            format!(
+                "{} {} {} {} {} {}",
+                j.scene_name, j.distribution, j.sequence, j.seed_mode, j.rays, j.replicate
+            )
         })
         .collect()
 }
@@ -92,7 +95,8 @@ fn seeds_come_from_the_replicate_not_the_position() {
     // Adding a table in front changes no existing job.
     let more = SPEC.replacen(
         "[[table]]",
-        "[[table]]\nname = \"first\"\nrays = [2]\nrows = [{ distribution = \"uniform\", sequence = \"sobol\" }]\n[[table]]",
+        "[[table]]\nname = \"first\"\nrays = [2]\n\
+         rows = [{ distribution = \"uniform\", sequence = \"sobol\" }]\n[[table]]",
         1,
     );
     let q = plan_of(&more);
@@ -112,7 +116,8 @@ fn key_is_pinned() {
     assert_eq!(
         j.canonical(),
         format!(
-            "hemilab-job-v1;scene=a.toml;distribution=sine;sequence=random;seed_mode=rotation;rays=8;replicate=0;seed={};resolution=10x5;ao_distance=scene",
+            "hemilab-job-v1;scene=a.toml;distribution=sine;sequence=random;seed_mode=rotation;rays=8;\
+             replicate=0;seed={};resolution=10x5;ao_distance=scene",
             replicate_seed(1, 0)
         )
     );

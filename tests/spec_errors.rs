@@ -145,7 +145,8 @@ fn resolution_needs_two_sides() {
 #[test]
 fn duplicate_table_name() {
     let mut text = spec("", "", "");
-    text.push_str("[[convergence]]\nname = \"t2\"\nrays = [1, 2]\nrows = [{ distribution = \"sine\", sequence = \"random\" }]\n");
+    text.push_str("[[convergence]]\nname = \"t2\"\nrays = [1, 2]\n");
+    text.push_str("rows = [{ distribution = \"sine\", sequence = \"random\" }]\n");
     let e = error(&text);
     assert_has(&e, &["line 12", "convergence.name", "duplicate name 't2'"]);
 }

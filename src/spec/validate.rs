@@ -354,11 +354,13 @@ fn rows(raw: &RawGroup, at: &str, span: std::ops::Range<usize>, p: &mut Problems
                 &format!("{at}rows"),
                 "give either `rows` or the axes `distributions`/`sequences`/`seed_modes`, not both",
             );
-            return None;
+            None
         }
         (None, false) => {
-            p.add(span, &format!("{at}rows"), "missing; give `rows = [{ distribution = .., sequence = .., seed_mode = .. }]` or the axes `distributions` and `sequences` (and optionally `seed_modes`)");
-            return None;
+            const HOW: &str = "missing; give `rows = [{ distribution = .., sequence = .., seed_mode = .. }]` \
+                               or the axes `distributions` and `sequences` (and optionally `seed_modes`)";
+            p.add(span, &format!("{at}rows"), HOW);
+            None
         }
         (Some(rows), false) => {
             if !p.non_empty(rows, &format!("{at}rows")) {

@@ -144,6 +144,29 @@ pub fn plan(spec: &Spec) -> Plan {
     Plan { jobs }
 }
 
+/// The reference renders of scene `scene` (index into `Spec::scenes`) at `rays` per pixel: one job
+/// per reference replicate, with the spec's reference estimator and seeds from their own stream.
+/// The rays are the caller's because `rays = "auto"` is settled only after a pilot render.
+pub fn reference_jobs(spec: &Spec, scene: usize, rays: u32) -> Vec<Job> {
+    let Some(s) = spec.scenes.get(scene) else { return Vec::new() };
+    let e = spec.reference.estimator.canonical();
+    (0..spec.reference.replicates)
+        .map(|replicate| Job {
+            scene: s.path.clone(),
+            scene_id: s.id.clone(),
+            scene_name: s.name.clone(),
+            distribution: e.distribution,
+            sequence: e.sequence,
+            seed_mode: e.seed_mode,
+            rays,
+            replicate,
+            seed: reference_seed(spec.reference.seed, replicate),
+            resolution: spec.resolution,
+            ao_distance: spec.ao_distance,
+        })
+        .collect()
+}
+
 /// What `hemilab plan` reports before anything is rendered.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Estimate {

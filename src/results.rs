@@ -3,6 +3,7 @@
 
 use crate::metrics::{ErrorStats, efficiency, loglog_slope, mean_sd};
 use crate::plan::Job;
+use crate::spec::Row;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 
@@ -210,6 +211,18 @@ pub fn aggregate(results: &[JobResult]) -> Vec<Aggregate> {
         .collect()
 }
 
+/// The aggregate of one cell of a table (`row` is canonicalized, so random+shift finds random+rotation).
+pub fn lookup<'a>(aggs: &'a [Aggregate], scene: &str, row: Row, rays: u32) -> Option<&'a Aggregate> {
+    let row = row.canonical();
+    aggs.iter().find(|a| {
+        a.scene == scene
+            && a.rays == rays
+            && a.distribution == row.distribution.name()
+            && a.sequence == row.sequence.name()
+            && a.seed_mode == row.seed_mode.name()
+    })
+}
+
 /// Column order of the aggregate CSV.
 pub fn aggregate_columns() -> Vec<String> {
     let mut c: Vec<String> =
@@ -406,6 +419,10 @@ mod tests {
         let two = convergence_slopes(&aggs, &[4, 16]);
         assert_eq!(two[0].points, 2);
         assert_eq!(convergence_slopes(&aggs, &[4])[0].vs_rays, None);
+        let row = Row::new(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Rotation);
+        assert_eq!(lookup(&aggs, "k", row, 16).map(|a| a.rays), Some(16));
+        assert!(lookup(&aggs, "k", row, 32).is_none());
+        assert!(lookup(&aggs, "other", row, 16).is_none());
         let csv = aggregates_to_csv(&aggs);
         assert!(csv.starts_with("scene,distribution,sequence,seed_mode,rays,replicates,rmse_mean,rmse_sd,"));
         assert_eq!(csv.lines().count(), 5);

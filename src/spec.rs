@@ -1,5 +1,44 @@
 //! Experiment spec (`experiments/*.toml`): what to render and compare, validated before any work.
 //!
+//! ```toml
+//! name = "paper"                        # optional; output dir out/<name>/; default: file stem
+//! scenes = ["../scenes/kitchen.toml"]   # relative to the spec file; stems must differ
+//! resolution = [160, 120]               # optional override of the scenes' own; sides 1..=16384
+//! ao_distance = 1.0                     # optional override: a number > 0 or "infinite"
+//! replicates = 4                        # independent seeds per (row, rays); 1..=1000; default 1
+//! seed = 1                              # base seed, 0..=4294967295; default 1
+//!
+//! [reference]                           # optional section; defaults shown
+//! rays = "auto"                         # or 1..=4194304 rays per pixel per replicate
+//! replicates = 4                        # 2..=1000 (their spread gives the standard error)
+//! seed = 1                              # default: the base seed (its own stream)
+//! distribution = "sine-cosine"          # the estimator: unbiased and fast-converging
+//! sequence = "fibonacci"
+//! seed_mode = "shift"
+//!
+//! [[table]]                             # any number, like the paper's tables 2 and 3
+//! name = "table2"                       # letters, digits, '-', '_'; unique over tables and sweeps
+//! rays = [8, 16, 32]                    # 1..=65536 each
+//! replicates = 4                        # optional: overrides the top-level count for this group
+//! scenes = ["kitchen"]                  # optional: a subset of the scenes (stem or path)
+//! rows = [                              # either explicit rows (seed_mode defaults to "rotation") …
+//!   { distribution = "uniform", sequence = "random" },
+//!   { distribution = "sine-cosine", sequence = "fibonacci", seed_mode = "static" },
+//! ]
+//!
+//! [[convergence]]                       # same keys as [[table]]
+//! name = "convergence"
+//! rays = [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024]
+//! distributions = ["sine-cosine"]       # … or axes, expanded as a product in this order
+//! sequences = ["random", "fibonacci"]
+//! seed_modes = ["rotation", "shift"]    # optional; default ["rotation"]
+//! ```
+//!
+//! Keys are snake_case; names are those of `sampling` (`uniform`, `sine`, `sine-cosine`,
+//! `concentric-cosine`; `random`, `fibonacci`, `stratified`, `sobol`; `static`, `rotation`, `shift`).
+//! `random` + `shift` is the same estimator as `random` + `rotation` (fresh numbers per pixel) and is
+//! merged into it; `random` + `static` is kept.
+//!
 //! Parsing is two-phase so that errors point at lines: serde (with `deny_unknown_fields`) checks the
 //! shape and stops at the first unknown key or wrong type; then every value carries its span
 //! (`toml::Spanned`) and the range/name checks run over the whole file, gathering all problems at once.

@@ -1,6 +1,6 @@
 //! The plan: union of tables and sweeps, duplicates merged, order stable, seeds independent of position.
 
-use hemilab::plan::{Plan, estimate, format_plan, plan, replicate_seed};
+use hemilab::plan::{Plan, estimate, format_plan, plan, reference_jobs, reference_seed, replicate_seed};
 use hemilab::spec::parse_spec;
 use std::path::Path;
 
@@ -150,4 +150,21 @@ fn scene_resolution_is_asked_for_when_not_overridden() {
     let rays: u64 = p.jobs.iter().map(|j| if j.scene_name == "a" { 4 } else { 1 } * j.rays as u64).sum();
     assert_eq!(e.total_rays, rays);
     assert!(e.seconds.is_infinite());
+}
+
+#[test]
+fn reference_jobs_use_their_own_seeds_and_the_reference_estimator() {
+    let text = SPEC
+        .replace("resolution = [10, 5]\n", "resolution = [10, 5]\n[reference]\nreplicates = 3\nseed = 9\n");
+    let spec = parse_spec(&text, Path::new("exp/p.toml")).unwrap();
+    let refs = reference_jobs(&spec, 1, 4096);
+    assert_eq!(refs.len(), 3);
+    for (i, j) in refs.iter().enumerate() {
+        assert_eq!(j.scene_name, "b");
+        assert_eq!(j.row(), spec.reference.estimator);
+        assert_eq!((j.rays, j.replicate), (4096, i as u32));
+        assert_eq!(j.seed, reference_seed(9, i as u32));
+        assert_ne!(j.seed, replicate_seed(9, i as u32));
+    }
+    assert!(reference_jobs(&spec, 2, 4096).is_empty());
 }

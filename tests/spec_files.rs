@@ -125,3 +125,19 @@ rows = [{ distribution = "sine", sequence = "random", seed_mode = "shift" }]
     assert_eq!(s.scenes[1].path, Path::new("exp/b.toml"));
     assert_eq!(s.resolution, None);
 }
+
+#[test]
+fn format_example_in_the_module_doc_parses() {
+    let src = include_str!("../src/spec.rs");
+    let block: String = src
+        .lines()
+        .skip_while(|l| !l.starts_with("//! ```toml"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("//! ```"))
+        .map(|l| format!("{}\n", l.trim_start_matches("//!").strip_prefix(' ').unwrap_or("")))
+        .collect();
+    assert!(block.contains("[[convergence]]"), "doc block not found");
+    let s = parse_spec(&block, Path::new("experiments/paper.toml")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.groups.len(), 2);
+    assert_eq!(s.groups[1].rows.len(), 3, "random+shift merged into random+rotation");
+}

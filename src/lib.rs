@@ -12,10 +12,28 @@
 //!
 //! `app` is the one orchestrator; `io` is the only module that touches the filesystem.
 
-pub mod app;
-pub mod cli;
-pub mod error;
-pub mod image;
-pub mod io;
-pub mod report;
+// Declared in pipeline order (blank lines keep rustfmt from sorting them).
+pub mod spec;
+
+pub mod plan;
+
 pub mod sampling;
+
+pub mod image;
+
+pub mod metrics;
+
+pub mod reference;
+
+pub mod results;
+
+pub mod report;
+
+// The shell around the pipeline: command line, orchestration, errors, the filesystem.
+pub mod cli;
+
+pub mod app;
+
+pub mod error;
+
+pub mod io;

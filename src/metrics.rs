@@ -1,0 +1,246 @@
+//! Error statistics of an image against a reference, over covered pixels only (a leaf: imports only
+//! `crate::image`). RMSE and bias say how far off; the lag-1 autocorrelation and the low-pass RMSE
+//! say whether the error is *structured* — the paper's Table 3 banding, which RMSE alone cannot see.
+
+use crate::image::Image;
+use std::fmt;
+
+/// Coverage masks are 1.0 (a surface) or 0.0 (background); anything above one half counts.
+pub fn covered(mask: &Image, i: usize) -> bool {
+    mask.data[i] > 0.5
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum MetricsError {
+    SizeMismatch { what: &'static str, expected: (u32, u32), got: (u32, u32) },
+    NoCoveredPixels,
+}
+
+impl fmt::Display for MetricsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MetricsError::SizeMismatch { what, expected, got } => write!(
+                f,
+                "{what} is {}x{} but the image is {}x{}; mismatched images are never compared",
+                got.0, got.1, expected.0, expected.1
+            ),
+            MetricsError::NoCoveredPixels => {
+                write!(f, "no pixel is covered by the scene; nothing to measure")
+            }
+        }
+    }
+}
+
+impl std::error::Error for MetricsError {}
+
+/// Everything measured for one image.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ErrorStats {
+    pub covered: usize,
+    pub rmse: f64,
+    /// Mean signed error (image − reference).
+    pub bias: f64,
+    pub autocorr_x: f64,
+    pub autocorr_y: f64,
+    pub lowpass_rmse: f64,
+}
+
+/// Width of the low-pass: wide enough to average pixel noise away, narrow enough to keep bands.
+pub const LOWPASS_SIGMA: f64 = 1.5;
+
+fn check(image: &Image, other: &Image, what: &'static str) -> Result<(), MetricsError> {
+    if image.same_size(other) {
+        Ok(())
+    } else {
+        Err(MetricsError::SizeMismatch {
+            what,
+            expected: (image.width, image.height),
+            got: (other.width, other.height),
+        })
+    }
+}
+
+/// image − reference on covered pixels, 0 elsewhere.
+pub fn error_image(image: &Image, reference: &Image, mask: &Image) -> Result<Image, MetricsError> {
+    check(image, reference, "the reference")?;
+    check(image, mask, "the coverage mask")?;
+    let data = (0..image.len())
+        .map(|i| if covered(mask, i) { image.data[i] - reference.data[i] } else { 0.0 })
+        .collect();
+    Ok(Image::from_vec(image.width, image.height, data))
+}
+
+/// All metrics of one image at once.
+pub fn measure(image: &Image, reference: &Image, mask: &Image) -> Result<ErrorStats, MetricsError> {
+    let err = error_image(image, reference, mask)?;
+    let n = (0..mask.len()).filter(|&i| covered(mask, i)).count();
+    if n == 0 {
+        return Err(MetricsError::NoCoveredPixels);
+    }
+    let (rmse, bias) = rmse_bias(&err, mask);
+    let (autocorr_x, autocorr_y) = autocorrelation(&err, mask);
+    Ok(ErrorStats {
+        covered: n,
+        rmse,
+        bias,
+        autocorr_x,
+        autocorr_y,
+        lowpass_rmse: lowpass_rmse(&err, mask, LOWPASS_SIGMA),
+    })
+}
+
+/// (RMS, mean) of an error image over covered pixels; (0, 0) when nothing is covered.
+pub fn rmse_bias(err: &Image, mask: &Image) -> (f64, f64) {
+    let (mut n, mut sum, mut sq) = (0usize, 0.0f64, 0.0f64);
+    for i in (0..err.len()).filter(|&i| covered(mask, i)) {
+        let e = err.data[i] as f64;
+        n += 1;
+        sum += e;
+        sq += e * e;
+    }
+    if n == 0 { (0.0, 0.0) } else { ((sq / n as f64).sqrt(), sum / n as f64) }
+}
+
+/// Error spread below this counts as a constant error (AO lies in [0, 1]; f32 resolves ~6e-8).
+pub const CONSTANT_SD: f64 = 1e-6;
+
+/// Lag-1 autocorrelation of the error (minus its mean) along x and along y, over pairs of covered
+/// neighbours, normalized by the variance. A constant error (sd ≤ `CONSTANT_SD`) or no pairs gives 0.
+pub fn autocorrelation(err: &Image, mask: &Image) -> (f64, f64) {
+    let (w, h) = (err.width as usize, err.height as usize);
+    let (_, mean) = rmse_bias(err, mask);
+    let (mut n, mut var) = (0usize, 0.0f64);
+    for i in (0..err.len()).filter(|&i| covered(mask, i)) {
+        let d = err.data[i] as f64 - mean;
+        var += d * d;
+        n += 1;
+    }
+    if n == 0 {
+        return (0.0, 0.0);
+    }
+    var /= n as f64;
+    // A constant error stored in f32 still carries rounding noise (~1e-7 for AO values in [0, 1]);
+    // that must read as "no structure", not as a correlation of rounding.
+    if var.sqrt() <= CONSTANT_SD {
+        return (0.0, 0.0);
+    }
+    let lag = |step: usize, ok: &dyn Fn(usize) -> bool| {
+        let (mut pairs, mut sum) = (0usize, 0.0f64);
+        for i in 0..err.len() {
+            if ok(i) && covered(mask, i) && covered(mask, i + step) {
+                sum += (err.data[i] as f64 - mean) * (err.data[i + step] as f64 - mean);
+                pairs += 1;
+            }
+        }
+        if pairs == 0 { 0.0 } else { sum / pairs as f64 / var }
+    };
+    let x = lag(1, &|i| i % w + 1 < w);
+    let y = lag(w, &|i| i / w + 1 < h);
+    (x, y)
+}
+
+/// RMS over covered pixels of the error blurred by a Gaussian of `sigma` pixels. The blur is a
+/// normalized convolution over covered pixels only, so background zeros do not dilute edges.
+pub fn lowpass_rmse(err: &Image, mask: &Image, sigma: f64) -> f64 {
+    let blurred = lowpass(err, mask, sigma);
+    rmse_bias(&blurred, mask).0
+}
+
+/// The low-passed error image itself (0 on background), for the report's pictures.
+pub fn lowpass(err: &Image, mask: &Image, sigma: f64) -> Image {
+    let (w, h) = (err.width as usize, err.height as usize);
+    let radius = (3.0 * sigma).ceil().max(0.0) as isize;
+    let kernel: Vec<f64> =
+        (-radius..=radius).map(|k| (-((k * k) as f64) / (2.0 * sigma * sigma).max(1e-12)).exp()).collect();
+    let m: Vec<f64> = (0..err.len()).map(|i| if covered(mask, i) { 1.0 } else { 0.0 }).collect();
+    let v: Vec<f64> = (0..err.len()).map(|i| m[i] * err.data[i] as f64).collect();
+    let pass = |src: &[f64], horizontal: bool| -> Vec<f64> {
+        let mut out = vec![0.0; src.len()];
+        for y in 0..h {
+            for x in 0..w {
+                let mut acc = 0.0;
+                for (ki, k) in (-radius..=radius).enumerate() {
+                    let (sx, sy) =
+                        if horizontal { (x as isize + k, y as isize) } else { (x as isize, y as isize + k) };
+                    if sx >= 0 && sy >= 0 && (sx as usize) < w && (sy as usize) < h {
+                        acc += kernel[ki] * src[sy as usize * w + sx as usize];
+                    }
+                }
+                out[y * w + x] = acc;
+            }
+        }
+        out
+    };
+    let num = pass(&pass(&v, true), false);
+    let den = pass(&pass(&m, true), false);
+    let data = (0..err.len())
+        .map(|i| if m[i] > 0.0 && den[i] > 0.0 { (num[i] / den[i]) as f32 } else { 0.0 })
+        .collect();
+    Image::from_vec(err.width, err.height, data)
+}
+
+/// Error per unit of work: 1 / (MSE · time). `None` when MSE · time is 0 or not finite (a perfect
+/// or unmeasured run has no meaningful efficiency).
+pub fn efficiency(rmse: f64, time_s: f64) -> Option<f64> {
+    let p = rmse * rmse * time_s;
+    (p > 0.0 && p.is_finite()).then(|| 1.0 / p)
+}
+
+/// Least-squares slope of ln y against ln x, over points with x, y > 0 and finite;
+/// `None` with fewer than two distinct x.
+pub fn loglog_slope(xs: &[f64], ys: &[f64]) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = xs
+        .iter()
+        .zip(ys)
+        .filter(|(x, y)| **x > 0.0 && **y > 0.0 && x.is_finite() && y.is_finite())
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (sxx > 1e-12).then(|| sxy / sxx)
+}
+
+/// Mean and sample standard deviation (n − 1; 0 for a single value) of the finite values.
+pub fn mean_sd(values: &[f64]) -> (f64, f64) {
+    let v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let sd = if v.len() < 2 {
+        0.0
+    } else {
+        (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+    };
+    (mean, sd)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn efficiency_and_mean_sd() {
+        assert!((efficiency(0.1, 2.0).unwrap() - 50.0).abs() < 1e-9);
+        assert_eq!(efficiency(0.0, 2.0), None);
+        assert_eq!(efficiency(0.1, 0.0), None);
+        let (m, s) = mean_sd(&[1.0, 2.0, 3.0]);
+        assert!((m - 2.0).abs() < 1e-12 && (s - 1.0).abs() < 1e-12);
+        assert_eq!(mean_sd(&[5.0]), (5.0, 0.0));
+    }
+
+    #[test]
+    fn slope_needs_two_distinct_x() {
+        assert_eq!(loglog_slope(&[4.0, 4.0], &[1.0, 2.0]), None);
+        assert_eq!(loglog_slope(&[4.0], &[1.0]), None);
+        let s = loglog_slope(&[1.0, 10.0], &[1.0, 10.0]).unwrap();
+        assert!((s - 1.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,277 @@
+//! Pure: spec → the jobs it needs. A job is everything that determines one image, so its key names
+//! the image file and decides whether a resumed run may skip it.
+
+use crate::sampling::{Distribution, SeedMode, Sequence};
+use crate::spec::{AoDistance, Row, Spec};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// One image to render.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Job {
+    /// Where to load the scene from.
+    pub scene: PathBuf,
+    /// The scene as the spec wrote it (normalized); goes into the key instead of the machine's path.
+    pub scene_id: String,
+    /// Results' `scene` column.
+    pub scene_name: String,
+    pub distribution: Distribution,
+    pub sequence: Sequence,
+    pub seed_mode: SeedMode,
+    pub rays: u32,
+    pub replicate: u32,
+    /// From the base seed and the replicate only, so adding a table never changes another job's image.
+    pub seed: u64,
+    /// `None`: the scene's own.
+    pub resolution: Option<[u32; 2]>,
+    /// `None`: the scene's own.
+    pub ao_distance: Option<AoDistance>,
+}
+
+impl Job {
+    pub fn row(&self) -> Row {
+        Row::new(self.distribution, self.sequence, self.seed_mode)
+    }
+
+    /// Everything that determines the image, as text; the version prefix lets a format change
+    /// invalidate old keys on purpose.
+    pub fn canonical(&self) -> String {
+        let res = self.resolution.map_or("scene".to_string(), |[w, h]| format!("{w}x{h}"));
+        let d = self.ao_distance.map_or("scene".to_string(), |d| d.canonical());
+        format!(
+            concat!(
+                "hemilab-job-v1;scene={};distribution={};sequence={};seed_mode={};rays={};replicate={};",
+                "seed={};resolution={};ao_distance={}"
+            ),
+            self.scene_id,
+            self.distribution,
+            self.sequence,
+            self.seed_mode,
+            self.rays,
+            self.replicate,
+            self.seed,
+            res,
+            d
+        )
+    }
+
+    /// 16 hex digits, stable across Rust releases and machines (FNV-1a 64 of `canonical`).
+    pub fn key(&self) -> String {
+        format!("{:016x}", fnv1a64(self.canonical().as_bytes()))
+    }
+
+    /// Readable and unique file stem for the job's image: `<scene>-<row>-<rays>r-<replicate>-<key>`.
+    pub fn file_stem(&self) -> String {
+        format!(
+            "{}-{}-{}-{}-{}r-{}-{}",
+            self.scene_name,
+            self.distribution,
+            self.sequence,
+            self.seed_mode,
+            self.rays,
+            self.replicate,
+            self.key()
+        )
+    }
+}
+
+/// FNV-1a, 64 bit: tiny and fixed forever, unlike std's `DefaultHasher`.
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// SplitMix64 finalizer: decorrelates nearby inputs (replicate 0, 1, 2 …).
+fn mix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// The seed of replicate `r` of every measured configuration.
+pub fn replicate_seed(base: u64, replicate: u32) -> u64 {
+    mix(mix(base) ^ replicate as u64)
+}
+
+/// Reference replicates use another stream, so a reference never shares numbers with a measured job.
+pub fn reference_seed(base: u64, replicate: u32) -> u64 {
+    mix(mix(base ^ 0x7265_6665_7265_6e63) ^ replicate as u64)
+}
+
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Plan {
+    /// Ordered: scene (spec order), then tables/sweeps in file order, then row, rays, replicate;
+    /// a job another group already needs keeps its first place.
+    pub jobs: Vec<Job>,
+}
+
+/// The union of what every table and sweep needs, duplicates merged.
+pub fn plan(spec: &Spec) -> Plan {
+    let mut jobs: Vec<Job> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    for (si, scene) in spec.scenes.iter().enumerate() {
+        for group in spec.groups.iter().filter(|g| g.scenes.contains(&si)) {
+            for row in &group.rows {
+                let row = row.canonical();
+                for &rays in &group.rays {
+                    for replicate in 0..group.replicates {
+                        let job = Job {
+                            scene: scene.path.clone(),
+                            scene_id: scene.id.clone(),
+                            scene_name: scene.name.clone(),
+                            distribution: row.distribution,
+                            sequence: row.sequence,
+                            seed_mode: row.seed_mode,
+                            rays,
+                            replicate,
+                            seed: replicate_seed(spec.seed, replicate),
+                            resolution: spec.resolution,
+                            ao_distance: spec.ao_distance,
+                        };
+                        if seen.insert(job.canonical()) {
+                            jobs.push(job);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Plan { jobs }
+}
+
+/// The reference renders of scene `scene` (index into `Spec::scenes`) at `rays` per pixel: one job
+/// per reference replicate, with the spec's reference estimator and seeds from their own stream.
+/// The rays are the caller's because `rays = "auto"` is settled only after a pilot render.
+pub fn reference_jobs(spec: &Spec, scene: usize, rays: u32) -> Vec<Job> {
+    let Some(s) = spec.scenes.get(scene) else { return Vec::new() };
+    let e = spec.reference.estimator.canonical();
+    (0..spec.reference.replicates)
+        .map(|replicate| Job {
+            scene: s.path.clone(),
+            scene_id: s.id.clone(),
+            scene_name: s.name.clone(),
+            distribution: e.distribution,
+            sequence: e.sequence,
+            seed_mode: e.seed_mode,
+            rays,
+            replicate,
+            seed: reference_seed(spec.reference.seed, replicate),
+            resolution: spec.resolution,
+            ao_distance: spec.ao_distance,
+        })
+        .collect()
+}
+
+/// What `hemilab plan` reports before anything is rendered.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate {
+    pub jobs: usize,
+    /// Upper bound: every pixel covered (background pixels cast no AO rays).
+    pub total_rays: u64,
+    pub pixels: u64,
+    /// `total_rays / rays_per_s`.
+    pub seconds: f64,
+}
+
+/// `resolution_of` supplies the scene's own resolution for jobs without an override (the planner
+/// does not read scene files).
+pub fn estimate(plan: &Plan, resolution_of: impl Fn(&Job) -> [u32; 2], rays_per_s: f64) -> Estimate {
+    let mut total_rays = 0u64;
+    let mut pixels = 0u64;
+    for job in &plan.jobs {
+        let [w, h] = job.resolution.unwrap_or_else(|| resolution_of(job));
+        let px = w as u64 * h as u64;
+        pixels += px;
+        total_rays = total_rays.saturating_add(px.saturating_mul(job.rays as u64));
+    }
+    let seconds = if rays_per_s > 0.0 { total_rays as f64 / rays_per_s } else { f64::INFINITY };
+    Estimate { jobs: plan.jobs.len(), total_rays, pixels, seconds }
+}
+
+/// The job list and estimate as `hemilab plan` prints it.
+pub fn format_plan(spec_path: &Path, plan: &Plan, estimate: &Estimate, rays_per_s: f64) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "plan for {}: {} jobs", spec_path.display(), plan.jobs.len());
+    let _ = writeln!(
+        s,
+        "{:>4}  {:<16} {:<18} {:<10} {:<9} {:>6} {:>4}  {:<16}",
+        "#", "scene", "distribution", "sequence", "seed_mode", "rays", "rep", "key"
+    );
+    for (i, j) in plan.jobs.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "{:>4}  {:<16} {:<18} {:<10} {:<9} {:>6} {:>4}  {}",
+            i + 1,
+            j.scene_name,
+            j.distribution.name(),
+            j.sequence.name(),
+            j.seed_mode.name(),
+            j.rays,
+            j.replicate,
+            j.key()
+        );
+    }
+    let _ = writeln!(
+        s,
+        "total: {} jobs, {} pixels, at most {} rays (≈ {:.1} Grays); at {:.1} M rays/s ≈ {}",
+        estimate.jobs,
+        estimate.pixels,
+        estimate.total_rays,
+        estimate.total_rays as f64 / 1e9,
+        rays_per_s / 1e6,
+        format_duration(estimate.seconds)
+    );
+    s
+}
+
+/// "2 h 05 min", "3 min 07 s", "12.3 s".
+pub fn format_duration(seconds: f64) -> String {
+    if !seconds.is_finite() {
+        return "unknown time".into();
+    }
+    let t = seconds.round() as u64;
+    if t >= 3600 {
+        format!("{} h {:02} min", t / 3600, (t % 3600) / 60)
+    } else if t >= 60 {
+        format!("{} min {:02} s", t / 60, t % 60)
+    } else {
+        format!("{seconds:.1} s")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fnv_known_values() {
+        // Published FNV-1a 64 test vectors.
+        assert_eq!(fnv1a64(b""), 0xcbf29ce484222325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63dc4c8601ec8c);
+        assert_eq!(fnv1a64(b"foobar"), 0x85944171f73967e8);
+    }
+
+    #[test]
+    fn replicate_seeds_differ_and_are_fixed() {
+        let s: Vec<u64> = (0..4).map(|r| replicate_seed(1, r)).collect();
+        for i in 0..4 {
+            for j in 0..i {
+                assert_ne!(s[i], s[j]);
+            }
+            assert_ne!(s[i], reference_seed(1, i as u32));
+        }
+        assert_eq!(replicate_seed(1, 0), replicate_seed(1, 0));
+    }
+
+    #[test]
+    fn durations() {
+        assert_eq!(format_duration(12.34), "12.3 s");
+        assert_eq!(format_duration(187.0), "3 min 07 s");
+        assert_eq!(format_duration(7500.0), "2 h 05 min");
+    }
+}

@@ -1,0 +1,301 @@
+//! What determines a reference image (its manifest), when a stored one may be reused, and the noise
+//! floor helpers. Pure: the app reads and writes the files.
+//!
+//! A reference is the mean of several independent high-ray renders; their spread gives a per-pixel
+//! standard error, whose RMS over covered pixels is the *noise floor*: no RMSE measured against this
+//! reference means anything below it.
+
+use crate::image::Image;
+use crate::metrics::covered;
+use crate::spec::{AoDistance, Row, SceneRef};
+use serde::{Deserialize, Serialize};
+
+/// Default target: the floor at most a tenth of the smallest RMSE the spec measures.
+pub const FLOOR_RATIO: f64 = 0.1;
+
+/// Everything that determines a reference image, plus what was measured when it was made.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Manifest {
+    pub hemilab_version: String,
+    /// The scene as the spec names it (`SceneRef::id`).
+    pub scene: String,
+    /// Hash of the scene file and mesh bytes, as the scene loader reports it.
+    pub scene_hash: String,
+    /// The camera, as the scene loader describes it (position, target, fov …).
+    pub camera: String,
+    pub resolution: [u32; 2],
+    /// `AoDistance::canonical()` of the distance actually used.
+    pub ao_distance: String,
+    pub distribution: String,
+    pub sequence: String,
+    pub seed_mode: String,
+    /// Rays per pixel of each replicate.
+    pub rays: u32,
+    pub replicates: u32,
+    pub seed: u64,
+    /// RMS of the per-pixel standard error over covered pixels (measured, not compared).
+    #[serde(default)]
+    pub noise_floor: Option<f64>,
+    /// Render time of all replicates (measured, not compared).
+    #[serde(default)]
+    pub time_s: Option<f64>,
+}
+
+impl Manifest {
+    /// The manifest a run wants; `scene_hash`, `camera`, and the resolution and distance actually
+    /// used (the spec's override or the scene's own) come from the scene loader.
+    #[allow(clippy::too_many_arguments)]
+    pub fn wanted(
+        scene: &SceneRef,
+        scene_hash: &str,
+        camera: &str,
+        resolution: [u32; 2],
+        ao_distance: AoDistance,
+        estimator: Row,
+        rays: u32,
+        replicates: u32,
+        seed: u64,
+    ) -> Self {
+        Self {
+            hemilab_version: env!("CARGO_PKG_VERSION").into(),
+            scene: scene.id.clone(),
+            scene_hash: scene_hash.into(),
+            camera: camera.into(),
+            resolution,
+            ao_distance: ao_distance.canonical(),
+            distribution: estimator.distribution.name().into(),
+            sequence: estimator.sequence.name().into(),
+            seed_mode: estimator.seed_mode.name().into(),
+            rays,
+            replicates,
+            seed,
+            noise_floor: None,
+            time_s: None,
+        }
+    }
+
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).expect("a manifest always serializes");
+        s.push('\n');
+        s
+    }
+
+    pub fn from_json(text: &str) -> Result<Self, String> {
+        serde_json::from_str(text).map_err(|e| e.to_string())
+    }
+
+    /// Differences in what determines the images, `have` → `want`, ignoring rays and replicates
+    /// (the two `matches*` rules decide about those).
+    fn differences(&self, wanted: &Manifest) -> Vec<String> {
+        let mut d = Vec::new();
+        let mut cmp = |name: &str, have: String, want: String| {
+            if have != want {
+                d.push(format!("{name}: stored {have}, wanted {want}"));
+            }
+        };
+        cmp("hemilab_version", self.hemilab_version.clone(), wanted.hemilab_version.clone());
+        cmp("scene", self.scene.clone(), wanted.scene.clone());
+        cmp("scene_hash", self.scene_hash.clone(), wanted.scene_hash.clone());
+        cmp("camera", self.camera.clone(), wanted.camera.clone());
+        cmp("resolution", format!("{:?}", self.resolution), format!("{:?}", wanted.resolution));
+        cmp("ao_distance", self.ao_distance.clone(), wanted.ao_distance.clone());
+        cmp("distribution", self.distribution.clone(), wanted.distribution.clone());
+        cmp("sequence", self.sequence.clone(), wanted.sequence.clone());
+        cmp("seed_mode", self.seed_mode.clone(), wanted.seed_mode.clone());
+        cmp("seed", self.seed.to_string(), wanted.seed.to_string());
+        d
+    }
+
+    /// A stored reference may be reused only if everything that determines it is the same.
+    pub fn matches(&self, wanted: &Manifest) -> Result<(), Vec<String>> {
+        let mut d = self.differences(wanted);
+        if self.rays != wanted.rays {
+            d.push(format!("rays: stored {}, wanted {}", self.rays, wanted.rays));
+        }
+        if self.replicates != wanted.replicates {
+            d.push(format!("replicates: stored {}, wanted {}", self.replicates, wanted.replicates));
+        }
+        if d.is_empty() { Ok(()) } else { Err(d) }
+    }
+
+    /// For `rays = "auto"`: any ray count and replicate count will do if the stored noise floor is
+    /// at most `max_floor`.
+    pub fn matches_auto(&self, wanted: &Manifest, max_floor: f64) -> Result<(), Vec<String>> {
+        let mut d = self.differences(wanted);
+        match self.noise_floor {
+            Some(f) if f <= max_floor => {}
+            Some(f) => d.push(format!("noise_floor: stored {f:.3e}, wanted at most {max_floor:.3e}")),
+            None => d.push("noise_floor: not recorded".into()),
+        }
+        if d.is_empty() { Ok(()) } else { Err(d) }
+    }
+
+    /// File stem under `reference/`: readable, and the same for every ray count, so a rebuilt
+    /// reference replaces the old one instead of piling up beside it.
+    pub fn file_stem(&self) -> String {
+        let name = std::path::Path::new(&self.scene)
+            .file_stem()
+            .map_or("scene".to_string(), |s| s.to_string_lossy().into_owned());
+        let what = format!("{};{};{:?};{}", self.scene, self.camera, self.resolution, self.ao_distance);
+        let h = crate::plan::fnv1a64(what.as_bytes());
+        format!("{name}-{}x{}-{:08x}", self.resolution[0], self.resolution[1], h as u32)
+    }
+}
+
+/// Per-pixel mean and standard error of the mean (sample sd / √n) of independent renders.
+pub fn mean_and_stderr(replicates: &[Image]) -> Result<(Image, Image), String> {
+    let first = replicates.first().ok_or("no reference replicates")?;
+    if replicates.len() < 2 {
+        return Err("a standard error needs at least 2 reference replicates".into());
+    }
+    if replicates.iter().any(|r| !r.same_size(first)) {
+        return Err("reference replicates differ in size".into());
+    }
+    let n = replicates.len() as f64;
+    let mut mean = Image::new(first.width, first.height);
+    let mut se = Image::new(first.width, first.height);
+    for i in 0..first.len() {
+        let m = replicates.iter().map(|r| r.data[i] as f64).sum::<f64>() / n;
+        let var = replicates.iter().map(|r| (r.data[i] as f64 - m).powi(2)).sum::<f64>() / (n - 1.0);
+        mean.data[i] = m as f32;
+        se.data[i] = (var / n).sqrt() as f32;
+    }
+    Ok((mean, se))
+}
+
+/// RMS of the per-pixel standard error over covered pixels (0 when nothing is covered).
+pub fn noise_floor(stderr: &Image, mask: &Image) -> f64 {
+    let (mut n, mut sq) = (0usize, 0.0f64);
+    for i in (0..stderr.len().min(mask.len())).filter(|&i| covered(mask, i)) {
+        sq += (stderr.data[i] as f64).powi(2);
+        n += 1;
+    }
+    if n == 0 { 0.0 } else { (sq / n as f64).sqrt() }
+}
+
+/// The floor a reference should reach for a spec whose smallest measured RMSE is `smallest_rmse`.
+pub fn target_floor(smallest_rmse: f64) -> f64 {
+    smallest_rmse * FLOOR_RATIO
+}
+
+/// Rays per replicate needed to bring `floor` (measured with `rays` per replicate, same replicate
+/// count) down to `target`, since the floor falls as 1/√rays. Never less than `rays`.
+pub fn rays_needed(floor: f64, rays: u32, target: f64) -> u64 {
+    if target.is_nan() || target <= 0.0 || !floor.is_finite() || floor <= target {
+        return rays as u64;
+    }
+    let r = (rays as f64 * (floor / target).powi(2)).ceil();
+    if r >= u64::MAX as f64 { u64::MAX } else { r as u64 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rays_needed_scales_with_square() {
+        assert_eq!(rays_needed(0.02, 1000, 0.01), 4000);
+        assert_eq!(rays_needed(0.005, 1000, 0.01), 1000);
+        assert_eq!(rays_needed(0.03, 100, 0.01), 900);
+    }
+
+    #[test]
+    fn stderr_of_two_images() {
+        let a = Image::from_vec(2, 1, vec![0.0, 1.0]);
+        let b = Image::from_vec(2, 1, vec![1.0, 1.0]);
+        let (m, se) = mean_and_stderr(&[a, b]).unwrap();
+        assert_eq!(m.data, vec![0.5, 1.0]);
+        // sd = sqrt(0.5), se = sd / sqrt(2) = 0.5
+        assert!((se.data[0] - 0.5).abs() < 1e-6 && se.data[1] == 0.0);
+        let mask = Image::from_vec(2, 1, vec![1.0, 0.0]);
+        assert!((noise_floor(&se, &mask) - 0.5).abs() < 1e-6);
+        assert!(mean_and_stderr(&[m]).is_err());
+    }
+}
+
+#[cfg(test)]
+mod manifest_tests {
+    use super::*;
+    use crate::sampling::{Distribution, SeedMode, Sequence};
+
+    fn wanted() -> Manifest {
+        let scene = SceneRef {
+            path: "experiments/../scenes/kitchen.toml".into(),
+            id: "../scenes/kitchen.toml".into(),
+            name: "kitchen".into(),
+        };
+        let est = Row::new(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Shift);
+        Manifest::wanted(
+            &scene,
+            "fnv:0123",
+            "eye 0 1 2; at 0 0 0; fov 60",
+            [160, 120],
+            AoDistance::Finite(1.0),
+            est,
+            4096,
+            4,
+            1,
+        )
+    }
+
+    #[test]
+    fn json_round_trip() {
+        let mut m = wanted();
+        m.noise_floor = Some(1.25e-3);
+        m.time_s = Some(12.5);
+        let text = m.to_json();
+        assert_eq!(Manifest::from_json(&text).unwrap(), m);
+        assert!(text.contains(&format!("\"hemilab_version\": \"{}\"", env!("CARGO_PKG_VERSION"))));
+        assert!(Manifest::from_json("{\"scene\": \"x\"}").is_err());
+    }
+
+    #[test]
+    fn identical_manifest_matches() {
+        let mut stored = wanted();
+        stored.noise_floor = Some(1e-3);
+        assert_eq!(stored.matches(&wanted()), Ok(()));
+    }
+
+    #[test]
+    fn every_mismatch_is_listed() {
+        let mut stored = wanted();
+        stored.scene_hash = "fnv:9999".into();
+        stored.resolution = [320, 240];
+        stored.ao_distance = AoDistance::Infinite.canonical();
+        stored.rays = 1024;
+        stored.hemilab_version = "0.0.1".into();
+        let diffs = stored.matches(&wanted()).unwrap_err();
+        let all = diffs.join("\n");
+        for key in ["scene_hash", "resolution", "ao_distance", "rays", "hemilab_version"] {
+            assert!(all.contains(key), "{key} missing from:\n{all}");
+        }
+        assert_eq!(diffs.len(), 5, "{all}");
+        assert!(all.contains("rays: stored 1024, wanted 4096"), "{all}");
+    }
+
+    #[test]
+    fn auto_rays_accept_any_count_below_the_floor() {
+        let mut stored = wanted();
+        stored.rays = 16384;
+        stored.replicates = 8;
+        assert!(stored.matches_auto(&wanted(), 1e-3).is_err(), "no floor recorded");
+        stored.noise_floor = Some(5e-4);
+        assert_eq!(stored.matches_auto(&wanted(), 1e-3), Ok(()));
+        let e = stored.matches_auto(&wanted(), 1e-4).unwrap_err();
+        assert!(e[0].starts_with("noise_floor"), "{e:?}");
+        stored.seed = 2;
+        assert!(stored.matches_auto(&wanted(), 1e-3).unwrap_err()[0].starts_with("seed"));
+    }
+
+    #[test]
+    fn file_stem_ignores_rays() {
+        let mut a = wanted();
+        let b = a.clone();
+        a.rays = 99;
+        assert_eq!(a.file_stem(), b.file_stem());
+        assert!(a.file_stem().starts_with("kitchen-160x120-"));
+        a.resolution = [80, 60];
+        assert_ne!(a.file_stem(), b.file_stem());
+    }
+}

@@ -1,0 +1,221 @@
+//! Experiment spec (`experiments/*.toml`): what to render and compare, validated before any work.
+//!
+//! ```toml
+//! name = "paper"                        # optional; output dir out/<name>/; default: file stem
+//! scenes = ["../scenes/kitchen.toml"]   # relative to the spec file; stems must differ
+//! resolution = [160, 120]               # optional override of the scenes' own; sides 1..=16384
+//! ao_distance = 1.0                     # optional override: a number > 0 or "infinite"
+//! replicates = 4                        # independent seeds per (row, rays); 1..=1000; default 1
+//! seed = 1                              # base seed, 0..=4294967295; default 1
+//!
+//! [reference]                           # optional section; defaults shown
+//! rays = "auto"                         # or 1..=4194304 rays per pixel per replicate
+//! replicates = 4                        # 2..=1000 (their spread gives the standard error)
+//! seed = 1                              # default: the base seed (its own stream)
+//! distribution = "sine-cosine"          # the estimator: unbiased and fast-converging
+//! sequence = "fibonacci"
+//! seed_mode = "shift"
+//!
+//! [[table]]                             # any number, like the paper's tables 2 and 3
+//! name = "table2"                       # letters, digits, '-', '_'; unique over tables and sweeps
+//! rays = [8, 16, 32]                    # 1..=65536 each
+//! replicates = 4                        # optional: overrides the top-level count for this group
+//! scenes = ["kitchen"]                  # optional: a subset of the scenes (stem or path)
+//! rows = [                              # either explicit rows (seed_mode defaults to "rotation") …
+//!   { distribution = "uniform", sequence = "random" },
+//!   { distribution = "sine-cosine", sequence = "fibonacci", seed_mode = "static" },
+//! ]
+//!
+//! [[convergence]]                       # same keys as [[table]]
+//! name = "convergence"
+//! rays = [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024]
+//! distributions = ["sine-cosine"]       # … or axes, expanded as a product in this order
+//! sequences = ["random", "fibonacci"]
+//! seed_modes = ["rotation", "shift"]    # optional; default ["rotation"]
+//! ```
+//!
+//! Keys are snake_case; names are those of `sampling` (`uniform`, `sine`, `sine-cosine`,
+//! `concentric-cosine`; `random`, `fibonacci`, `stratified`, `sobol`; `static`, `rotation`, `shift`).
+//! `random` + `shift` is the same estimator as `random` + `rotation` (fresh numbers per pixel) and is
+//! merged into it; `random` + `static` is kept.
+//!
+//! Parsing is two-phase so that errors point at lines: serde (with `deny_unknown_fields`) checks the
+//! shape and stops at the first unknown key or wrong type; then every value carries its span
+//! (`toml::Spanned`) and the range/name checks run over the whole file, gathering all problems at once.
+//! Every message reads `line N, key K: what is wrong; what is allowed`.
+
+use crate::sampling::{Distribution, SeedMode, Sequence};
+use std::path::{Component, Path, PathBuf};
+
+mod position;
+mod validate;
+
+pub use validate::parse_spec;
+
+/// Ray counts above this are a typo, not an experiment (an image at 64k rays is a reference).
+pub const MAX_RAYS: u32 = 65_536;
+/// References may go higher: they are rendered once and committed.
+pub const MAX_REFERENCE_RAYS: u32 = 1 << 22;
+pub const MAX_REPLICATES: u32 = 1000;
+pub const MAX_SIDE: u32 = 16_384;
+
+/// AO distance d: rays hitting farther than this count as open.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AoDistance {
+    Finite(f64),
+    Infinite,
+}
+
+impl AoDistance {
+    /// Stable text (shortest round-tripping float), used in job keys and manifests.
+    pub fn canonical(&self) -> String {
+        match self {
+            AoDistance::Finite(d) => format!("{d:?}"),
+            AoDistance::Infinite => "infinite".into(),
+        }
+    }
+
+    pub fn as_f32(&self) -> f32 {
+        match self {
+            AoDistance::Finite(d) => *d as f32,
+            AoDistance::Infinite => f32::INFINITY,
+        }
+    }
+}
+
+/// One estimator: a row of the paper's tables.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Row {
+    pub distribution: Distribution,
+    pub sequence: Sequence,
+    pub seed_mode: SeedMode,
+}
+
+impl Row {
+    pub fn new(distribution: Distribution, sequence: Sequence, seed_mode: SeedMode) -> Self {
+        Self { distribution, sequence, seed_mode }
+    }
+
+    /// Pseudo-random numbers are fresh per pixel whether "rotated" or "shifted", so both name the
+    /// same images; `rotation` is the one kept. (`static` + random is a distinct, odd choice.)
+    pub fn canonical(self) -> Self {
+        match (self.sequence, self.seed_mode) {
+            (Sequence::Random, SeedMode::Shift) => Self { seed_mode: SeedMode::Rotation, ..self },
+            _ => self,
+        }
+    }
+
+    pub fn label(&self) -> String {
+        format!("{}/{}/{}", self.distribution, self.sequence, self.seed_mode)
+    }
+}
+
+/// A scene as the spec names it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SceneRef {
+    /// Where to load it from: the spec's directory joined with `id`.
+    pub path: PathBuf,
+    /// The path as written in the spec, lexically normalized; part of job keys (portable across clones).
+    pub id: String,
+    /// File stem: the `scene` column of the results.
+    pub name: String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GroupKind {
+    /// Like the paper's tables 2 and 3: images side by side.
+    Table,
+    /// Error against ray count and time, for slopes.
+    Convergence,
+}
+
+/// A `[[table]]` or `[[convergence]]`: rows × ray counts × replicates, for some scenes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Group {
+    pub kind: GroupKind,
+    pub name: String,
+    /// Canonical rows (see `Row::canonical`), duplicates merged, in file order.
+    pub rows: Vec<Row>,
+    /// Duplicates merged, in file order.
+    pub rays: Vec<u32>,
+    pub replicates: u32,
+    /// Indices into `Spec::scenes`.
+    pub scenes: Vec<usize>,
+    pub line: usize,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReferenceRays {
+    Fixed(u32),
+    /// Enough that the noise floor is at most 1/10 of the smallest RMSE measured (decided by the app).
+    Auto,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReferenceSpec {
+    /// Rays per pixel of each reference replicate.
+    pub rays: ReferenceRays,
+    /// Independent renders; their spread gives the per-pixel standard error (so at least 2).
+    pub replicates: u32,
+    pub seed: u64,
+    pub estimator: Row,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Spec {
+    pub path: PathBuf,
+    /// Default output directory is `out/<name>/`.
+    pub name: String,
+    pub scenes: Vec<SceneRef>,
+    pub resolution: Option<[u32; 2]>,
+    pub ao_distance: Option<AoDistance>,
+    pub replicates: u32,
+    pub seed: u64,
+    pub reference: ReferenceSpec,
+    /// Tables and sweeps in file order.
+    pub groups: Vec<Group>,
+}
+
+impl Spec {
+    pub fn group(&self, name: &str) -> Option<&Group> {
+        self.groups.iter().find(|g| g.name == name)
+    }
+}
+
+/// Lexical normalization ("./a/../b" → "b"), with '/' separators so keys match across platforms.
+pub(crate) fn normalize(path: &str) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    for c in Path::new(path).components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir if parts.last().is_some_and(|l| l != "..") => {
+                parts.pop();
+            }
+            other => parts.push(other.as_os_str().to_string_lossy().into_owned()),
+        }
+    }
+    let joined = parts.join("/");
+    if path.starts_with('/') && !joined.starts_with('/') { format!("/{joined}") } else { joined }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normalize_paths() {
+        assert_eq!(normalize("./a/../b.toml"), "b.toml");
+        assert_eq!(normalize("../scenes/kitchen.toml"), "../scenes/kitchen.toml");
+        assert_eq!(normalize("../../x"), "../../x");
+    }
+
+    #[test]
+    fn random_shift_is_random_rotation() {
+        let r = Row::new(Distribution::Sine, Sequence::Random, SeedMode::Shift).canonical();
+        assert_eq!(r.seed_mode, SeedMode::Rotation);
+        let f = Row::new(Distribution::Sine, Sequence::Fibonacci, SeedMode::Shift).canonical();
+        assert_eq!(f.seed_mode, SeedMode::Shift);
+        let s = Row::new(Distribution::Sine, Sequence::Random, SeedMode::Static).canonical();
+        assert_eq!(s.seed_mode, SeedMode::Static);
+    }
+}

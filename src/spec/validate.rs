@@ -1,0 +1,420 @@
+//! Phase 1 (serde: shape, unknown keys, types) and phase 2 (ranges, names, duplicates; all problems
+//! gathered with their lines) of reading a spec.
+
+use super::position::{key_at, line_of};
+use super::*;
+use crate::error::{Error, Result};
+use serde::Deserialize;
+use toml::Spanned;
+
+// ---- raw shape (phase 1) ----
+
+type S<T> = Spanned<T>;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSpec {
+    name: Option<S<String>>,
+    scenes: S<Vec<S<String>>>,
+    resolution: Option<S<Vec<S<i64>>>>,
+    ao_distance: Option<S<toml::Value>>,
+    replicates: Option<S<i64>>,
+    seed: Option<S<i64>>,
+    reference: Option<RawReference>,
+    #[serde(default)]
+    table: Vec<S<RawGroup>>,
+    #[serde(default)]
+    convergence: Vec<S<RawGroup>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawReference {
+    rays: Option<S<toml::Value>>,
+    replicates: Option<S<i64>>,
+    seed: Option<S<i64>>,
+    distribution: Option<S<String>>,
+    sequence: Option<S<String>>,
+    seed_mode: Option<S<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawGroup {
+    name: S<String>,
+    rays: S<Vec<S<i64>>>,
+    replicates: Option<S<i64>>,
+    scenes: Option<S<Vec<S<String>>>>,
+    rows: Option<S<Vec<S<RawRow>>>>,
+    distributions: Option<S<Vec<S<String>>>>,
+    sequences: Option<S<Vec<S<String>>>>,
+    seed_modes: Option<S<Vec<S<String>>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRow {
+    distribution: S<String>,
+    sequence: S<String>,
+    seed_mode: Option<S<String>>,
+}
+
+// ---- validation (phase 2) ----
+
+/// Collects problems with their lines, so one run of `hemilab plan` reports all of them.
+struct Problems<'a> {
+    text: &'a str,
+    list: Vec<(usize, String)>,
+}
+
+impl Problems<'_> {
+    fn add(&mut self, span: std::ops::Range<usize>, key: &str, what: impl std::fmt::Display) {
+        self.list.push((line_of(self.text, span.start), format!("key `{key}`: {what}")));
+    }
+
+    fn int(&mut self, v: &S<i64>, key: &str, min: i64, max: i64) -> Option<u32> {
+        let x = *v.get_ref();
+        if x < min || x > max {
+            self.add(v.span(), key, format!("{x} is out of range; allowed {min}..={max}"));
+            None
+        } else {
+            Some(x as u32)
+        }
+    }
+
+    fn name<T: std::str::FromStr<Err = String>>(&mut self, v: &S<String>, key: &str) -> Option<T> {
+        v.get_ref().parse::<T>().map_err(|e| self.add(v.span(), key, e)).ok()
+    }
+
+    fn seed(&mut self, v: &S<i64>, key: &str) -> u64 {
+        self.int(v, key, 0, u32::MAX as i64).map_or(0, u64::from)
+    }
+
+    fn ident(&mut self, v: &S<String>, key: &str) -> Option<String> {
+        let s = v.get_ref();
+        let ok = !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
+        if !ok {
+            self.add(
+                v.span(),
+                key,
+                format!("'{s}' is not a usable name; allowed: letters, digits, '-', '_'"),
+            );
+        }
+        ok.then(|| s.clone())
+    }
+
+    fn non_empty<T>(&mut self, v: &S<Vec<T>>, key: &str) -> bool {
+        if v.get_ref().is_empty() {
+            self.add(v.span(), key, "is empty; list at least one value");
+        }
+        !v.get_ref().is_empty()
+    }
+}
+
+/// Parses and validates a spec. No IO: `path` is for messages and for resolving scene paths.
+pub fn parse_spec(text: &str, path: &Path) -> Result<Spec> {
+    let raw: RawSpec = toml::from_str(text).map_err(|e| {
+        let what = match e.span() {
+            Some(span) => {
+                let key = key_at(text, span.start).map(|k| format!(", key `{k}`")).unwrap_or_default();
+                format!(
+                    "line {}{key}: {}",
+                    line_of(text, span.start),
+                    e.message().trim_end().replace("expected i64", "expected an integer")
+                )
+            }
+            None => e.message().trim_end().to_string(),
+        };
+        Error::input(path, what)
+    })?;
+    let mut p = Problems { text, list: Vec::new() };
+    let spec = validate(raw, path, &mut p);
+    if p.list.is_empty() {
+        Ok(spec)
+    } else {
+        p.list.sort_by_key(|(line, _)| *line);
+        let lines: Vec<String> = p.list.iter().map(|(l, m)| format!("line {l}, {m}")).collect();
+        Err(Error::input(path, lines.join("\n")))
+    }
+}
+
+fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
+    let name = match &raw.name {
+        Some(n) => p.ident(n, "name").unwrap_or_default(),
+        None => path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "spec".into()),
+    };
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let mut scenes: Vec<SceneRef> = Vec::new();
+    if p.non_empty(&raw.scenes, "scenes") {
+        for s in raw.scenes.get_ref() {
+            let id = normalize(s.get_ref());
+            let stem = Path::new(&id).file_stem().map(|x| x.to_string_lossy().into_owned());
+            match stem {
+                None => p.add(s.span(), "scenes", format!("'{}' is not a file path", s.get_ref())),
+                Some(stem) if scenes.iter().any(|o| o.name == stem) => p.add(
+                    s.span(),
+                    "scenes",
+                    format!("a second scene named '{stem}'; scene file names must differ"),
+                ),
+                Some(stem) => scenes.push(SceneRef { path: dir.join(&id), id, name: stem }),
+            }
+        }
+    }
+    let resolution = raw.resolution.as_ref().and_then(|r| {
+        if r.get_ref().len() != 2 {
+            p.add(r.span(), "resolution", "must be [width, height]");
+            return None;
+        }
+        let w = p.int(&r.get_ref()[0], "resolution", 1, MAX_SIDE as i64);
+        let h = p.int(&r.get_ref()[1], "resolution", 1, MAX_SIDE as i64);
+        Some([w?, h?])
+    });
+    let ao_distance = raw.ao_distance.as_ref().and_then(|v| distance(v, p));
+    let replicates =
+        raw.replicates.as_ref().map_or(Some(1), |r| p.int(r, "replicates", 1, MAX_REPLICATES as i64));
+    let seed = raw.seed.as_ref().map_or(1, |s| p.seed(s, "seed"));
+    let reference = reference(raw.reference.as_ref(), seed, p);
+
+    let mut groups = Vec::new();
+    let all = raw
+        .table
+        .iter()
+        .map(|g| (GroupKind::Table, g))
+        .chain(raw.convergence.iter().map(|g| (GroupKind::Convergence, g)));
+    let mut all: Vec<_> = all.collect();
+    all.sort_by_key(|(_, g)| g.span().start);
+    if all.is_empty() {
+        p.add(0..0, "table", "the spec has no [[table]] and no [[convergence]]; add at least one");
+    }
+    for (kind, g) in all {
+        if let Some(group) = group(kind, g, &scenes, replicates.unwrap_or(1), p) {
+            if groups.iter().any(|o: &Group| o.name == group.name) {
+                p.add(
+                    g.get_ref().name.span(),
+                    &format!("{}.name", kind_key(kind)),
+                    format!("duplicate name '{}'; table and convergence names must be unique", group.name),
+                );
+            }
+            groups.push(group);
+        }
+    }
+    Spec {
+        path: path.to_path_buf(),
+        name,
+        scenes,
+        resolution,
+        ao_distance,
+        replicates: replicates.unwrap_or(1),
+        seed,
+        reference,
+        groups,
+    }
+}
+
+fn kind_key(kind: GroupKind) -> &'static str {
+    match kind {
+        GroupKind::Table => "table",
+        GroupKind::Convergence => "convergence",
+    }
+}
+
+fn distance(v: &S<toml::Value>, p: &mut Problems) -> Option<AoDistance> {
+    let d = match v.get_ref() {
+        toml::Value::String(s) if s == "infinite" => return Some(AoDistance::Infinite),
+        toml::Value::Float(f) => *f,
+        toml::Value::Integer(i) => *i as f64,
+        _ => f64::NAN,
+    };
+    if d.is_finite() && d > 0.0 {
+        Some(AoDistance::Finite(d))
+    } else {
+        p.add(
+            v.span(),
+            "ao_distance",
+            format!("{} is not allowed; a number > 0 or \"infinite\"", v.get_ref()),
+        );
+        None
+    }
+}
+
+fn reference(raw: Option<&RawReference>, seed: u64, p: &mut Problems) -> ReferenceSpec {
+    let mut r = ReferenceSpec {
+        rays: ReferenceRays::Auto,
+        replicates: 4,
+        seed,
+        estimator: Row::new(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Shift),
+    };
+    let Some(raw) = raw else { return r };
+    if let Some(v) = &raw.rays {
+        match v.get_ref() {
+            toml::Value::String(s) if s == "auto" => {}
+            toml::Value::Integer(i) if (1..=MAX_REFERENCE_RAYS as i64).contains(i) => {
+                r.rays = ReferenceRays::Fixed(*i as u32)
+            }
+            other => p.add(
+                v.span(),
+                "reference.rays",
+                format!("{other} is not allowed; \"auto\" or 1..={MAX_REFERENCE_RAYS}"),
+            ),
+        }
+    }
+    if let Some(n) = &raw.replicates {
+        r.replicates = p.int(n, "reference.replicates", 2, MAX_REPLICATES as i64).unwrap_or(2);
+    }
+    if let Some(s) = &raw.seed {
+        r.seed = p.seed(s, "reference.seed");
+    }
+    let e = &mut r.estimator;
+    if let Some(d) = raw.distribution.as_ref().and_then(|v| p.name(v, "reference.distribution")) {
+        e.distribution = d;
+    }
+    if let Some(s) = raw.sequence.as_ref().and_then(|v| p.name(v, "reference.sequence")) {
+        e.sequence = s;
+    }
+    if let Some(m) = raw.seed_mode.as_ref().and_then(|v| p.name(v, "reference.seed_mode")) {
+        e.seed_mode = m;
+    }
+    *e = e.canonical();
+    r
+}
+
+fn group(
+    kind: GroupKind,
+    g: &S<RawGroup>,
+    scenes: &[SceneRef],
+    replicates: u32,
+    p: &mut Problems,
+) -> Option<Group> {
+    let k = kind_key(kind);
+    let raw = g.get_ref();
+    let name = p.ident(&raw.name, &format!("{k}.name"));
+    let at = |key: &str| format!("{k}.{}.{key}", raw.name.get_ref());
+    let mut rays = Vec::new();
+    if p.non_empty(&raw.rays, &at("rays")) {
+        for r in raw.rays.get_ref() {
+            if let Some(n) = p.int(r, &at("rays"), 1, MAX_RAYS as i64)
+                && !rays.contains(&n)
+            {
+                rays.push(n);
+            }
+        }
+    }
+    let replicates = match &raw.replicates {
+        Some(r) => p.int(r, &at("replicates"), 1, MAX_REPLICATES as i64).unwrap_or(1),
+        None => replicates,
+    };
+    let group_scenes = match &raw.scenes {
+        None => (0..scenes.len()).collect(),
+        Some(list) => {
+            p.non_empty(list, &at("scenes"));
+            let mut out = Vec::new();
+            for s in list.get_ref() {
+                let id = normalize(s.get_ref());
+                match scenes.iter().position(|o| o.id == id || o.name == *s.get_ref()) {
+                    Some(i) if !out.contains(&i) => out.push(i),
+                    Some(_) => {}
+                    None => {
+                        let valid: Vec<&str> = scenes.iter().map(|o| o.name.as_str()).collect();
+                        p.add(
+                            s.span(),
+                            &at("scenes"),
+                            format!("unknown scene '{}'; valid: {}", s.get_ref(), valid.join(", ")),
+                        )
+                    }
+                }
+            }
+            out
+        }
+    };
+    let rows = rows(raw, &at(""), g.span(), p);
+    Some(Group {
+        kind,
+        name: name?,
+        rows: rows?,
+        rays,
+        replicates,
+        scenes: group_scenes,
+        line: line_of(p.text, g.span().start),
+    })
+}
+
+fn rows(raw: &RawGroup, at: &str, span: std::ops::Range<usize>, p: &mut Problems) -> Option<Vec<Row>> {
+    let axes = raw.distributions.is_some() || raw.sequences.is_some() || raw.seed_modes.is_some();
+    let mut out = Vec::new();
+    let mut push = |r: Row| {
+        let r = r.canonical();
+        if !out.contains(&r) {
+            out.push(r);
+        }
+    };
+    match (&raw.rows, axes) {
+        (Some(rows), true) => {
+            p.add(
+                rows.span(),
+                &format!("{at}rows"),
+                "give either `rows` or the axes `distributions`/`sequences`/`seed_modes`, not both",
+            );
+            None
+        }
+        (None, false) => {
+            const HOW: &str = "missing; give `rows = [{ distribution = .., sequence = .., seed_mode = .. }]` \
+                               or the axes `distributions` and `sequences` (and optionally `seed_modes`)";
+            p.add(span, &format!("{at}rows"), HOW);
+            None
+        }
+        (Some(rows), false) => {
+            if !p.non_empty(rows, &format!("{at}rows")) {
+                return None;
+            }
+            let mut ok = true;
+            for row in rows.get_ref() {
+                let r = row.get_ref();
+                let d = p.name::<Distribution>(&r.distribution, &format!("{at}rows.distribution"));
+                let s = p.name::<Sequence>(&r.sequence, &format!("{at}rows.sequence"));
+                let m = match &r.seed_mode {
+                    Some(m) => p.name::<SeedMode>(m, &format!("{at}rows.seed_mode")),
+                    None => Some(SeedMode::Rotation),
+                };
+                match (d, s, m) {
+                    (Some(d), Some(s), Some(m)) => push(Row::new(d, s, m)),
+                    _ => ok = false,
+                }
+            }
+            ok.then_some(out)
+        }
+        (None, true) => {
+            let ds = axis::<Distribution>(&raw.distributions, &format!("{at}distributions"), span.clone(), p);
+            let ss = axis::<Sequence>(&raw.sequences, &format!("{at}sequences"), span, p);
+            let ms = match &raw.seed_modes {
+                None => Some(vec![SeedMode::Rotation]),
+                Some(v) => axis::<SeedMode>(&Some(v.clone()), &format!("{at}seed_modes"), 0..0, p),
+            };
+            let (ds, ss, ms) = (ds?, ss?, ms?);
+            for &d in &ds {
+                for &s in &ss {
+                    for &m in &ms {
+                        push(Row::new(d, s, m));
+                    }
+                }
+            }
+            Some(out)
+        }
+    }
+}
+
+fn axis<T: std::str::FromStr<Err = String>>(
+    v: &Option<S<Vec<S<String>>>>,
+    key: &str,
+    span: std::ops::Range<usize>,
+    p: &mut Problems,
+) -> Option<Vec<T>> {
+    let Some(v) = v else {
+        p.add(span, key, "missing; with the axes form give both `distributions` and `sequences`");
+        return None;
+    };
+    if !p.non_empty(v, key) {
+        return None;
+    }
+    let parsed: Vec<Option<T>> = v.get_ref().iter().map(|s| p.name::<T>(s, key)).collect();
+    parsed.into_iter().collect()
+}

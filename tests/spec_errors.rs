@@ -1,0 +1,248 @@
+//! Bad specs: each must fail with one message naming the file, the line and the key, and saying what
+//! is allowed. Never a panic, never a partial spec.
+
+use hemilab::spec::parse_spec;
+use std::path::Path;
+
+const FILE: &str = "experiments/bad.toml";
+
+/// A valid spec whose `@TOP@` / `@TABLE@` / `@ROW@` markers are replaced to make it bad.
+const BASE: &str = r#"name = "t"
+scenes = ["../scenes/cornell-box.toml"]
+@TOP@
+[[table]]
+name = "t2"
+rays = [8, 16]
+@TABLE@
+rows = [
+  { distribution = "sine", sequence = "random" @ROW@},
+]
+"#;
+
+fn spec(top: &str, table: &str, row: &str) -> String {
+    BASE.replace("@TOP@", top).replace("@TABLE@", table).replace("@ROW@", row)
+}
+
+fn error(text: &str) -> String {
+    let e = parse_spec(text, Path::new(FILE)).expect_err("this spec must be refused");
+    let e = e.to_string();
+    assert!(e.starts_with(FILE), "message must name the file: {e}");
+    e
+}
+
+fn assert_has(msg: &str, parts: &[&str]) {
+    for p in parts {
+        assert!(msg.contains(p), "expected {p:?} in:\n{msg}");
+    }
+}
+
+#[test]
+fn base_spec_is_valid() {
+    let s = parse_spec(&spec("", "", ""), Path::new(FILE)).unwrap();
+    assert_eq!(s.groups.len(), 1);
+}
+
+#[test]
+fn unknown_top_level_key() {
+    let e = error(&spec("raplicates = 2", "", ""));
+    assert_has(&e, &["line 3", "raplicates", "replicates"]);
+}
+
+#[test]
+fn unknown_key_in_a_row() {
+    let e = error(&spec("", "", ", seedmode = \"static\" "));
+    assert_has(&e, &["line 9", "seedmode", "seed_mode"]);
+}
+
+#[test]
+fn wrong_type_of_ray_count() {
+    let e = error(&spec("", "", "").replace("rays = [8, 16]", "rays = [8, \"16\"]"));
+    assert_has(&e, &["line 6", "key `table.rays`"]);
+}
+
+#[test]
+fn wrong_type_of_replicates() {
+    let e = error(&spec("replicates = \"four\"", "", ""));
+    assert_has(&e, &["line 3", "key `replicates`"]);
+}
+
+#[test]
+fn ray_count_zero() {
+    let e = error(&spec("", "", "").replace("rays = [8, 16]", "rays = [8, 0]"));
+    assert_has(&e, &["line 6", "table.t2.rays", "0 is out of range", "1..=65536"]);
+}
+
+#[test]
+fn ray_count_too_large() {
+    let e = error(&spec("", "", "").replace("rays = [8, 16]", "rays = [100000]"));
+    assert_has(&e, &["line 6", "table.t2.rays", "1..=65536"]);
+}
+
+#[test]
+fn empty_ray_list() {
+    let e = error(&spec("", "", "").replace("rays = [8, 16]", "rays = []"));
+    assert_has(&e, &["line 6", "table.t2.rays", "empty"]);
+}
+
+#[test]
+fn empty_axis() {
+    let text = spec("", "distributions = []\nsequences = [\"random\"]", "")
+        .replace("rows = [\n  { distribution = \"sine\", sequence = \"random\" },\n]\n", "");
+    let e = error(&text);
+    assert_has(&e, &["line 7", "table.t2.distributions", "empty"]);
+}
+
+#[test]
+fn unknown_distribution_lists_choices() {
+    let e = error(&spec("", "", "").replace("\"sine\"", "\"cosine\""));
+    assert_has(&e, &["line 9", "table.t2.rows.distribution", "'cosine'", "uniform, sine, sine-cosine"]);
+}
+
+#[test]
+fn unknown_sequence_lists_choices() {
+    let e = error(&spec("", "", "").replace("\"random\"", "\"halton\""));
+    assert_has(&e, &["line 9", "rows.sequence", "'halton'", "fibonacci"]);
+}
+
+#[test]
+fn unknown_seed_mode_lists_choices() {
+    let e = error(&spec("", "", ", seed_mode = \"per-pixel\" "));
+    assert_has(&e, &["line 9", "rows.seed_mode", "'per-pixel'", "static, rotation, shift"]);
+}
+
+#[test]
+fn unknown_name_in_an_axis_lists_choices() {
+    let text = spec("", "distributions = [\"sine\"]\nsequences = [\"random\", \"sobel\"]", "")
+        .replace("rows = [\n  { distribution = \"sine\", sequence = \"random\" },\n]\n", "");
+    let e = error(&text);
+    assert_has(&e, &["line 8", "table.t2.sequences", "'sobel'", "sobol"]);
+}
+
+#[test]
+fn replicates_zero() {
+    let e = error(&spec("replicates = 0", "", ""));
+    assert_has(&e, &["line 3", "key `replicates`", "1..=1000"]);
+}
+
+#[test]
+fn table_replicates_zero() {
+    let e = error(&spec("", "replicates = 0", ""));
+    assert_has(&e, &["line 7", "table.t2.replicates", "1..=1000"]);
+}
+
+#[test]
+fn resolution_zero() {
+    let e = error(&spec("resolution = [0, 120]", "", ""));
+    assert_has(&e, &["line 3", "key `resolution`", "1..=16384"]);
+}
+
+#[test]
+fn resolution_needs_two_sides() {
+    let e = error(&spec("resolution = [160]", "", ""));
+    assert_has(&e, &["line 3", "key `resolution`", "[width, height]"]);
+}
+
+#[test]
+fn duplicate_table_name() {
+    let mut text = spec("", "", "");
+    text.push_str("[[convergence]]\nname = \"t2\"\nrays = [1, 2]\n");
+    text.push_str("rows = [{ distribution = \"sine\", sequence = \"random\" }]\n");
+    let e = error(&text);
+    assert_has(&e, &["line 12", "convergence.name", "duplicate name 't2'"]);
+}
+
+#[test]
+fn missing_rows() {
+    let text =
+        spec("", "", "").replace("rows = [\n  { distribution = \"sine\", sequence = \"random\" },\n]\n", "");
+    let e = error(&text);
+    assert_has(&e, &["line 4", "table.t2.rows", "missing"]);
+}
+
+#[test]
+fn rows_and_axes_together() {
+    let e = error(&spec("", "distributions = [\"sine\"]\nsequences = [\"random\"]", ""));
+    assert_has(&e, &["table.t2.rows", "not both"]);
+}
+
+#[test]
+fn empty_rows() {
+    let text = spec("", "", "")
+        .replace("rows = [\n  { distribution = \"sine\", sequence = \"random\" },\n]", "rows = []");
+    let e = error(&text);
+    assert_has(&e, &["line 8", "table.t2.rows", "empty"]);
+}
+
+#[test]
+fn missing_row_field() {
+    let e = error(&spec("", "", "").replace(", sequence = \"random\"", ""));
+    assert_has(&e, &["line 9", "sequence"]);
+}
+
+#[test]
+fn bad_ao_distance() {
+    let e = error(&spec("ao_distance = -1.0", "", ""));
+    assert_has(&e, &["line 3", "key `ao_distance`", "\"infinite\""]);
+    let e = error(&spec("ao_distance = \"far\"", "", ""));
+    assert_has(&e, &["line 3", "key `ao_distance`"]);
+}
+
+#[test]
+fn bad_reference_settings() {
+    let e = error(&spec("[reference]\nrays = 0\nreplicates = 1\ndistribution = \"cos\"", "", ""));
+    assert_has(&e, &["line 4, key `reference.rays`", "\"auto\""]);
+    assert_has(&e, &["line 5, key `reference.replicates`", "2..=1000"]);
+    assert_has(&e, &["line 6, key `reference.distribution`", "sine-cosine"]);
+}
+
+#[test]
+fn unknown_reference_key() {
+    let e = error(&spec("[reference]\nray = 4096", "", ""));
+    assert_has(&e, &["line 4", "ray", "reference"]);
+}
+
+#[test]
+fn no_scenes() {
+    let e = error(&spec("", "", "").replace("[\"../scenes/cornell-box.toml\"]", "[]"));
+    assert_has(&e, &["line 2", "key `scenes`", "empty"]);
+}
+
+#[test]
+fn unknown_scene_in_a_table() {
+    let e = error(&spec("", "scenes = [\"kitchen\"]", ""));
+    assert_has(&e, &["line 7", "table.t2.scenes", "unknown scene 'kitchen'", "valid: cornell-box"]);
+}
+
+#[test]
+fn no_tables_at_all() {
+    let e = error("scenes = [\"a.toml\"]\n");
+    assert_has(&e, &["table", "convergence"]);
+}
+
+#[test]
+fn bad_table_name() {
+    let e = error(&spec("", "", "").replace("name = \"t2\"", "name = \"table 2/x\""));
+    assert_has(&e, &["line 5", "table.name", "letters, digits"]);
+}
+
+#[test]
+fn toml_syntax_error_has_line() {
+    let e = error(&spec("seed = \"1", "", ""));
+    assert_has(&e, &["line 3"]);
+}
+
+#[test]
+fn all_problems_are_reported_at_once() {
+    let text = spec("replicates = 0", "", "")
+        .replace("rays = [8, 16]", "rays = [0, 16]")
+        .replace("\"sine\"", "\"cos\"");
+    let e = error(&text);
+    assert_has(
+        &e,
+        &[
+            "line 3, key `replicates`",
+            "line 6, key `table.t2.rays`",
+            "line 9, key `table.t2.rows.distribution`",
+        ],
+    );
+}

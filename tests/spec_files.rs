@@ -1,0 +1,143 @@
+//! The shipped specs parse and say what the paper's tables need.
+
+use hemilab::sampling::{Distribution as D, SeedMode as M, Sequence as Q};
+use hemilab::spec::{GroupKind, ReferenceRays, Row, parse_spec};
+use std::path::Path;
+
+fn load(name: &str) -> hemilab::spec::Spec {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments").join(name);
+    let text = std::fs::read_to_string(&path).unwrap();
+    parse_spec(&text, &path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn smoke_spec_is_small() {
+    let s = load("smoke.toml");
+    assert_eq!(s.name, "smoke");
+    assert_eq!(s.resolution, Some([32, 32]));
+    assert_eq!(s.scenes.len(), 1);
+    assert_eq!(s.scenes[0].name, "cornell-box");
+    assert!(s.scenes[0].path.ends_with("experiments/../scenes/cornell-box.toml"));
+    assert_eq!(s.groups.len(), 1);
+    assert!(hemilab::plan::plan(&s).jobs.len() <= 32);
+}
+
+#[test]
+fn paper_spec_has_tables_2_and_3_and_the_sweep() {
+    let s = load("paper.toml");
+    assert_eq!(s.name, "paper");
+    assert_eq!(s.scenes[0].id, "../scenes/kitchen.toml");
+    assert_eq!(s.reference.rays, ReferenceRays::Auto);
+    let t2 = s.group("table2").unwrap();
+    assert_eq!(t2.kind, GroupKind::Table);
+    assert_eq!(t2.rays, vec![8, 16, 32]);
+    assert_eq!(
+        t2.rows,
+        vec![
+            Row::new(D::Uniform, Q::Random, M::Rotation),
+            Row::new(D::Sine, Q::Random, M::Rotation),
+            Row::new(D::SineCosine, Q::Random, M::Rotation),
+        ]
+    );
+    let t3 = s.group("table3").unwrap();
+    assert_eq!(t3.rays, vec![8, 16, 32]);
+    assert_eq!(
+        t3.rows,
+        vec![
+            Row::new(D::SineCosine, Q::Random, M::Rotation),
+            Row::new(D::SineCosine, Q::Fibonacci, M::Rotation),
+            Row::new(D::SineCosine, Q::Fibonacci, M::Static),
+        ]
+    );
+    let c = s.group("convergence").unwrap();
+    assert_eq!(c.kind, GroupKind::Convergence);
+    assert_eq!(c.rays, (0..=10).map(|k| 1u32 << k).collect::<Vec<_>>());
+    for row in t2.rows.iter().chain(&t3.rows) {
+        assert!(c.rows.contains(row), "sweep lacks {}", row.label());
+    }
+    for extra in [
+        Row::new(D::SineCosine, Q::Fibonacci, M::Shift),
+        Row::new(D::SineCosine, Q::Stratified, M::Shift),
+        Row::new(D::SineCosine, Q::Sobol, M::Shift),
+    ] {
+        assert!(c.rows.contains(&extra), "sweep lacks {}", extra.label());
+    }
+    assert!(c.rows.iter().any(|r| r.distribution == D::ConcentricCosine));
+}
+
+#[test]
+fn axes_form_expands_as_a_product_with_random_shift_merged() {
+    let text = r#"
+scenes = ["s.toml"]
+[[convergence]]
+name = "c"
+rays = [1, 2]
+distributions = ["sine", "sine-cosine"]
+sequences = ["random", "fibonacci"]
+seed_modes = ["rotation", "shift"]
+"#;
+    let s = parse_spec(text, Path::new("x/c.toml")).unwrap();
+    assert_eq!(s.name, "c");
+    let rows = &s.groups[0].rows;
+    assert_eq!(
+        rows,
+        &vec![
+            Row::new(D::Sine, Q::Random, M::Rotation),
+            Row::new(D::Sine, Q::Fibonacci, M::Rotation),
+            Row::new(D::Sine, Q::Fibonacci, M::Shift),
+            Row::new(D::SineCosine, Q::Random, M::Rotation),
+            Row::new(D::SineCosine, Q::Fibonacci, M::Rotation),
+            Row::new(D::SineCosine, Q::Fibonacci, M::Shift),
+        ]
+    );
+    assert_eq!(s.groups[0].replicates, 1);
+}
+
+#[test]
+fn defaults_and_overrides() {
+    let text = r#"
+scenes = ["../scenes/a.toml", "./b.toml"]
+ao_distance = "infinite"
+seed = 7
+replicates = 3
+[reference]
+rays = 2048
+replicates = 8
+[[table]]
+name = "t"
+rays = [4, 4, 8]
+scenes = ["b"]
+rows = [{ distribution = "sine", sequence = "random", seed_mode = "shift" }]
+"#;
+    let s = parse_spec(text, Path::new("exp/t.toml")).unwrap();
+    assert_eq!(s.ao_distance, Some(hemilab::spec::AoDistance::Infinite));
+    assert_eq!((s.seed, s.replicates), (7, 3));
+    assert_eq!(s.reference.rays, ReferenceRays::Fixed(2048));
+    assert_eq!(s.reference.replicates, 8);
+    assert_eq!(s.reference.seed, 7);
+    assert_eq!(s.reference.estimator, Row::new(D::SineCosine, Q::Fibonacci, M::Shift));
+    let g = &s.groups[0];
+    assert_eq!(g.rays, vec![4, 8]);
+    assert_eq!(g.scenes, vec![1]);
+    assert_eq!(g.replicates, 3);
+    assert_eq!(g.rows, vec![Row::new(D::Sine, Q::Random, M::Rotation)]);
+    assert_eq!(s.scenes[1].id, "b.toml");
+    assert_eq!(s.scenes[1].path, Path::new("exp/b.toml"));
+    assert_eq!(s.resolution, None);
+}
+
+#[test]
+fn format_example_in_the_module_doc_parses() {
+    let src = include_str!("../src/spec.rs");
+    let block: String = src
+        .lines()
+        .skip_while(|l| !l.starts_with("//! ```toml"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("//! ```"))
+        .map(|l| format!("{}\n", l.trim_start_matches("//!").strip_prefix(' ').unwrap_or("")))
+        .collect();
+    assert!(block.contains("[[convergence]]"), "doc block not found");
+    let s = parse_spec(&block, Path::new("experiments/paper.toml")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.groups.len(), 2);
+    assert_eq!(s.groups[1].rows.len(), 3, "random+shift merged into random+rotation");
+}

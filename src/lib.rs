@@ -18,3 +18,4 @@ pub mod error;
 pub mod image;
 pub mod io;
 pub mod sampling;
+pub mod stats;

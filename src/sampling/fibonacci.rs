@@ -1,0 +1,53 @@
+//! The paper's 2-D Fibonacci lattice ( frac((i+1)/phi_g), (i+0.5)/n ).
+//!
+//! frac((i+1)/phi_g) is computed in 64-bit fixed point: (i+1) * round(2^64/phi_g) mod 2^64 is
+//! frac((i+1)/phi_g) * 2^64 up to (i+1) * 2^-65, so the top 24 bits stay exact for index offsets
+//! up to 2^40 and beyond (an f32 division loses every fractional bit past 2^24).
+
+use super::seed::{FIX_BITS, fix_add, fix_to_f32};
+use glam::Vec2;
+
+/// round(2^64 / phi_g) = round(2^64 * (phi_g - 1)).
+pub const INV_GOLDEN_FIXED: u64 = 0x9E37_79B9_7F4A_7C16;
+
+/// x of lattice index `index` (the paper's i + 1 plus any seed offset), as 24-bit fixed point.
+#[inline]
+pub fn fibonacci_x_fixed(index: u64) -> u32 {
+    (index.wrapping_mul(INV_GOLDEN_FIXED) >> (64 - FIX_BITS)) as u32
+}
+
+/// y = (i + 0.5) / n floored to the 24-bit grid: inside stratum i exactly for n <= 2^23.
+#[inline]
+pub fn fibonacci_y_fixed(i: u32, n: u32) -> u32 {
+    (((2 * i as u64 + 1) << (FIX_BITS - 1)) / n.max(1) as u64) as u32
+}
+
+/// Point `i` of the n-point lattice with the paper's seed `index_offset` added to the indices.
+pub fn fibonacci_point(i: u32, n: u32, index_offset: u64) -> Vec2 {
+    let x = fibonacci_x_fixed((i as u64 + 1).wrapping_add(index_offset));
+    Vec2::new(fix_to_f32(x), fix_to_f32(fibonacci_y_fixed(i, n)))
+}
+
+/// Fills `out` with points 0.. of the n-point lattice, index offset `index_offset`, then
+/// shifted by the fixed-point offsets (dx, dy) mod 1.
+pub fn fill(n: u32, index_offset: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
+    let mut index = 1u64.wrapping_add(index_offset);
+    for (i, p) in out.iter_mut().enumerate() {
+        let x = fix_add(fibonacci_x_fixed(index), dx);
+        let y = fix_add(fibonacci_y_fixed(i as u32, n), dy);
+        *p = Vec2::new(fix_to_f32(x), fix_to_f32(y));
+        index = index.wrapping_add(1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constant_is_round_of_two_pow_64_over_golden_ratio() {
+        // 2^128 / phi_g in hex (60-digit decimal arithmetic), rounded to its top 64 bits.
+        let wide: u128 = 0x9e3779b97f4a7c15f39cc0605cedc834;
+        assert_eq!(((wide + (1u128 << 63)) >> 64) as u64, INV_GOLDEN_FIXED);
+    }
+}

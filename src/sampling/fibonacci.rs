@@ -1,8 +1,10 @@
 //! The paper's 2-D Fibonacci lattice ( frac((i+1)/phi_g), (i+0.5)/n ).
 //!
-//! frac((i+1)/phi_g) is computed in 64-bit fixed point: (i+1) * round(2^64/phi_g) mod 2^64 is
-//! frac((i+1)/phi_g) * 2^64 up to (i+1) * 2^-65, so the top 24 bits stay exact for index offsets
-//! up to 2^40 and beyond (an f32 division loses every fractional bit past 2^24).
+//! frac((i+1)/phi_g) is computed in 64-bit fixed point: index * round(2^64/phi_g) mod 2^64.
+//! The constant is 0.048 units of 2^-64 off, so at index 2^40 the fraction is off by 0.05 of an
+//! f32 step (2^-24): the f32 is the true fraction truncated, or, for the ~5 % of indices that lie
+//! that close to a step boundary, the neighbouring step. An f32 division loses every fractional
+//! bit past 2^24; this stays within one f32 step up to index 2^44.
 
 use super::seed::{FIX_BITS, fix_add, fix_to_f32};
 use glam::Vec2;

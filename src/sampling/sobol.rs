@@ -55,3 +55,26 @@ pub fn fill(key: u64, dx: u32, out: &mut [Vec2]) {
         *p = Vec2::new(fix_to_f32(fix_add(x, dx)), fix_to_f32(y));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unscrambled_sobol_matches_the_pascal_matrix_points_in_index_order() {
+        // Index (not Gray-code) order: direction numbers 1/2, 3/4, 5/8 for dimension 1.
+        let x: Vec<f64> = (0..8).map(|i| sobol_x(i) as f64 / 2f64.powi(32)).collect();
+        let y: Vec<f64> = (0..8).map(|i| sobol_y(i) as f64 / 2f64.powi(32)).collect();
+        assert_eq!(x, [0.0, 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875]);
+        assert_eq!(y, [0.0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875]);
+    }
+
+    #[test]
+    fn owen_scramble_is_a_bijection_on_top_bits() {
+        let mut seen = [false; 256];
+        for i in 0..256u32 {
+            seen[(owen_scramble(i << 24, 0xDEAD_BEEF) >> 24) as usize] = true;
+        }
+        assert!(seen.iter().all(|&s| s));
+    }
+}

@@ -11,7 +11,7 @@ use glam::Vec2;
 pub fn grid(n: u32) -> (u32, u32) {
     let n = n.max(1);
     let mut rows = (n as f64).sqrt() as u32;
-    while rows > 1 && n % rows != 0 {
+    while rows > 1 && !n.is_multiple_of(rows) {
         rows -= 1;
     }
     let rows = rows.max(1);

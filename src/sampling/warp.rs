@@ -78,10 +78,11 @@ impl Distribution {
     }
 }
 
-/// Clamp to [0,1]^2; f32::max/min drop NaN, so NaN becomes 0.
+/// Clamp to [0,1]^2, NaN to 0 (f32::clamp would keep the NaN).
 #[inline]
 fn clamp_unit(u: Vec2) -> Vec2 {
-    Vec2::new(u.x.max(0.0).min(1.0), u.y.max(0.0).min(1.0))
+    let c = |x: f32| if x >= 0.0 { x.min(1.0) } else { 0.0 };
+    Vec2::new(c(u.x), c(u.y))
 }
 
 /// sqrt that returns 0 instead of NaN for rounding-negative input.

@@ -32,19 +32,44 @@ pub fn fibonacci_point(i: u32, n: u32, index_offset: u64) -> Vec2 {
 
 /// Fills `out` with points 0.. of the n-point lattice, index offset `index_offset`, then
 /// shifted by the fixed-point offsets (dx, dy) mod 1.
+/// Both coordinates are stepped, not recomputed: x by adding the constant mod 2^64 (the same
+/// bits as the product), y = floor((2i+1) 2^23 / n) by quotient and remainder (no division).
 pub fn fill(n: u32, index_offset: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
-    let mut index = 1u64.wrapping_add(index_offset);
-    for (i, p) in out.iter_mut().enumerate() {
-        let x = fix_add(fibonacci_x_fixed(index), dx);
-        let y = fix_add(fibonacci_y_fixed(i as u32, n), dy);
+    let n = n.max(1) as u64;
+    let mut x64 = 1u64.wrapping_add(index_offset).wrapping_mul(INV_GOLDEN_FIXED);
+    let half = 1u64 << (FIX_BITS - 1);
+    let (mut q, mut r) = (half / n, half % n);
+    let (step_q, step_r) = ((2 * half) / n, (2 * half) % n);
+    for p in out.iter_mut() {
+        let x = fix_add((x64 >> (64 - FIX_BITS)) as u32, dx);
+        let y = fix_add(q as u32, dy);
         *p = Vec2::new(fix_to_f32(x), fix_to_f32(y));
-        index = index.wrapping_add(1);
+        x64 = x64.wrapping_add(INV_GOLDEN_FIXED);
+        q += step_q;
+        r += step_r;
+        if r >= n {
+            r -= n;
+            q += 1;
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn stepped_fill_equals_direct_formula() {
+        for n in [1u32, 2, 3, 7, 16, 100, 1000, 65_537] {
+            for offset in [0u64, 5, 1 << 40, u64::MAX - 2] {
+                let mut out = vec![Vec2::ZERO; n as usize];
+                fill(n, offset, 0, 0, &mut out);
+                for (i, p) in out.iter().enumerate() {
+                    assert_eq!(*p, fibonacci_point(i as u32, n, offset), "n={n} offset={offset} i={i}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn constant_is_round_of_two_pow_64_over_golden_ratio() {

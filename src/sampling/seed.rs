@@ -93,17 +93,54 @@ impl PixelSeed {
     }
 }
 
-/// A fixed-point coordinate uniformly inside stratum `s` of `strata` equal strata of [0,1):
-/// `j` in [0, 2^24) picks the position. The result k satisfies floor(k * strata / 2^24) == s
-/// exactly (for strata <= 2^24), so the f32 point lies in [s/strata, (s+1)/strata).
-#[inline]
-pub fn fix_in_stratum(s: u32, strata: u32, j: u32) -> u32 {
-    let strata = strata.max(1) as u64;
-    let one = FIX_ONE as u64;
-    // Lowest grid point of the stratum is ceil(s * 2^24 / strata); the span keeps us below the next.
-    let span = one.saturating_sub(strata - 1).max(1);
-    let k = (s as u64 * one + (strata - 1) + ((j as u64 * span) >> FIX_BITS)) / strata;
-    k.min((FIX_ONE - 1) as u64) as u32
+/// Walks the n equal strata of [0,1) on the 24-bit grid without a division per point.
+/// Stratum s holds the grid points [lo(s), lo(s+1)) with lo(s) = ceil(s 2^24 / n), kept as
+/// quotient and remainder, so a point placed there satisfies floor(k n / 2^24) == s exactly
+/// (for n <= 2^24) and its f32 lies in [s/n, (s+1)/n).
+#[derive(Debug, Clone, Copy)]
+pub struct StrataWalk {
+    q: u32,
+    r: u32,
+    step_q: u32,
+    step_r: u32,
+    n: u32,
+}
+
+impl StrataWalk {
+    #[inline]
+    pub fn new(n: u32) -> Self {
+        let n = n.max(1);
+        Self { q: 0, r: 0, step_q: FIX_ONE / n, step_r: FIX_ONE % n, n }
+    }
+
+    #[inline]
+    fn lo(q: u32, r: u32) -> u32 {
+        q + (r != 0) as u32
+    }
+
+    /// The point at position `j` in [0, 2^24) of the current stratum.
+    #[inline]
+    pub fn at(&self, j: u32) -> u32 {
+        let (mut q, mut r) = (self.q + self.step_q, self.r + self.step_r);
+        if r >= self.n {
+            r -= self.n;
+            q += 1;
+        }
+        let lo = Self::lo(self.q, self.r);
+        let width = Self::lo(q, r) - lo;
+        lo + ((j as u64 * width as u64) >> FIX_BITS) as u32
+    }
+
+    /// Moves to the next stratum.
+    #[inline]
+    pub fn advance(&mut self) {
+        self.q += self.step_q;
+        self.r += self.step_r;
+        if self.r >= self.n {
+            self.r -= self.n;
+            self.q += 1;
+        }
+    }
 }
 
 #[cfg(test)]
@@ -111,12 +148,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn fix_in_stratum_stays_in_its_stratum_at_both_ends() {
-        for strata in [1u32, 2, 3, 7, 10, 17, 1000, 12345, 1 << 20] {
-            for s in [0, strata / 2, strata - 1] {
-                for j in [0, 1, FIX_ONE / 2, FIX_ONE - 1] {
-                    let k = fix_in_stratum(s, strata, j);
+    fn strata_walk_stays_in_each_stratum_at_both_ends() {
+        for strata in [1u32, 2, 3, 7, 10, 17, 1000, 12345, 1 << 20, 3_000_017] {
+            for j in [0, 1, FIX_ONE / 2, FIX_ONE - 1] {
+                let mut w = StrataWalk::new(strata);
+                for s in 0..strata {
+                    let k = w.at(j);
                     assert_eq!((k as u64 * strata as u64) >> FIX_BITS, s as u64, "{strata} {s} {j}");
+                    w.advance();
                 }
             }
         }

@@ -4,7 +4,7 @@
 //! is a square grid; a prime n degrades to n strata in x only (y is then a plain jitter over
 //! [0,1)) — honest one-point-per-stratum rather than a grid with empty or doubled cells.
 
-use super::seed::{fix_add, fix_from_bits, fix_in_stratum, fix_to_f32, hash};
+use super::seed::{StrataWalk, fix_add, fix_from_bits, fix_to_f32, hash};
 use glam::Vec2;
 
 /// (rows, cols) with rows * cols == n, rows <= cols, rows as large as possible.
@@ -20,17 +20,19 @@ pub fn grid(n: u32) -> (u32, u32) {
 
 /// Fills `out` with the jittered grid for n points, jitter keyed by `key`, x shifted by `dx`.
 pub fn fill(n: u32, key: u64, dx: u32, out: &mut [Vec2]) {
-    let (rows, cols) = grid(n);
-    let (mut r, mut c) = (0u32, 0u32);
+    let (_, cols) = grid(n);
+    let first_col = StrataWalk::new(cols);
+    let (mut xw, mut yw) = (first_col, StrataWalk::new(n / cols));
+    let mut c = 0u32;
     for (i, p) in out.iter_mut().enumerate() {
         let h = hash(key, i as u64);
-        let x = fix_in_stratum(c, cols, fix_from_bits(h));
-        let y = fix_in_stratum(r, rows, fix_from_bits(h << 24));
+        let (x, y) = (xw.at(fix_from_bits(h)), yw.at(fix_from_bits(h << 24)));
         *p = Vec2::new(fix_to_f32(fix_add(x, dx)), fix_to_f32(y));
+        xw.advance();
         c += 1;
         if c == cols {
-            c = 0;
-            r += 1;
+            (c, xw) = (0, first_col);
+            yw.advance();
         }
     }
 }

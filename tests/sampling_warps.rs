@@ -6,7 +6,7 @@ use glam::{Vec2, Vec3};
 use hemilab::sampling::Distribution;
 use hemilab::sampling::seed::hash;
 use hemilab::stats::{Chi2, chi2_test, sidak_threshold};
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::f64::consts::{FRAC_PI_2, TAU};
 
 const SAMPLES: usize = 1_000_000;
 const PHI_BINS: usize = 50;
@@ -247,5 +247,4 @@ fn concentric_cosine_is_the_shirley_chiu_map_not_the_polar_one() {
     let c = Distribution::ConcentricCosine.sample(Vec2::new(0.75, 0.75)).dir;
     assert!((c.x - c.y).abs() < 1e-6 && (c.x - 0.5f32.sqrt() * 0.5).abs() < 1e-6, "{c}");
     assert_eq!(Distribution::ConcentricCosine.sample(Vec2::splat(0.5)).dir, Vec3::Z);
-    let _ = PI;
 }

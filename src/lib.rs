@@ -23,6 +23,8 @@ pub mod image;
 
 pub mod metrics;
 
+pub mod stats;
+
 pub mod reference;
 
 pub mod results;

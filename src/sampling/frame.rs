@@ -12,6 +12,8 @@ pub struct Frame {
 
 impl Frame {
     /// Duff et al. 2017, "Building an Orthonormal Basis, Revisited" (JCGT 6(1)), branchless.
+    /// `n` must be unit. copysign keeps n.z = -0.0 on the safe side (sign = -1, a finite).
+    #[inline]
     pub fn from_normal(n: Vec3) -> Self {
         let sign = 1.0f32.copysign(n.z);
         let a = -1.0 / (sign + n.z);
@@ -21,13 +23,21 @@ impl Frame {
         Self { x, y, z: n }
     }
 
-    /// Local (z = normal) to world.
+    /// Local (z = normal) to world, canonicalized (no -0.0 component).
+    #[inline]
     pub fn to_world(&self, v: Vec3) -> Vec3 {
-        self.x * v.x + self.y * v.y + self.z * v.z
+        canonical(self.x * v.x + self.y * v.y + self.z * v.z)
+    }
+
+    /// World to local (the transpose: the frame is orthonormal).
+    #[inline]
+    pub fn to_local(&self, v: Vec3) -> Vec3 {
+        canonical(Vec3::new(self.x.dot(v), self.y.dot(v), self.z.dot(v)))
     }
 }
 
 /// Turns every -0.0 component into +0.0 (obvhs 0.4.0's 8-wide traversal misses all geometry on -0.0).
+#[inline]
 pub fn canonical(v: Vec3) -> Vec3 {
     v + Vec3::ZERO
 }

@@ -1,17 +1,25 @@
 //! The hemisphere sampling core: pure math, no IO, imports glam only.
 //!
 //! A point set is made in three steps, each in its own file:
-//! `sequence` numbers in [0,1)^2 (random, Fibonacci, stratified, Sobol') →
+//! a sequence of numbers in [0,1)^2 (`random`, `fibonacci`, `stratified`, `sobol`) →
 //! `seed` randomization across pixels (static, rotation, shift) →
 //! `warp` to a direction on the hemisphere (uniform, sine, sine-cosine, concentric-cosine),
 //! which `frame` rotates around the surface normal.
 
+pub mod fibonacci;
 pub mod frame;
 mod names;
+pub mod random;
+pub mod seed;
+pub mod sobol;
+pub mod stratified;
 pub mod warp;
 
-pub use frame::Frame;
-pub use warp::Distribution;
+pub use fibonacci::fibonacci_point;
+pub use frame::{Frame, canonical};
+pub use warp::{DirSample, Distribution};
+
+use seed::PixelSeed;
 
 use glam::Vec2;
 use std::fmt;
@@ -72,40 +80,31 @@ impl SamplerConfig {
         Ok(Self { sequence, seed_mode, count, seed })
     }
 
-    /// Writes pixel `pixel`'s `count` points into `out` (`out.len() == count`).
-    /// Depends only on (config, pixel), never on which thread or which other pixels ran.
+    /// Writes pixel `pixel`'s points into `out`: the first `min(count, out.len())` points of the
+    /// `count`-point set (strata and lattice spacing follow `count`). Depends only on
+    /// (config, pixel), never on which thread or which other pixels ran. No allocation.
+    /// What each (sequence, seed mode) pair means: see [`seed`].
     pub fn fill_pixel(&self, pixel: u64, out: &mut [Vec2]) {
-        // Baseline (random + Fibonacci only); the sampling issue replaces this with the full set.
-        let n = self.count as usize;
-        let per_pixel = self.seed_mode != SeedMode::Static;
-        let key = if per_pixel { hash(self.seed, pixel) } else { hash(self.seed, u64::MAX) };
-        let offset = match self.seed_mode {
-            SeedMode::Static => Vec2::ZERO,
-            SeedMode::Rotation => Vec2::new(unit(hash(key, 1)), 0.0),
-            SeedMode::Shift => Vec2::new(unit(hash(key, 1)), unit(hash(key, 2))),
-        };
-        for (i, p) in out.iter_mut().enumerate().take(n) {
-            let base = match self.sequence {
-                Sequence::Fibonacci => {
-                    let x = ((i as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as f32
-                        / (1u64 << 24) as f32;
-                    Vec2::new(x, (i as f32 + 0.5) / n as f32)
+        let n = self.count.max(1);
+        let len = (self.count as usize).min(out.len());
+        let out = &mut out[..len];
+        let ps = PixelSeed::new(self.seed, pixel);
+        let (dx, dy) = ps.offsets(self.seed_mode);
+        let fresh = self.seed_mode == SeedMode::Shift;
+        match self.sequence {
+            // Fresh numbers per pixel for both rotation and shift: the paper's pseudo-random row.
+            Sequence::Random => random::fill(ps.set_key(self.seed_mode != SeedMode::Static), out),
+            Sequence::Fibonacci => {
+                // The paper's seed is an index offset: static = one per run, rotation = + one per pixel.
+                let run_offset = ps.run_key >> 24;
+                match self.seed_mode {
+                    SeedMode::Static => fibonacci::fill(n, run_offset, 0, 0, out),
+                    SeedMode::Rotation => fibonacci::fill(n, run_offset + (ps.pixel_key >> 24), 0, 0, out),
+                    SeedMode::Shift => fibonacci::fill(n, run_offset, dx, dy, out),
                 }
-                _ => Vec2::new(unit(hash(key, 2 * i as u64 + 3)), unit(hash(key, 2 * i as u64 + 4))),
-            };
-            let q = if self.sequence == Sequence::Random { base } else { base + offset };
-            *p = Vec2::new(q.x.fract(), q.y.fract());
+            }
+            Sequence::Stratified => stratified::fill(n, ps.set_key(fresh), if fresh { 0 } else { dx }, out),
+            Sequence::Sobol => sobol::fill(ps.set_key(fresh), if fresh { 0 } else { dx }, out),
         }
     }
-}
-
-fn hash(a: u64, b: u64) -> u64 {
-    let mut z = a ^ b.wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
-fn unit(h: u64) -> f32 {
-    (h >> 40) as f32 / (1u64 << 24) as f32
 }

@@ -1,0 +1,170 @@
+//! Randomization across pixels (the paper's "seed"), and the fixed-point arithmetic every
+//! sequence shares.
+//!
+//! | seed mode | random | fibonacci | stratified | sobol |
+//! |---|---|---|---|---|
+//! | `static` — the same point set in every pixel, keyed by the run seed only | one set of counter-based pseudo-random numbers per run | the paper's lattice with index offset = hash(run seed) (the paper's "static seed") | one jitter per run | one Owen scramble per run |
+//! | `rotation` — the paper's "random seed per pixel": the static set with x offset per pixel (mod 1) = a rotation about the normal | fresh independent numbers per pixel (bit-identical to `shift`) | a per-pixel random index offset (< 2^40) added to the indices: x moves by frac(offset / phi_g) | static jitter, per-pixel x offset | static scramble, per-pixel x offset |
+//! | `shift` — per-pixel randomization that makes each pixel's estimate unbiased | fresh independent numbers per pixel (bit-identical to `rotation`) | static lattice + Cranley–Patterson shift of x and y (mod 1) | fresh independent jitter per pixel | per-pixel Owen scrambling (Burley 2020) |
+//!
+//! `rotation` leaves y (hence theta) as in the static set, so it does not make the per-pixel
+//! estimate unbiased for the lattice sequences (tests/sampling_estimators.rs measures it).
+//!
+//! Coordinates are carried as 24-bit fixed point (`k / 2^24`, k < 2^24): every f32 in [0,1)
+//! of that grid is exact, offsets wrap mod 1 exactly (no `x + offset` rounding to 1.0), and
+//! strata boundaries can be honoured exactly.
+
+use super::SeedMode;
+
+/// Fractional bits of the fixed-point coordinates: all an f32 in [0,1) can hold uniformly.
+pub const FIX_BITS: u32 = 24;
+pub const FIX_ONE: u32 = 1 << FIX_BITS;
+const FIX_MASK: u32 = FIX_ONE - 1;
+/// 2^64 / phi_g, the Weyl increment of SplitMix64.
+const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// Fixed point (mod 1) to f32; exact, so always < 1.
+#[inline]
+pub fn fix_to_f32(k: u32) -> f32 {
+    (k & FIX_MASK) as f32 * (1.0 / FIX_ONE as f32)
+}
+
+/// `a + b` mod 1 in fixed point.
+#[inline]
+pub fn fix_add(a: u32, b: u32) -> u32 {
+    a.wrapping_add(b) & FIX_MASK
+}
+
+/// Top 24 bits of a 64-bit hash as a fixed-point coordinate.
+#[inline]
+pub fn fix_from_bits(h: u64) -> u32 {
+    (h >> (64 - FIX_BITS)) as u32
+}
+
+/// SplitMix64's finalizer (Steele, Lea, Flood 2014): a bijective 64-bit avalanche mix.
+#[inline]
+pub fn mix64(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Keyed counter hash: `mix64(key + counter * golden)` is SplitMix64's stream `key`, element `counter`.
+#[inline]
+pub fn hash(key: u64, counter: u64) -> u64 {
+    mix64(key.wrapping_add(counter.wrapping_mul(GOLDEN)))
+}
+
+/// One pixel's randomization, derived once per pixel (three mixes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PixelSeed {
+    /// Keyed by the run seed only: what `static` uses.
+    pub run_key: u64,
+    /// Keyed by run seed and pixel: fresh numbers / jitter / scramble for this pixel.
+    pub pixel_key: u64,
+    /// Per-pixel offsets in fixed point (x for `rotation`, x and y for `shift`).
+    pub x_offset: u32,
+    pub y_offset: u32,
+}
+
+impl PixelSeed {
+    #[inline]
+    pub fn new(seed: u64, pixel: u64) -> Self {
+        let run_key = hash(seed, 0x6865_6D69_6C61_6231);
+        let pixel_key = hash(run_key, pixel.wrapping_add(1));
+        let offsets = mix64(pixel_key ^ 0x5EED);
+        Self { run_key, pixel_key, x_offset: fix_from_bits(offsets), y_offset: fix_from_bits(offsets << 24) }
+    }
+
+    /// The key of the set's own randomness: per pixel only where the mode asks for fresh numbers.
+    #[inline]
+    pub fn set_key(&self, fresh_per_pixel: bool) -> u64 {
+        if fresh_per_pixel { self.pixel_key } else { self.run_key }
+    }
+
+    /// The offsets the mode applies on top of the set (x for rotation, x and y for shift).
+    #[inline]
+    pub fn offsets(&self, mode: SeedMode) -> (u32, u32) {
+        match mode {
+            SeedMode::Static => (0, 0),
+            SeedMode::Rotation => (self.x_offset, 0),
+            SeedMode::Shift => (self.x_offset, self.y_offset),
+        }
+    }
+}
+
+/// Walks the n equal strata of [0,1) on the 24-bit grid without a division per point.
+/// Stratum s holds the grid points [lo(s), lo(s+1)) with lo(s) = ceil(s 2^24 / n), kept as
+/// quotient and remainder, so a point placed there satisfies floor(k n / 2^24) == s exactly
+/// (for n <= 2^24) and its f32 lies in [s/n, (s+1)/n).
+#[derive(Debug, Clone, Copy)]
+pub struct StrataWalk {
+    q: u32,
+    r: u32,
+    step_q: u32,
+    step_r: u32,
+    n: u32,
+}
+
+impl StrataWalk {
+    #[inline]
+    pub fn new(n: u32) -> Self {
+        let n = n.max(1);
+        Self { q: 0, r: 0, step_q: FIX_ONE / n, step_r: FIX_ONE % n, n }
+    }
+
+    #[inline]
+    fn lo(q: u32, r: u32) -> u32 {
+        q + (r != 0) as u32
+    }
+
+    /// The point at position `j` in [0, 2^24) of the current stratum.
+    #[inline]
+    pub fn at(&self, j: u32) -> u32 {
+        let (mut q, mut r) = (self.q + self.step_q, self.r + self.step_r);
+        if r >= self.n {
+            r -= self.n;
+            q += 1;
+        }
+        let lo = Self::lo(self.q, self.r);
+        let width = Self::lo(q, r) - lo;
+        lo + ((j as u64 * width as u64) >> FIX_BITS) as u32
+    }
+
+    /// Moves to the next stratum.
+    #[inline]
+    pub fn advance(&mut self) {
+        self.q += self.step_q;
+        self.r += self.step_r;
+        if self.r >= self.n {
+            self.r -= self.n;
+            self.q += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strata_walk_stays_in_each_stratum_at_both_ends() {
+        for strata in [1u32, 2, 3, 7, 10, 17, 1000, 12345, 1 << 20, 3_000_017] {
+            for j in [0, 1, FIX_ONE / 2, FIX_ONE - 1] {
+                let mut w = StrataWalk::new(strata);
+                for s in 0..strata {
+                    let k = w.at(j);
+                    assert_eq!((k as u64 * strata as u64) >> FIX_BITS, s as u64, "{strata} {s} {j}");
+                    w.advance();
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn fix_add_wraps_mod_one_and_stays_below_one() {
+        assert_eq!(fix_add(FIX_ONE - 1, 1), 0);
+        assert!(fix_to_f32(FIX_ONE - 1) < 1.0);
+        assert_eq!(fix_to_f32(FIX_ONE), 0.0);
+    }
+}

@@ -55,6 +55,9 @@ pub struct RunArgs {
     /// Stop with an error instead of rendering a missing or mismatched reference.
     #[arg(long)]
     pub no_build_reference: bool,
+    /// Where reference images and their manifests live.
+    #[arg(long, default_value = "reference")]
+    pub reference_dir: PathBuf,
     #[command(flatten)]
     pub common: Common,
 }
@@ -69,6 +72,9 @@ pub struct PlanArgs {
 pub struct ReferenceArgs {
     /// Experiment spec (TOML).
     pub spec: PathBuf,
+    /// Where reference images and their manifests live.
+    #[arg(long, default_value = "reference")]
+    pub reference_dir: PathBuf,
     #[command(flatten)]
     pub common: Common,
 }

@@ -1,0 +1,87 @@
+//! Turning a planned job into an image: its geometry on its scene, the sampler, the thread pool, and
+//! the time it took (render only: no reference, no IO).
+
+use crate::error::{Error, Result};
+use crate::plan::Job;
+use crate::progress;
+use crate::render::{self, RenderJob, RenderOutput};
+use crate::sampling::SamplerConfig;
+use crate::scene::Scene;
+use crate::spec::AoDistance;
+use indicatif::ProgressBar;
+use std::time::Instant;
+
+/// Image size and AO distance of a job: the spec's override, else the scene's own.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Geometry {
+    pub width: u32,
+    pub height: u32,
+    pub distance: AoDistance,
+}
+
+impl Geometry {
+    pub fn of(resolution: Option<[u32; 2]>, distance: Option<AoDistance>, scene: &Scene) -> Self {
+        let [width, height] = resolution.unwrap_or([scene.resolution.0, scene.resolution.1]);
+        let distance = distance.unwrap_or(if scene.ao_distance.is_finite() {
+            AoDistance::Finite(scene.ao_distance as f64)
+        } else {
+            AoDistance::Infinite
+        });
+        Self { width, height, distance }
+    }
+
+    pub fn pixels(&self) -> u64 {
+        self.width as u64 * self.height as u64
+    }
+}
+
+pub struct Rendered {
+    pub output: RenderOutput,
+    /// Wall time of the render alone.
+    pub time_s: f64,
+}
+
+/// Renders jobs on one thread pool and advances one progress bar counted in rays
+/// (an upper bound: background pixels cast none, so the bar is topped up after each job).
+pub struct JobRunner {
+    pool: rayon::ThreadPool,
+    pub bar: ProgressBar,
+}
+
+impl JobRunner {
+    pub fn new(threads: Option<u32>, quiet: bool) -> Result<Self> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads.unwrap_or(0) as usize)
+            .build()
+            .map_err(|e| Error::Refused(format!("cannot start worker threads: {e}")))?;
+        Ok(Self { pool, bar: progress::bar(0, "", quiet) })
+    }
+
+    /// Restarts the bar for a new stage of `total_rays` rays.
+    pub fn stage(&self, what: &str, total_rays: u64) {
+        self.bar.reset();
+        self.bar.set_length(total_rays);
+        self.bar.set_message(what.to_string());
+    }
+
+    pub fn render(&self, job: &Job, scene: &Scene, label: &str) -> Result<Rendered> {
+        let g = Geometry::of(job.resolution, job.ao_distance, scene);
+        let sampler = SamplerConfig::new(job.sequence, job.seed_mode, job.rays, job.seed)
+            .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
+        let rj = RenderJob {
+            distribution: job.distribution,
+            sampler,
+            width: g.width,
+            height: g.height,
+            ao_distance: g.distance.as_f32(),
+        };
+        self.bar.set_message(label.to_string());
+        let before = self.bar.position();
+        let rays = job.rays as u64;
+        let start = Instant::now();
+        let output = self.pool.install(|| render::render(scene, &rj, &|px| self.bar.inc(px * rays)));
+        let time_s = start.elapsed().as_secs_f64();
+        self.bar.set_position(before + g.pixels() * rays);
+        Ok(Rendered { output, time_s })
+    }
+}

@@ -17,4 +17,7 @@ pub mod cli;
 pub mod error;
 pub mod image;
 pub mod io;
+pub mod progress;
+pub mod render;
 pub mod sampling;
+pub mod scene;

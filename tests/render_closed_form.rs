@@ -10,6 +10,7 @@
 //!   failure probability is ≈ 2e-4 (Bonferroni);
 //! - per configuration, at least 97 % of the pixels within 3 SE: ~1 pixel is expected outside
 //!   (P(|t63| > 3) ≈ 0.4 %), and 8 or more outside has Poisson probability ≈ 1e-5.
+//!
 //! A biased renderer (e.g. counting occluded rays without the weights, off by 0.02-0.06) fails both.
 
 use glam::Vec3;
@@ -67,7 +68,13 @@ fn floor_under_rectangle_matches_lambert_form_factor() {
             let mut sum2 = vec![0.0f64; (SIDE * SIDE) as usize];
             for seed in 0..SEEDS {
                 let sampler = SamplerConfig::new(sequence, SeedMode::Shift, RAYS, 1000 + seed).unwrap();
-                let job = RenderJob { distribution, sampler, width: SIDE, height: SIDE, ao_distance: f32::INFINITY };
+                let job = RenderJob {
+                    distribution,
+                    sampler,
+                    width: SIDE,
+                    height: SIDE,
+                    ao_distance: f32::INFINITY,
+                };
                 let out = render(&scene, &job, &|_| {});
                 for &(i, _) in &floor {
                     assert_eq!(out.coverage.data[i], 1.0, "floor pixel {i} not covered");

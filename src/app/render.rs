@@ -72,13 +72,9 @@ pub fn run_render(args: RenderArgs) -> Result<()> {
         return Err(Error::Usage(format!("--output {}: must name an .exr file", out.display())));
     }
     let png = out.with_extension("png");
-    let sampler = SamplerConfig::new(
-        args.sampling.sequence,
-        args.sampling.seed_mode,
-        args.rays,
-        args.sampling.seed,
-    )
-    .map_err(|e| Error::Usage(format!("--rays: {e}")))?;
+    let sampler =
+        SamplerConfig::new(args.sampling.sequence, args.sampling.seed_mode, args.rays, args.sampling.seed)
+            .map_err(|e| Error::Usage(format!("--rays: {e}")))?;
     if let Some((w, h)) = args.resolution {
         check_pixels(w, h)?;
     }
@@ -200,15 +196,11 @@ pub fn run_bench(args: BenchArgs) -> Result<()> {
         });
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
     } else {
-        let d = if scene.ao_distance.is_finite() { format!("{}", scene.ao_distance) } else { "infinite".into() };
+        let d =
+            if scene.ao_distance.is_finite() { format!("{}", scene.ao_distance) } else { "infinite".into() };
         println!(
             "scene {} ({} triangles), {width}x{height}, {} {} rays/pixel ({} / {}), d = {d}",
-            scene.name,
-            scene.triangle_count,
-            args.rays,
-            distribution,
-            sequence,
-            seed_mode
+            scene.name, scene.triangle_count, args.rays, distribution, sequence, seed_mode
         );
         println!("BVH build (obvhs CWBVH, medium preset): {:.3} s", scene.bvh_build_s);
         for r in [&one, &many] {

@@ -63,7 +63,13 @@ impl Ray {
         let dir = Vec3A::from(dir) + Vec3A::ZERO; // -0.0 → +0.0 (obvhs bug 1)
         let inv = Vec3A::new(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
         let a = dir.abs();
-        let kz = if a.x > a.y { if a.x > a.z { 0 } else { 2 } } else if a.y > a.z { 1 } else { 2 };
+        let kz = if a.x > a.y {
+            if a.x > a.z { 0 } else { 2 }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
         let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
         if dir[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
@@ -149,7 +155,7 @@ impl Accel {
 }
 
 fn pow2_at_least(m: f32) -> f32 {
-    if !(m > f32::MIN_POSITIVE) {
+    if m.is_nan() || m <= f32::MIN_POSITIVE {
         return f32::MIN_POSITIVE;
     }
     let p = f32::from_bits(m.to_bits() & 0xFF80_0000); // largest power of two <= m

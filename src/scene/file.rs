@@ -136,9 +136,7 @@ impl<'de> Deserialize<'de> for AoDistance {
                 if v > 0.0 && !v.is_nan() {
                     Ok(AoDistance(v as f32))
                 } else {
-                    Err(E::custom(format!(
-                        "ao_distance must be a positive number or \"infinite\", got {v}"
-                    )))
+                    Err(E::custom(format!("ao_distance must be a positive number or \"infinite\", got {v}")))
                 }
             }
             fn visit_i64<E: de::Error>(self, v: i64) -> Result<AoDistance, E> {

@@ -34,13 +34,8 @@ pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
     })?;
     scan_lines(text)?;
 
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
+    let options =
+        tobj::LoadOptions { triangulate: true, single_index: false, ignore_points: true, ignore_lines: true };
     // Materials are never needed for AO: a loader that returns nothing skips every .mtl.
     let no_materials = |_: &std::path::Path| Ok((Vec::new(), Default::default()));
     let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &options, no_materials)
@@ -52,7 +47,7 @@ pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
         let vertex = |i: u32| -> Result<Vec3, String> {
             let i = i as usize * 3;
             match m.positions.get(i..i + 3) {
-                Some(p) => Ok(Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32)),
+                Some(p) => Ok(Vec3::new(p[0], p[1], p[2])),
                 None => Err(format!("object '{}': face index out of range", model.name)),
             }
         };

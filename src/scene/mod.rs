@@ -42,7 +42,7 @@ impl Scene {
         if let Some(p) = camera.problem() {
             return Err(format!("camera: {p}"));
         }
-        if !(ao_distance > 0.0) {
+        if ao_distance.is_nan() || ao_distance <= 0.0 {
             return Err(format!("ao_distance must be positive or \"infinite\", got {ao_distance}"));
         }
         if mesh.triangles.is_empty() {

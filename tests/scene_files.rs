@@ -113,3 +113,23 @@ fn bad_scene_files_name_the_line_and_key() {
         }
     }
 }
+
+#[test]
+fn shipped_validation_scene_matches_the_one_built_in_code() {
+    use hemilab::render::{RenderJob, render};
+    use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let file = load_scene(&root.join("scenes/floating-rectangle.toml")).unwrap();
+    let code = hemilab::scene::procedural::floating_rectangle(file.resolution);
+    assert_eq!((file.triangle_count, file.camera, file.ao_distance), (4, code.camera, code.ao_distance));
+    let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 8, 1).unwrap();
+    let job = |s: &hemilab::scene::Scene| RenderJob {
+        distribution: Distribution::Sine,
+        sampler,
+        width: 16,
+        height: 16,
+        ao_distance: s.ao_distance,
+    };
+    let (a, b) = (render(&file, &job(&file), &|_| {}), render(&code, &job(&code), &|_| {}));
+    assert_eq!((a.ao, a.coverage), (b.ao, b.coverage));
+}

@@ -41,6 +41,10 @@ pub struct RenderOutput {
 pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -> RenderOutput {
     let (w, h) = (job.width as usize, job.height as usize);
     let n = job.sampler.count as usize;
+    if w == 0 || h == 0 {
+        let empty = Image::new(job.width, job.height);
+        return RenderOutput { ao: empty.clone(), coverage: empty, rays: 0, occluded_rays: 0 };
+    }
     let mut ao = vec![1.0f32; w * h];
     let mut coverage = vec![0.0f32; w * h];
     let (rays, occluded) = ao

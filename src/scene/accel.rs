@@ -154,6 +154,31 @@ impl Accel {
     }
 }
 
+impl Accel {
+    /// Triangles in the BVH (after dropping unusable ones).
+    pub fn len(&self) -> usize {
+        self.tris.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.tris.is_empty()
+    }
+
+    /// The same query as `closest` without the BVH: every triangle is tested. The reference that
+    /// proves the traversal culls nothing it should not; far too slow for rendering.
+    pub fn closest_brute_force(&self, ray: &Ray) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let mut tmax = ray.tmax;
+        for (i, tri) in self.tris.iter().enumerate() {
+            if let Some((t, _, v, w)) = intersect(tri, ray, tmax) {
+                tmax = t;
+                best = Some(Hit { t, prim: i as u32, bary_b: v, bary_c: w });
+            }
+        }
+        best
+    }
+}
+
 fn pow2_at_least(m: f32) -> f32 {
     if m.is_nan() || m <= f32::MIN_POSITIVE {
         return f32::MIN_POSITIVE;

@@ -19,6 +19,10 @@ pub mod plan;
 
 pub mod sampling;
 
+pub mod scene;
+
+pub mod render;
+
 pub mod image;
 
 pub mod metrics;
@@ -39,3 +43,5 @@ pub mod app;
 pub mod error;
 
 pub mod io;
+
+pub mod progress;

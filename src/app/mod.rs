@@ -5,19 +5,21 @@ mod figures;
 mod jobs;
 pub mod points;
 mod reference;
+pub mod render;
 pub mod run;
 
+pub use render::load_scene;
+
 use crate::cli::{Cli, Command};
-use crate::error::{Error, Result};
+use crate::error::Result;
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Run(args) => run::run_run(args),
         Command::Plan(args) => run::run_plan(args),
         Command::Reference(args) => run::run_reference(args),
-        Command::Render(_) | Command::Bench(_) => {
-            Err(Error::Usage("`render` and `bench` arrive with the renderer (issue 3)".into()))
-        }
+        Command::Render(args) => render::run_render(args),
+        Command::Bench(args) => render::run_bench(args),
         Command::Points(args) => points::run(&args),
     }
 }

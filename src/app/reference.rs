@@ -155,7 +155,8 @@ fn build(
         coverage.get_or_insert(done.output.coverage);
         images.push(done.output.ao);
     }
-    let coverage = coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
+    let coverage =
+        coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
     let (mean, stderr) = reference::mean_and_stderr(&images).map_err(Error::Refused)?;
     manifest.noise_floor = Some(reference::noise_floor(&stderr, &coverage));
     manifest.time_s = Some(start.elapsed().as_secs_f64());

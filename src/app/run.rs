@@ -29,7 +29,8 @@ pub struct Loaded {
 
 impl Loaded {
     pub fn scene_of(&self, job: &Job) -> (usize, &Scene) {
-        let i = self.spec.scenes.iter().position(|s| s.id == job.scene_id).expect("planned scene is in the spec");
+        let i =
+            self.spec.scenes.iter().position(|s| s.id == job.scene_id).expect("planned scene is in the spec");
         (i, &self.scenes[i])
     }
 }
@@ -65,7 +66,13 @@ pub fn run_reference(args: ReferenceArgs) -> Result<()> {
     let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
     for (si, scene) in loaded.scenes.iter().enumerate() {
         let r = refs::obtain(&loaded.spec, si, scene, &args.reference_dir, Policy::Rebuild, &runner)?;
-        println!("{}: noise floor {:.3e} ({} x {} rays)", r.exr.display(), r.noise_floor(), r.manifest.replicates, r.manifest.rays);
+        println!(
+            "{}: noise floor {:.3e} ({} x {} rays)",
+            r.exr.display(),
+            r.noise_floor(),
+            r.manifest.replicates,
+            r.manifest.rays
+        );
     }
     runner.bar.finish_and_clear();
     Ok(())
@@ -184,7 +191,8 @@ fn summarize(loaded: &Loaded, references: &[Reference], results: &[JobResult], o
     let _ = writeln!(s, "{} jobs → {}", results.len(), out.display());
     for (si, r) in references.iter().enumerate() {
         let name = &loaded.scenes[si].name;
-        let smallest = aggs.iter().filter(|a| &a.scene == name).map(|a| a.rmse.mean).fold(f64::INFINITY, f64::min);
+        let smallest =
+            aggs.iter().filter(|a| &a.scene == name).map(|a| a.rmse.mean).fold(f64::INFINITY, f64::min);
         let floor = r.noise_floor();
         let target = refmath::target_floor(smallest);
         let _ = writeln!(s, "reference '{name}': noise floor {floor:.2e}, smallest RMSE {smallest:.2e}");

@@ -1,0 +1,94 @@
+//! Pinhole and orthographic cameras: one primary ray per pixel, through the pixel centre.
+
+use glam::Vec3;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Camera {
+    Perspective { eye: Vec3, target: Vec3, up: Vec3, fov_y_deg: f32 },
+    Orthographic { eye: Vec3, target: Vec3, up: Vec3, view_width: f32 },
+}
+
+/// A primary ray; `dir` is a unit vector.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PrimaryRay {
+    pub origin: Vec3,
+    pub dir: Vec3,
+}
+
+impl Camera {
+    fn pose(&self) -> (Vec3, Vec3, Vec3) {
+        match *self {
+            Camera::Perspective { eye, target, up, .. } | Camera::Orthographic { eye, target, up, .. } => {
+                (eye, target, up)
+            }
+        }
+    }
+
+    /// Why the camera cannot make an image, if it cannot (checked once at load, so rays never are NaN).
+    pub fn problem(&self) -> Option<String> {
+        let (eye, target, up) = self.pose();
+        if !(eye.is_finite() && target.is_finite() && up.is_finite()) {
+            return Some("eye, target and up must be finite".into());
+        }
+        let forward = (target - eye).normalize_or_zero();
+        if forward == Vec3::ZERO {
+            return Some("eye and target must differ".into());
+        }
+        if forward.cross(up).normalize_or_zero() == Vec3::ZERO {
+            return Some("up must not be zero or parallel to the view direction (target - eye)".into());
+        }
+        match *self {
+            Camera::Perspective { fov_y_deg, .. } if !(fov_y_deg > 0.0 && fov_y_deg < 180.0) => {
+                Some(format!("fov_y_deg must be in (0, 180) degrees, got {fov_y_deg}"))
+            }
+            Camera::Orthographic { view_width, .. } if !(view_width > 0.0 && view_width.is_finite()) => {
+                Some(format!("view_width must be a positive finite number, got {view_width}"))
+            }
+            _ => None,
+        }
+    }
+
+    /// The ray through the centre of pixel (x, y) of a `width` x `height` image; y = 0 is the top row.
+    pub fn ray(&self, x: u32, y: u32, width: u32, height: u32) -> PrimaryRay {
+        let (eye, target, up) = self.pose();
+        let forward = (target - eye).normalize();
+        let right = forward.cross(up).normalize();
+        let true_up = right.cross(forward);
+        let aspect = width as f32 / height as f32;
+        let sx = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
+        let sy = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
+        match *self {
+            Camera::Perspective { fov_y_deg, .. } => {
+                let tan_half = (0.5 * fov_y_deg.to_radians()).tan();
+                let dir = forward + right * (sx * tan_half * aspect) + true_up * (sy * tan_half);
+                PrimaryRay { origin: eye, dir: dir.normalize() }
+            }
+            Camera::Orthographic { view_width, .. } => {
+                let half_w = 0.5 * view_width;
+                let half_h = half_w / aspect;
+                PrimaryRay { origin: eye + right * (sx * half_w) + true_up * (sy * half_h), dir: forward }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orthographic_top_down_maps_pixel_centres() {
+        let cam = Camera::Orthographic {
+            eye: Vec3::new(0.0, 0.0, 10.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            view_width: 4.0,
+        };
+        let r = cam.ray(0, 0, 4, 4);
+        assert!((r.origin - Vec3::new(-1.5, 1.5, 10.0)).length() < 1e-6, "{r:?}");
+        assert_eq!(r.dir, Vec3::new(0.0, 0.0, -1.0));
+        assert!(cam.problem().is_none());
+        let bad = Camera::Perspective { eye: Vec3::ZERO, target: Vec3::Z, up: Vec3::Y, fov_y_deg: 180.0 };
+        assert!(bad.problem().unwrap().contains("fov_y_deg"));
+    }
+}

@@ -1,0 +1,116 @@
+//! The real binary: `render` writes the EXR (Y = AO, A = coverage) and a PNG beside it; bad arguments
+//! exit with 2 and create nothing; `bench --json` reports rays per second.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("hemilab-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn hemilab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hemilab"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run hemilab")
+}
+
+fn entries(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect()
+}
+
+#[test]
+fn render_writes_exr_and_png_preview() {
+    let dir = temp_dir("render");
+    let exr = dir.join("sub/box.exr");
+    let out = hemilab(&[
+        "render",
+        "scenes/cornell-box.toml",
+        "--distribution",
+        "sine-cosine",
+        "--sequence",
+        "fibonacci",
+        "--seed-mode",
+        "rotation",
+        "--rays",
+        "4",
+        "--resolution",
+        "24x16",
+        "--threads",
+        "2",
+        "--output",
+        exr.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.stderr.is_empty(), "no progress bar when stderr is not a terminal");
+    let channels = hemilab::io::read_exr(&exr).unwrap();
+    let get = |n: &str| &channels.iter().find(|(name, _)| name == n).expect(n).1;
+    let (y, a) = (get("Y"), get("A"));
+    assert_eq!((y.width, y.height, a.width, a.height), (24, 16, 24, 16));
+    assert!(a.data.iter().all(|&c| c == 0.0 || c == 1.0));
+    assert!(a.data.contains(&1.0));
+    assert!(y.data.iter().zip(&a.data).any(|(&v, &c)| c == 1.0 && v > 0.0 && v < 1.0));
+    let png = std::fs::read(dir.join("sub/box.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let mut listing = entries(&dir.join("sub"));
+    listing.sort();
+    assert_eq!(listing, ["box.exr", "box.png"], "no temporary files left behind");
+}
+
+#[test]
+fn bad_arguments_exit_2_and_create_nothing() {
+    let dir = temp_dir("bad");
+    let exr = dir.join("out/x.exr");
+    let png = dir.join("x.png");
+    let (exr, png) = (exr.to_str().unwrap(), png.to_str().unwrap());
+    let good = |scene: &'static str, distribution: &'static str, rays: &'static str| {
+        vec!["render", scene, "--distribution", distribution, "--sequence", "random"]
+            .into_iter()
+            .chain(["--seed-mode", "shift", "--rays", rays])
+            .collect::<Vec<&str>>()
+    };
+    let with = |mut v: Vec<&'static str>, extra: &[&'static str]| {
+        v.extend_from_slice(extra);
+        v
+    };
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (with(good("scenes/cornell-box.toml", "cosine", "4"), &[]), "cosine"),
+        (with(good("scenes/cornell-box.toml", "sine", "0"), &[]), "--rays"),
+        (with(good("scenes/cornell-box.toml", "sine", "4"), &["--resolution", "0x8"]), "resolution"),
+        (with(good("scenes/cornell-box.toml", "sine", "4"), &["--resolution", "16384x16384"]), "memory"),
+        (with(good("scenes/no-such-scene.toml", "sine", "4"), &[]), "no-such-scene.toml"),
+    ];
+    for (mut args, want) in cases {
+        args.extend(["--output", exr]);
+        let out = hemilab(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: want '{want}' in {err}");
+        assert!(entries(&dir).is_empty(), "{args:?} created {:?}", entries(&dir));
+    }
+    let mut args = good("scenes/cornell-box.toml", "sine", "4");
+    args.extend(["--output", png]);
+    let out = hemilab(&args);
+    assert_eq!(out.status.code(), Some(2), "an output that is not .exr");
+    assert!(String::from_utf8_lossy(&out.stderr).contains(".exr"));
+    assert!(entries(&dir).is_empty());
+}
+
+#[test]
+fn bench_reports_json() {
+    let out = hemilab(&["bench", "scenes/cornell-box.toml", "--rays", "2", "--resolution", "8x8", "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["scene"], "cornell-box");
+    assert_eq!(v["triangles"], 30);
+    assert_eq!(v["single_thread"]["threads"], 1);
+    assert!(v["single_thread"]["rays_per_s"].as_f64().unwrap() > 0.0);
+    assert!(v["all_threads"]["rays_per_s"].as_f64().unwrap() > 0.0);
+    assert!(v["bvh_build_s"].as_f64().unwrap() >= 0.0);
+    // Rays counted are AO rays only: 8 x 8 pixels, all covered, 2 rays each, per render.
+    assert_eq!(v["single_thread"]["ao_rays"].as_u64().unwrap() % 128, 0);
+}

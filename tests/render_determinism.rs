@@ -1,0 +1,43 @@
+//! The image depends only on (scene, job): bit-identical for 1 thread and for all threads, and across
+//! reruns.
+
+use hemilab::app::load_scene;
+use hemilab::render::{RenderJob, RenderOutput, render};
+use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use std::path::Path;
+
+fn bits(o: &RenderOutput) -> (Vec<u32>, Vec<u32>, u64, u64) {
+    let b = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    (b(&o.ao.data), b(&o.coverage.data), o.rays, o.occluded_rays)
+}
+
+fn render_with(threads: usize, scene: &hemilab::scene::Scene, job: &RenderJob) -> RenderOutput {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    pool.install(|| render(scene, job, &|_| {}))
+}
+
+#[test]
+fn one_thread_and_all_threads_give_identical_bits() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let all = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1).max(2);
+    for (file, res) in [("scenes/kitchen.toml", (64, 48)), ("scenes/cornell-box.toml", (48, 48))] {
+        let scene = load_scene(&root.join(file)).unwrap();
+        for (distribution, sequence, seed_mode) in [
+            (Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Rotation),
+            (Distribution::Uniform, Sequence::Random, SeedMode::Shift),
+        ] {
+            let job = RenderJob {
+                distribution,
+                sampler: SamplerConfig::new(sequence, seed_mode, 16, 3).unwrap(),
+                width: res.0,
+                height: res.1,
+                ao_distance: scene.ao_distance,
+            };
+            let one = bits(&render_with(1, &scene, &job));
+            assert!(one.3 > 0 && one.3 < one.2, "{file}: want some but not all rays occluded");
+            assert_eq!(one, bits(&render_with(all, &scene, &job)), "{file}: 1 vs {all} threads");
+            assert_eq!(one, bits(&render_with(all, &scene, &job)), "{file}: rerun");
+            assert_eq!(one, bits(&render_with(3, &scene, &job)), "{file}: 3 threads");
+        }
+    }
+}

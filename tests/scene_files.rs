@@ -1,0 +1,135 @@
+//! Scene files and meshes: the shipped scenes load; every bad input is one error naming the file and
+//! the line or key; bad triangles are dropped and counted, never a panic.
+
+use hemilab::app::load_scene;
+use hemilab::app::render::dropped_warning;
+use std::path::{Path, PathBuf};
+
+/// A fresh directory for one test (removed first, so reruns start clean).
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("hemilab-scene-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const TOML: &str = "mesh = \"m.obj\"\nresolution = [8, 8]\nao_distance = 1.0\n\n[camera.perspective]\n\
+    eye = [0.0, 0.0, 5.0]\ntarget = [0.0, 0.0, 0.0]\nup = [0.0, 1.0, 0.0]\nfov_y_deg = 45.0\n";
+const QUAD: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+
+/// Writes the scene TOML and (if given) its mesh, and returns the load error text.
+fn load_error(name: &str, toml: &str, obj: Option<&str>) -> (PathBuf, String) {
+    let dir = temp_dir(name);
+    let scene = dir.join("s.toml");
+    std::fs::write(&scene, toml).unwrap();
+    if let Some(obj) = obj {
+        std::fs::write(dir.join("m.obj"), obj).unwrap();
+    }
+    let err = match load_scene(&scene) {
+        Ok(_) => panic!("{name}: loaded a bad scene"),
+        Err(e) => e.to_string(),
+    };
+    assert_eq!(hemilab::error::Error::Usage(String::new()).exit_code(), 2);
+    (dir, err)
+}
+
+#[test]
+fn shipped_scenes_load() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let cornell = load_scene(&root.join("scenes/cornell-box.toml")).unwrap();
+    assert_eq!(
+        (cornell.name.as_str(), cornell.triangle_count, cornell.dropped_triangles),
+        ("cornell-box", 30, 0)
+    );
+    let kitchen = load_scene(&root.join("scenes/kitchen.toml")).unwrap();
+    // 56,939 triangles in the file, of which 25 have zero area.
+    assert_eq!(kitchen.triangle_count + kitchen.dropped_triangles, 56_939);
+    assert_eq!(kitchen.ao_distance, 1.0);
+    assert!(dropped_warning(&kitchen).unwrap().contains("dropped 25 triangles"));
+    assert_eq!(kitchen.content_hash.len(), 32);
+    assert_ne!(kitchen.content_hash, cornell.content_hash);
+}
+
+#[test]
+fn good_scene_with_degenerate_triangles_drops_and_counts_them() {
+    let dir = temp_dir("degenerate");
+    std::fs::write(dir.join("s.toml"), TOML.replace("ao_distance = 1.0", "ao_distance = \"infinite\""))
+        .unwrap();
+    std::fs::write(dir.join("m.obj"), format!("{QUAD}v 2 2 2\nv nan 0 0\nf 1 2 2\nf 5 6 1\n")).unwrap();
+    let scene = load_scene(&dir.join("s.toml")).unwrap();
+    assert_eq!((scene.triangle_count, scene.dropped_triangles), (2, 2));
+    assert_eq!(scene.ao_distance, f32::INFINITY);
+    assert!(dropped_warning(&scene).unwrap().contains("dropped 2 triangles"));
+}
+
+#[test]
+fn missing_scene_and_missing_mesh_name_the_files() {
+    let e = load_scene(Path::new("/nonexistent/hemilab/s.toml")).err().unwrap().to_string();
+    assert!(e.contains("/nonexistent/hemilab/s.toml"), "{e}");
+    let (dir, e) = load_error("missing-mesh", TOML, None);
+    assert!(e.contains(&dir.join("s.toml").display().to_string()) && e.contains("`mesh`"), "{e}");
+    assert!(e.contains(&dir.join("m.obj").display().to_string()), "{e}");
+}
+
+#[test]
+fn bad_meshes_name_the_mesh_file_and_line() {
+    for (name, obj, want) in [
+        ("empty", "# no geometry\n", "empty mesh"),
+        ("out-of-range", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n", "line 4"),
+        ("negative-out-of-range", "v 0 0 0\nf -1 -2 -3\n", "line 2"),
+        ("zero-index", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 0 1 2\n", "line 4"),
+        ("two-vertex-face", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2\n", "line 4"),
+        ("bad-vertex", "v 0 0 0\nv 1 zero 0\n", "line 2"),
+        ("all-degenerate", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "zero area"),
+        ("binary", "\u{0}\u{1}\u{2}", "empty mesh"),
+    ] {
+        let (dir, e) = load_error(name, TOML, Some(obj));
+        assert!(e.contains(&dir.join("m.obj").display().to_string()), "{name}: {e}");
+        assert!(e.contains(want), "{name}: want '{want}' in: {e}");
+    }
+}
+
+#[test]
+fn bad_scene_files_name_the_line_and_key() {
+    for (name, toml, want) in [
+        ("unknown-key", TOML.replace("ao_distance", "ao_dist"), vec!["line 3", "ao_dist"]),
+        ("unknown-camera-key", TOML.replace("fov_y_deg", "fov"), vec!["line 9", "fov"]),
+        ("bad-fov", TOML.replace("45.0", "180.0"), vec!["line 9", "fov_y_deg", "(0, 180)"]),
+        ("bad-distance", TOML.replace("1.0\n", "\"far\"\n"), vec!["line 3", "infinite"]),
+        ("bad-resolution", TOML.replace("[8, 8]", "[8, 0]"), vec!["line 2", "resolution"]),
+        (
+            "bad-projection",
+            TOML.replace("perspective", "fisheye"),
+            vec!["line 5", "perspective", "orthographic"],
+        ),
+        ("missing-key", TOML.replace("resolution = [8, 8]\n", ""), vec!["resolution"]),
+        ("eye-is-target", TOML.replace("[0.0, 0.0, 5.0]", "[0.0, 0.0, 0.0]"), vec!["camera", "eye"]),
+        ("not-obj", TOML.replace("m.obj", "m.ply"), vec!["`mesh`", ".obj"]),
+    ] {
+        let (dir, e) = load_error(name, &toml, Some(QUAD));
+        assert!(e.contains(&dir.join("s.toml").display().to_string()), "{name}: {e}");
+        for w in want {
+            assert!(e.contains(w), "{name}: want '{w}' in: {e}");
+        }
+    }
+}
+
+#[test]
+fn shipped_validation_scene_matches_the_one_built_in_code() {
+    use hemilab::render::{RenderJob, render};
+    use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let file = load_scene(&root.join("scenes/floating-rectangle.toml")).unwrap();
+    let code = hemilab::scene::procedural::floating_rectangle(file.resolution);
+    assert_eq!((file.triangle_count, file.camera, file.ao_distance), (4, code.camera, code.ao_distance));
+    let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 8, 1).unwrap();
+    let job = |s: &hemilab::scene::Scene| RenderJob {
+        distribution: Distribution::Sine,
+        sampler,
+        width: 16,
+        height: 16,
+        ao_distance: s.ao_distance,
+    };
+    let (a, b) = (render(&file, &job(&file), &|_| {}), render(&code, &job(&code), &|_| {}));
+    assert_eq!((a.ao, a.coverage), (b.ao, b.coverage));
+}

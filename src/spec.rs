@@ -7,6 +7,7 @@
 //! ao_distance = 1.0                     # optional override: a number > 0 or "infinite"
 //! replicates = 4                        # independent seeds per (row, rays); 1..=1000; default 1
 //! seed = 1                              # base seed, 0..=4294967295; default 1
+//! point_figures = true                  # optional: also draw Table 1 and Figures 2-4; default false
 //!
 //! [reference]                           # optional section; defaults shown
 //! rays = "auto"                         # or 1..=4194304 rays per pixel per replicate
@@ -171,6 +172,9 @@ pub struct Spec {
     pub ao_distance: Option<AoDistance>,
     pub replicates: u32,
     pub seed: u64,
+    /// Draw the paper's point figures (Table 1, Figures 2-4): they depend on no rendering, so
+    /// only the spec that reproduces the paper asks for them.
+    pub point_figures: bool,
     pub reference: ReferenceSpec,
     /// Tables and sweeps in file order.
     pub groups: Vec<Group>,

@@ -3,6 +3,7 @@
 
 mod figures;
 mod jobs;
+mod page;
 pub mod points;
 mod reference;
 pub mod render;

@@ -132,8 +132,8 @@ fn draw_convergence<DB: DrawingBackend>(
         .y_desc(y_label)
         .axis_desc_style((FONT, 21.0))
         .label_style((FONT, 18.0))
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
+        .x_label_formatter(&|v| log_tick(*v, x1 / x0))
+        .y_label_formatter(&|v| log_tick(*v, y1 / y0))
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(200, 200, 200))
         .draw()
@@ -171,6 +171,19 @@ fn draw_convergence<DB: DrawingBackend>(
         legend.draw_text(e, &font, (54, y)).map_err(err)?;
     }
     Ok(())
+}
+
+/// Tick text on a log axis spanning `ratio` (max / min): over more than a decade plotters puts a
+/// tick at every 1..9 × 10^k, whose labels overlap near each decade's end, so only 1, 2 and 5 ×
+/// 10^k are labelled (the grid lines stay).
+fn log_tick(v: f64, ratio: f64) -> String {
+    if ratio > 10.0 && v > 0.0 {
+        let m = v / 10f64.powf(v.log10().floor());
+        if ![1.0, 2.0, 5.0, 10.0].iter().any(|k| (m - k).abs() < 1e-6 * k) {
+            return String::new();
+        }
+    }
+    tick(v)
 }
 
 /// Tick text for log axes: plain numbers for the usual range, exponent form outside it.
@@ -361,5 +374,9 @@ mod tests {
         assert_eq!(tick(0.001), "0.001");
         assert_eq!(tick(0.05), "0.05");
         assert_eq!(tick(1e-5), "1e-5");
+        assert_eq!(log_tick(0.05, 100.0), "0.05");
+        assert_eq!(log_tick(0.07, 100.0), "", "crowded ticks of a wide axis go unlabelled");
+        assert_eq!(log_tick(0.07, 3.0), "0.07", "a narrow axis keeps them");
+        assert_eq!(log_tick(100.0, 1000.0), "100");
     }
 }

@@ -20,6 +20,7 @@ struct RawSpec {
     ao_distance: Option<S<toml::Value>>,
     replicates: Option<S<i64>>,
     seed: Option<S<i64>>,
+    point_figures: Option<S<bool>>,
     reference: Option<RawReference>,
     #[serde(default)]
     table: Vec<S<RawGroup>>,
@@ -206,6 +207,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         ao_distance,
         replicates: replicates.unwrap_or(1),
         seed,
+        point_figures: raw.point_figures.as_ref().is_some_and(|b| *b.get_ref()),
         reference,
         groups,
     }

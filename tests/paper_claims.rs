@@ -1,0 +1,209 @@
+//! The paper's claims, asserted on real renders: `experiments/claims.toml` (the kitchen at 64x48,
+//! fixed seeds, 8 replicates) run through the real binary against the committed reference. Every
+//! failure message prints the numbers it compared. Margins are asserted in standard errors of the
+//! difference of means, so a pass is not luck of the seeds.
+
+use hemilab::results::{Aggregate, JobResult, Slope, aggregate, convergence_slopes, from_json};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+const RAYS: [u32; 3] = [8, 16, 32];
+/// A claimed difference must be at least this many standard errors of the difference wide.
+const MIN_SE: f64 = 5.0;
+
+struct Run {
+    stdout: String,
+    stderr: String,
+    results: Vec<JobResult>,
+    aggs: Vec<Aggregate>,
+}
+
+/// Runs the claims spec once per test binary; the tests below share it.
+fn run() -> &'static Run {
+    static RUN: OnceLock<Run> = OnceLock::new();
+    RUN.get_or_init(|| {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let out: PathBuf = std::env::temp_dir().join(format!("hemilab-claims-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let status = Command::new(env!("CARGO_BIN_EXE_hemilab"))
+            .arg("run")
+            .arg(root.join("experiments/claims.toml"))
+            .arg("--out")
+            .arg(&out)
+            .arg("--reference-dir")
+            .arg(root.join("reference"))
+            .arg("--no-build-reference")
+            .arg("--quiet")
+            .output()
+            .expect("hemilab runs");
+        assert!(
+            status.status.success(),
+            "hemilab run experiments/claims.toml failed (is the claims reference committed? \
+             `hemilab reference experiments/claims.toml` rebuilds it):\n{}",
+            String::from_utf8_lossy(&status.stderr)
+        );
+        let text = std::fs::read_to_string(out.join("results.json")).expect("results.json");
+        let results = from_json(&text).expect("results.json parses");
+        let _ = std::fs::remove_dir_all(&out);
+        let aggs = aggregate(&results);
+        let stdout = String::from_utf8_lossy(&status.stdout).into_owned();
+        let stderr = String::from_utf8_lossy(&status.stderr).into_owned();
+        Run { stdout, stderr, results, aggs }
+    })
+}
+
+fn cell<'a>(r: &'a Run, distribution: &str, sequence: &str, seed_mode: &str, rays: u32) -> &'a Aggregate {
+    r.aggs
+        .iter()
+        .find(|a| {
+            a.distribution == distribution
+                && a.sequence == sequence
+                && a.seed_mode == seed_mode
+                && a.rays == rays
+        })
+        .unwrap_or_else(|| panic!("no result for {distribution}/{sequence}/{seed_mode} at {rays} rays"))
+}
+
+/// Standard error of the difference of two replicate means.
+fn se_diff(a: &Aggregate, b: &Aggregate) -> f64 {
+    (a.rmse.sd.powi(2) / a.replicates as f64 + b.rmse.sd.powi(2) / b.replicates as f64).sqrt()
+}
+
+fn show(a: &Aggregate) -> String {
+    format!(
+        "{}/{}/{} {} rays: RMSE {:.5} ± {:.5} (n = {})",
+        a.distribution, a.sequence, a.seed_mode, a.rays, a.rmse.mean, a.rmse.sd, a.replicates
+    )
+}
+
+/// `better` has lower RMSE than `worse` by at least `MIN_SE` standard errors.
+fn assert_lower(better: &Aggregate, worse: &Aggregate, claim: &str) {
+    let (d, se) = (worse.rmse.mean - better.rmse.mean, se_diff(better, worse));
+    assert!(
+        d > MIN_SE * se,
+        "{claim}: expected {} below {} by > {MIN_SE} SE; difference {d:.5}, SE {se:.5} ({:.1} SE)",
+        show(better),
+        show(worse),
+        d / se
+    );
+    eprintln!("{claim}: {} < {} by {:.1} SE", show(better), show(worse), d / se);
+}
+
+#[test]
+fn claim1_sine_cosine_beats_uniform_and_sine_with_random_numbers() {
+    let r = run();
+    for rays in RAYS {
+        let sc = cell(r, "sine-cosine", "random", "rotation", rays);
+        for other in ["uniform", "sine"] {
+            assert_lower(sc, cell(r, other, "random", "rotation", rays), "claim 1");
+        }
+    }
+}
+
+#[test]
+fn claim2_fibonacci_with_per_pixel_seed_beats_random() {
+    let r = run();
+    for rays in RAYS {
+        for d in ["uniform", "sine", "sine-cosine"] {
+            let fib = cell(r, d, "fibonacci", "rotation", rays);
+            let rnd = cell(r, d, "random", "rotation", rays);
+            eprintln!("{d} at {rays} rays: fibonacci/random RMSE ratio {:.3}", fib.rmse.mean / rnd.rmse.mean);
+            if d == "sine-cosine" {
+                assert_lower(fib, rnd, "claim 2");
+            }
+        }
+    }
+}
+
+/// Per-replicate banding metric (mean of the horizontal and vertical lag-1 error autocorrelation).
+fn banding(r: &Run, seed_mode: &str, rays: u32) -> Vec<f64> {
+    r.results
+        .iter()
+        .filter(|x| {
+            x.distribution == "sine-cosine"
+                && x.sequence == "fibonacci"
+                && x.seed_mode == seed_mode
+                && x.rays == rays
+        })
+        .map(|x| 0.5 * (x.autocorr_x + x.autocorr_y))
+        .collect()
+}
+
+#[test]
+fn claim3_static_seed_error_is_structured() {
+    let r = run();
+    for rays in RAYS {
+        let stat = banding(r, "static", rays);
+        let rot = banding(r, "rotation", rays);
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let (ms, mr) = (mean(&stat), mean(&rot));
+        let msg = format!(
+            "{rays} rays: banding static {stat:.3?} (mean {ms:.3}), per-pixel {rot:.3?} (mean {mr:.3})"
+        );
+        assert!(stat.len() >= 4 && rot.len() >= 4, "too few replicates: {msg}");
+        assert!(mr.abs() < 0.05, "claim 3: per-pixel seed error should be uncorrelated: {msg}");
+        assert!(ms > 0.15, "claim 3: static seed error should be structured: {msg}");
+        let lowest_static = stat.iter().cloned().fold(f64::INFINITY, f64::min);
+        let highest_rot = rot.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        assert!(lowest_static > highest_rot + 0.1, "claim 3: replicates overlap: {msg}");
+        eprintln!("claim 3: {msg}");
+    }
+}
+
+fn slope<'a>(slopes: &'a [Slope], sequence: &str, seed_mode: &str) -> &'a Slope {
+    slopes
+        .iter()
+        .find(|s| s.distribution == "sine-cosine" && s.sequence == sequence && s.seed_mode == seed_mode)
+        .unwrap_or_else(|| panic!("no convergence row sine-cosine/{sequence}/{seed_mode}"))
+}
+
+#[test]
+fn claim4_convergence_slopes() {
+    let r = run();
+    let sweep: Vec<u32> = (0..=8).map(|k| 1 << k).collect();
+    let slopes = convergence_slopes(&r.aggs, &sweep);
+    let points = |s: &Slope| {
+        let mut v: Vec<String> = r
+            .aggs
+            .iter()
+            .filter(|a| {
+                a.distribution == s.distribution
+                    && a.sequence == s.sequence
+                    && a.seed_mode == s.seed_mode
+                    && sweep.contains(&a.rays)
+            })
+            .map(|a| format!("{}: {:.4}", a.rays, a.rmse.mean))
+            .collect();
+        v.dedup();
+        v.join(", ")
+    };
+    let random = slope(&slopes, "random", "rotation");
+    let k = random.vs_rays.expect("random slope");
+    assert_eq!(random.points, sweep.len(), "random row lacks ray counts: {}", points(random));
+    assert!(
+        (k + 0.5).abs() <= 0.08,
+        "claim 4: random slope {k:.3} not within -0.5 ± 0.08 ({})",
+        points(random)
+    );
+    let shift = slope(&slopes, "fibonacci", "shift");
+    let f = shift.vs_rays.expect("shift slope");
+    assert_eq!(shift.points, sweep.len(), "shift row lacks ray counts: {}", points(shift));
+    assert!(f < -0.6, "claim 4: fibonacci shift slope {f:.3} not steeper than -0.6 ({})", points(shift));
+    eprintln!("claim 4: slopes random {k:.3}, fibonacci shift {f:.3}");
+}
+
+#[test]
+fn reference_noise_floor_is_a_tenth_of_the_smallest_rmse() {
+    let r = run();
+    let line = r.stdout.lines().find(|l| l.contains("noise floor")).unwrap_or_default();
+    let nums: Vec<f64> =
+        line.split(|c: char| c.is_whitespace() || c == ',').filter_map(|w| w.parse::<f64>().ok()).collect();
+    assert_eq!(nums.len(), 2, "expected 'noise floor F, smallest RMSE S' in the run's output: {line:?}");
+    let (floor, smallest) = (nums[0], nums[1]);
+    assert!(
+        floor <= smallest / 10.0,
+        "noise floor {floor:.2e} above a tenth of the smallest RMSE {smallest:.2e}"
+    );
+    assert!(!r.stderr.contains("warning: reference noise floor"), "{}", r.stderr);
+}

@@ -1,0 +1,147 @@
+//! `hemilab run` writes every figure its spec asks for, and `index.html` references only files that
+//! exist. Real binary, tiny renders of the Cornell box, temporary directories.
+
+use hemilab::report::referenced_files;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("hemilab-report-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn run(spec: &Path, dir: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_hemilab"))
+        .arg("run")
+        .arg(spec)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .arg("--reference-dir")
+        .arg(dir.join("reference"))
+        .arg("--quiet")
+        .output()
+        .expect("hemilab runs")
+}
+
+/// Every file the page links to or embeds exists, and the page links every PNG and SVG written.
+fn assert_page_is_whole(out: &Path) {
+    let html = std::fs::read_to_string(out.join("index.html")).expect("index.html");
+    let refs = referenced_files(&html);
+    assert!(!refs.is_empty(), "index.html references nothing");
+    for f in &refs {
+        assert!(!f.starts_with('/') && !f.contains(".."), "not a relative link inside the output: {f}");
+        assert!(out.join(f).is_file(), "index.html references {f}, which does not exist");
+    }
+    for e in std::fs::read_dir(out).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().into_owned();
+        if name.ends_with(".png") || name.ends_with(".svg") {
+            assert!(refs.contains(&name), "{name} is written but not on the page");
+        }
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).expect("report.md");
+    for f in refs.iter().filter(|f| f.ends_with(".png")) {
+        assert!(md.contains(&format!("]({f})")), "report.md lacks {f}");
+    }
+}
+
+#[test]
+fn smoke_run_page_references_only_existing_files() {
+    let dir = TempDir::new("smoke");
+    let o = run(&root().join("experiments/smoke.toml"), &dir.0);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = dir.0.join("out");
+    for f in ["smoke.png", "smoke_error.png", "banding.png", "banding.svg", "report.md", "index.html"] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    assert!(!out.join("table1.png").exists(), "point figures only when the spec asks");
+    assert_page_is_whole(&out);
+}
+
+#[test]
+fn every_kind_of_figure_is_written_and_on_the_page() {
+    let dir = TempDir::new("all");
+    let scene = root().join("scenes/cornell-box.toml");
+    let spec = format!(
+        r#"name = "all"
+scenes = ["{}"]
+resolution = [12, 10]
+replicates = 2
+point_figures = true
+[reference]
+rays = 256
+replicates = 2
+[[table]]
+name = "t"
+rays = [2, 4]
+rows = [
+  {{ distribution = "sine-cosine", sequence = "random" }},
+  {{ distribution = "sine-cosine", sequence = "fibonacci", seed_mode = "static" }},
+]
+[[convergence]]
+name = "sweep"
+rays = [1, 2, 4, 8]
+distributions = ["sine-cosine"]
+sequences = ["random", "fibonacci"]
+"#,
+        scene.display()
+    );
+    let path = dir.0.join("all.toml");
+    std::fs::write(&path, spec).unwrap();
+    let o = run(&path, &dir.0);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = dir.0.join("out");
+    for f in [
+        "table1.png",
+        "figure2.png",
+        "figure3.png",
+        "figure4.png",
+        "t.png",
+        "t_error.png",
+        "sweep_rays.png",
+        "sweep_rays.svg",
+        "sweep_time.png",
+        "sweep_time.svg",
+        "banding.png",
+        "banding.svg",
+    ] {
+        let bytes = std::fs::read(out.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        let magic: &[u8] = if f.ends_with(".png") { b"\x89PNG" } else { b"<svg" };
+        assert!(bytes.starts_with(magic), "{f} is not a {magic:?} file");
+    }
+    assert_page_is_whole(&out);
+    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
+    for text in
+        ["References", "noise floor", "slope vs rays", "lowpass RMSE", "efficiency", "sine-cosine, Fibonacci"]
+    {
+        assert!(html.contains(text), "index.html lacks '{text}'");
+    }
+}
+
+#[test]
+fn point_figures_must_be_a_boolean() {
+    let dir = TempDir::new("badkey");
+    let path = dir.0.join("bad.toml");
+    let text = "scenes = [\"x.toml\"]\npoint_figures = \"yes\"\n[[table]]\nname = \"t\"\nrays = [1]\n\
+                distributions = [\"sine\"]\nsequences = [\"random\"]\n";
+    std::fs::write(&path, text).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_hemilab")).arg("plan").arg(&path).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("point_figures") && err.contains("line 2"), "{err}");
+}

@@ -4,7 +4,7 @@
 
 use super::jobs::{Geometry, JobRunner};
 use super::reference::{self as refs, Policy, Reference};
-use crate::app::render::{dropped_warning, load_scene};
+use crate::app::render::{MAX_PIXELS, dropped_warning, load_scene};
 use crate::cli::{PlanArgs, ReferenceArgs, RunArgs};
 use crate::error::{Error, Result};
 use crate::image::Channel;
@@ -14,7 +14,7 @@ use crate::plan::{self, Job, Plan};
 use crate::reference as refmath;
 use crate::results::{self, JobResult};
 use crate::scene::Scene;
-use crate::spec::{self, Spec};
+use crate::spec::{self, SceneRef, Spec};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -38,11 +38,35 @@ impl Loaded {
 pub fn load(spec_path: &Path) -> Result<Loaded> {
     let text = io::read_string(spec_path)?;
     let spec = spec::parse_spec(&text, spec_path)?;
-    let scenes = spec.scenes.iter().map(|s| load_scene(&s.path)).collect::<Result<Vec<_>>>()?;
+    let scenes = spec.scenes.iter().map(|s| load_named_scene(&spec, s)).collect::<Result<Vec<_>>>()?;
     for w in scenes.iter().filter_map(dropped_warning) {
         eprintln!("{w}");
     }
     Ok(Loaded { spec, scenes })
+}
+
+/// A scene the spec names: a missing file is the spec's mistake, so the message points at its key;
+/// an image too large to hold in memory is refused here rather than by the allocator mid-run.
+fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
+    if !io::exists(&s.path) {
+        return Err(Error::input(
+            &spec.path,
+            format!("key `scenes`: scene file '{}' not found (looked for {})", s.id, s.path.display()),
+        ));
+    }
+    let scene = load_scene(&s.path)?;
+    let g = Geometry::of(spec.resolution, spec.ao_distance, &scene);
+    if g.pixels() > MAX_PIXELS {
+        return Err(Error::input(
+            &spec.path,
+            format!(
+                "key `resolution`: {}x{} for scene '{}' has more than {MAX_PIXELS} pixels; too large to hold \
+                 in memory",
+                g.width, g.height, s.name
+            ),
+        ));
+    }
+    Ok(scene)
 }
 
 pub fn run_plan(args: PlanArgs) -> Result<()> {
@@ -119,13 +143,15 @@ fn previous_results(out: &Path) -> Result<HashMap<String, JobResult>> {
 }
 
 /// The resume key: the job, and everything outside the job that its numbers depend on (scene
-/// content, reference, hemilab version).
+/// content, reference, hemilab version). The reference's measured fields (its render time, noise
+/// floor) are left out: a rebuilt identical reference must not invalidate finished jobs.
 fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
+    let manifest = refmath::Manifest { noise_floor: None, time_s: None, ..reference.manifest.clone() };
     let what = format!(
         "{};{};{};{}",
         job.canonical(),
         scene.content_hash,
-        reference.manifest.to_json(),
+        manifest.to_json(),
         env!("CARGO_PKG_VERSION")
     );
     format!("{:016x}", plan::fnv1a64(what.as_bytes()))

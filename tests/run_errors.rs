@@ -140,3 +140,20 @@ fn corrupt_results_file_is_refused_and_left_untouched() {
     t.run_ok(&spec, "out", "ref", &["--force"]);
     assert_eq!(records(&t.path("out")).len(), 16);
 }
+
+#[test]
+fn auto_reference_is_reused_only_with_enough_rays() {
+    let t = Tmp::new("auto-ref");
+    let auto = tiny_spec(16, "").replace("rays = 16", "rays = \"auto\"");
+    let spec = t.spec("tiny.toml", &auto);
+    t.run_ok(&spec, "out", "ref", &[]);
+    t.run_ok(&spec, "out", "ref", &["--no-build-reference"]);
+    // The spec now measures 16 rays: the stored reference is too coarse for it.
+    let more = t.spec("more.toml", &auto.replace("rays = [2, 4]", "rays = [2, 16]"));
+    let o = t.run(&more, "out2", "ref", &["--no-build-reference"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("rays: stored 2 x 256, wanted at least 2 x 1024"), "{e}");
+    t.run_ok(&more, "out2", "ref", &[]);
+    t.run_ok(&spec, "out", "ref", &["--no-build-reference"]);
+}

@@ -126,7 +126,18 @@ fn load_if_matching(
         .map_err(|e| Error::input(json, format!("not a reference manifest: {e}")))?;
     let check = match spec.reference.rays {
         ReferenceRays::Fixed(_) => stored.matches(wanted),
-        ReferenceRays::Auto => stored.matches_auto(wanted, f64::INFINITY),
+        // The floor the run needs is known only after it; a reference with at least the rays `auto`
+        // would spend now is as good as a new one, one with fewer (the spec grew) is not.
+        ReferenceRays::Auto => stored.matches_auto(wanted, f64::INFINITY).and_then(|()| {
+            let total = |m: &Manifest| m.rays as u64 * m.replicates as u64;
+            if total(&stored) >= total(wanted) {
+                return Ok(());
+            }
+            Err(vec![format!(
+                "rays: stored {} x {}, wanted at least {} x {} for rays = \"auto\"",
+                stored.replicates, stored.rays, wanted.replicates, wanted.rays
+            )])
+        }),
     };
     if let Err(diffs) = check {
         return Ok(Err((json.to_path_buf(), format!("does not match ({})", diffs.join("; ")))));

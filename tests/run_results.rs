@@ -195,6 +195,14 @@ fn plan_prints_jobs_and_estimate_without_rendering() {
     t.run_ok(&spec, "out", "ref", &[]);
     let recs = records(&t.path("out"));
     assert_eq!(recs.iter().map(config).collect::<Vec<_>>(), TINY_ORDER.to_vec());
+    // Slopes: per sweep row, over the sweep's ray counts only (not the table's uniform row).
+    let slopes: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/slopes.json")).unwrap()).unwrap();
+    let sweep = &slopes.as_array().unwrap()[0];
+    assert_eq!(sweep["group"], "c");
+    let rows = sweep["slopes"].as_array().unwrap();
+    assert_eq!(rows.len(), 2, "{slopes}");
+    assert!(rows.iter().all(|r| r["points"] == 3 && r["vs_rays"].as_f64().unwrap() < 0.0), "{slopes}");
 }
 
 #[test]
@@ -207,4 +215,25 @@ fn default_output_directory_is_out_slash_spec_name() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(records(&t.path("out/tiny")).len(), 6);
     assert!(stdout(&o).contains("6 jobs → out/tiny"), "{}", stdout(&o));
+}
+
+#[test]
+fn noise_floor_warning_says_how_many_rays_are_needed() {
+    let t = Tmp::new("floor");
+    // A scene file whose own `name` differs from its file stem (the results' `scene` column).
+    let box_toml = std::fs::read_to_string(scene("cornell-box.toml")).unwrap();
+    let box_toml =
+        box_toml.replace("mesh = \"cornell-box.obj\"", &format!("mesh = \"{}\"", scene("cornell-box.obj")));
+    std::fs::write(t.path("box.toml"), format!("name = \"named-box\"\n{box_toml}")).unwrap();
+    let spec = tiny_spec(1, "").replace(&scene("cornell-box.toml"), "box.toml");
+    let spec = t.spec("tiny.toml", &spec);
+    let o = t.run_ok(&spec, "out", "ref", &[]);
+    let (out, err) = (stdout(&o), stderr(&o));
+    assert!(records(&t.path("out")).iter().all(|r| r.scene == "box"));
+    assert!(out.contains("reference 'box': noise floor"), "{out}");
+    assert!(!out.contains("smallest RMSE inf"), "{out}");
+    assert!(
+        err.contains("warning: reference noise floor") && err.contains("rays per replicate are needed"),
+        "a 1-ray reference is far too noisy and the run says so:\n{err}"
+    );
 }

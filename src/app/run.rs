@@ -204,19 +204,47 @@ fn write_results(out: &Path, results: &[JobResult]) -> Result<()> {
     io::write_atomic(&out.join("results.csv"), results::to_csv(results).as_bytes())
 }
 
+/// The slopes of one `[[convergence]]` sweep.
+#[derive(serde::Serialize)]
+struct SweepSlopes<'a> {
+    group: &'a str,
+    slopes: Vec<results::Slope>,
+}
+
+/// Per sweep, per row and scene, over the sweep's own ray counts only: a table that shares a row
+/// must not add its points to the fit.
+fn sweep_slopes<'a>(spec: &'a Spec, aggs: &[results::Aggregate]) -> Vec<SweepSlopes<'a>> {
+    let sweeps = spec.groups.iter().filter(|g| g.kind == spec::GroupKind::Convergence);
+    sweeps
+        .map(|g| {
+            let in_sweep = |a: &results::Aggregate| {
+                g.scenes.iter().any(|&si| spec.scenes[si].name == a.scene)
+                    && g.rows.iter().any(|r| {
+                        a.distribution == r.distribution.name()
+                            && a.sequence == r.sequence.name()
+                            && a.seed_mode == r.seed_mode.name()
+                    })
+            };
+            let pts: Vec<results::Aggregate> = aggs.iter().filter(|a| in_sweep(a)).cloned().collect();
+            SweepSlopes { group: &g.name, slopes: results::convergence_slopes(&pts, &g.rays) }
+        })
+        .collect()
+}
+
 /// Aggregates and slopes to files, the noise-floor check, and the text printed at the end.
 fn summarize(loaded: &Loaded, references: &[Reference], results: &[JobResult], out: &Path) -> Result<String> {
     use std::fmt::Write;
     let aggs = results::aggregate(results);
     io::write_atomic(&out.join("aggregates.csv"), results::aggregates_to_csv(&aggs).as_bytes())?;
-    let slopes = results::convergence_slopes(&aggs, &[]);
-    let slopes_json = serde_json::to_string_pretty(&slopes).unwrap_or_default();
+    let slopes_json = serde_json::to_string_pretty(&sweep_slopes(&loaded.spec, &aggs)).unwrap_or_default();
     io::write_atomic(&out.join("slopes.json"), slopes_json.as_bytes())?;
 
     let mut s = String::new();
     let _ = writeln!(s, "{} jobs → {}", results.len(), out.display());
     for (si, r) in references.iter().enumerate() {
-        let name = &loaded.scenes[si].name;
+        // The spec's scene name (the file stem) is the results' `scene` column; the scene file's own
+        // `name` may differ.
+        let name = &loaded.spec.scenes[si].name;
         let smallest =
             aggs.iter().filter(|a| &a.scene == name).map(|a| a.rmse.mean).fold(f64::INFINITY, f64::min);
         let floor = r.noise_floor();

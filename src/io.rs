@@ -19,11 +19,24 @@ pub fn exists(path: &Path) -> bool {
     path.exists()
 }
 
-/// Creates `dir` (and parents) and proves it writable by creating and removing a probe file,
-/// so an unusable output directory fails before any rendering.
+/// Proves that `dir` can be created and written (by creating and removing a probe file in it, or
+/// in its nearest existing ancestor), so an unusable output directory fails before any rendering.
+/// Nothing is left behind: a run that stops early for another reason creates no empty directories.
 pub fn ensure_writable_dir(dir: &Path) -> Result<()> {
-    fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    let probe = dir.join(format!(".hemilab-probe-{}", std::process::id()));
+    let mut existing = dir;
+    while !existing.as_os_str().is_empty() && fs::symlink_metadata(existing).is_err() {
+        existing = existing.parent().unwrap_or(Path::new(""));
+    }
+    let base = if existing.as_os_str().is_empty() { Path::new(".") } else { existing };
+    if !base.is_dir() {
+        let what = if base == dir {
+            "exists and is not a directory".to_string()
+        } else {
+            format!("cannot be created: {} is not a directory", base.display())
+        };
+        return Err(Error::io(dir, std::io::Error::new(std::io::ErrorKind::NotADirectory, what)));
+    }
+    let probe = base.join(format!(".hemilab-probe-{}", std::process::id()));
     fs::write(&probe, b"").map_err(|e| Error::io(dir, e))?;
     fs::remove_file(&probe).map_err(|e| Error::io(&probe, e))
 }

@@ -191,7 +191,7 @@ pub(crate) fn normalize(path: &str) -> String {
     let mut parts: Vec<String> = Vec::new();
     for c in Path::new(path).components() {
         match c {
-            Component::CurDir => {}
+            Component::CurDir | Component::RootDir => {}
             Component::ParentDir if parts.last().is_some_and(|l| l != "..") => {
                 parts.pop();
             }
@@ -199,7 +199,7 @@ pub(crate) fn normalize(path: &str) -> String {
         }
     }
     let joined = parts.join("/");
-    if path.starts_with('/') && !joined.starts_with('/') { format!("/{joined}") } else { joined }
+    if path.starts_with('/') { format!("/{joined}") } else { joined }
 }
 
 #[cfg(test)]
@@ -211,6 +211,7 @@ mod tests {
         assert_eq!(normalize("./a/../b.toml"), "b.toml");
         assert_eq!(normalize("../scenes/kitchen.toml"), "../scenes/kitchen.toml");
         assert_eq!(normalize("../../x"), "../../x");
+        assert_eq!(normalize("/work/./a/../scenes/k.toml"), "/work/scenes/k.toml");
     }
 
     #[test]

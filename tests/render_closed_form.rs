@@ -88,7 +88,11 @@ fn floor_under_rectangle_matches_lambert_form_factor() {
             for &(i, exact) in &floor {
                 let mean = sum[i] / s;
                 let var = ((sum2[i] - s * mean * mean) / (s - 1.0)).max(0.0);
-                let se = (var / s).sqrt();
+                // Near the edge of the occluder's reach hits are rare, and 64 seeds can see too few of
+                // them to estimate the spread. Per ray, E[(wV)^2] <= w_max E[wV] (w_max = 2 over all
+                // distributions), so the iid standard error under the exact answer is a floor for it.
+                let rare_floor = (2.0 * (1.0 - exact) / (s * RAYS as f64)).sqrt();
+                let se = (var / s).sqrt().max(rare_floor);
                 let err = (mean - exact).abs();
                 assert!(
                     err <= 6.0 * se + 1e-6,

@@ -2,7 +2,7 @@
 //! the fixed-point Fibonacci lattice, the [0,1) range, and what each seed mode changes.
 
 use glam::Vec2;
-use hemilab::sampling::fibonacci::{INV_GOLDEN_FIXED, fibonacci_point, fibonacci_x_fixed};
+use hemilab::sampling::fibonacci::{fibonacci_point, fibonacci_x_fixed};
 use hemilab::sampling::stratified::grid;
 use hemilab::sampling::{SamplerConfig, SamplingError, SeedMode, Sequence};
 use std::collections::HashSet;
@@ -166,41 +166,73 @@ fn fibonacci_is_the_papers_lattice_at_offset_zero() {
 }
 
 /// frac(index / phi_g) * 2^64 from a 128-bit constant (error index * 2^-128, i.e. none here).
-fn reference_frac_64(index: u64) -> u64 {
-    const INV_GOLDEN_128: u128 = 0x9e3779b97f4a7c15f39cc0605cedc834;
-    ((index as u128).wrapping_mul(INV_GOLDEN_128) >> 64) as u64
-}
+/// floor(2^24 * frac(i / phi_g)) for large indices, computed independently with exact integer
+/// arithmetic (Python: v = isqrt(5 K^2) - K with K = i * 2^200; (v >> 177) mod 2^24).
+const EXACT_X24: &[(u64, u32)] = &[
+    (0x10000000000, 0x4a7c15),
+    (0x10000000001, 0xe8b38f),
+    (0x10000000002, 0x86eb09),
+    (0x10000000003, 0x252283),
+    (0x10000000007, 0x9e006a),
+    (0x10000000064, 0x1827a2),
+    (0x100000003e8, 0x532f92),
+    (0x1000000ffff, 0x25fe1b),
+    (0x100000f422f, 0xc5ebb7),
+    (0x100075bcd15, 0x08ede5),
+    (0x100075bcd16, 0xa7255f),
+    (0x100075bcd17, 0x455cd9),
+    (0x100075bcd18, 0xe39453),
+    (0x100075bcd1c, 0x5c723a),
+    (0x100075bcd79, 0xd69972),
+    (0x100075bd0fd, 0x11a162),
+    (0x100075ccd14, 0xe46feb),
+    (0x100076b0f44, 0x845d87),
+    (0x20000000000, 0x94f82b),
+    (0x20000000001, 0x332fa5),
+    (0x20000000002, 0xd1671f),
+    (0x20000000003, 0x6f9e99),
+    (0x20000000007, 0xe87c7f),
+    (0x20000000064, 0x62a3b8),
+    (0x200000003e8, 0x9daba8),
+    (0x2000000ffff, 0x707a31),
+    (0x200000f422f, 0x1067cd),
+    (0x100000000000, 0xa7c15f),
+    (0x100000000001, 0x45f8d8),
+    (0x100000000002, 0xe43052),
+    (0x100000000003, 0x8267cc),
+    (0x100000000007, 0xfb45b3),
+    (0x100000000064, 0x756ceb),
+    (0x1000000003e8, 0xb074db),
+    (0x10000000ffff, 0x834364),
+    (0x1000000f422f, 0x233100),
+    (0x10000000000000, 0xc15f39),
+    (0x10000000000001, 0x5f96b3),
+    (0x10000000000002, 0xfdce2d),
+    (0x10000000000003, 0x9c05a6),
+    (0x10000000000007, 0x14e38d),
+    (0x10000000000064, 0x8f0ac6),
+    (0x100000000003e8, 0xca12b6),
+    (0x1000000000ffff, 0x9ce13f),
+    (0x100000000f422f, 0x3ccedb),
+    (0x4000000000000005, 0x93fc90),
+    (0x4000000000000006, 0x32340a),
+    (0x4000000000000007, 0xd06b84),
+    (0x4000000000000008, 0x6ea2fd),
+    (0x400000000000000c, 0xe780e4),
+    (0x4000000000000069, 0x61a81d),
+    (0x40000000000003ed, 0x9cb00d),
+    (0x4000000000010004, 0x6f7e96),
+    (0x40000000000f4234, 0x0f6c31),
+];
 
 #[test]
 fn fibonacci_exact_at_index_2_pow_40() {
-    // round(2^64/phi_g) is off by 0.048 units of 2^-64, so the 64-bit fraction at index i is
-    // off by at most 0.048 i units: at 2^44 that is 2^-24 * 0.77, below one f32 step. The f32
-    // is then the true fraction truncated, or (only when the true value lies within that error
-    // of a 2^-24 boundary) the f32 next to it.
-    for base in [1u64 << 40, (1 << 40) + 123_456_789, 1 << 41, 1 << 44] {
-        let mut boundary_cases = 0;
-        for k in 0..10_000 {
-            let index = base + k;
-            let got = index.wrapping_mul(INV_GOLDEN_FIXED);
-            let want = reference_frac_64(index);
-            let bound = index / 20 + 2;
-            assert!(got.wrapping_sub(want).min(want.wrapping_sub(got)) <= bound, "index {index}");
-            let (g, w) = (fibonacci_x_fixed(index), (want >> 40) as u32);
-            if g != w {
-                let to_boundary = (want & ((1 << 40) - 1)).min((1 << 40) - (want & ((1 << 40) - 1)));
-                assert!(to_boundary <= bound, "index {index}: {g} vs {w}, {to_boundary} from a boundary");
-                assert_eq!(g.abs_diff(w) % ((1 << 24) - 1), 1);
-                boundary_cases += 1;
-            }
-        }
-        // Expected share: 0.048 * base / 2^40 (about 5 % at 2^40).
-        let expected = 0.0484 * (base as f64 / (1u64 << 40) as f64) * 10_000.0;
-        assert!((boundary_cases as f64) < expected * 1.2 + 20.0, "base {base}: {boundary_cases}");
-        eprintln!(
-            "fibonacci at index {base}+k: {boundary_cases} of 10000 x one f32 step off (boundary cases)"
-        );
+    for &(index, want) in EXACT_X24 {
+        assert_eq!(fibonacci_x_fixed(index), want, "index {index:#x}");
+        let (i, offset) = (3u32, index - 4);
+        assert_eq!(fibonacci_point(i, 16, offset).x, want as f32 / (1u32 << 24) as f32, "index {index:#x}");
     }
-    // What the 64-bit fixed point saves us from: an f32 quotient has no fractional bits left.
+    // What the fixed point saves us from: an f32 quotient has no fractional bits left.
     let naive = ((1u64 << 40) as f32 / 1.618_034f32).fract();
     assert_eq!(naive, 0.0);
     assert_ne!(fibonacci_x_fixed(1 << 40), 0);

@@ -87,39 +87,60 @@ pub fn obtain(
     if policy != Policy::Rebuild {
         match load_if_matching(spec, &wanted, &exr, &json)? {
             Ok(r) => return Ok(r),
-            Err(why) if policy == Policy::ReuseOnly => {
-                return Err(Error::Refused(format!(
-                    "no usable reference for scene '{}' in {}: {why}; run `hemilab reference {}` or drop \
-                     --no-build-reference",
-                    scene.name,
-                    dir.display(),
-                    spec.path.display()
-                )));
+            Err((file, why)) if policy == Policy::ReuseOnly => {
+                return Err(Error::input(
+                    &file,
+                    format!(
+                        "{why}: no usable reference for scene '{}'; run `hemilab reference {}` or drop \
+                         --no-build-reference",
+                        scene.name,
+                        spec.path.display()
+                    ),
+                ));
             }
-            Err(why) => eprintln!("reference for '{}': {why}; rendering a new one", scene.name),
+            Err((file, why)) => {
+                // Fail before the (long) reference render, not after it, if it could not be saved.
+                io::ensure_writable_dir(dir)?;
+                eprintln!("reference for '{}': {}: {why}; rendering a new one", scene.name, file.display())
+            }
         }
     }
+    io::ensure_writable_dir(dir)?;
     build(spec, si, scene, wanted, &exr, &json, runner)
 }
 
-/// `Ok(Err(why))` when there is nothing reusable; `Err` only for a stored file that cannot be read.
+/// `Ok(Err((file, why)))` when there is nothing reusable; `Err` only for a stored file that cannot
+/// be read.
 fn load_if_matching(
     spec: &Spec,
     wanted: &Manifest,
     exr: &Path,
     json: &Path,
-) -> Result<std::result::Result<Reference, String>> {
-    if !io::exists(json) || !io::exists(exr) {
-        return Ok(Err(format!("{} not found", exr.display())));
+) -> Result<std::result::Result<Reference, (PathBuf, String)>> {
+    for file in [json, exr] {
+        if !io::exists(file) {
+            return Ok(Err((file.to_path_buf(), "not found".into())));
+        }
     }
     let stored = Manifest::from_json(&io::read_string(json)?)
         .map_err(|e| Error::input(json, format!("not a reference manifest: {e}")))?;
     let check = match spec.reference.rays {
         ReferenceRays::Fixed(_) => stored.matches(wanted),
-        ReferenceRays::Auto => stored.matches_auto(wanted, f64::INFINITY),
+        // The floor the run needs is known only after it; a reference with at least the rays `auto`
+        // would spend now is as good as a new one, one with fewer (the spec grew) is not.
+        ReferenceRays::Auto => stored.matches_auto(wanted, f64::INFINITY).and_then(|()| {
+            let total = |m: &Manifest| m.rays as u64 * m.replicates as u64;
+            if total(&stored) >= total(wanted) {
+                return Ok(());
+            }
+            Err(vec![format!(
+                "rays: stored {} x {}, wanted at least {} x {} for rays = \"auto\"",
+                stored.replicates, stored.rays, wanted.replicates, wanted.rays
+            )])
+        }),
     };
     if let Err(diffs) = check {
-        return Ok(Err(format!("{} does not match ({})", json.display(), diffs.join("; "))));
+        return Ok(Err((json.to_path_buf(), format!("does not match ({})", diffs.join("; ")))));
     }
     let channels = io::read_exr(exr)?;
     let take = |name: &str| {
@@ -131,7 +152,7 @@ fn load_if_matching(
     };
     let (mean, stderr, coverage) = (take("Y")?, take("stderr")?, take("A")?);
     if mean.width != wanted.resolution[0] || mean.height != wanted.resolution[1] {
-        return Ok(Err(format!("{} has the wrong size", exr.display())));
+        return Ok(Err((exr.to_path_buf(), "has the wrong size".into())));
     }
     Ok(Ok(Reference { mean, stderr, coverage, manifest: stored, exr: exr.to_path_buf() }))
 }

@@ -4,7 +4,7 @@
 
 use super::jobs::{Geometry, JobRunner};
 use super::reference::{self as refs, Policy, Reference};
-use crate::app::render::{dropped_warning, load_scene};
+use crate::app::render::{MAX_PIXELS, dropped_warning, load_scene};
 use crate::cli::{PlanArgs, ReferenceArgs, RunArgs};
 use crate::error::{Error, Result};
 use crate::image::Channel;
@@ -14,7 +14,7 @@ use crate::plan::{self, Job, Plan};
 use crate::reference as refmath;
 use crate::results::{self, JobResult};
 use crate::scene::Scene;
-use crate::spec::{self, Spec};
+use crate::spec::{self, SceneRef, Spec};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -38,11 +38,35 @@ impl Loaded {
 pub fn load(spec_path: &Path) -> Result<Loaded> {
     let text = io::read_string(spec_path)?;
     let spec = spec::parse_spec(&text, spec_path)?;
-    let scenes = spec.scenes.iter().map(|s| load_scene(&s.path)).collect::<Result<Vec<_>>>()?;
+    let scenes = spec.scenes.iter().map(|s| load_named_scene(&spec, s)).collect::<Result<Vec<_>>>()?;
     for w in scenes.iter().filter_map(dropped_warning) {
         eprintln!("{w}");
     }
     Ok(Loaded { spec, scenes })
+}
+
+/// A scene the spec names: a missing file is the spec's mistake, so the message points at its key;
+/// an image too large to hold in memory is refused here rather than by the allocator mid-run.
+fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
+    if !io::exists(&s.path) {
+        return Err(Error::input(
+            &spec.path,
+            format!("key `scenes`: scene file '{}' not found (looked for {})", s.id, s.path.display()),
+        ));
+    }
+    let scene = load_scene(&s.path)?;
+    let g = Geometry::of(spec.resolution, spec.ao_distance, &scene);
+    if g.pixels() > MAX_PIXELS {
+        return Err(Error::input(
+            &spec.path,
+            format!(
+                "key `resolution`: {}x{} for scene '{}' has more than {MAX_PIXELS} pixels; too large to hold \
+                 in memory",
+                g.width, g.height, s.name
+            ),
+        ));
+    }
+    Ok(scene)
 }
 
 pub fn run_plan(args: PlanArgs) -> Result<()> {
@@ -119,13 +143,15 @@ fn previous_results(out: &Path) -> Result<HashMap<String, JobResult>> {
 }
 
 /// The resume key: the job, and everything outside the job that its numbers depend on (scene
-/// content, reference, hemilab version).
+/// content, reference, hemilab version). The reference's measured fields (its render time, noise
+/// floor) are left out: a rebuilt identical reference must not invalidate finished jobs.
 fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
+    let manifest = refmath::Manifest { noise_floor: None, time_s: None, ..reference.manifest.clone() };
     let what = format!(
         "{};{};{};{}",
         job.canonical(),
         scene.content_hash,
-        reference.manifest.to_json(),
+        manifest.to_json(),
         env!("CARGO_PKG_VERSION")
     );
     format!("{:016x}", plan::fnv1a64(what.as_bytes()))
@@ -178,19 +204,47 @@ fn write_results(out: &Path, results: &[JobResult]) -> Result<()> {
     io::write_atomic(&out.join("results.csv"), results::to_csv(results).as_bytes())
 }
 
+/// The slopes of one `[[convergence]]` sweep.
+#[derive(serde::Serialize)]
+struct SweepSlopes<'a> {
+    group: &'a str,
+    slopes: Vec<results::Slope>,
+}
+
+/// Per sweep, per row and scene, over the sweep's own ray counts only: a table that shares a row
+/// must not add its points to the fit.
+fn sweep_slopes<'a>(spec: &'a Spec, aggs: &[results::Aggregate]) -> Vec<SweepSlopes<'a>> {
+    let sweeps = spec.groups.iter().filter(|g| g.kind == spec::GroupKind::Convergence);
+    sweeps
+        .map(|g| {
+            let in_sweep = |a: &results::Aggregate| {
+                g.scenes.iter().any(|&si| spec.scenes[si].name == a.scene)
+                    && g.rows.iter().any(|r| {
+                        a.distribution == r.distribution.name()
+                            && a.sequence == r.sequence.name()
+                            && a.seed_mode == r.seed_mode.name()
+                    })
+            };
+            let pts: Vec<results::Aggregate> = aggs.iter().filter(|a| in_sweep(a)).cloned().collect();
+            SweepSlopes { group: &g.name, slopes: results::convergence_slopes(&pts, &g.rays) }
+        })
+        .collect()
+}
+
 /// Aggregates and slopes to files, the noise-floor check, and the text printed at the end.
 fn summarize(loaded: &Loaded, references: &[Reference], results: &[JobResult], out: &Path) -> Result<String> {
     use std::fmt::Write;
     let aggs = results::aggregate(results);
     io::write_atomic(&out.join("aggregates.csv"), results::aggregates_to_csv(&aggs).as_bytes())?;
-    let slopes = results::convergence_slopes(&aggs, &[]);
-    let slopes_json = serde_json::to_string_pretty(&slopes).unwrap_or_default();
+    let slopes_json = serde_json::to_string_pretty(&sweep_slopes(&loaded.spec, &aggs)).unwrap_or_default();
     io::write_atomic(&out.join("slopes.json"), slopes_json.as_bytes())?;
 
     let mut s = String::new();
     let _ = writeln!(s, "{} jobs → {}", results.len(), out.display());
     for (si, r) in references.iter().enumerate() {
-        let name = &loaded.scenes[si].name;
+        // The spec's scene name (the file stem) is the results' `scene` column; the scene file's own
+        // `name` may differ.
+        let name = &loaded.spec.scenes[si].name;
         let smallest =
             aggs.iter().filter(|a| &a.scene == name).map(|a| a.rmse.mean).fold(f64::INFINITY, f64::min);
         let floor = r.noise_floor();

@@ -1,21 +1,27 @@
 //! The paper's 2-D Fibonacci lattice ( frac((i+1)/phi_g), (i+0.5)/n ).
 //!
-//! frac((i+1)/phi_g) is computed in 64-bit fixed point: index * round(2^64/phi_g) mod 2^64.
-//! The constant is 0.048 units of 2^-64 off, so at index 2^40 the fraction is off by 0.05 of an
-//! f32 step (2^-24): the f32 is the true fraction truncated, or, for the ~5 % of indices that lie
-//! that close to a step boundary, the neighbouring step. An f32 division loses every fractional
-//! bit past 2^24; this stays within one f32 step up to index 2^44.
+//! frac((i+1)/phi_g) is computed in 128-bit fixed point: index * floor(2^128/phi_g) mod 2^128.
+//! A 64-bit constant is 0.048 units of 2^-64 off, which at index 2^40 already moves ~5 % of the
+//! points by one f32 step (2^-24); the 128-bit constant's error, under 2^-128 per unit of index,
+//! cannot reach a 24-bit boundary for any u64 index in practice, so the f32 is the true fraction
+//! truncated. (An f32 division loses every fractional bit past index 2^24.)
 
 use super::seed::{FIX_BITS, fix_add, fix_to_f32};
 use glam::Vec2;
 
-/// round(2^64 / phi_g) = round(2^64 * (phi_g - 1)).
-pub const INV_GOLDEN_FIXED: u64 = 0x9E37_79B9_7F4A_7C16;
+/// floor(2^128 / phi_g) = floor(2^128 * (phi_g - 1)).
+pub const INV_GOLDEN_FIXED: u128 = 0x9E37_79B9_7F4A_7C15_F39C_C060_5CED_C834;
 
 /// x of lattice index `index` (the paper's i + 1 plus any seed offset), as 24-bit fixed point.
 #[inline]
 pub fn fibonacci_x_fixed(index: u64) -> u32 {
-    (index.wrapping_mul(INV_GOLDEN_FIXED) >> (64 - FIX_BITS)) as u32
+    x_fixed_wide(index as u128)
+}
+
+/// As `fibonacci_x_fixed`, for an index past u64 (index + offset does not wrap at 2^64).
+#[inline]
+fn x_fixed_wide(index: u128) -> u32 {
+    (index.wrapping_mul(INV_GOLDEN_FIXED) >> (128 - FIX_BITS)) as u32
 }
 
 /// y = (i + 0.5) / n floored to the 24-bit grid: inside stratum i exactly for n <= 2^23.
@@ -26,25 +32,25 @@ pub fn fibonacci_y_fixed(i: u32, n: u32) -> u32 {
 
 /// Point `i` of the n-point lattice with the paper's seed `index_offset` added to the indices.
 pub fn fibonacci_point(i: u32, n: u32, index_offset: u64) -> Vec2 {
-    let x = fibonacci_x_fixed((i as u64 + 1).wrapping_add(index_offset));
+    let x = x_fixed_wide(i as u128 + 1 + index_offset as u128);
     Vec2::new(fix_to_f32(x), fix_to_f32(fibonacci_y_fixed(i, n)))
 }
 
 /// Fills `out` with points 0.. of the n-point lattice, index offset `index_offset`, then
 /// shifted by the fixed-point offsets (dx, dy) mod 1.
-/// Both coordinates are stepped, not recomputed: x by adding the constant mod 2^64 (the same
+/// Both coordinates are stepped, not recomputed: x by adding the constant mod 2^128 (the same
 /// bits as the product), y = floor((2i+1) 2^23 / n) by quotient and remainder (no division).
 pub fn fill(n: u32, index_offset: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
     let n = n.max(1) as u64;
-    let mut x64 = 1u64.wrapping_add(index_offset).wrapping_mul(INV_GOLDEN_FIXED);
+    let mut x128 = (1 + index_offset as u128).wrapping_mul(INV_GOLDEN_FIXED);
     let half = 1u64 << (FIX_BITS - 1);
     let (mut q, mut r) = (half / n, half % n);
     let (step_q, step_r) = ((2 * half) / n, (2 * half) % n);
     for p in out.iter_mut() {
-        let x = fix_add((x64 >> (64 - FIX_BITS)) as u32, dx);
+        let x = fix_add((x128 >> (128 - FIX_BITS)) as u32, dx);
         let y = fix_add(q as u32, dy);
         *p = Vec2::new(fix_to_f32(x), fix_to_f32(y));
-        x64 = x64.wrapping_add(INV_GOLDEN_FIXED);
+        x128 = x128.wrapping_add(INV_GOLDEN_FIXED);
         q += step_q;
         r += step_r;
         if r >= n {
@@ -72,9 +78,11 @@ mod tests {
     }
 
     #[test]
-    fn constant_is_round_of_two_pow_64_over_golden_ratio() {
-        // 2^128 / phi_g in hex (60-digit decimal arithmetic), rounded to its top 64 bits.
-        let wide: u128 = 0x9e3779b97f4a7c15f39cc0605cedc834;
-        assert_eq!(((wide + (1u128 << 63)) >> 64) as u64, INV_GOLDEN_FIXED);
+    fn constant_is_floor_of_two_pow_128_over_golden_ratio() {
+        // Its top 64 bits are the well-known 64-bit golden-ratio hash constant 0x9E3779B97F4A7C15.
+        assert_eq!((INV_GOLDEN_FIXED >> 64) as u64, 0x9E37_79B9_7F4A_7C15);
+        // frac(1/phi_g) = 0.6180339887498949 to 16 digits.
+        let x = (INV_GOLDEN_FIXED >> 75) as f64 / (1u64 << 53) as f64;
+        assert!((x - 0.618_033_988_749_894_9).abs() < 1e-15, "{x}");
     }
 }

@@ -134,8 +134,9 @@ pub fn parse_spec(text: &str, path: &Path) -> Result<Spec> {
         Ok(spec)
     } else {
         p.list.sort_by_key(|(line, _)| *line);
+        // One line per problem, each naming the file, so every line alone says where to look.
         let lines: Vec<String> = p.list.iter().map(|(l, m)| format!("line {l}, {m}")).collect();
-        Err(Error::input(path, lines.join("\n")))
+        Err(Error::input(path, lines.join(&format!("\n{}: ", path.display()))))
     }
 }
 

@@ -1,0 +1,166 @@
+//! Shared by the `run_*` tests: a fresh temporary directory per test, a tiny spec written into it
+//! (absolute scene paths, 24x18 pixels, few rays), and the real binary run inside it.
+#![allow(dead_code)]
+
+use hemilab::results::JobResult;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A directory of its own under the system temp dir, removed when the test passes.
+pub struct Tmp(pub PathBuf);
+
+impl Tmp {
+    pub fn new(name: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("hemilab-run-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Tmp(dir)
+    }
+
+    pub fn path(&self, rel: &str) -> PathBuf {
+        self.0.join(rel)
+    }
+
+    /// Writes a spec file into the directory and returns its path.
+    pub fn spec(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.0.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    /// Runs the binary with the temp dir as working directory.
+    pub fn hemilab<S: AsRef<std::ffi::OsStr>>(&self, args: &[S]) -> Output {
+        Command::new(env!("CARGO_BIN_EXE_hemilab"))
+            .args(args)
+            .current_dir(&self.0)
+            .output()
+            .expect("run hemilab")
+    }
+
+    /// `hemilab run SPEC --out OUT --reference-dir REF --quiet [extra]`, asserted to succeed.
+    pub fn run_ok(&self, spec: &Path, out: &str, reference: &str, extra: &[&str]) -> Output {
+        let o = self.run(spec, out, reference, extra);
+        assert!(o.status.success(), "run failed:\n{}", String::from_utf8_lossy(&o.stderr));
+        o
+    }
+
+    pub fn run(&self, spec: &Path, out: &str, reference: &str, extra: &[&str]) -> Output {
+        let mut args: Vec<std::ffi::OsString> = vec!["run".into(), spec.into()];
+        for a in ["--out", out, "--reference-dir", reference, "--quiet"] {
+            args.push(a.into());
+        }
+        args.extend(extra.iter().map(Into::into));
+        self.hemilab(&args)
+    }
+
+    /// Every file below the directory, relative, sorted.
+    pub fn listing(&self) -> Vec<String> {
+        fn walk(base: &Path, dir: &Path, out: &mut Vec<String>) {
+            for e in std::fs::read_dir(dir).unwrap() {
+                let p = e.unwrap().path();
+                out.push(p.strip_prefix(base).unwrap().to_string_lossy().into_owned());
+                if p.is_dir() {
+                    walk(base, &p, out);
+                }
+            }
+        }
+        let mut v = Vec::new();
+        walk(&self.0, &self.0, &mut v);
+        v.sort();
+        v
+    }
+}
+
+impl Drop for Tmp {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+pub fn scene(file: &str) -> String {
+    format!("{}/scenes/{file}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// 16 jobs on the Cornell box at 24x18: a table (2 rows x 2 ray counts x 2 replicates) and a sweep
+/// whose static row overlaps the table (merged) and whose shift row does not; `extra_reference` is
+/// added to the `[reference]` section.
+pub fn tiny_spec(reference_rays: u32, extra_reference: &str) -> String {
+    format!(
+        r#"name = "tiny"
+scenes = ["{}"]
+resolution = [24, 18]
+replicates = 2
+seed = 3
+
+[reference]
+rays = {reference_rays}
+replicates = 2
+{extra_reference}
+
+[[table]]
+name = "t"
+rays = [2, 4]
+rows = [
+  {{ distribution = "uniform", sequence = "random" }},
+  {{ distribution = "sine-cosine", sequence = "fibonacci", seed_mode = "static" }},
+]
+
+[[convergence]]
+name = "c"
+rays = [1, 2, 4]
+distributions = ["sine-cosine"]
+sequences = ["fibonacci"]
+seed_modes = ["static", "shift"]
+"#,
+        scene("cornell-box.toml")
+    )
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+pub fn records(out: &Path) -> Vec<JobResult> {
+    let path = out.join("results.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    hemilab::results::from_json(&text).unwrap()
+}
+
+/// A record with its run-time fields blanked: what must be identical between runs.
+pub fn timeless(r: &JobResult) -> JobResult {
+    JobResult { time_s: 0.0, rays_per_s: 0.0, efficiency: None, ..r.clone() }
+}
+
+/// Asserts a failed command: exit status 2, one `error: <what>: ...` line first, no panic.
+pub fn assert_error(o: &Output, what: &str) -> String {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "expected exit 2, got {:?}:\n{e}", o.status);
+    assert!(e.starts_with(&format!("error: {what}: ")), "message must start with `error: {what}: `:\n{e}");
+    assert_eq!(e.matches("error:").count(), 1, "the error is printed once:\n{e}");
+    assert!(!e.contains("panicked"), "{e}");
+    e
+}
+
+/// `results.csv` without its run-time columns (time_s, rays_per_s, efficiency): as text, so a
+/// value that drifted by one ulp through a read-back would show.
+pub fn timeless_csv(out: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let drop: Vec<usize> = ["time_s", "rays_per_s", "efficiency"]
+        .iter()
+        .map(|c| header.iter().position(|h| h == c).unwrap())
+        .collect();
+    text.lines()
+        .map(|l| {
+            let f: Vec<&str> =
+                l.split(',').enumerate().filter(|(i, _)| !drop.contains(i)).map(|x| x.1).collect();
+            f.join(",")
+        })
+        .collect()
+}

@@ -1,0 +1,159 @@
+//! `hemilab run` refusing bad input through the real binary: exit status 2, one `error: <path>: …`
+//! message naming what to fix, and nothing written — no output directory, no reference, no
+//! overwritten results.
+
+mod common;
+
+use common::*;
+
+#[test]
+fn bad_specs_exit_2_name_file_line_and_key_and_create_nothing() {
+    let t = Tmp::new("bad-spec");
+    let good = tiny_spec(16, "");
+    let cases: [(String, &[&str]); 4] = [
+        (good.replace("rays = [2, 4]", "rays = [0]"), &["line 14", "key `table.t.rays`", "1..=65536"]),
+        (
+            good.replace("\"uniform\"", "\"unifrm\""),
+            &["line 16", "key `table.t.rows.distribution`", "valid: uniform, sine, sine-cosine"],
+        ),
+        (
+            good.replace("seed = 3", "seed = 3\nraplicates = 2"),
+            &["line 6", "key `raplicates`", "`replicates`"],
+        ),
+        (good.replace("rays = 16", "rays = \"many\""), &["line 8", "key `reference.rays`", "\"auto\""]),
+    ];
+    for (i, (text, parts)) in cases.iter().enumerate() {
+        let spec = t.spec(&format!("bad{i}.toml"), text);
+        let before = t.listing();
+        let o = t.run(&spec, "out", "ref", &[]);
+        let e = assert_error(&o, &spec.display().to_string());
+        for p in *parts {
+            assert!(e.contains(p), "case {i}: expected {p:?} in:\n{e}");
+        }
+        assert_eq!(t.listing(), before, "case {i}: nothing is created");
+        assert!(o.stdout.is_empty());
+    }
+
+    // Several problems: each line names the file.
+    let text = good.replace("rays = [2, 4]", "rays = [0]").replace("\"uniform\"", "\"unifrm\"");
+    let spec = t.spec("many.toml", &text);
+    let e = assert_error(&t.run(&spec, "out", "ref", &[]), &spec.display().to_string());
+    assert_eq!(e.lines().count(), 2, "{e}");
+    assert!(e.lines().all(|l| l.contains(&format!("{}: line ", spec.display()))), "{e}");
+}
+
+#[test]
+fn missing_spec_or_scene_file_is_named() {
+    let t = Tmp::new("missing");
+    let o = t.hemilab(&["run", "nope.toml", "--out", "out", "--reference-dir", "ref", "--quiet"]);
+    assert_error(&o, "nope.toml");
+    let spec = t.spec("s.toml", &tiny_spec(16, "").replace("cornell-box.toml", "no-such-scene.toml"));
+    let e = assert_error(&t.run(&spec, "out", "ref", &[]), &spec.display().to_string());
+    assert!(e.contains("key `scenes`") && e.contains("no-such-scene.toml"), "{e}");
+    assert_eq!(t.listing(), ["s.toml"]);
+}
+
+#[test]
+fn unwritable_output_directory_fails_before_rendering() {
+    let t = Tmp::new("unwritable");
+    let spec = t.spec("tiny.toml", &tiny_spec(16, ""));
+    std::fs::write(t.path("blocker"), "a file, not a directory").unwrap();
+    for out in ["blocker/out", "blocker"] {
+        let e = assert_error(&t.run(&spec, out, "ref", &[]), out);
+        assert!(e.contains("not a directory"), "{e}");
+    }
+    assert_eq!(t.listing(), ["blocker", "tiny.toml"], "no reference rendered, no output");
+    // The reference directory is checked before a reference is rendered, too.
+    let e = assert_error(&t.run(&spec, "out", "blocker/ref", &[]), "blocker/ref");
+    assert!(e.contains("not a directory"), "{e}");
+    assert!(!t.path("out/results.json").exists());
+}
+
+#[test]
+fn manifest_mismatch_is_refused_with_no_build_reference() {
+    let t = Tmp::new("manifest");
+    // A clean run with a 64-ray reference: the numbers any correct run must reproduce.
+    let spec = t.spec("tiny.toml", &tiny_spec(64, ""));
+    t.run_ok(&spec, "clean", "clean-ref", &[]);
+    let clean = records(&t.path("clean"));
+
+    // A stale reference in `ref`: same scene view, but 16 rays (same file name, different image).
+    let stale = t.spec("stale.toml", &tiny_spec(16, ""));
+    let o = t.hemilab(&["reference".as_ref(), stale.as_os_str(), "--reference-dir".as_ref(), "ref".as_ref()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let manifests: Vec<_> = std::fs::read_dir(t.path("ref"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    assert_eq!(manifests.len(), 1);
+    let manifest = &manifests[0];
+    let stale_exr = std::fs::read(manifest.with_extension("exr")).unwrap();
+
+    let o = t.run(&spec, "out", "ref", &["--no-build-reference"]);
+    let e = assert_error(
+        &o,
+        &std::path::Path::new("ref").join(manifest.file_name().unwrap()).display().to_string(),
+    );
+    assert!(e.contains("rays: stored 16, wanted 64"), "names what differs: {e}");
+    assert!(e.contains("--no-build-reference"), "{e}");
+    assert!(!t.path("out").exists(), "nothing compared, nothing written");
+
+    // Edited by hand: a changed seed is caught just the same.
+    let text = std::fs::read_to_string(manifest).unwrap();
+    std::fs::write(
+        manifest,
+        text.replace("\"rays\": 16", "\"rays\": 64").replace("\"seed\": 3", "\"seed\": 4"),
+    )
+    .unwrap();
+    let e = stderr(&t.run(&spec, "out", "ref", &["--no-build-reference"]));
+    assert!(e.contains("seed: stored 4, wanted 3"), "{e}");
+    assert!(!t.path("out").exists());
+
+    // Without the flag the reference is rebuilt, and the numbers are those of the clean run: the
+    // stale image was never compared.
+    t.run_ok(&spec, "out", "ref", &[]);
+    assert_ne!(std::fs::read(manifest.with_extension("exr")).unwrap(), stale_exr);
+    assert!(std::fs::read_to_string(manifest).unwrap().contains("\"rays\": 64"));
+    let rebuilt = records(&t.path("out"));
+    assert_eq!(
+        rebuilt.iter().map(timeless).collect::<Vec<_>>(),
+        clean.iter().map(timeless).collect::<Vec<_>>()
+    );
+    // And now it matches: reused without complaint.
+    t.run_ok(&spec, "out2", "ref", &["--no-build-reference"]);
+}
+
+#[test]
+fn corrupt_results_file_is_refused_and_left_untouched() {
+    let t = Tmp::new("corrupt");
+    let spec = t.spec("tiny.toml", &tiny_spec(16, ""));
+    std::fs::create_dir_all(t.path("out")).unwrap();
+    let junk = "[{ \"scene\": \"cornell-box\", \"rmse\": 0.1 ";
+    std::fs::write(t.path("out/results.json"), junk).unwrap();
+    let path = std::path::Path::new("out").join("results.json");
+    let e = assert_error(&t.run(&spec, "out", "ref", &[]), &path.display().to_string());
+    assert!(e.contains("--force"), "suggests --force: {e}");
+    assert_eq!(std::fs::read_to_string(t.path("out/results.json")).unwrap(), junk, "left untouched");
+    assert_eq!(t.listing(), ["out", "out/results.json", "tiny.toml"], "nothing rendered");
+
+    t.run_ok(&spec, "out", "ref", &["--force"]);
+    assert_eq!(records(&t.path("out")).len(), 16);
+}
+
+#[test]
+fn auto_reference_is_reused_only_with_enough_rays() {
+    let t = Tmp::new("auto-ref");
+    let auto = tiny_spec(16, "").replace("rays = 16", "rays = \"auto\"");
+    let spec = t.spec("tiny.toml", &auto);
+    t.run_ok(&spec, "out", "ref", &[]);
+    t.run_ok(&spec, "out", "ref", &["--no-build-reference"]);
+    // The spec now measures 16 rays: the stored reference is too coarse for it.
+    let more = t.spec("more.toml", &auto.replace("rays = [2, 4]", "rays = [2, 16]"));
+    let o = t.run(&more, "out2", "ref", &["--no-build-reference"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("rays: stored 2 x 256, wanted at least 2 x 1024"), "{e}");
+    t.run_ok(&more, "out2", "ref", &[]);
+    t.run_ok(&spec, "out", "ref", &["--no-build-reference"]);
+}

@@ -1,0 +1,239 @@
+//! `hemilab run` and `hemilab plan` end to end through the real binary: the promised results columns,
+//! resuming an interrupted run, bit-identical reruns for any thread count, and a plan that renders
+//! and writes nothing.
+
+mod common;
+
+use common::*;
+use hemilab::results::JobResult;
+use std::path::Path;
+
+const PROMISED: [&str; 14] = [
+    "scene",
+    "distribution",
+    "sequence",
+    "seed_mode",
+    "rays",
+    "replicate",
+    "seed",
+    "rmse",
+    "bias",
+    "autocorr_x",
+    "autocorr_y",
+    "lowpass_rmse",
+    "time_s",
+    "rays_per_s",
+];
+
+/// The pinned job order of `tiny_spec`: scene, then groups in file order, then row, rays, replicate;
+/// a job an earlier group already needs is not repeated.
+const TINY_ORDER: [(&str, &str, &str, u32, u32); 16] = [
+    ("uniform", "random", "rotation", 2, 0),
+    ("uniform", "random", "rotation", 2, 1),
+    ("uniform", "random", "rotation", 4, 0),
+    ("uniform", "random", "rotation", 4, 1),
+    ("sine-cosine", "fibonacci", "static", 2, 0),
+    ("sine-cosine", "fibonacci", "static", 2, 1),
+    ("sine-cosine", "fibonacci", "static", 4, 0),
+    ("sine-cosine", "fibonacci", "static", 4, 1),
+    ("sine-cosine", "fibonacci", "static", 1, 0),
+    ("sine-cosine", "fibonacci", "static", 1, 1),
+    ("sine-cosine", "fibonacci", "shift", 1, 0),
+    ("sine-cosine", "fibonacci", "shift", 1, 1),
+    ("sine-cosine", "fibonacci", "shift", 2, 0),
+    ("sine-cosine", "fibonacci", "shift", 2, 1),
+    ("sine-cosine", "fibonacci", "shift", 4, 0),
+    ("sine-cosine", "fibonacci", "shift", 4, 1),
+];
+
+fn config(r: &JobResult) -> (&str, &str, &str, u32, u32) {
+    (&r.distribution, &r.sequence, &r.seed_mode, r.rays, r.replicate)
+}
+
+fn image_bytes(out: &Path, r: &JobResult) -> Vec<u8> {
+    std::fs::read(out.join(&r.image)).unwrap_or_else(|e| panic!("{}: {e}", r.image))
+}
+
+#[test]
+fn smoke_run_writes_results_with_the_required_columns() {
+    let t = Tmp::new("smoke");
+    let spec = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/smoke.toml");
+    t.run_ok(&spec, "out", "ref", &[]);
+    let out = t.path("out");
+
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(&header[..PROMISED.len()], &PROMISED, "promised columns, in this order");
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+
+    let text = std::fs::read_to_string(&spec).unwrap();
+    let plan = hemilab::plan::plan(&hemilab::spec::parse_spec(&text, &spec).unwrap());
+    assert_eq!(rows.len(), plan.jobs.len(), "one record per planned job");
+    let records = records(&out);
+    assert_eq!(records.len(), plan.jobs.len());
+    for ((job, rec), row) in plan.jobs.iter().zip(&records).zip(&rows) {
+        assert_eq!(row.len(), header.len());
+        assert_eq!(
+            (rec.scene.as_str(), config(rec), rec.seed),
+            (
+                job.scene_name.as_str(),
+                (job.distribution.name(), job.sequence.name(), job.seed_mode.name(), job.rays, job.replicate),
+                job.seed
+            ),
+            "records follow the plan"
+        );
+        assert_eq!(row[0], rec.scene);
+        assert_eq!(row[7].parse::<f64>().unwrap(), rec.rmse, "CSV and JSON agree");
+        assert!(rec.rmse > 0.0 && rec.rmse < 1.0 && rec.time_s > 0.0 && rec.rays_per_s > 0.0, "{rec:?}");
+        let channels = hemilab::io::read_exr(&out.join(&rec.image)).unwrap();
+        assert!(channels.iter().any(|(n, img)| n == "Y" && (img.width, img.height) == (32, 32)));
+    }
+}
+
+#[test]
+fn resume_after_interruption_gives_identical_results() {
+    let t = Tmp::new("resume");
+    let spec = t.spec("tiny.toml", &tiny_spec(64, ""));
+    t.run_ok(&spec, "out", "ref", &[]);
+    let out = t.path("out");
+    let full = records(&out);
+    assert_eq!(full.len(), 16);
+    let full_csv = timeless_csv(&out);
+    let images: Vec<Vec<u8>> = full.iter().map(|r| image_bytes(&out, r)).collect();
+
+    // Interrupted after 6 jobs: results.json holds those (marked by an impossible time so a skip is
+    // visible), the later images never got written, and job 1's image was lost too.
+    const SENTINEL: f64 = 1234.5;
+    let kept: Vec<JobResult> =
+        full[..6].iter().map(|r| JobResult { time_s: SENTINEL, ..r.clone() }).collect();
+    std::fs::write(out.join("results.json"), hemilab::results::to_json(&kept)).unwrap();
+    std::fs::write(out.join("results.csv"), hemilab::results::to_csv(&kept)).unwrap();
+    for r in &full[6..] {
+        std::fs::remove_file(out.join(&r.image)).unwrap();
+    }
+    std::fs::remove_file(out.join(&full[1].image)).unwrap();
+
+    t.run_ok(&spec, "out", "ref", &[]);
+    let resumed = records(&out);
+    assert_eq!(resumed.len(), 16);
+    for (i, r) in resumed.iter().enumerate() {
+        let skipped = r.time_s == SENTINEL;
+        assert_eq!(
+            skipped,
+            i < 6 && i != 1,
+            "job {i}: finished jobs with their image are skipped, others redone"
+        );
+        assert_eq!(timeless(r), timeless(&full[i]), "job {i}: identical results");
+        assert_eq!(image_bytes(&out, r), images[i], "job {i}: identical image");
+    }
+    assert_eq!(timeless_csv(&out), full_csv, "results.csv identical but for run times");
+
+    t.run_ok(&spec, "out", "ref", &["--force"]);
+    let forced = records(&out);
+    assert!(forced.iter().all(|r| r.time_s != SENTINEL), "--force redoes every job");
+    let a: Vec<JobResult> = full.iter().map(timeless).collect();
+    assert_eq!(forced.iter().map(timeless).collect::<Vec<_>>(), a);
+    assert_eq!(timeless_csv(&out), full_csv);
+}
+
+#[test]
+fn rerun_is_bit_identical_for_any_thread_count() {
+    let t = Tmp::new("threads");
+    let spec = t.spec("tiny.toml", &tiny_spec(64, ""));
+    t.run_ok(&spec, "one", "ref1", &["--threads", "1"]);
+    t.run_ok(&spec, "two", "ref2", &["--threads", "2"]);
+    let (one, two) = (records(&t.path("one")), records(&t.path("two")));
+    assert_eq!(timeless_csv(&t.path("one")), timeless_csv(&t.path("two")));
+    assert_eq!(one.len(), 16);
+    for (a, b) in one.iter().zip(&two) {
+        assert_eq!(image_bytes(&t.path("one"), a), image_bytes(&t.path("two"), b), "{}", a.image);
+        let metrics = |r: &JobResult| [r.rmse, r.bias, r.autocorr_x, r.autocorr_y, r.lowpass_rmse];
+        assert_eq!(metrics(a).map(f64::to_bits), metrics(b).map(f64::to_bits), "{}", a.image);
+        assert_eq!(timeless(a), timeless(b));
+    }
+    let refs = |d: &str| {
+        let mut v: Vec<_> = std::fs::read_dir(t.path(d)).unwrap().map(|e| e.unwrap().path()).collect();
+        v.sort();
+        v.iter().filter(|p| p.extension().is_some_and(|e| e == "exr")).map(std::fs::read).collect::<Vec<_>>()
+    };
+    let (r1, r2) = (refs("ref1"), refs("ref2"));
+    assert_eq!(r1.len(), 1);
+    assert!(r1[0].as_ref().unwrap() == r2[0].as_ref().unwrap(), "reference images are identical too");
+}
+
+#[test]
+fn plan_prints_jobs_and_estimate_without_rendering() {
+    let t = Tmp::new("plan");
+    let spec = t.spec("tiny.toml", &tiny_spec(64, ""));
+    let before = t.listing();
+    let o = t.hemilab(&["plan", "tiny.toml"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(t.listing(), before, "plan writes nothing");
+    let text = stdout(&o);
+    let jobs: Vec<Vec<&str>> = text
+        .lines()
+        .map(|l| l.split_whitespace().collect::<Vec<_>>())
+        .filter(|f| f.len() == 8 && f[0].parse::<usize>().is_ok())
+        .collect();
+    assert_eq!(jobs.len(), TINY_ORDER.len(), "{text}");
+    for (i, (f, want)) in jobs.iter().zip(TINY_ORDER).enumerate() {
+        assert_eq!(f[0], (i + 1).to_string());
+        assert_eq!(f[1], "cornell-box");
+        let got = (f[2], f[3], f[4], f[5].parse::<u32>().unwrap(), f[6].parse::<u32>().unwrap());
+        assert_eq!(got, want, "job {}", i + 1);
+    }
+    // An upper bound: every one of the 24x18 pixels of every job at the job's ray count.
+    let rays: u32 = TINY_ORDER.iter().map(|j| j.3).sum();
+    let total = (24 * 18 * rays).to_string();
+    let last = text.lines().last().unwrap();
+    assert!(last.starts_with("total: 16 jobs"), "{last}");
+    assert!(last.contains(&format!("at most {total} rays")), "{last}");
+    assert!(last.contains(" s") && last.contains("≈"), "a time estimate: {last}");
+
+    // The run renders exactly these jobs, in this order.
+    t.run_ok(&spec, "out", "ref", &[]);
+    let recs = records(&t.path("out"));
+    assert_eq!(recs.iter().map(config).collect::<Vec<_>>(), TINY_ORDER.to_vec());
+    // Slopes: per sweep row, over the sweep's ray counts only (not the table's uniform row).
+    let slopes: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/slopes.json")).unwrap()).unwrap();
+    let sweep = &slopes.as_array().unwrap()[0];
+    assert_eq!(sweep["group"], "c");
+    let rows = sweep["slopes"].as_array().unwrap();
+    assert_eq!(rows.len(), 2, "{slopes}");
+    assert!(rows.iter().all(|r| r["points"] == 3 && r["vs_rays"].as_f64().unwrap() < 0.0), "{slopes}");
+}
+
+#[test]
+fn default_output_directory_is_out_slash_spec_name() {
+    let t = Tmp::new("default-out");
+    let spec =
+        tiny_spec(16, "").replace("rays = [2, 4]", "rays = [1]").replace("rays = [1, 2, 4]", "rays = [1]");
+    t.spec("tiny.toml", &spec);
+    let o = t.hemilab(&["run", "tiny.toml", "--reference-dir", "ref", "--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(records(&t.path("out/tiny")).len(), 6);
+    assert!(stdout(&o).contains("6 jobs → out/tiny"), "{}", stdout(&o));
+}
+
+#[test]
+fn noise_floor_warning_says_how_many_rays_are_needed() {
+    let t = Tmp::new("floor");
+    // A scene file whose own `name` differs from its file stem (the results' `scene` column).
+    let box_toml = std::fs::read_to_string(scene("cornell-box.toml")).unwrap();
+    let box_toml =
+        box_toml.replace("mesh = \"cornell-box.obj\"", &format!("mesh = \"{}\"", scene("cornell-box.obj")));
+    std::fs::write(t.path("box.toml"), format!("name = \"named-box\"\n{box_toml}")).unwrap();
+    let spec = tiny_spec(1, "").replace(&scene("cornell-box.toml"), "box.toml");
+    let spec = t.spec("tiny.toml", &spec);
+    let o = t.run_ok(&spec, "out", "ref", &[]);
+    let (out, err) = (stdout(&o), stderr(&o));
+    assert!(records(&t.path("out")).iter().all(|r| r.scene == "box"));
+    assert!(out.contains("reference 'box': noise floor"), "{out}");
+    assert!(!out.contains("smallest RMSE inf"), "{out}");
+    assert!(
+        err.contains("warning: reference noise floor") && err.contains("rays per replicate are needed"),
+        "a 1-ray reference is far too noisy and the run says so:\n{err}"
+    );
+}

@@ -2,6 +2,7 @@
 //! Rows run in parallel on the current rayon pool; a pixel's result depends only on (scene, job,
 //! pixel index), so the image is bit-identical for any thread count. No IO, no printing.
 
+pub mod bench;
 mod offset;
 
 pub use offset::offset_origin;
@@ -10,7 +11,7 @@ use crate::image::Image;
 use crate::sampling::{Distribution, Frame, SamplerConfig, frame};
 use crate::scene::Scene;
 use crate::scene::accel::Ray;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 /// Everything that determines one AO image of a scene.
@@ -36,6 +37,21 @@ pub struct RenderOutput {
     pub occluded_rays: u64,
 }
 
+/// Per-thread scratch: the pixel's points, directions, weights and answers (no allocation per pixel).
+struct Scratch {
+    points: Vec<Vec2>,
+    rays: PixelRays,
+    blocked: Vec<bool>,
+}
+
+/// The AO rays of one pixel: they all start at `origin`.
+#[derive(Debug, Clone, Default)]
+pub struct PixelRays {
+    pub origin: Vec3,
+    pub dirs: Vec<Vec3>,
+    pub weights: Vec<f32>,
+}
+
 /// Renders `job`. `progress(n)` is called as work finishes with the number of pixels just done
 /// (one call per row; the calls sum to width × height).
 pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -> RenderOutput {
@@ -52,13 +68,22 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
         .zip(coverage.par_chunks_mut(w))
         .enumerate()
         .map_init(
-            || vec![Vec2::ZERO; n],
-            |points, (y, (ao_row, cov_row))| {
+            || Scratch { points: vec![Vec2::ZERO; n], rays: PixelRays::default(), blocked: vec![false; n] },
+            |s, (y, (ao_row, cov_row))| {
                 let mut counts = (0u64, 0u64);
                 for x in 0..w {
                     let pixel = (y * w + x) as u64;
-                    if let Some((value, occ)) = shade_pixel(scene, job, x as u32, y as u32, pixel, points) {
-                        ao_row[x] = value;
+                    if pixel_rays(scene, job, x as u32, y as u32, pixel, &mut s.points, &mut s.rays) {
+                        trace_pixel(scene, &s.rays.dirs, s.rays.origin, job.ao_distance, &mut s.blocked);
+                        let mut sum = 0.0f64;
+                        let mut occ = 0u64;
+                        for (&b, &wt) in s.blocked.iter().zip(&s.rays.weights) {
+                            if b {
+                                sum += wt as f64;
+                                occ += 1;
+                            }
+                        }
+                        ao_row[x] = (1.0 - sum / n as f64) as f32;
                         cov_row[x] = 1.0;
                         counts.0 += n as u64;
                         counts.1 += occ;
@@ -77,18 +102,21 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
     }
 }
 
-/// AO value (1 - estimate) and occluded-ray count of one pixel, or None for background.
-#[inline]
-fn shade_pixel(
+/// The AO rays of pixel (x, y): primary hit, offset origin, the sampler's directions and weights.
+/// False for background. `points` must hold `job.sampler.count` entries.
+pub fn pixel_rays(
     scene: &Scene,
     job: &RenderJob,
     x: u32,
     y: u32,
     pixel: u64,
     points: &mut [Vec2],
-) -> Option<(f32, u64)> {
+    out: &mut PixelRays,
+) -> bool {
     let primary = scene.camera.ray(x, y, job.width, job.height);
-    let hit = scene.accel.closest(&Ray::new(primary.origin, primary.dir, f32::INFINITY))?;
+    let Some(hit) = scene.accel.closest(&Ray::new(primary.origin, primary.dir, f32::INFINITY)) else {
+        return false;
+    };
     let [a, b, c] = scene.accel.triangle(hit.prim);
     // From barycentrics and edges: exact on axis-aligned planes, error ~ulps of the vertices elsewhere.
     let p = a + hit.bary_b * (b - a) + hit.bary_c * (c - a);
@@ -96,18 +124,23 @@ fn shade_pixel(
     if n.dot(primary.dir) > 0.0 {
         n = -n;
     }
-    let origin = offset_origin(p, n, scene.accel.scale(hit.prim));
+    out.origin = offset_origin(p, n, scene.accel.scale(hit.prim));
     let basis = Frame::from_normal(n);
     job.sampler.fill_pixel(pixel, points);
-    let mut sum = 0.0f64;
-    let mut occluded = 0u64;
+    out.dirs.clear();
+    out.weights.clear();
     for &u in points.iter() {
         let s = job.distribution.sample(u);
-        let dir = frame::canonical(basis.to_world(s.dir).normalize_or(n));
-        if scene.accel.occluded(&Ray::new(origin, dir, job.ao_distance)) {
-            sum += s.weight as f64;
-            occluded += 1;
-        }
+        out.dirs.push(frame::canonical(basis.to_world(s.dir).normalize_or(n)));
+        out.weights.push(s.weight);
     }
-    Some(((1.0 - sum / points.len() as f64) as f32, occluded))
+    true
+}
+
+/// hemilab's AO query: which of a pixel's rays (all from `origin`) are blocked within `tmax`.
+/// `blocked` must be as long as `dirs`.
+pub fn trace_pixel(scene: &Scene, dirs: &[Vec3], origin: Vec3, tmax: f32, blocked: &mut [bool]) {
+    for (d, b) in dirs.iter().zip(blocked.iter_mut()) {
+        *b = scene.accel.occluded(&Ray::new(origin, *d, tmax));
+    }
 }

@@ -122,6 +122,16 @@ impl Accel {
         self.scale[prim as usize]
     }
 
+    /// obvhs's tree, for the benchmark's plain-obvhs baseline.
+    pub fn bvh(&self) -> &CwBvh {
+        &self.bvh
+    }
+
+    /// The triangles in BVH order (index = obvhs's callback id).
+    pub fn triangles_in_bvh_order(&self) -> impl Iterator<Item = [Vec3A; 3]> + '_ {
+        self.tris.iter().map(|t| [t.a, t.b, t.c])
+    }
+
     /// Closest hit with 0 < t < ray.tmax.
     pub fn closest(&self, ray: &Ray) -> Option<Hit> {
         let mut best: Option<Hit> = None;

@@ -140,7 +140,5 @@ pub fn pixel_rays(
 /// hemilab's AO query: which of a pixel's rays (all from `origin`) are blocked within `tmax`.
 /// `blocked` must be as long as `dirs`.
 pub fn trace_pixel(scene: &Scene, dirs: &[Vec3], origin: Vec3, tmax: f32, blocked: &mut [bool]) {
-    for (d, b) in dirs.iter().zip(blocked.iter_mut()) {
-        *b = scene.accel.occluded(&Ray::new(origin, *d, tmax));
-    }
+    scene.accel.occluded_from(origin, dirs, tmax, blocked);
 }

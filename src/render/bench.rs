@@ -19,6 +19,8 @@ const CHUNK_PIXELS: usize = 16;
 pub struct RaySet {
     pub n: usize,
     pub origins: Vec<Vec3>,
+    /// The surface normal at each origin (hemilab's path uses it; obvhs has no use for it).
+    pub normals: Vec<Vec3>,
     pub dirs: Vec<Vec3>,
 }
 
@@ -36,12 +38,13 @@ pub fn ray_set(scene: &Scene, job: &RenderJob) -> RaySet {
     let n = job.sampler.count as usize;
     let mut points = vec![Vec2::ZERO; n];
     let mut px = PixelRays::default();
-    let mut set = RaySet { n, origins: Vec::new(), dirs: Vec::new() };
+    let mut set = RaySet { n, origins: Vec::new(), normals: Vec::new(), dirs: Vec::new() };
     for y in 0..job.height {
         for x in 0..job.width {
             let pixel = y as u64 * job.width as u64 + x as u64;
             if pixel_rays(scene, job, x, y, pixel, &mut points, &mut px) {
                 set.origins.push(px.origin);
+                set.normals.push(px.normal);
                 set.dirs.extend_from_slice(&px.dirs);
             }
         }
@@ -81,7 +84,8 @@ pub fn trace_hemilab(scene: &Scene, set: &RaySet, tmax: f32, out: &mut [bool]) {
     out.par_chunks_mut(n * CHUNK_PIXELS).enumerate().for_each(|(c, chunk)| {
         for (i, blocked) in chunk.chunks_mut(n).enumerate() {
             let p = c * CHUNK_PIXELS + i;
-            trace_pixel(scene, &set.dirs[p * n..(p + 1) * n], set.origins[p], tmax, blocked);
+            let dirs = &set.dirs[p * n..(p + 1) * n];
+            trace_pixel(scene, set.origins[p], set.normals[p], dirs, tmax, blocked);
         }
     });
 }

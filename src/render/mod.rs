@@ -48,6 +48,8 @@ struct Scratch {
 #[derive(Debug, Clone, Default)]
 pub struct PixelRays {
     pub origin: Vec3,
+    /// The surface normal at the origin (facing the camera): every direction is on its side.
+    pub normal: Vec3,
     pub dirs: Vec<Vec3>,
     pub weights: Vec<f32>,
 }
@@ -74,7 +76,8 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
                 for x in 0..w {
                     let pixel = (y * w + x) as u64;
                     if pixel_rays(scene, job, x as u32, y as u32, pixel, &mut s.points, &mut s.rays) {
-                        trace_pixel(scene, &s.rays.dirs, s.rays.origin, job.ao_distance, &mut s.blocked);
+                        let r = &s.rays;
+                        trace_pixel(scene, r.origin, r.normal, &r.dirs, job.ao_distance, &mut s.blocked);
                         let mut sum = 0.0f64;
                         let mut occ = 0u64;
                         for (&b, &wt) in s.blocked.iter().zip(&s.rays.weights) {
@@ -125,6 +128,7 @@ pub fn pixel_rays(
         n = -n;
     }
     out.origin = offset_origin(p, n, scene.accel.scale(hit.prim));
+    out.normal = n;
     let basis = Frame::from_normal(n);
     job.sampler.fill_pixel(pixel, points);
     out.dirs.clear();
@@ -138,7 +142,7 @@ pub fn pixel_rays(
 }
 
 /// hemilab's AO query: which of a pixel's rays (all from `origin`) are blocked within `tmax`.
-/// `blocked` must be as long as `dirs`.
-pub fn trace_pixel(scene: &Scene, dirs: &[Vec3], origin: Vec3, tmax: f32, blocked: &mut [bool]) {
-    scene.accel.occluded_from(origin, dirs, tmax, blocked);
+/// `normal`: the surface normal the directions were drawn around. `blocked`: as long as `dirs`.
+pub fn trace_pixel(scene: &Scene, origin: Vec3, normal: Vec3, dirs: &[Vec3], tmax: f32, blocked: &mut [bool]) {
+    scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked);
 }

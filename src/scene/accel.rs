@@ -15,13 +15,16 @@ use glam::{UVec2, Vec3, Vec3A, Vec4};
 use obvhs::cwbvh::{CwBvh, node::CwBvhNode};
 
 /// One triangle by its three vertices (edges would not be shared bit-exactly between neighbours).
+/// One cache line: a packet visiting a leaf touches one line per triangle.
 #[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
 pub(crate) struct Tri {
     a: Vec3A,
     b: Vec3A,
     c: Vec3A,
-    /// (b - a) × (c - a), for an accurate distance.
-    n: Vec3A,
+    /// (b - a) × (c - a), for an accurate distance; the 4th float's bits say, per edge (b→c, c→a,
+    /// a→b), whether it runs from its lexicographically smaller end (see `edge`).
+    n: [f32; 4],
 }
 
 /// The BVH and the triangles in BVH order, so a leaf's primitives are read contiguously.
@@ -83,8 +86,11 @@ impl Accel {
         let mut scale = Vec::with_capacity(bvh.primitive_indices.len());
         for &i in &bvh.primitive_indices {
             let t = &soup[i as usize];
-            let n = Vec3A::from(cross(t.v1 - t.v0, t.v2 - t.v0));
-            tris.push(Tri { a: t.v0, b: t.v1, c: t.v2, n });
+            let [x, y, z] = cross(t.v1 - t.v0, t.v2 - t.v0);
+            let flags = lex_less(t.v1, t.v2) as u32
+                | (lex_less(t.v2, t.v0) as u32) << 1
+                | (lex_less(t.v0, t.v1) as u32) << 2;
+            tris.push(Tri { a: t.v0, b: t.v1, c: t.v2, n: [x, y, z, f32::from_bits(flags)] });
             let m = t.v0.abs().max(t.v1.abs()).max(t.v2.abs()).max_element();
             scale.push(pow2_at_least(m));
         }
@@ -236,28 +242,31 @@ pub(crate) fn dot(p: [f32; 3], q: [f32; 3]) -> f32 {
     (p[0] * q[0] + p[1] * q[1]) + p[2] * q[2]
 }
 
+fn lex_less(p: Vec3A, q: Vec3A) -> bool {
+    p.x < q.x || (p.x == q.x && (p.y < q.y || (p.y == q.y && p.z < q.z)))
+}
+
 /// P×Q for the edge p→q seen from o, computed as (p-o)×(q-p) from the edge's lexicographically
-/// smaller end. Accurate (the edge vector is exact-ish and short, unlike Q) and watertight: the
-/// triangle on the other side of the edge, which walks it q→p, gets exactly the negated value.
+/// smaller end (`less`: p is it). Accurate (the edge vector is short and exact-ish, unlike Q) and
+/// watertight: the triangle on the other side of the edge, which walks it q→p, gets exactly the
+/// negated value (negation and the product by ±1 are exact). Branch-free.
 #[inline(always)]
-fn edge(p: Vec3A, q: Vec3A, o: Vec3A) -> [f32; 3] {
-    let less = p.x < q.x || (p.x == q.x && (p.y < q.y || (p.y == q.y && p.z < q.z)));
-    if less {
-        cross(p - o, q - p)
-    } else {
-        let e = cross(q - o, p - q);
-        [-e[0], -e[1], -e[2]]
-    }
+fn edge(p: Vec3A, q: Vec3A, o: Vec3A, less: bool) -> [f32; 3] {
+    let s = if less { 1.0 } else { -1.0 };
+    let base = Vec3A::select(glam::BVec3A::splat(less), p, q);
+    let [x, y, z] = cross(base - o, (q - p) * s);
+    [x * s, y * s, z * s]
 }
 
 impl Tri {
     #[inline(always)]
     pub(crate) fn seen_from(&self, o: Vec3A) -> Seen {
-        let n = self.n.to_array();
+        let n = [self.n[0], self.n[1], self.n[2]];
+        let f = self.n[3].to_bits();
         Seen {
-            x: edge(self.b, self.c, o),
-            y: edge(self.c, self.a, o),
-            z: edge(self.a, self.b, o),
+            x: edge(self.b, self.c, o, f & 1 != 0),
+            y: edge(self.c, self.a, o, f & 2 != 0),
+            z: edge(self.a, self.b, o, f & 4 != 0),
             n,
             t: dot((self.a - o).to_array(), n),
         }

@@ -19,7 +19,8 @@ const STACK: usize = 256;
 
 struct Packet {
     d: [[Vec4; GROUPS]; 3],
-    inv: [[Vec4; GROUPS]; 3],
+    /// Per ray (x, y, z, 0) of 1/dir, for the slab test of 8 children at once.
+    inv: [Vec4; PACKET],
 }
 
 impl Packet {
@@ -31,44 +32,58 @@ impl Packet {
             d[1][i] = v.y;
             d[2][i] = v.z;
         }
-        let lanes = |a: &[f32; PACKET], f: fn(f32) -> f32| {
-            std::array::from_fn(|g| Vec4::new(f(a[4 * g]), f(a[4 * g + 1]), f(a[4 * g + 2]), f(a[4 * g + 3])))
+        let lanes = |a: &[f32; PACKET]| {
+            std::array::from_fn(|g| Vec4::new(a[4 * g], a[4 * g + 1], a[4 * g + 2], a[4 * g + 3]))
         };
-        let id = |x| x;
         Self {
-            d: [lanes(&d[0], id), lanes(&d[1], id), lanes(&d[2], id)],
-            inv: [lanes(&d[0], safe_inv), lanes(&d[1], safe_inv), lanes(&d[2], safe_inv)],
+            d: [lanes(&d[0]), lanes(&d[1]), lanes(&d[2])],
+            inv: std::array::from_fn(|i| {
+                Vec4::new(safe_inv(d[0][i]), safe_inv(d[1][i]), safe_inv(d[2][i]), 0.0)
+            }),
         }
     }
 }
 
+/// The 8 quantized planes of one axis as two `Vec4`s (SSE2 widening; per node, not per ray).
 #[inline(always)]
-fn q4(v: &[u8; 8], h: usize) -> Vec4 {
-    Vec4::new(v[4 * h] as f32, v[4 * h + 1] as f32, v[4 * h + 2] as f32, v[4 * h + 3] as f32)
+fn q8(v: &[u8; 8]) -> [Vec4; 2] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        // SAFETY: SSE2 is part of the x86_64 baseline; the load reads exactly the 8 bytes of `v`.
+        unsafe {
+            let b = _mm_loadl_epi64(v.as_ptr() as *const __m128i);
+            let w = _mm_unpacklo_epi8(b, _mm_setzero_si128());
+            let lo = _mm_cvtepi32_ps(_mm_unpacklo_epi16(w, _mm_setzero_si128()));
+            let hi = _mm_cvtepi32_ps(_mm_unpackhi_epi16(w, _mm_setzero_si128()));
+            [Vec4::from(lo), Vec4::from(hi)]
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let q = |h: usize| Vec4::new(v[4 * h] as f32, v[4 * h + 1] as f32, v[4 * h + 2] as f32, v[4 * h + 3] as f32);
+        [q(0), q(1)]
+    }
 }
 
-/// The 8 child boxes of `node` relative to `o`, padded outwards by 2^-18 of their extent from `o`
-/// (far more than the rounding of the planes and of the triangle test's edge values).
+/// The 8 child boxes of `node` relative to `o` as [axis lo x, hi x, lo y, ...][children 0-3, 4-7],
+/// padded outwards by 2^-18 of their extent from `o` (far more than the rounding of the planes
+/// and of the triangle test's edge values).
 #[inline(always)]
-fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[f32; 8]; 6] {
+fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 6] {
     let e = node.compute_extent();
     let rel = Vec3A::from(node.p) - o;
     let pad = (rel.abs() + e * 255.0) * (1.0 / 262144.0);
-    let mut out = [[0.0f32; 8]; 6];
-    let axes = [
-        (&node.child_min_x, &node.child_max_x, rel.x, e.x, pad.x),
-        (&node.child_min_y, &node.child_max_y, rel.y, e.y, pad.y),
-        (&node.child_min_z, &node.child_max_z, rel.z, e.z, pad.z),
-    ];
-    for (k, (lo, hi, r, e, p)) in axes.into_iter().enumerate() {
-        for h in 0..2 {
-            let l = Vec4::splat(r - p) + q4(lo, h) * e;
-            let u = Vec4::splat(r + p) + q4(hi, h) * e;
-            out[2 * k][4 * h..4 * h + 4].copy_from_slice(&l.to_array());
-            out[2 * k + 1][4 * h..4 * h + 4].copy_from_slice(&u.to_array());
-        }
-    }
-    out
+    let axis = |lo: &[u8; 8], hi: &[u8; 8], r: f32, e: f32, p: f32| {
+        let (ql, qh) = (q8(lo), q8(hi));
+        let l = |h: usize| Vec4::splat(r - p) + ql[h] * e;
+        let u = |h: usize| Vec4::splat(r + p) + qh[h] * e;
+        ([l(0), l(1)], [u(0), u(1)])
+    };
+    let (lx, hx) = axis(&node.child_min_x, &node.child_max_x, rel.x, e.x, pad.x);
+    let (ly, hy) = axis(&node.child_min_y, &node.child_max_y, rel.y, e.y, pad.y);
+    let (lz, hz) = axis(&node.child_min_z, &node.child_max_z, rel.z, e.z, pad.z);
+    [lx, hx, ly, hy, lz, hz]
 }
 
 /// Which lanes of group `g` hit `s` within (0, tmax): the vector form of `accel::hit_seen`.
@@ -87,12 +102,82 @@ fn hit_group(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
     hit.bitmask()
 }
 
+#[cfg(target_arch = "x86_64")]
+mod lanes {
+    use std::arch::x86_64::*;
+
+    /// Adds ray `i` to the children whose bits are set in `hits` (branch-free transpose).
+    #[inline(always)]
+    pub fn add_ray(cm: &mut [__m128i; 2], hits: u32, i: usize) {
+        // SAFETY: SSE2 is part of the x86_64 baseline.
+        unsafe {
+            let h = _mm_set1_epi32(hits as i32);
+            let r = _mm_set1_epi32((1u32 << i) as i32);
+            let b0 = _mm_setr_epi32(1, 2, 4, 8);
+            let b1 = _mm_setr_epi32(16, 32, 64, 128);
+            cm[0] = _mm_or_si128(cm[0], _mm_and_si128(_mm_cmpeq_epi32(_mm_and_si128(h, b0), b0), r));
+            cm[1] = _mm_or_si128(cm[1], _mm_and_si128(_mm_cmpeq_epi32(_mm_and_si128(h, b1), b1), r));
+        }
+    }
+
+    #[inline(always)]
+    pub fn zero() -> [__m128i; 2] {
+        // SAFETY: SSE2 is part of the x86_64 baseline.
+        unsafe { [_mm_setzero_si128(), _mm_setzero_si128()] }
+    }
+
+    #[inline(always)]
+    pub fn to_array(cm: [__m128i; 2]) -> [u32; 8] {
+        // SAFETY: two 16-byte registers into 32 bytes.
+        unsafe { std::mem::transmute(cm) }
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+mod lanes {
+    pub fn add_ray(cm: &mut [u32; 8], hits: u32, i: usize) {
+        for (c, m) in cm.iter_mut().enumerate() {
+            *m |= ((hits >> c) & 1) << i;
+        }
+    }
+    pub fn zero() -> [u32; 8] {
+        [0; 8]
+    }
+    pub fn to_array(cm: [u32; 8]) -> [u32; 8] {
+        cm
+    }
+}
+
+/// Bit 4g set iff group g (rays 4g..4g+3) has a ray in `m`.
+#[inline(always)]
+fn groups_of(m: u32) -> u32 {
+    let x = m | (m >> 1);
+    (x | (x >> 2)) & 0x1111_1111
+}
+
+/// A plane through the origin that no ray of the packet goes below: boxes entirely below it
+/// are culled for all rays at once.
+#[inline(always)]
+fn horizon(dirs: &[Vec3], normal: Option<Vec3>) -> Option<Vec3A> {
+    let n = normal?;
+    // Computed d·n within a few ulps of the true value: a margin of 1e-6 keeps every ray above.
+    dirs.iter().all(|d| d.dot(n) > 1e-6).then_some(n.into())
+}
+
 impl Accel {
     /// For each of `dirs` (any number; rays from `origin`), whether something lies on it with
-    /// 0 < t < tmax: the same answers as `occluded` on each ray, traced 32 at a time.
-    pub fn occluded_from(&self, origin: Vec3, dirs: &[Vec3], tmax: f32, blocked: &mut [bool]) {
+    /// 0 < t < tmax: the same answers as `occluded` on each ray, traced 32 at a time. `normal`,
+    /// if given, is the surface normal at the origin (the rays' hemisphere); it only speeds up.
+    pub fn occluded_from(
+        &self,
+        origin: Vec3,
+        normal: Option<Vec3>,
+        dirs: &[Vec3],
+        tmax: f32,
+        blocked: &mut [bool],
+    ) {
         for (chunk, out) in dirs.chunks(PACKET).zip(blocked.chunks_mut(PACKET)) {
-            let mask = self.occluded_packet(origin.into(), chunk, tmax);
+            let mask = self.occluded_packet(origin.into(), horizon(chunk, normal), chunk, tmax);
             for (i, b) in out.iter_mut().enumerate() {
                 *b = (mask >> i) & 1 != 0;
             }
@@ -100,7 +185,7 @@ impl Accel {
     }
 
     /// Bit i set: ray i (of at most 32) is blocked.
-    fn occluded_packet(&self, o: Vec3A, dirs: &[Vec3], tmax: f32) -> u32 {
+    fn occluded_packet(&self, o: Vec3A, up: Option<Vec3A>, dirs: &[Vec3], tmax: f32) -> u32 {
         let nodes = &self.bvh.nodes;
         if dirs.is_empty() || nodes.is_empty() {
             return 0;
@@ -108,10 +193,13 @@ impl Accel {
         let all = if dirs.len() >= 32 { u32::MAX } else { (1u32 << dirs.len()) - 1 };
         let p = Packet::new(dirs);
         // Nothing farther than d from the origin can be hit (|dir| = 1 up to rounding; keep slack).
-        let reach2 = {
+        let reach2 = Vec4::splat({
             let r = tmax * (1.0 + 1.0 / 1024.0);
             r * r
-        };
+        });
+        // Without a horizon, a zero normal makes the support test below never cull (0 >= 0).
+        let n = up.unwrap_or(Vec3A::ZERO);
+        let (nx, ny, nz) = (Vec4::splat(n.x), Vec4::splat(n.y), Vec4::splat(n.z));
         let widen = Vec4::splat(1.0 + 8.0 * f32::EPSILON);
         let tmax4 = Vec4::splat(tmax);
         let mut blocked = 0u32;
@@ -121,79 +209,106 @@ impl Accel {
         while sp > 0 {
             sp -= 1;
             let (ni, m) = stack[sp];
-            let m = m & !blocked;
-            if m == 0 {
+            let live = m & !blocked;
+            if live == 0 {
                 continue;
             }
             let node = &nodes[ni as usize];
-            let planes = child_planes(node, o);
+            let pl = child_planes(node, o);
+            // Shared by all rays: distance from the origin to each child box, whether the box
+            // reaches above the horizon plane, whether it holds the origin.
+            let mut dist2 = [Vec4::ZERO; 2];
+            let (mut near, mut inside) = (0u32, 0u32);
+            for h in 0..2 {
+                let gap = |k: usize| pl[2 * k][h].max(-pl[2 * k + 1][h]).max(Vec4::ZERO);
+                let (gx, gy, gz) = (gap(0), gap(1), gap(2));
+                let d2 = gx * gx + gy * gy + gz * gz;
+                let support = (pl[0][h] * nx).max(pl[1][h] * nx)
+                    + (pl[2][h] * ny).max(pl[3][h] * ny)
+                    + (pl[4][h] * nz).max(pl[5][h] * nz);
+                near |= (d2.cmple(reach2) & support.cmpge(Vec4::ZERO)).bitmask() << (4 * h);
+                inside |= d2.cmpeq(Vec4::ZERO).bitmask() << (4 * h);
+                dist2[h] = d2;
+            }
+            let meta = u64::from_le_bytes(node.child_meta);
+            let mut present = 0u32;
+            for c in 0..8 {
+                present |= (((meta >> (8 * c)) & 0xff != 0) as u32) << c;
+            }
+            let near = near & present;
+            if near == 0 {
+                continue;
+            }
+            let inside = inside & near;
+            let want = near & !inside;
+            let mut cm = lanes::zero();
+            if want != 0 {
+                // Per ray: its slabs against the 8 children, 4 at a time.
+                let mut rays = live;
+                while rays != 0 {
+                    let i = rays.trailing_zeros() as usize;
+                    rays &= rays - 1;
+                    let inv = p.inv[i];
+                    let (ix, iy, iz) = (Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z));
+                    let mut hits = 0u32;
+                    for h in 0..2 {
+                        let (x0, x1) = (pl[0][h] * ix, pl[1][h] * ix);
+                        let (y0, y1) = (pl[2][h] * iy, pl[3][h] * iy);
+                        let (z0, z1) = (pl[4][h] * iz, pl[5][h] * iz);
+                        let tn = x0.min(x1).max(y0.min(y1)).max(z0.min(z1)).max(Vec4::ZERO);
+                        let tf = x0.max(x1).min(y0.max(y1)).min(z0.max(z1)).min(tmax4);
+                        hits |= tn.cmple(tf * widen).bitmask() << (4 * h);
+                    }
+                    lanes::add_ray(&mut cm, hits & want, i);
+                }
+            }
+            let mut cm = lanes::to_array(cm);
+            let d2 = [dist2[0].to_array(), dist2[1].to_array()];
             let mut inner: [(f32, u32, u32); 8] = [(0.0, 0, 0); 8];
             let mut n_inner = 0;
-            for c in 0..8 {
+            let mut kids = near;
+            while kids != 0 {
+                let c = kids.trailing_zeros() as usize;
+                kids &= kids - 1;
+                if inside & (1 << c) != 0 {
+                    cm[c] = live;
+                }
+                if cm[c] == 0 {
+                    continue;
+                }
                 let meta = node.child_meta[c];
-                if meta == 0 {
-                    continue;
-                }
-                let (lx, hx, ly, hy, lz, hz) =
-                    (planes[0][c], planes[1][c], planes[2][c], planes[3][c], planes[4][c], planes[5][c]);
-                let gap = |l: f32, h: f32| l.max(-h).max(0.0);
-                let (gx, gy, gz) = (gap(lx, hx), gap(ly, hy), gap(lz, hz));
-                let dist2 = gx * gx + gy * gy + gz * gz;
-                if dist2 > reach2 {
-                    continue;
-                }
-                let live = m & !blocked;
-                let cm = if dist2 == 0.0 {
-                    live // the box holds the origin: every ray starts inside it
-                } else {
-                    let mut cm = 0u32;
-                    let (l, h) = ([lx, ly, lz], [hx, hy, hz]);
-                    for g in 0..GROUPS {
-                        let gm = (live >> (4 * g)) & 0xf;
-                        if gm == 0 {
-                            continue;
-                        }
-                        let mut tn = Vec4::ZERO;
-                        let mut tf = tmax4;
-                        for k in 0..3 {
-                            let t0 = Vec4::splat(l[k]) * p.inv[k][g];
-                            let t1 = Vec4::splat(h[k]) * p.inv[k][g];
-                            tn = tn.max(t0.min(t1));
-                            tf = tf.min(t0.max(t1));
-                        }
-                        cm |= (tn.cmple(tf * widen).bitmask() & gm) << (4 * g);
-                    }
-                    cm
-                };
-                if cm == 0 {
-                    continue;
-                }
                 let slot = (meta & 0b11111) as u32;
                 if slot >= 24 {
                     let idx = node.child_base_idx + (node.imask as u32 & !(u32::MAX << (slot - 24))).count_ones();
-                    inner[n_inner] = (dist2, idx, cm);
+                    inner[n_inner] = (d2[c / 4][c % 4], idx, cm[c]);
                     n_inner += 1;
                     continue;
                 }
                 let first = node.primitive_base_idx + slot;
                 for prim in first..first + (meta >> 5).count_ones() {
                     let s = self.tris[prim as usize].seen_from(o);
-                    let live = cm & !blocked;
-                    for g in 0..GROUPS {
-                        let gm = (live >> (4 * g)) & 0xf;
-                        if gm != 0 {
-                            blocked |= (hit_group(&p, g, &s, tmax) & gm) << (4 * g);
-                        }
+                    let live = cm[c] & !blocked;
+                    let mut gs = groups_of(live);
+                    while gs != 0 {
+                        let g = gs.trailing_zeros() as usize / 4;
+                        gs &= gs - 1;
+                        blocked |= (hit_group(&p, g, &s, tmax) & (live >> (4 * g)) & 0xf) << (4 * g);
                     }
                     if blocked & all == all {
                         return all;
                     }
                 }
             }
-            // Nearest child on top of the stack: near boxes are the likeliest to block.
-            let inner = &mut inner[..n_inner];
-            inner.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-            for &(_, idx, cm) in inner.iter() {
+            // Insertion sort, farthest first (at most 8 entries): the nearest child is popped next,
+            // as near boxes are the likeliest to block.
+            for k in 1..n_inner {
+                let mut j = k;
+                while j > 0 && inner[j - 1].0 < inner[j].0 {
+                    inner.swap(j - 1, j);
+                    j -= 1;
+                }
+            }
+            for &(_, idx, cm) in inner[..n_inner].iter() {
                 stack[sp] = (idx, cm);
                 sp += 1;
             }
@@ -227,7 +342,7 @@ mod tests {
             .collect();
         for tmax in [0.2, 0.45, f32::INFINITY] {
             let mut got = vec![false; dirs.len()];
-            acc.occluded_from(o, &dirs, tmax, &mut got);
+            acc.occluded_from(o, None, &dirs, tmax, &mut got);
             for (d, g) in dirs.iter().zip(&got) {
                 let want = acc.occluded(&super::super::accel::Ray::new(o, *d, tmax));
                 assert_eq!(*g, want, "dir {d} tmax {tmax}");

@@ -9,6 +9,9 @@ use super::{PixelRays, RenderJob, pixel_rays, trace_pixel};
 use crate::scene::Scene;
 use crate::scene::accel::Ray;
 use glam::{Vec2, Vec3, Vec3A};
+use obvhs::BvhBuildParams;
+use obvhs::cwbvh::CwBvh;
+use obvhs::cwbvh::builder::build_cwbvh_from_tris;
 use obvhs::rt_triangle::RtTriangle;
 use rayon::prelude::*;
 
@@ -52,27 +55,38 @@ pub fn ray_set(scene: &Scene, job: &RenderJob) -> RaySet {
     set
 }
 
-/// What a user of obvhs would write: its triangle layout in BVH order.
-pub fn obvhs_triangles(scene: &Scene) -> Vec<RtTriangle> {
-    scene.accel.triangles_in_bvh_order().map(|[a, b, c]| RtTriangle::new(a, b, c)).collect()
+/// What a user of obvhs would write: a CWBVH with obvhs's medium preset (the one its docs and
+/// NOTES.md suggest) over the scene's triangles, and its fast triangle layout in BVH order.
+pub struct Baseline {
+    pub bvh: CwBvh,
+    pub tris: Vec<RtTriangle>,
+    pub build_s: f64,
+}
+
+pub fn obvhs_baseline(scene: &Scene) -> Baseline {
+    let soup = scene.accel.source_triangles();
+    let mut core = std::time::Duration::ZERO;
+    let bvh = build_cwbvh_from_tris(soup, BvhBuildParams::medium_build(), &mut core);
+    let tris = bvh.primitive_indices.iter().map(|&i| RtTriangle::from(&soup[i as usize])).collect();
+    Baseline { bvh, tris, build_s: core.as_secs_f64() }
 }
 
 /// One obvhs occlusion query: its own `Ray`, node test and triangle test; -0.0 canonicalized (bug 1).
 #[inline]
-fn obvhs_blocked(scene: &Scene, tris: &[RtTriangle], origin: Vec3, dir: Vec3, tmax: f32) -> bool {
+fn obvhs_blocked(base: &Baseline, origin: Vec3, dir: Vec3, tmax: f32) -> bool {
     let ray = obvhs::ray::Ray::new(origin.into(), Vec3A::from(dir) + Vec3A::ZERO, 0.0, tmax);
-    !scene.accel.bvh().ray_traverse_miss(ray, |r, id| tris[id].intersect(r))
+    !base.bvh.ray_traverse_miss(ray, |r, id| base.tris[id].intersect(r))
 }
 
 /// The baseline: every ray on its own through plain obvhs `ray_traverse_miss`.
-pub fn trace_obvhs(scene: &Scene, tris: &[RtTriangle], set: &RaySet, tmax: f32, out: &mut [bool]) {
+pub fn trace_obvhs(base: &Baseline, set: &RaySet, tmax: f32, out: &mut [bool]) {
     let n = set.n;
     out.par_chunks_mut(n * CHUNK_PIXELS).enumerate().for_each(|(c, chunk)| {
         for (i, blocked) in chunk.chunks_mut(n).enumerate() {
             let p = c * CHUNK_PIXELS + i;
             let origin = set.origins[p];
             for (b, d) in blocked.iter_mut().zip(&set.dirs[p * n..(p + 1) * n]) {
-                *b = obvhs_blocked(scene, tris, origin, *d, tmax);
+                *b = obvhs_blocked(base, origin, *d, tmax);
             }
         }
     });
@@ -113,7 +127,7 @@ pub struct Mismatches {
 /// traversal on every ray.
 pub fn mismatches(
     scene: &Scene,
-    tris: &[RtTriangle],
+    base: &Baseline,
     set: &RaySet,
     tmax: f32,
     obvhs: &[bool],
@@ -135,7 +149,7 @@ pub fn mismatches(
             let truth = acc.closest_brute_force(&ray);
             m.hemilab_wrong = (truth.is_some() != ours[i]) as u64;
             let oray = obvhs::ray::Ray::new(origin.into(), Vec3A::from(dir) + Vec3A::ZERO, 0.0, tmax);
-            let obvhs_all = tris.iter().map(|t| t.intersect(&oray)).fold(f32::INFINITY, f32::min);
+            let obvhs_all = base.tris.iter().map(|t| t.intersect(&oray)).fold(f32::INFINITY, f32::min);
             if (obvhs_all < tmax) == obvhs[i] {
                 m.triangle_test = 1;
             } else if obvhs_all < 1e-4 {

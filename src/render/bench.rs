@@ -8,6 +8,7 @@
 use super::{PixelRays, RenderJob, pixel_rays, trace_pixel};
 use crate::scene::Scene;
 use crate::scene::accel::Ray;
+use crate::scene::packet::Occluders;
 use glam::{Vec2, Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
@@ -95,11 +96,11 @@ pub fn trace_obvhs(base: &Baseline, set: &RaySet, tmax: f32, out: &mut [bool]) {
 /// hemilab's path: the renderer's own per-pixel query.
 pub fn trace_hemilab(scene: &Scene, set: &RaySet, tmax: f32, out: &mut [bool]) {
     let n = set.n;
-    out.par_chunks_mut(n * CHUNK_PIXELS).enumerate().for_each(|(c, chunk)| {
+    out.par_chunks_mut(n * CHUNK_PIXELS).enumerate().for_each_init(Occluders::new, |cache, (c, chunk)| {
         for (i, blocked) in chunk.chunks_mut(n).enumerate() {
             let p = c * CHUNK_PIXELS + i;
             let dirs = &set.dirs[p * n..(p + 1) * n];
-            trace_pixel(scene, set.origins[p], set.normals[p], dirs, tmax, blocked);
+            trace_pixel(scene, set.origins[p], set.normals[p], dirs, tmax, blocked, cache);
         }
     });
 }

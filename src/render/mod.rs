@@ -11,6 +11,7 @@ use crate::image::Image;
 use crate::sampling::{Distribution, Frame, SamplerConfig, frame};
 use crate::scene::Scene;
 use crate::scene::accel::Ray;
+use crate::scene::packet::Occluders;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
@@ -42,6 +43,7 @@ struct Scratch {
     points: Vec<Vec2>,
     rays: PixelRays,
     blocked: Vec<bool>,
+    cache: Occluders,
 }
 
 /// The AO rays of one pixel: they all start at `origin`.
@@ -70,14 +72,20 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
         .zip(coverage.par_chunks_mut(w))
         .enumerate()
         .map_init(
-            || Scratch { points: vec![Vec2::ZERO; n], rays: PixelRays::default(), blocked: vec![false; n] },
+            || Scratch {
+                points: vec![Vec2::ZERO; n],
+                rays: PixelRays::default(),
+                blocked: vec![false; n],
+                cache: Occluders::new(),
+            },
             |s, (y, (ao_row, cov_row))| {
                 let mut counts = (0u64, 0u64);
                 for x in 0..w {
                     let pixel = (y * w + x) as u64;
                     if pixel_rays(scene, job, x as u32, y as u32, pixel, &mut s.points, &mut s.rays) {
                         let r = &s.rays;
-                        trace_pixel(scene, r.origin, r.normal, &r.dirs, job.ao_distance, &mut s.blocked);
+                        let (d, blocked) = (job.ao_distance, &mut s.blocked);
+                        trace_pixel(scene, r.origin, r.normal, &r.dirs, d, blocked, &mut s.cache);
                         let mut sum = 0.0f64;
                         let mut occ = 0u64;
                         for (&b, &wt) in s.blocked.iter().zip(&s.rays.weights) {
@@ -143,6 +151,15 @@ pub fn pixel_rays(
 
 /// hemilab's AO query: which of a pixel's rays (all from `origin`) are blocked within `tmax`.
 /// `normal`: the surface normal the directions were drawn around. `blocked`: as long as `dirs`.
-pub fn trace_pixel(scene: &Scene, origin: Vec3, normal: Vec3, dirs: &[Vec3], tmax: f32, blocked: &mut [bool]) {
-    scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked);
+/// `cache`: per-thread memory of recent occluders (speed only; answers do not depend on it).
+pub fn trace_pixel(
+    scene: &Scene,
+    origin: Vec3,
+    normal: Vec3,
+    dirs: &[Vec3],
+    tmax: f32,
+    blocked: &mut [bool],
+    cache: &mut Occluders,
+) {
+    scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked, cache);
 }

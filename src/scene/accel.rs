@@ -57,8 +57,9 @@ pub struct Ray {
 }
 
 /// Slabs use 1/dir; a zero component would give 0 * inf = NaN, so tiny components are clamped.
-pub(crate) fn safe_inv(x: f32) -> f32 {
-    const TINY: f32 = 1e-20;
+pub(crate) const TINY: f32 = 1e-20;
+
+fn safe_inv(x: f32) -> f32 {
     1.0 / if x.abs() < TINY { TINY.copysign(x) } else { x }
 }
 

@@ -6,7 +6,7 @@
 //! same triangle arithmetic; the box tests here are padded, so they cull a subset of what exact
 //! boxes would (and never a box holding a hit the triangle test reports).
 
-use super::accel::{Accel, Seen, safe_inv};
+use super::accel::{Accel, Seen, TINY};
 use glam::{Vec3, Vec3A, Vec4};
 use obvhs::cwbvh::node::CwBvhNode;
 
@@ -18,12 +18,14 @@ const GROUPS: usize = PACKET / 4;
 const STACK: usize = 256;
 
 struct Packet {
+    /// Directions, 4 rays per `Vec4`, per axis.
     d: [[Vec4; GROUPS]; 3],
-    /// Per ray (x, y, z, 0) of 1/dir, for the slab test of 8 children at once.
-    inv: [Vec4; PACKET],
+    /// 1/dir per axis and ray (tiny components clamped as in `safe_inv`), for the slab tests.
+    inv: [[f32; PACKET]; 3],
 }
 
 impl Packet {
+    #[inline(always)]
     fn new(dirs: &[Vec3]) -> Self {
         let mut d = [[0.0f32; PACKET]; 3];
         for (i, v) in dirs.iter().enumerate() {
@@ -32,15 +34,17 @@ impl Packet {
             d[1][i] = v.y;
             d[2][i] = v.z;
         }
-        let lanes = |a: &[f32; PACKET]| {
-            std::array::from_fn(|g| Vec4::new(a[4 * g], a[4 * g + 1], a[4 * g + 2], a[4 * g + 3]))
-        };
-        Self {
-            d: [lanes(&d[0]), lanes(&d[1]), lanes(&d[2])],
-            inv: std::array::from_fn(|i| {
-                Vec4::new(safe_inv(d[0][i]), safe_inv(d[1][i]), safe_inv(d[2][i]), 0.0)
-            }),
+        let tiny = Vec4::splat(TINY);
+        let mut p = Packet { d: [[Vec4::ZERO; GROUPS]; 3], inv: [[0.0; PACKET]; 3] };
+        for k in 0..3 {
+            for g in 0..GROUPS {
+                let x = Vec4::from_slice(&d[k][4 * g..4 * g + 4]);
+                p.d[k][g] = x;
+                let safe = Vec4::select(x.abs().cmplt(tiny), tiny.copysign(x), x);
+                (Vec4::ONE / safe).write_to_slice(&mut p.inv[k][4 * g..4 * g + 4]);
+            }
         }
+        p
     }
 }
 
@@ -164,6 +168,34 @@ fn horizon(dirs: &[Vec3], normal: Option<Vec3>) -> Option<Vec3A> {
     dirs.iter().all(|d| d.dot(n) > 1e-6).then_some(n.into())
 }
 
+/// Triangles that blocked rays of the previous packet (the neighbouring pixel, on the same
+/// thread): tested first, since neighbouring pixels tend to share occluders. Only the speed depends
+/// on it: a ray is blocked iff some triangle blocks it, whichever is tried first.
+#[derive(Debug, Clone, Default)]
+pub struct Occluders {
+    prims: [u32; OCCLUDERS],
+    len: usize,
+    /// The traversal stack, kept to spare each packet zeroing its own.
+    stack: Vec<(u32, u32)>,
+}
+
+/// Triangles remembered from one packet for the next.
+const OCCLUDERS: usize = 16;
+
+impl Occluders {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    #[inline(always)]
+    fn push(&mut self, prim: u32) {
+        if self.len < OCCLUDERS && !self.prims[..self.len].contains(&prim) {
+            self.prims[self.len] = prim;
+            self.len += 1;
+        }
+    }
+}
+
 impl Accel {
     /// For each of `dirs` (any number; rays from `origin`), whether something lies on it with
     /// 0 < t < tmax: the same answers as `occluded` on each ray, traced 32 at a time. `normal`,
@@ -175,17 +207,60 @@ impl Accel {
         dirs: &[Vec3],
         tmax: f32,
         blocked: &mut [bool],
+        cache: &mut Occluders,
     ) {
         for (chunk, out) in dirs.chunks(PACKET).zip(blocked.chunks_mut(PACKET)) {
-            let mask = self.occluded_packet(origin.into(), horizon(chunk, normal), chunk, tmax);
+            let mask = self.packet_dispatch(origin.into(), horizon(chunk, normal), chunk, tmax, cache);
             for (i, b) in out.iter_mut().enumerate() {
                 *b = (mask >> i) & 1 != 0;
             }
         }
     }
 
+    /// The same code compiled for AVX2 when the CPU has it (VEX three-operand forms and wider
+    /// moves; no FMA, which would change the rounding), else for the SSE2 baseline. Either way
+    /// every operation is the same IEEE operation, so the answers are identical.
+    fn packet_dispatch(
+        &self,
+        o: Vec3A,
+        up: Option<Vec3A>,
+        dirs: &[Vec3],
+        tmax: f32,
+        cache: &mut Occluders,
+    ) -> u32 {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU supports AVX2 (checked just above).
+                return unsafe { self.occluded_packet_avx2(o, up, dirs, tmax, cache) };
+            }
+        }
+        self.occluded_packet(o, up, dirs, tmax, cache)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn occluded_packet_avx2(
+        &self,
+        o: Vec3A,
+        up: Option<Vec3A>,
+        dirs: &[Vec3],
+        tmax: f32,
+        cache: &mut Occluders,
+    ) -> u32 {
+        self.occluded_packet(o, up, dirs, tmax, cache)
+    }
+
     /// Bit i set: ray i (of at most 32) is blocked.
-    fn occluded_packet(&self, o: Vec3A, up: Option<Vec3A>, dirs: &[Vec3], tmax: f32) -> u32 {
+    #[inline(always)]
+    fn occluded_packet(
+        &self,
+        o: Vec3A,
+        up: Option<Vec3A>,
+        dirs: &[Vec3],
+        tmax: f32,
+        cache: &mut Occluders,
+    ) -> u32 {
         let nodes = &self.bvh.nodes;
         if dirs.is_empty() || nodes.is_empty() {
             return 0;
@@ -203,12 +278,34 @@ impl Accel {
         let widen = Vec4::splat(1.0 + 8.0 * f32::EPSILON);
         let tmax4 = Vec4::splat(tmax);
         let mut blocked = 0u32;
-        let mut stack = [(0u32, 0u32); STACK];
-        stack[0] = (0, all);
-        let mut sp = 1;
-        while sp > 0 {
-            sp -= 1;
-            let (ni, m) = stack[sp];
+        let mut found = Occluders { prims: [0; OCCLUDERS], len: 0, stack: Vec::new() };
+        // Test triangle `prim` against the rays in `live`; remember it if it blocks a new one.
+        let mut test = |prim: u32, live: u32, blocked: &mut u32| {
+            let s = self.tris[prim as usize].seen_from(o);
+            let mut gs = groups_of(live);
+            let mut new = 0u32;
+            while gs != 0 {
+                let g = gs.trailing_zeros() as usize / 4;
+                gs &= gs - 1;
+                new |= (hit_group(&p, g, &s, tmax) & (live >> (4 * g)) & 0xf) << (4 * g);
+            }
+            if new != 0 {
+                *blocked |= new;
+                found.push(prim);
+            }
+        };
+        static KNOB: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+        let k = *KNOB.get_or_init(|| std::env::var("HX_CACHE").ok().and_then(|v| v.parse().ok()).unwrap_or(16));
+        for &prim in &cache.prims[..cache.len.min(k)] {
+            test(prim, all & !blocked, &mut blocked);
+        }
+        let mut stack = std::mem::take(&mut cache.stack);
+        stack.clear();
+        stack.reserve(STACK);
+        if blocked & all != all {
+            stack.push((0u32, all));
+        }
+        'walk: while let Some((ni, m)) = stack.pop() {
             let live = m & !blocked;
             if live == 0 {
                 continue;
@@ -248,8 +345,8 @@ impl Accel {
                 while rays != 0 {
                     let i = rays.trailing_zeros() as usize;
                     rays &= rays - 1;
-                    let inv = p.inv[i];
-                    let (ix, iy, iz) = (Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z));
+                    let (ix, iy, iz) =
+                        (Vec4::splat(p.inv[0][i]), Vec4::splat(p.inv[1][i]), Vec4::splat(p.inv[2][i]));
                     let mut hits = 0u32;
                     for h in 0..2 {
                         let (x0, x1) = (pl[0][h] * ix, pl[1][h] * ix);
@@ -286,17 +383,13 @@ impl Accel {
                 }
                 let first = node.primitive_base_idx + slot;
                 for prim in first..first + (meta >> 5).count_ones() {
-                    let s = self.tris[prim as usize].seen_from(o);
-                    let live = cm[c] & !blocked;
-                    let mut gs = groups_of(live);
-                    while gs != 0 {
-                        let g = gs.trailing_zeros() as usize / 4;
-                        gs &= gs - 1;
-                        blocked |= (hit_group(&p, g, &s, tmax) & (live >> (4 * g)) & 0xf) << (4 * g);
-                    }
+                    test(prim, cm[c] & !blocked, &mut blocked);
                     if blocked & all == all {
-                        return all;
+                        break;
                     }
+                }
+                if blocked & all == all {
+                    break 'walk;
                 }
             }
             // Insertion sort, farthest first (at most 8 entries): the nearest child is popped next,
@@ -309,10 +402,11 @@ impl Accel {
                 }
             }
             for &(_, idx, cm) in inner[..n_inner].iter() {
-                stack[sp] = (idx, cm);
-                sp += 1;
+                stack.push((idx, cm));
             }
         }
+        found.stack = stack;
+        *cache = found;
         blocked & all
     }
 }
@@ -342,7 +436,7 @@ mod tests {
             .collect();
         for tmax in [0.2, 0.45, f32::INFINITY] {
             let mut got = vec![false; dirs.len()];
-            acc.occluded_from(o, None, &dirs, tmax, &mut got);
+            acc.occluded_from(o, None, &dirs, tmax, &mut got, &mut Occluders::new());
             for (d, g) in dirs.iter().zip(&got) {
                 let want = acc.occluded(&super::super::accel::Ray::new(o, *d, tmax));
                 assert_eq!(*g, want, "dir {d} tmax {tmax}");

@@ -1,5 +1,5 @@
 //! The AO renderer: one primary ray per pixel centre, then the pixel's N AO rays from the first hit.
-//! Rows run in parallel on the current rayon pool; a pixel's result depends only on (scene, job,
+//! Tiles run in parallel on the current rayon pool; a pixel's result depends only on (scene, job,
 //! pixel index), so the image is bit-identical for any thread count. No IO, no printing.
 
 pub mod bench;
@@ -14,6 +14,7 @@ use crate::scene::accel::Ray;
 use crate::scene::packet::Occluders;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
+use std::cell::RefCell;
 
 /// Everything that determines one AO image of a scene.
 #[derive(Debug, Clone, Copy)]
@@ -43,7 +44,6 @@ struct Scratch {
     points: Vec<Vec2>,
     rays: PixelRays,
     blocked: Vec<bool>,
-    cache: Occluders,
 }
 
 /// The AO rays of one pixel: they all start at `origin`.
@@ -57,7 +57,7 @@ pub struct PixelRays {
 }
 
 /// Renders `job`. `progress(n)` is called as work finishes with the number of pixels just done
-/// (one call per row; the calls sum to width × height).
+/// (one call per tile; the calls sum to width × height).
 pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -> RenderOutput {
     let (w, h) = (job.width as usize, job.height as usize);
     let n = job.sampler.count as usize;
@@ -65,52 +65,81 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
         let empty = Image::new(job.width, job.height);
         return RenderOutput { ao: empty.clone(), coverage: empty, rays: 0, occluded_rays: 0 };
     }
-    let mut ao = vec![1.0f32; w * h];
-    let mut coverage = vec![0.0f32; w * h];
-    let (rays, occluded) = ao
-        .par_chunks_mut(w)
-        .zip(coverage.par_chunks_mut(w))
-        .enumerate()
+    // Tiles in parallel, each its own rayon job (pixels differ a lot in cost; large sequential
+    // ranges left one of 2 threads idle); each tile's covered pixels come back as (index, AO).
+    let tiles: Vec<(Vec<(u32, f32)>, u64, u64)> = (0..tile_count(job.width, job.height))
+        .into_par_iter()
+        .with_max_len(1)
         .map_init(
             || Scratch {
                 points: vec![Vec2::ZERO; n],
                 rays: PixelRays::default(),
                 blocked: vec![false; n],
-                cache: Occluders::new(),
             },
-            |s, (y, (ao_row, cov_row))| {
-                let mut counts = (0u64, 0u64);
-                for x in 0..w {
-                    let pixel = (y * w + x) as u64;
-                    if pixel_rays(scene, job, x as u32, y as u32, pixel, &mut s.points, &mut s.rays) {
-                        let r = &s.rays;
-                        let (d, blocked) = (job.ao_distance, &mut s.blocked);
-                        trace_pixel(scene, r.origin, r.normal, &r.dirs, d, blocked, &mut s.cache);
-                        let mut sum = 0.0f64;
-                        let mut occ = 0u64;
-                        for (&b, &wt) in s.blocked.iter().zip(&s.rays.weights) {
-                            if b {
-                                sum += wt as f64;
-                                occ += 1;
-                            }
-                        }
-                        ao_row[x] = (1.0 - sum / n as f64) as f32;
-                        cov_row[x] = 1.0;
-                        counts.0 += n as u64;
-                        counts.1 += occ;
+            |s, t| {
+                let mut done = Vec::with_capacity((TILE * TILE) as usize);
+                let (mut rays, mut occluded, mut pixels) = (0u64, 0u64, 0u64);
+                for (x, y) in tile_pixels(t, job.width, job.height) {
+                    pixels += 1;
+                    let pixel = y as u64 * w as u64 + x as u64;
+                    if !pixel_rays(scene, job, x, y, pixel, &mut s.points, &mut s.rays) {
+                        continue;
                     }
+                    let r = &s.rays;
+                    let (d, blocked) = (job.ao_distance, &mut s.blocked);
+                    trace_pixel(scene, r.origin, r.normal, &r.dirs, d, blocked);
+                    let mut sum = 0.0f64;
+                    for (&b, &wt) in s.blocked.iter().zip(&s.rays.weights) {
+                        if b {
+                            sum += wt as f64;
+                            occluded += 1;
+                        }
+                    }
+                    done.push((pixel as u32, (1.0 - sum / n as f64) as f32));
+                    rays += n as u64;
                 }
-                progress(w as u64);
-                counts
+                progress(pixels);
+                (done, rays, occluded)
             },
         )
-        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+        .collect();
+    let mut ao = vec![1.0f32; w * h];
+    let mut coverage = vec![0.0f32; w * h];
+    let (mut rays, mut occluded) = (0u64, 0u64);
+    for (done, r, o) in tiles {
+        for (i, v) in done {
+            ao[i as usize] = v;
+            coverage[i as usize] = 1.0;
+        }
+        rays += r;
+        occluded += o;
+    }
     RenderOutput {
         ao: Image::from_vec(job.width, job.height, ao),
         coverage: Image::from_vec(job.width, job.height, coverage),
         rays,
         occluded_rays: occluded,
     }
+}
+
+/// Side of the square tiles the renderer works in.
+pub const TILE: u32 = 8;
+
+fn tile_count(width: u32, height: u32) -> u32 {
+    width.div_ceil(TILE) * height.div_ceil(TILE)
+}
+
+/// The pixels of tile `t` (tiles in scan order), in scan order.
+fn tile_pixels(t: u32, width: u32, height: u32) -> impl Iterator<Item = (u32, u32)> {
+    let tiles_x = width.div_ceil(TILE);
+    let (x0, y0) = ((t % tiles_x) * TILE, (t / tiles_x) * TILE);
+    (y0..(y0 + TILE).min(height)).flat_map(move |y| (x0..(x0 + TILE).min(width)).map(move |x| (x, y)))
+}
+
+/// The renderer's pixel order: TILE × TILE tiles in scan order, each in scan order, so that
+/// consecutive pixels are neighbours in both directions (and share occluders, see `Occluders`).
+pub fn pixel_order(width: u32, height: u32) -> impl Iterator<Item = (u32, u32)> {
+    (0..tile_count(width, height)).flat_map(move |t| tile_pixels(t, width, height))
 }
 
 /// The AO rays of pixel (x, y): primary hit, offset origin, the sampler's directions and weights.
@@ -151,15 +180,13 @@ pub fn pixel_rays(
 
 /// hemilab's AO query: which of a pixel's rays (all from `origin`) are blocked within `tmax`.
 /// `normal`: the surface normal the directions were drawn around. `blocked`: as long as `dirs`.
-/// `cache`: per-thread memory of recent occluders (speed only; answers do not depend on it).
-pub fn trace_pixel(
-    scene: &Scene,
-    origin: Vec3,
-    normal: Vec3,
-    dirs: &[Vec3],
-    tmax: f32,
-    blocked: &mut [bool],
-    cache: &mut Occluders,
-) {
-    scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked, cache);
+/// Each thread keeps the occluders of the last pixel it traced (speed only: the answers do not
+/// depend on them), across rayon jobs, so that it is not emptied every tile.
+pub fn trace_pixel(scene: &Scene, origin: Vec3, normal: Vec3, dirs: &[Vec3], tmax: f32, blocked: &mut [bool]) {
+    thread_local! {
+        static CACHE: RefCell<Occluders> = RefCell::new(Occluders::new());
+    }
+    CACHE.with(|c| {
+        scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked, &mut c.borrow_mut());
+    });
 }

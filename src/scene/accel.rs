@@ -251,11 +251,11 @@ fn lex_less(p: Vec3A, q: Vec3A) -> bool {
 /// watertight: the triangle on the other side of the edge, which walks it q→p, gets exactly the
 /// negated value (negation and the product by ±1 are exact). Branch-free.
 #[inline(always)]
-fn edge(p: Vec3A, q: Vec3A, o: Vec3A, less: bool) -> [f32; 3] {
+fn edge(p: Vec3A, q: Vec3A, o: Vec3A, less: bool) -> Vec3A {
     let s = if less { 1.0 } else { -1.0 };
     let base = Vec3A::select(glam::BVec3A::splat(less), p, q);
-    let [x, y, z] = cross(base - o, (q - p) * s);
-    [x * s, y * s, z * s]
+    // glam's cross is the same per-component formula as `cross` (same products, same order).
+    (base - o).cross((q - p) * s) * s
 }
 
 impl Tri {
@@ -264,9 +264,9 @@ impl Tri {
         let n = [self.n[0], self.n[1], self.n[2]];
         let f = self.n[3].to_bits();
         Seen {
-            x: edge(self.b, self.c, o, f & 1 != 0),
-            y: edge(self.c, self.a, o, f & 2 != 0),
-            z: edge(self.a, self.b, o, f & 4 != 0),
+            x: edge(self.b, self.c, o, f & 1 != 0).to_array(),
+            y: edge(self.c, self.a, o, f & 2 != 0).to_array(),
+            z: edge(self.a, self.b, o, f & 4 != 0).to_array(),
             n,
             t: dot((self.a - o).to_array(), n),
         }

@@ -152,6 +152,24 @@ mod lanes {
     }
 }
 
+/// Bit c set iff child slot c is not empty (its meta byte is not 0).
+#[inline(always)]
+fn present_children(meta: &[u8; 8]) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        // SAFETY: SSE2 is part of the x86_64 baseline; the load reads exactly the 8 bytes of `meta`.
+        unsafe {
+            let b = _mm_loadl_epi64(meta.as_ptr() as *const __m128i);
+            !(_mm_movemask_epi8(_mm_cmpeq_epi8(b, _mm_setzero_si128())) as u32) & 0xff
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        meta.iter().enumerate().fold(0, |m, (c, &b)| m | ((b != 0) as u32) << c)
+    }
+}
+
 /// Bit 4g set iff group g (rays 4g..4g+3) has a ray in `m`.
 #[inline(always)]
 fn groups_of(m: u32) -> u32 {
@@ -174,6 +192,8 @@ fn horizon(dirs: &[Vec3], normal: Option<Vec3>) -> Option<Vec3A> {
 #[derive(Debug, Clone, Default)]
 pub struct Occluders {
     prims: [u32; OCCLUDERS],
+    /// How many rays each blocked first (the next packet tries the best blockers first).
+    counts: [u32; OCCLUDERS],
     len: usize,
     /// The traversal stack, kept to spare each packet zeroing its own.
     stack: Vec<(u32, u32)>,
@@ -187,11 +207,25 @@ impl Occluders {
         Self::default()
     }
 
+    /// Records that `prim` blocked `rays` rays no earlier triangle had blocked.
     #[inline(always)]
-    fn push(&mut self, prim: u32) {
-        if self.len < OCCLUDERS && !self.prims[..self.len].contains(&prim) {
+    fn push(&mut self, prim: u32, rays: u32) {
+        if self.len < OCCLUDERS {
             self.prims[self.len] = prim;
+            self.counts[self.len] = rays;
             self.len += 1;
+        }
+    }
+
+    /// Best blockers first (a stable insertion sort of at most 16 entries, once per packet).
+    fn sort(&mut self) {
+        for k in 1..self.len {
+            let mut j = k;
+            while j > 0 && self.counts[j - 1] < self.counts[j] {
+                self.counts.swap(j - 1, j);
+                self.prims.swap(j - 1, j);
+                j -= 1;
+            }
         }
     }
 }
@@ -278,7 +312,7 @@ impl Accel {
         let widen = Vec4::splat(1.0 + 8.0 * f32::EPSILON);
         let tmax4 = Vec4::splat(tmax);
         let mut blocked = 0u32;
-        let mut found = Occluders { prims: [0; OCCLUDERS], len: 0, stack: Vec::new() };
+        let mut found = Occluders { prims: [0; OCCLUDERS], counts: [0; OCCLUDERS], len: 0, stack: Vec::new() };
         // Test triangle `prim` against the rays in `live`; remember it if it blocks a new one.
         let mut test = |prim: u32, live: u32, blocked: &mut u32| {
             let s = self.tris[prim as usize].seen_from(o);
@@ -291,12 +325,10 @@ impl Accel {
             }
             if new != 0 {
                 *blocked |= new;
-                found.push(prim);
+                found.push(prim, new.count_ones());
             }
         };
-        static KNOB: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-        let k = *KNOB.get_or_init(|| std::env::var("HX_CACHE").ok().and_then(|v| v.parse().ok()).unwrap_or(16));
-        for &prim in &cache.prims[..cache.len.min(k)] {
+        for &prim in &cache.prims[..cache.len] {
             test(prim, all & !blocked, &mut blocked);
         }
         let mut stack = std::mem::take(&mut cache.stack);
@@ -312,9 +344,10 @@ impl Accel {
             }
             let node = &nodes[ni as usize];
             let pl = child_planes(node, o);
+            let present = present_children(&node.child_meta);
             // Shared by all rays: distance from the origin to each child box, whether the box
-            // reaches above the horizon plane, whether it holds the origin.
-            let mut dist2 = [Vec4::ZERO; 2];
+            // reaches above the horizon plane, whether it holds the origin. Only culling aids (the
+            // slab test alone is exact).
             let (mut near, mut inside) = (0u32, 0u32);
             for h in 0..2 {
                 let gap = |k: usize| pl[2 * k][h].max(-pl[2 * k + 1][h]).max(Vec4::ZERO);
@@ -325,18 +358,11 @@ impl Accel {
                     + (pl[4][h] * nz).max(pl[5][h] * nz);
                 near |= (d2.cmple(reach2) & support.cmpge(Vec4::ZERO)).bitmask() << (4 * h);
                 inside |= d2.cmpeq(Vec4::ZERO).bitmask() << (4 * h);
-                dist2[h] = d2;
             }
-            let meta = u64::from_le_bytes(node.child_meta);
-            let mut present = 0u32;
-            for c in 0..8 {
-                present |= (((meta >> (8 * c)) & 0xff != 0) as u32) << c;
-            }
-            let near = near & present;
+            let (near, inside) = (near & present, inside & near & present);
             if near == 0 {
                 continue;
             }
-            let inside = inside & near;
             let want = near & !inside;
             let mut cm = lanes::zero();
             if want != 0 {
@@ -360,8 +386,7 @@ impl Accel {
                 }
             }
             let mut cm = lanes::to_array(cm);
-            let d2 = [dist2[0].to_array(), dist2[1].to_array()];
-            let mut inner: [(f32, u32, u32); 8] = [(0.0, 0, 0); 8];
+            let mut inner = [(0u32, 0u32); 8];
             let mut n_inner = 0;
             let mut kids = near;
             while kids != 0 {
@@ -377,7 +402,7 @@ impl Accel {
                 let slot = (meta & 0b11111) as u32;
                 if slot >= 24 {
                     let idx = node.child_base_idx + (node.imask as u32 & !(u32::MAX << (slot - 24))).count_ones();
-                    inner[n_inner] = (d2[c / 4][c % 4], idx, cm[c]);
+                    inner[n_inner] = (idx, cm[c]);
                     n_inner += 1;
                     continue;
                 }
@@ -392,20 +417,12 @@ impl Accel {
                     break 'walk;
                 }
             }
-            // Insertion sort, farthest first (at most 8 entries): the nearest child is popped next,
-            // as near boxes are the likeliest to block.
-            for k in 1..n_inner {
-                let mut j = k;
-                while j > 0 && inner[j - 1].0 < inner[j].0 {
-                    inner.swap(j - 1, j);
-                    j -= 1;
-                }
-            }
-            for &(_, idx, cm) in inner[..n_inner].iter() {
-                stack.push((idx, cm));
-            }
+            // No sorting by distance: it cost more in mispredicted branches than it saved (kitchen,
+            // d = inf: 11.2 -> 12.2 M rays/s without it; the occluder cache finds most blockers).
+            stack.extend_from_slice(&inner[..n_inner]);
         }
         found.stack = stack;
+        found.sort();
         *cache = found;
         blocked & all
     }

@@ -12,19 +12,20 @@
 //! share their origin, share most of its work (see `packet`).
 
 use glam::{UVec2, Vec3, Vec3A, Vec4};
+use std::cmp::Ordering;
 use obvhs::cwbvh::{CwBvh, node::CwBvhNode};
 
 /// One triangle by its three vertices (edges would not be shared bit-exactly between neighbours).
-/// One cache line: a packet visiting a leaf touches one line per triangle.
+/// One cache line: a packet visiting a leaf touches one line per triangle. The vertices are
+/// stored in lexicographic order (a < b < c), so every edge starts at its smaller end (see `Seen`).
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(64))]
 pub(crate) struct Tri {
     a: Vec3A,
     b: Vec3A,
     c: Vec3A,
-    /// (b - a) × (c - a), for an accurate distance; the 4th float's bits say, per edge (b→c, c→a,
-    /// a→b), whether it runs from its lexicographically smaller end (see `edge`).
-    n: [f32; 4],
+    /// (b - a) × (c - a), for an accurate distance.
+    n: Vec3A,
 }
 
 /// The BVH and the triangles in BVH order, so a leaf's primitives are read contiguously.
@@ -91,11 +92,10 @@ impl Accel {
         let mut scale = Vec::with_capacity(bvh.primitive_indices.len());
         for &i in &bvh.primitive_indices {
             let t = &soup[i as usize];
-            let [x, y, z] = cross(t.v1 - t.v0, t.v2 - t.v0);
-            let flags = lex_less(t.v1, t.v2) as u32
-                | (lex_less(t.v2, t.v0) as u32) << 1
-                | (lex_less(t.v0, t.v1) as u32) << 2;
-            tris.push(Tri { a: t.v0, b: t.v1, c: t.v2, n: [x, y, z, f32::from_bits(flags)] });
+            let mut v = [t.v0, t.v1, t.v2];
+            v.sort_unstable_by(|p, q| if lex_less(*p, *q) { Ordering::Less } else { Ordering::Greater });
+            let n = Vec3A::from(cross(v[1] - v[0], v[2] - v[0]));
+            tris.push(Tri { a: v[0], b: v[1], c: v[2], n });
             let m = t.v0.abs().max(t.v1.abs()).max(t.v2.abs()).max_element();
             scale.push(pow2_at_least(m));
         }
@@ -219,7 +219,8 @@ fn node_hits(node: &CwBvhNode, ray: &Ray, tmax: f32, oct_inv4: u32) -> u32 {
 }
 
 /// A triangle as seen from a ray origin o: with A, B, C its vertices minus o, the edge normals
-/// X = B×C, Y = C×A, Z = A×B, the normal N = (b-a)×(c-a) and T = A·N. A ray o + t·d meets the
+/// X = B×C, Y = C×A, Z = A×B (computed as in `Tri::seen_from`), the normal N = (b-a)×(c-a) and
+/// T = A·N. A ray o + t·d meets the
 /// triangle iff d·X, d·Y, d·Z do not differ in sign, at t = T / d·N. Shared by all rays from o:
 /// computed once per (origin, triangle), then 4 dot products per ray.
 #[derive(Debug, Clone, Copy)]
@@ -246,30 +247,20 @@ fn lex_less(p: Vec3A, q: Vec3A) -> bool {
     p.x < q.x || (p.x == q.x && (p.y < q.y || (p.y == q.y && p.z < q.z)))
 }
 
-/// P×Q for the edge p→q seen from o, computed as (p-o)×(q-p) from the edge's lexicographically
-/// smaller end (`less`: p is it). Accurate (the edge vector is short and exact-ish, unlike Q) and
-/// watertight: the triangle on the other side of the edge, which walks it q→p, gets exactly the
-/// negated value (negation and the product by ±1 are exact). Branch-free.
-#[inline(always)]
-fn edge(p: Vec3A, q: Vec3A, o: Vec3A, less: bool) -> Vec3A {
-    let s = if less { 1.0 } else { -1.0 };
-    let base = Vec3A::select(glam::BVec3A::splat(less), p, q);
-    // glam's cross is the same per-component formula as `cross` (same products, same order).
-    (base - o).cross((q - p) * s) * s
-}
-
 impl Tri {
+    /// The edge normals from the lexicographically smaller end of each edge, (p-o)×(q-p): accurate
+    /// (q-p is short and exact-ish, unlike q-o) and watertight, as every triangle that shares the
+    /// edge p–q computes exactly this value (the sign test does not care which way it walks it).
+    /// glam's cross is the same per-component formula as `cross` (same products, same order).
     #[inline(always)]
     pub(crate) fn seen_from(&self, o: Vec3A) -> Seen {
-        let n = [self.n[0], self.n[1], self.n[2]];
-        let f = self.n[3].to_bits();
-        Seen {
-            x: edge(self.b, self.c, o, f & 1 != 0).to_array(),
-            y: edge(self.c, self.a, o, f & 2 != 0).to_array(),
-            z: edge(self.a, self.b, o, f & 4 != 0).to_array(),
-            n,
-            t: dot((self.a - o).to_array(), n),
-        }
+        let (pa, pb) = (self.a - o, self.b - o);
+        let e_ab = pa.cross(self.b - self.a);
+        let e_ac = pa.cross(self.c - self.a);
+        let e_bc = pb.cross(self.c - self.b);
+        let n = self.n.to_array();
+        // Opposite a: B×C = (b-o)×(c-b); opposite b: C×A = -(a-o)×(c-a); opposite c: A×B.
+        Seen { x: e_bc.to_array(), y: (-e_ac).to_array(), z: e_ab.to_array(), n, t: dot(pa.to_array(), n) }
     }
 }
 

@@ -170,6 +170,68 @@ fn present_children(meta: &[u8; 8]) -> u32 {
     }
 }
 
+/// 8-wide versions of the per-ray kernels, for CPUs with AVX2 (runtime-detected). The triangle
+/// test is the same sequence of IEEE operations as `hit_group` / `accel::hit_seen` (so the same
+/// bits); the box test is the same as the 4-wide one.
+#[cfg(target_arch = "x86_64")]
+mod wide {
+    use super::{Packet, Seen};
+    use glam::Vec4;
+    use std::arch::x86_64::*;
+
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub fn planes(pl: &[[Vec4; 2]; 6]) -> [__m256; 6] {
+        std::array::from_fn(|k| _mm256_set_m128(pl[k][1].into(), pl[k][0].into()))
+    }
+
+    /// Children (bits) whose slabs ray `i` crosses within [0, tmax].
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub fn ray_hits(pl: &[__m256; 6], p: &Packet, i: usize, tmax: f32, widen: f32) -> u32 {
+        let (ix, iy, iz) = (_mm256_set1_ps(p.inv[0][i]), _mm256_set1_ps(p.inv[1][i]), _mm256_set1_ps(p.inv[2][i]));
+        let (x0, x1) = (_mm256_mul_ps(pl[0], ix), _mm256_mul_ps(pl[1], ix));
+        let (y0, y1) = (_mm256_mul_ps(pl[2], iy), _mm256_mul_ps(pl[3], iy));
+        let (z0, z1) = (_mm256_mul_ps(pl[4], iz), _mm256_mul_ps(pl[5], iz));
+        let tn = _mm256_max_ps(
+            _mm256_max_ps(_mm256_max_ps(_mm256_min_ps(x0, x1), _mm256_min_ps(y0, y1)), _mm256_min_ps(z0, z1)),
+            _mm256_setzero_ps(),
+        );
+        let tf = _mm256_min_ps(
+            _mm256_min_ps(_mm256_min_ps(_mm256_max_ps(x0, x1), _mm256_max_ps(y0, y1)), _mm256_max_ps(z0, z1)),
+            _mm256_set1_ps(tmax),
+        );
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, _mm256_mul_ps(tf, _mm256_set1_ps(widen)))) as u32
+    }
+
+    /// Which of rays 8g..8g+7 hit `s` within (0, tmax) (bits 0..8).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub fn hit8(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
+        // SAFETY: p.d[k] holds 8 Vec4 = 32 contiguous f32; 2g+1 < 8.
+        let ld = |k: usize| unsafe { _mm256_loadu_ps(p.d[k].as_ptr().add(2 * g) as *const f32) };
+        let (dx, dy, dz) = (ld(0), ld(1), ld(2));
+        let dotv = |q: [f32; 3]| {
+            let xy = _mm256_add_ps(_mm256_mul_ps(dx, _mm256_set1_ps(q[0])), _mm256_mul_ps(dy, _mm256_set1_ps(q[1])));
+            _mm256_add_ps(xy, _mm256_mul_ps(dz, _mm256_set1_ps(q[2])))
+        };
+        let (u, v, w) = (dotv(s.x), dotv(s.y), dotv(s.z));
+        let z = _mm256_setzero_ps();
+        let lt = |a| _mm256_cmp_ps::<_CMP_LT_OQ>(a, z);
+        let gt = |a| _mm256_cmp_ps::<_CMP_GT_OQ>(a, z);
+        let neg = _mm256_or_ps(_mm256_or_ps(lt(u), lt(v)), lt(w));
+        let pos = _mm256_or_ps(_mm256_or_ps(gt(u), gt(v)), gt(w));
+        let dn = dotv(s.n);
+        let t = _mm256_div_ps(_mm256_set1_ps(s.t), dn);
+        let sum = _mm256_add_ps(_mm256_add_ps(u, v), w);
+        let ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), _mm256_cmp_ps::<_CMP_NEQ_UQ>(dn, z));
+        let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_GT_OQ>(t, z));
+        let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(t, _mm256_set1_ps(tmax)));
+        let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_NEQ_UQ>(sum, z));
+        _mm256_movemask_ps(ok) as u32
+    }
+}
+
 /// Bit 4g set iff group g (rays 4g..4g+3) has a ray in `m`.
 #[inline(always)]
 fn groups_of(m: u32) -> u32 {
@@ -269,7 +331,7 @@ impl Accel {
                 return unsafe { self.occluded_packet_avx2(o, up, dirs, tmax, cache) };
             }
         }
-        self.occluded_packet(o, up, dirs, tmax, cache)
+        self.occluded_packet::<false>(o, up, dirs, tmax, cache)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -282,12 +344,12 @@ impl Accel {
         tmax: f32,
         cache: &mut Occluders,
     ) -> u32 {
-        self.occluded_packet(o, up, dirs, tmax, cache)
+        self.occluded_packet::<true>(o, up, dirs, tmax, cache)
     }
 
     /// Bit i set: ray i (of at most 32) is blocked.
     #[inline(always)]
-    fn occluded_packet(
+    fn occluded_packet<const WIDE: bool>(
         &self,
         o: Vec3A,
         up: Option<Vec3A>,
@@ -316,8 +378,23 @@ impl Accel {
         // Test triangle `prim` against the rays in `live`; remember it if it blocks a new one.
         let mut test = |prim: u32, live: u32, blocked: &mut u32| {
             let s = self.tris[prim as usize].seen_from(o);
-            let mut gs = groups_of(live);
             let mut new = 0u32;
+            #[cfg(target_arch = "x86_64")]
+            if WIDE {
+                for g in 0..PACKET / 8 {
+                    let gm = (live >> (8 * g)) & 0xff;
+                    if gm != 0 {
+                        // SAFETY: WIDE is only set by `occluded_packet_avx2`, on CPUs with AVX2.
+                        new |= (unsafe { wide::hit8(&p, g, &s, tmax) } & gm) << (8 * g);
+                    }
+                }
+                if new != 0 {
+                    *blocked |= new;
+                    found.push(prim, new.count_ones());
+                }
+                return;
+            }
+            let mut gs = groups_of(live);
             while gs != 0 {
                 let g = gs.trailing_zeros() as usize / 4;
                 gs &= gs - 1;
@@ -365,7 +442,20 @@ impl Accel {
             }
             let want = near & !inside;
             let mut cm = lanes::zero();
-            if want != 0 {
+            #[cfg(target_arch = "x86_64")]
+            if WIDE && want != 0 {
+                // SAFETY: WIDE is only set by `occluded_packet_avx2`, on CPUs with AVX2.
+                let pl8 = unsafe { wide::planes(&pl) };
+                let mut rays = live;
+                while rays != 0 {
+                    let i = rays.trailing_zeros() as usize;
+                    rays &= rays - 1;
+                    // SAFETY: as above.
+                    let hits = unsafe { wide::ray_hits(&pl8, &p, i, tmax, 1.0 + 8.0 * f32::EPSILON) };
+                    lanes::add_ray(&mut cm, hits & want, i);
+                }
+            }
+            if !WIDE && want != 0 {
                 // Per ray: its slabs against the 8 children, 4 at a time.
                 let mut rays = live;
                 while rays != 0 {

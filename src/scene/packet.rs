@@ -262,7 +262,7 @@ pub struct Occluders {
 }
 
 /// Triangles remembered from one packet for the next.
-const OCCLUDERS: usize = 16;
+const OCCLUDERS: usize = 32;
 
 impl Occluders {
     pub fn new() -> Self {
@@ -406,6 +406,9 @@ impl Accel {
             }
         };
         for &prim in &cache.prims[..cache.len] {
+            if blocked & all == all {
+                break;
+            }
             test(prim, all & !blocked, &mut blocked);
         }
         let mut stack = std::mem::take(&mut cache.stack);

@@ -131,4 +131,3 @@ fn preview(r: &RenderOutput) -> Image {
     let data = r.ao.data.iter().zip(&r.coverage.data).map(|(&a, &c)| if c > 0.0 { a } else { 0.0 }).collect();
     Image::from_vec(r.ao.width, r.ao.height, data)
 }
-

@@ -56,6 +56,9 @@ pub struct PixelRays {
     pub weights: Vec<f32>,
 }
 
+/// A tile's covered pixels as (index, AO value), its AO rays and its occluded rays.
+type TileResult = (Vec<(u32, f32)>, u64, u64);
+
 /// Renders `job`. `progress(n)` is called as work finishes with the number of pixels just done
 /// (one call per tile; the calls sum to width × height).
 pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -> RenderOutput {
@@ -67,15 +70,11 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
     }
     // Tiles in parallel, each its own rayon job (pixels differ a lot in cost; large sequential
     // ranges left one of 2 threads idle); each tile's covered pixels come back as (index, AO).
-    let tiles: Vec<(Vec<(u32, f32)>, u64, u64)> = (0..tile_count(job.width, job.height))
+    let tiles: Vec<TileResult> = (0..tile_count(job.width, job.height))
         .into_par_iter()
         .with_max_len(1)
         .map_init(
-            || Scratch {
-                points: vec![Vec2::ZERO; n],
-                rays: PixelRays::default(),
-                blocked: vec![false; n],
-            },
+            || Scratch { points: vec![Vec2::ZERO; n], rays: PixelRays::default(), blocked: vec![false; n] },
             |s, t| {
                 let mut done = Vec::with_capacity((TILE * TILE) as usize);
                 let (mut rays, mut occluded, mut pixels) = (0u64, 0u64, 0u64);
@@ -182,7 +181,14 @@ pub fn pixel_rays(
 /// `normal`: the surface normal the directions were drawn around. `blocked`: as long as `dirs`.
 /// Each thread keeps the occluders of the last pixel it traced (speed only: the answers do not
 /// depend on them), across rayon jobs, so that it is not emptied every tile.
-pub fn trace_pixel(scene: &Scene, origin: Vec3, normal: Vec3, dirs: &[Vec3], tmax: f32, blocked: &mut [bool]) {
+pub fn trace_pixel(
+    scene: &Scene,
+    origin: Vec3,
+    normal: Vec3,
+    dirs: &[Vec3],
+    tmax: f32,
+    blocked: &mut [bool],
+) {
     thread_local! {
         static CACHE: RefCell<Occluders> = RefCell::new(Occluders::new());
     }

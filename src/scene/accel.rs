@@ -12,8 +12,8 @@
 //! share their origin, share most of its work (see `packet`).
 
 use glam::{UVec2, Vec3, Vec3A, Vec4};
-use std::cmp::Ordering;
 use obvhs::cwbvh::{CwBvh, node::CwBvhNode};
+use std::cmp::Ordering;
 
 /// One triangle by its three vertices (edges would not be shared bit-exactly between neighbours).
 /// One cache line: a packet visiting a leaf touches one line per triangle. The vertices are

@@ -124,6 +124,25 @@ pub struct BenchArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// AO distances d to compare at, in scene units, comma-separated; `inf` = unbounded
+    /// (default: 0.3,1,inf, i.e. metres for the kitchen).
+    #[arg(long, value_parser = parse_distance, value_delimiter = ',', default_value = "0.3,1,inf")]
+    pub distances: Vec<f32>,
+    /// Timed repeats per configuration (min / median / max are reported).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub repeats: u32,
+}
+
+/// A positive AO distance, or `inf` / `infinite`.
+pub fn parse_distance(s: &str) -> Result<f32, String> {
+    let t = s.trim();
+    if t.eq_ignore_ascii_case("inf") || t.eq_ignore_ascii_case("infinite") {
+        return Ok(f32::INFINITY);
+    }
+    match t.parse::<f32>() {
+        Ok(d) if d > 0.0 && d.is_finite() => Ok(d),
+        _ => Err(format!("distance '{s}' must be a positive number or 'inf'")),
+    }
 }
 
 #[derive(Debug, Args)]

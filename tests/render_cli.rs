@@ -102,7 +102,19 @@ fn bad_arguments_exit_2_and_create_nothing() {
 
 #[test]
 fn bench_reports_json() {
-    let out = hemilab(&["bench", "scenes/cornell-box.toml", "--rays", "2", "--resolution", "8x8", "--json"]);
+    let out = hemilab(&[
+        "bench",
+        "scenes/cornell-box.toml",
+        "--rays",
+        "2",
+        "--resolution",
+        "8x8",
+        "--json",
+        "--repeats",
+        "2",
+        "--distances",
+        "100,inf",
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["scene"], "cornell-box");
@@ -113,4 +125,32 @@ fn bench_reports_json() {
     assert!(v["bvh_build_s"].as_f64().unwrap() >= 0.0);
     // Rays counted are AO rays only: 8 x 8 pixels, all covered, 2 rays each, per render.
     assert_eq!(v["single_thread"]["ao_rays"].as_u64().unwrap() % 128, 0);
+    // The baseline comparison: one entry per distance, both thread counts, rays/s and ratio.
+    let cmp = v["comparison"].as_array().unwrap();
+    assert_eq!(cmp.len(), 2);
+    assert_eq!(cmp[0]["ao_distance"], 100.0);
+    assert_eq!(cmp[1]["ao_distance"], "infinite");
+    for c in cmp {
+        assert_eq!(c["rays"], 128);
+        assert_eq!(c["mismatches"]["hemilab_wrong"], 0);
+        assert_eq!(c["mismatches"]["hemilab_vs_single_ray"], 0);
+        let runs = c["runs"].as_array().unwrap();
+        assert_eq!(runs[0]["threads"], 1);
+        for r in runs {
+            for key in ["obvhs_rays_per_s", "hemilab_rays_per_s", "ratio"] {
+                let s = &r[key];
+                assert!(s["min"].as_f64().unwrap() > 0.0, "{key}");
+                assert!(
+                    s["min"].as_f64() <= s["median"].as_f64() && s["median"].as_f64() <= s["max"].as_f64()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn bench_rejects_a_bad_distance() {
+    let out = hemilab(&["bench", "scenes/cornell-box.toml", "--distances", "1,-2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("distance"));
 }

@@ -1,6 +1,7 @@
 //! The one orchestrator: load → validate everything → plan → render → measure → export.
 //! Only this module (through `io`) touches the filesystem.
 
+mod bench;
 mod figures;
 mod jobs;
 mod page;
@@ -20,7 +21,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Plan(args) => run::run_plan(args),
         Command::Reference(args) => run::run_reference(args),
         Command::Render(args) => render::run_render(args),
-        Command::Bench(args) => render::run_bench(args),
+        Command::Bench(args) => bench::run_bench(args),
         Command::Points(args) => points::run(&args),
     }
 }

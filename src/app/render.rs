@@ -1,12 +1,12 @@
-//! `hemilab render` and `hemilab bench`, and scene loading for the whole app.
+//! `hemilab render`, and scene loading for the whole app.
 
-use crate::cli::{BenchArgs, RenderArgs};
+use crate::cli::RenderArgs;
 use crate::error::{Error, Result};
 use crate::image::{self, Channel, Image};
 use crate::io;
 use crate::progress;
 use crate::render::{self, RenderJob, RenderOutput};
-use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use crate::sampling::SamplerConfig;
 use crate::scene::{self, Scene, file, mesh};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -50,7 +50,7 @@ pub fn dropped_warning(scene: &Scene) -> Option<String> {
     })
 }
 
-fn check_pixels(w: u32, h: u32) -> Result<()> {
+pub(super) fn check_pixels(w: u32, h: u32) -> Result<()> {
     if w as u64 * h as u64 > MAX_PIXELS {
         return Err(Error::Usage(format!(
             "resolution {w}x{h} has more than {MAX_PIXELS} pixels; too large to hold in memory"
@@ -59,7 +59,7 @@ fn check_pixels(w: u32, h: u32) -> Result<()> {
     Ok(())
 }
 
-fn pool(threads: Option<u32>) -> Result<rayon::ThreadPool> {
+pub(super) fn pool(threads: Option<u32>) -> Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0) as usize)
         .build()
@@ -130,89 +130,4 @@ pub fn run_render(args: RenderArgs) -> Result<()> {
 fn preview(r: &RenderOutput) -> Image {
     let data = r.ao.data.iter().zip(&r.coverage.data).map(|(&a, &c)| if c > 0.0 { a } else { 0.0 }).collect();
     Image::from_vec(r.ao.width, r.ao.height, data)
-}
-
-/// One timed configuration of the benchmark.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct BenchRun {
-    pub threads: usize,
-    pub ao_rays: u64,
-    pub seconds: f64,
-    pub rays_per_s: f64,
-}
-
-/// Renders repeatedly for at least ~1 s on `threads` threads and reports AO rays per second of
-/// whole-render wall time (primary rays, sampling and shading included in the time, not in the count).
-fn time_renders(scene: &Scene, job: &RenderJob, threads: usize) -> Result<BenchRun> {
-    let pool = pool(Some(threads as u32))?;
-    pool.install(|| render::render(scene, job, &|_| {})); // warm caches and threads
-    let (mut rays, mut secs) = (0u64, 0.0f64);
-    while secs < 1.0 {
-        let start = Instant::now();
-        let r = pool.install(|| render::render(scene, job, &|_| {}));
-        secs += start.elapsed().as_secs_f64();
-        rays += r.rays;
-        if r.rays == 0 {
-            break;
-        }
-    }
-    Ok(BenchRun { threads, ao_rays: rays, seconds: secs, rays_per_s: rays as f64 / secs.max(1e-9) })
-}
-
-pub fn run_bench(args: BenchArgs) -> Result<()> {
-    if let Some((w, h)) = args.resolution {
-        check_pixels(w, h)?;
-    }
-    let scene = load_scene(&args.scene)?;
-    if let Some(w) = dropped_warning(&scene) {
-        eprintln!("{w}");
-    }
-    let (width, height) = args.resolution.unwrap_or(scene.resolution);
-    check_pixels(width, height)?;
-    let (distribution, sequence, seed_mode) =
-        (Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Rotation);
-    let sampler = SamplerConfig::new(sequence, seed_mode, args.rays, 1)
-        .map_err(|e| Error::Usage(format!("--rays: {e}")))?;
-    let job = RenderJob { distribution, sampler, width, height, ao_distance: scene.ao_distance };
-    let all = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
-    let one = time_renders(&scene, &job, 1)?;
-    let many = time_renders(&scene, &job, all)?;
-    let speedup = many.rays_per_s / one.rays_per_s.max(1e-9);
-    if args.json {
-        let v = serde_json::json!({
-            "scene": scene.name,
-            "triangles": scene.triangle_count,
-            "bvh_build_s": scene.bvh_build_s,
-            "resolution": [width, height],
-            "rays_per_pixel": args.rays,
-            "distribution": distribution.name(),
-            "sequence": sequence.name(),
-            "seed_mode": seed_mode.name(),
-            "ao_distance": if scene.ao_distance.is_finite() { serde_json::json!(scene.ao_distance) }
-                           else { serde_json::json!("infinite") },
-            "single_thread": one,
-            "all_threads": many,
-            "speedup": speedup,
-        });
-        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
-    } else {
-        let d =
-            if scene.ao_distance.is_finite() { format!("{}", scene.ao_distance) } else { "infinite".into() };
-        println!(
-            "scene {} ({} triangles), {width}x{height}, {} {} rays/pixel ({} / {}), d = {d}",
-            scene.name, scene.triangle_count, args.rays, distribution, sequence, seed_mode
-        );
-        println!("BVH build (obvhs CWBVH, medium preset): {:.3} s", scene.bvh_build_s);
-        for r in [&one, &many] {
-            println!(
-                "{:>2} thread(s): {:>8.2} M AO rays/s  ({} rays in {:.2} s)",
-                r.threads,
-                r.rays_per_s / 1e6,
-                r.ao_rays,
-                r.seconds
-            );
-        }
-        println!("speed-up: {speedup:.2}x");
-    }
-    Ok(())
 }

@@ -1,7 +1,8 @@
 //! The AO renderer: one primary ray per pixel centre, then the pixel's N AO rays from the first hit.
-//! Rows run in parallel on the current rayon pool; a pixel's result depends only on (scene, job,
+//! Tiles run in parallel on the current rayon pool; a pixel's result depends only on (scene, job,
 //! pixel index), so the image is bit-identical for any thread count. No IO, no printing.
 
+pub mod bench;
 mod offset;
 
 pub use offset::offset_origin;
@@ -10,8 +11,10 @@ use crate::image::Image;
 use crate::sampling::{Distribution, Frame, SamplerConfig, frame};
 use crate::scene::Scene;
 use crate::scene::accel::Ray;
-use glam::Vec2;
+use crate::scene::packet::Occluders;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
+use std::cell::RefCell;
 
 /// Everything that determines one AO image of a scene.
 #[derive(Debug, Clone, Copy)]
@@ -36,8 +39,28 @@ pub struct RenderOutput {
     pub occluded_rays: u64,
 }
 
+/// Per-thread scratch: the pixel's points, directions, weights and answers (no allocation per pixel).
+struct Scratch {
+    points: Vec<Vec2>,
+    rays: PixelRays,
+    blocked: Vec<bool>,
+}
+
+/// The AO rays of one pixel: they all start at `origin`.
+#[derive(Debug, Clone, Default)]
+pub struct PixelRays {
+    pub origin: Vec3,
+    /// The surface normal at the origin (facing the camera): every direction is on its side.
+    pub normal: Vec3,
+    pub dirs: Vec<Vec3>,
+    pub weights: Vec<f32>,
+}
+
+/// A tile's covered pixels as (index, AO value), its AO rays and its occluded rays.
+type TileResult = (Vec<(u32, f32)>, u64, u64);
+
 /// Renders `job`. `progress(n)` is called as work finishes with the number of pixels just done
-/// (one call per row; the calls sum to width × height).
+/// (one call per tile; the calls sum to width × height).
 pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -> RenderOutput {
     let (w, h) = (job.width as usize, job.height as usize);
     let n = job.sampler.count as usize;
@@ -45,30 +68,51 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
         let empty = Image::new(job.width, job.height);
         return RenderOutput { ao: empty.clone(), coverage: empty, rays: 0, occluded_rays: 0 };
     }
-    let mut ao = vec![1.0f32; w * h];
-    let mut coverage = vec![0.0f32; w * h];
-    let (rays, occluded) = ao
-        .par_chunks_mut(w)
-        .zip(coverage.par_chunks_mut(w))
-        .enumerate()
+    // Tiles in parallel, each its own rayon job (pixels differ a lot in cost; large sequential
+    // ranges left one of 2 threads idle); each tile's covered pixels come back as (index, AO).
+    let tiles: Vec<TileResult> = (0..tile_count(job.width, job.height))
+        .into_par_iter()
+        .with_max_len(1)
         .map_init(
-            || vec![Vec2::ZERO; n],
-            |points, (y, (ao_row, cov_row))| {
-                let mut counts = (0u64, 0u64);
-                for x in 0..w {
-                    let pixel = (y * w + x) as u64;
-                    if let Some((value, occ)) = shade_pixel(scene, job, x as u32, y as u32, pixel, points) {
-                        ao_row[x] = value;
-                        cov_row[x] = 1.0;
-                        counts.0 += n as u64;
-                        counts.1 += occ;
+            || Scratch { points: vec![Vec2::ZERO; n], rays: PixelRays::default(), blocked: vec![false; n] },
+            |s, t| {
+                let mut done = Vec::with_capacity((TILE * TILE) as usize);
+                let (mut rays, mut occluded, mut pixels) = (0u64, 0u64, 0u64);
+                for (x, y) in tile_pixels(t, job.width, job.height) {
+                    pixels += 1;
+                    let pixel = y as u64 * w as u64 + x as u64;
+                    if !pixel_rays(scene, job, x, y, pixel, &mut s.points, &mut s.rays) {
+                        continue;
                     }
+                    let r = &s.rays;
+                    let (d, blocked) = (job.ao_distance, &mut s.blocked);
+                    trace_pixel(scene, r.origin, r.normal, &r.dirs, d, blocked);
+                    let mut sum = 0.0f64;
+                    for (&b, &wt) in s.blocked.iter().zip(&s.rays.weights) {
+                        if b {
+                            sum += wt as f64;
+                            occluded += 1;
+                        }
+                    }
+                    done.push((pixel as u32, (1.0 - sum / n as f64) as f32));
+                    rays += n as u64;
                 }
-                progress(w as u64);
-                counts
+                progress(pixels);
+                (done, rays, occluded)
             },
         )
-        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+        .collect();
+    let mut ao = vec![1.0f32; w * h];
+    let mut coverage = vec![0.0f32; w * h];
+    let (mut rays, mut occluded) = (0u64, 0u64);
+    for (done, r, o) in tiles {
+        for (i, v) in done {
+            ao[i as usize] = v;
+            coverage[i as usize] = 1.0;
+        }
+        rays += r;
+        occluded += o;
+    }
     RenderOutput {
         ao: Image::from_vec(job.width, job.height, ao),
         coverage: Image::from_vec(job.width, job.height, coverage),
@@ -77,18 +121,41 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
     }
 }
 
-/// AO value (1 - estimate) and occluded-ray count of one pixel, or None for background.
-#[inline]
-fn shade_pixel(
+/// Side of the square tiles the renderer works in.
+pub const TILE: u32 = 8;
+
+fn tile_count(width: u32, height: u32) -> u32 {
+    width.div_ceil(TILE) * height.div_ceil(TILE)
+}
+
+/// The pixels of tile `t` (tiles in scan order), in scan order.
+fn tile_pixels(t: u32, width: u32, height: u32) -> impl Iterator<Item = (u32, u32)> {
+    let tiles_x = width.div_ceil(TILE);
+    let (x0, y0) = ((t % tiles_x) * TILE, (t / tiles_x) * TILE);
+    (y0..(y0 + TILE).min(height)).flat_map(move |y| (x0..(x0 + TILE).min(width)).map(move |x| (x, y)))
+}
+
+/// The renderer's pixel order: TILE × TILE tiles in scan order, each in scan order, so that
+/// consecutive pixels are neighbours in both directions (and share occluders, see `Occluders`).
+pub fn pixel_order(width: u32, height: u32) -> impl Iterator<Item = (u32, u32)> {
+    (0..tile_count(width, height)).flat_map(move |t| tile_pixels(t, width, height))
+}
+
+/// The AO rays of pixel (x, y): primary hit, offset origin, the sampler's directions and weights.
+/// False for background. `points` must hold `job.sampler.count` entries.
+pub fn pixel_rays(
     scene: &Scene,
     job: &RenderJob,
     x: u32,
     y: u32,
     pixel: u64,
     points: &mut [Vec2],
-) -> Option<(f32, u64)> {
+    out: &mut PixelRays,
+) -> bool {
     let primary = scene.camera.ray(x, y, job.width, job.height);
-    let hit = scene.accel.closest(&Ray::new(primary.origin, primary.dir, f32::INFINITY))?;
+    let Some(hit) = scene.accel.closest(&Ray::new(primary.origin, primary.dir, f32::INFINITY)) else {
+        return false;
+    };
     let [a, b, c] = scene.accel.triangle(hit.prim);
     // From barycentrics and edges: exact on axis-aligned planes, error ~ulps of the vertices elsewhere.
     let p = a + hit.bary_b * (b - a) + hit.bary_c * (c - a);
@@ -96,18 +163,36 @@ fn shade_pixel(
     if n.dot(primary.dir) > 0.0 {
         n = -n;
     }
-    let origin = offset_origin(p, n, scene.accel.scale(hit.prim));
+    out.origin = offset_origin(p, n, scene.accel.scale(hit.prim));
+    out.normal = n;
     let basis = Frame::from_normal(n);
     job.sampler.fill_pixel(pixel, points);
-    let mut sum = 0.0f64;
-    let mut occluded = 0u64;
+    out.dirs.clear();
+    out.weights.clear();
     for &u in points.iter() {
         let s = job.distribution.sample(u);
-        let dir = frame::canonical(basis.to_world(s.dir).normalize_or(n));
-        if scene.accel.occluded(&Ray::new(origin, dir, job.ao_distance)) {
-            sum += s.weight as f64;
-            occluded += 1;
-        }
+        out.dirs.push(frame::canonical(basis.to_world(s.dir).normalize_or(n)));
+        out.weights.push(s.weight);
     }
-    Some(((1.0 - sum / points.len() as f64) as f32, occluded))
+    true
+}
+
+/// hemilab's AO query: which of a pixel's rays (all from `origin`) are blocked within `tmax`.
+/// `normal`: the surface normal the directions were drawn around. `blocked`: as long as `dirs`.
+/// Each thread keeps the occluders of the last pixel it traced (speed only: the answers do not
+/// depend on them), across rayon jobs, so that it is not emptied every tile.
+pub fn trace_pixel(
+    scene: &Scene,
+    origin: Vec3,
+    normal: Vec3,
+    dirs: &[Vec3],
+    tmax: f32,
+    blocked: &mut [bool],
+) {
+    thread_local! {
+        static CACHE: RefCell<Occluders> = RefCell::new(Occluders::new());
+    }
+    CACHE.with(|c| {
+        scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked, &mut c.borrow_mut());
+    });
 }

@@ -5,6 +5,7 @@ pub mod accel;
 pub mod camera;
 pub mod file;
 pub mod mesh;
+pub mod packet;
 pub mod procedural;
 
 pub use accel::Accel;

@@ -1,0 +1,233 @@
+//! `hemilab bench`: the performance figure of record. For each AO distance d and for 1 and all
+//! threads, the same AO rays are traced by plain obvhs (`ray_traverse_miss`, one ray at a time) and
+//! by hemilab's own path, repeated; rays/s of both and their ratio are reported as min / median / max.
+//! Every run checks that speed never changes a result: repeated answers are bit-identical, hemilab
+//! agrees with its single-ray traversal on every ray, and every ray where obvhs and hemilab disagree
+//! is judged against a test of every triangle (the reason is counted, hemilab must be right).
+
+use super::render::{check_pixels, dropped_warning, load_scene, pool};
+use crate::cli::BenchArgs;
+use crate::error::{Error, Result};
+use crate::render::bench::{self, Mismatches, RaySet};
+use crate::render::{self, RenderJob};
+use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use crate::scene::Scene;
+use serde_json::{Value, json};
+use std::time::Instant;
+
+/// Whole renders on `threads` threads for at least ~1 s: AO rays per second of render wall time
+/// (primary rays, sampling and shading in the time, not in the count).
+fn time_renders(scene: &Scene, job: &RenderJob, threads: usize) -> Result<Value> {
+    let pool = pool(Some(threads as u32))?;
+    pool.install(|| render::render(scene, job, &|_| {})); // warm caches and threads
+    let (mut rays, mut secs) = (0u64, 0.0f64);
+    while secs < 1.0 {
+        let start = Instant::now();
+        let r = pool.install(|| render::render(scene, job, &|_| {}));
+        secs += start.elapsed().as_secs_f64();
+        rays += r.rays;
+        if r.rays == 0 {
+            break;
+        }
+    }
+    let rate = rays as f64 / secs.max(1e-9);
+    Ok(json!({ "threads": threads, "ao_rays": rays, "seconds": secs, "rays_per_s": rate }))
+}
+
+fn spread(v: &[f64]) -> Value {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let median = if s.is_empty() {
+        0.0
+    } else if s.len() % 2 == 1 {
+        s[s.len() / 2]
+    } else {
+        0.5 * (s[s.len() / 2 - 1] + s[s.len() / 2])
+    };
+    json!({ "min": s.first().copied().unwrap_or(0.0), "median": median, "max": s.last().copied().unwrap_or(0.0) })
+}
+
+fn d_json(d: f32) -> Value {
+    // Through the shortest decimal of the f32, so 0.3 prints as 0.3.
+    if d.is_finite() { json!(d.to_string().parse::<f64>().unwrap_or(d as f64)) } else { json!("infinite") }
+}
+
+/// One distance: answers of both paths, then timed repeats on each thread count.
+fn compare(
+    scene: &Scene,
+    set: &RaySet,
+    base: &bench::Baseline,
+    d: f32,
+    threads: &[usize],
+    repeats: u32,
+) -> Result<Value> {
+    let rays = set.len();
+    let (mut obvhs_ref, mut ours_ref) = (vec![false; rays], vec![false; rays]);
+    let all = pool(Some(*threads.last().unwrap_or(&1) as u32))?;
+    all.install(|| bench::trace_obvhs(base, set, d, &mut obvhs_ref));
+    all.install(|| bench::trace_hemilab(scene, set, d, &mut ours_ref));
+    let m: Mismatches = all.install(|| bench::mismatches(scene, base, set, d, &obvhs_ref, &ours_ref));
+    if m.hemilab_wrong != 0 || m.hemilab_vs_single_ray != 0 {
+        return Err(Error::Refused(format!(
+            "bench: d = {d}: hemilab's AO answers are wrong ({m:?}); this is a bug, please report it"
+        )));
+    }
+    let mut rows = Vec::new();
+    let mut out = vec![false; rays];
+    for &t in threads {
+        let pool = pool(Some(t as u32))?;
+        let (mut obvhs_rate, mut ours, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+        for r in 0..repeats {
+            let mut run = |hemilab: bool| -> Result<f64> {
+                let start = Instant::now();
+                if hemilab {
+                    pool.install(|| bench::trace_hemilab(scene, set, d, &mut out));
+                } else {
+                    pool.install(|| bench::trace_obvhs(base, set, d, &mut out));
+                }
+                let secs = start.elapsed().as_secs_f64();
+                if &out != if hemilab { &ours_ref } else { &obvhs_ref } {
+                    return Err(Error::Refused(format!(
+                        "bench: d = {d}, {t} threads: a repeat gave different answers; this is a bug"
+                    )));
+                }
+                Ok(rays as f64 / secs.max(1e-9))
+            };
+            // Alternate which path runs first so that neither always inherits a warm cache.
+            let (b, o) = if r % 2 == 0 {
+                let b = run(false)?;
+                (b, run(true)?)
+            } else {
+                let o = run(true)?;
+                (run(false)?, o)
+            };
+            obvhs_rate.push(b);
+            ours.push(o);
+            ratio.push(o / b);
+        }
+        rows.push(json!({
+            "threads": t,
+            "obvhs_rays_per_s": spread(&obvhs_rate),
+            "hemilab_rays_per_s": spread(&ours),
+            "ratio": spread(&ratio),
+        }));
+    }
+    let count = |v: &[bool]| v.iter().filter(|&&b| b).count();
+    Ok(json!({
+        "ao_distance": d_json(d),
+        "rays": rays,
+        "occluded": { "obvhs": count(&obvhs_ref), "hemilab": count(&ours_ref) },
+        "mismatches": m,
+        "runs": rows,
+    }))
+}
+
+pub fn run_bench(args: BenchArgs) -> Result<()> {
+    if let Some((w, h)) = args.resolution {
+        check_pixels(w, h)?;
+    }
+    let scene = load_scene(&args.scene)?;
+    if let Some(w) = dropped_warning(&scene) {
+        eprintln!("{w}");
+    }
+    let (width, height) = args.resolution.unwrap_or(scene.resolution);
+    check_pixels(width, height)?;
+    let (distribution, sequence, seed_mode) =
+        (Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Rotation);
+    let sampler = SamplerConfig::new(sequence, seed_mode, args.rays, 1)
+        .map_err(|e| Error::Usage(format!("--rays: {e}")))?;
+    let job = RenderJob { distribution, sampler, width, height, ao_distance: scene.ao_distance };
+    let all = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+    let threads: Vec<usize> = if all > 1 { vec![1, all] } else { vec![1] };
+
+    let one = time_renders(&scene, &job, 1)?;
+    let many = time_renders(&scene, &job, all)?;
+    let speedup = many["rays_per_s"].as_f64().unwrap_or(0.0) / one["rays_per_s"].as_f64().unwrap_or(1.0);
+
+    let start = Instant::now();
+    let set = bench::ray_set(&scene, &job);
+    let set_s = start.elapsed().as_secs_f64();
+    let base = bench::obvhs_baseline(&scene);
+    let mut comparisons = Vec::new();
+    for &d in &args.distances {
+        comparisons.push(compare(&scene, &set, &base, d, &threads, args.repeats)?);
+    }
+    let v = json!({
+        "scene": scene.name,
+        "triangles": scene.triangle_count,
+        "bvh_build_s": scene.bvh_build_s,
+        "obvhs_baseline_bvh_build_s": base.build_s,
+        "resolution": [width, height],
+        "rays_per_pixel": args.rays,
+        "distribution": distribution.name(),
+        "sequence": sequence.name(),
+        "seed_mode": seed_mode.name(),
+        "cores": all,
+        "ao_distance": d_json(scene.ao_distance),
+        "single_thread": one,
+        "all_threads": many,
+        "speedup": speedup,
+        "ray_set": { "pixels": set.origins.len(), "rays": set.len(), "build_s": set_s },
+        "repeats": args.repeats,
+        "comparison": comparisons,
+    });
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+    } else {
+        print_table(&v);
+    }
+    Ok(())
+}
+
+fn print_table(v: &Value) {
+    let m = |x: &Value| x.as_f64().unwrap_or(0.0) / 1e6;
+    println!(
+        "scene {} ({} triangles), {}x{}, {} {} rays/pixel ({} / {}), {} cores",
+        v["scene"].as_str().unwrap_or(""),
+        v["triangles"],
+        v["resolution"][0],
+        v["resolution"][1],
+        v["rays_per_pixel"],
+        v["distribution"].as_str().unwrap_or(""),
+        v["sequence"].as_str().unwrap_or(""),
+        v["seed_mode"].as_str().unwrap_or(""),
+        v["cores"]
+    );
+    println!(
+        "BVH build: hemilab (obvhs CWBVH, slow preset) {:.3} s; baseline (medium preset) {:.3} s",
+        v["bvh_build_s"].as_f64().unwrap_or(0.0),
+        v["obvhs_baseline_bvh_build_s"].as_f64().unwrap_or(0.0)
+    );
+    for key in ["single_thread", "all_threads"] {
+        let r = &v[key];
+        println!(
+            "whole render, d = {}, {} thread(s): {:.2} M AO rays/s",
+            v["ao_distance"],
+            r["threads"],
+            m(&r["rays_per_s"])
+        );
+    }
+    println!("render speed-up: {:.2}x", v["speedup"].as_f64().unwrap_or(0.0));
+    println!(
+        "AO rays only, {} rays, median (min..max) of {} repeats, M rays/s:",
+        v["ray_set"]["rays"], v["repeats"]
+    );
+    println!("{:>10} {:>7} {:>22} {:>22} {:>20}", "d", "threads", "obvhs", "hemilab", "ratio");
+    let empty = Vec::new();
+    for c in v["comparison"].as_array().unwrap_or(&empty) {
+        for r in c["runs"].as_array().unwrap_or(&empty) {
+            let f = |x: &Value, s: f64| {
+                format!("{:.2} ({:.2}..{:.2})", m(&x["median"]) * s, m(&x["min"]) * s, m(&x["max"]) * s)
+            };
+            println!(
+                "{:>10} {:>7} {:>22} {:>22} {:>20}",
+                c["ao_distance"].to_string(),
+                r["threads"],
+                f(&r["obvhs_rays_per_s"], 1.0),
+                f(&r["hemilab_rays_per_s"], 1.0),
+                f(&r["ratio"], 1e6)
+            );
+        }
+        println!("{:>10} mismatching rays: {}", "", c["mismatches"]);
+    }
+}

@@ -1,0 +1,237 @@
+//! The SIMD kernels of the packet traversal: the packet's ray data, the shared per-node planes,
+//! the per-ray box and triangle tests (4 lanes with SSE2, the x86_64 baseline; 8 lanes with AVX2
+//! when the CPU has it), and the child-mask transpose.
+
+use super::super::accel::{Seen, TINY};
+use super::{GROUPS, PACKET};
+use glam::{Vec3, Vec3A, Vec4};
+use obvhs::cwbvh::node::CwBvhNode;
+
+pub(super) struct Packet {
+    /// Directions, 4 rays per `Vec4`, per axis.
+    pub d: [[Vec4; GROUPS]; 3],
+    /// 1/dir per axis and ray (tiny components clamped as in `safe_inv`), for the slab tests.
+    pub inv: [[f32; PACKET]; 3],
+}
+
+impl Packet {
+    /// Fills `self` from `dirs` (in place: the struct is 768 bytes, not worth a copy per pixel).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // k and g index three parallel arrays
+    pub fn fill(&mut self, dirs: &[Vec3]) {
+        let mut d = [[0.0f32; PACKET]; 3];
+        for (i, v) in dirs.iter().enumerate() {
+            let v = *v + Vec3::ZERO; // -0.0 → +0.0, exactly as `Ray::new`
+            d[0][i] = v.x;
+            d[1][i] = v.y;
+            d[2][i] = v.z;
+        }
+        let tiny = Vec4::splat(TINY);
+        let p = self;
+        for k in 0..3 {
+            for g in 0..GROUPS {
+                let x = Vec4::from_slice(&d[k][4 * g..4 * g + 4]);
+                p.d[k][g] = x;
+                let safe = Vec4::select(x.abs().cmplt(tiny), tiny.copysign(x), x);
+                (Vec4::ONE / safe).write_to_slice(&mut p.inv[k][4 * g..4 * g + 4]);
+            }
+        }
+    }
+}
+
+/// The 8 quantized planes of one axis as two `Vec4`s (SSE2 widening; per node, not per ray).
+#[inline(always)]
+pub(super) fn q8(v: &[u8; 8]) -> [Vec4; 2] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        // SAFETY: SSE2 is part of the x86_64 baseline; the load reads exactly the 8 bytes of `v`.
+        unsafe {
+            let b = _mm_loadl_epi64(v.as_ptr() as *const __m128i);
+            let w = _mm_unpacklo_epi8(b, _mm_setzero_si128());
+            let lo = _mm_cvtepi32_ps(_mm_unpacklo_epi16(w, _mm_setzero_si128()));
+            let hi = _mm_cvtepi32_ps(_mm_unpackhi_epi16(w, _mm_setzero_si128()));
+            [Vec4::from(lo), Vec4::from(hi)]
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let q = |h: usize| {
+            Vec4::new(v[4 * h] as f32, v[4 * h + 1] as f32, v[4 * h + 2] as f32, v[4 * h + 3] as f32)
+        };
+        [q(0), q(1)]
+    }
+}
+
+/// The 8 child boxes of `node` relative to `o` as [axis lo x, hi x, lo y, ...][children 0-3, 4-7],
+/// padded outwards by 2^-18 of their extent from `o` (far more than the rounding of the planes
+/// and of the triangle test's edge values).
+#[inline(always)]
+pub(super) fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 6] {
+    let e = node.compute_extent();
+    let rel = Vec3A::from(node.p) - o;
+    let pad = (rel.abs() + e * 255.0) * (1.0 / 262144.0);
+    let axis = |lo: &[u8; 8], hi: &[u8; 8], r: f32, e: f32, p: f32| {
+        let (ql, qh) = (q8(lo), q8(hi));
+        let l = |h: usize| Vec4::splat(r - p) + ql[h] * e;
+        let u = |h: usize| Vec4::splat(r + p) + qh[h] * e;
+        ([l(0), l(1)], [u(0), u(1)])
+    };
+    let (lx, hx) = axis(&node.child_min_x, &node.child_max_x, rel.x, e.x, pad.x);
+    let (ly, hy) = axis(&node.child_min_y, &node.child_max_y, rel.y, e.y, pad.y);
+    let (lz, hz) = axis(&node.child_min_z, &node.child_max_z, rel.z, e.z, pad.z);
+    [lx, hx, ly, hy, lz, hz]
+}
+
+/// Which lanes of group `g` hit `s` within (0, tmax): the vector form of `accel::hit_seen`.
+#[inline(always)]
+pub(super) fn hit_group(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
+    let (dx, dy, dz) = (p.d[0][g], p.d[1][g], p.d[2][g]);
+    let dotv = |q: [f32; 3]| (dx * Vec4::splat(q[0]) + dy * Vec4::splat(q[1])) + dz * Vec4::splat(q[2]);
+    let (u, v, w) = (dotv(s.x), dotv(s.y), dotv(s.z));
+    let z = Vec4::ZERO;
+    let neg = u.cmplt(z) | v.cmplt(z) | w.cmplt(z);
+    let pos = u.cmpgt(z) | v.cmpgt(z) | w.cmpgt(z);
+    let dn = dotv(s.n);
+    let t = Vec4::splat(s.t) / dn;
+    let sum = (u + v) + w;
+    let hit = !(neg & pos) & dn.cmpne(z) & t.cmpgt(z) & t.cmplt(Vec4::splat(tmax)) & sum.cmpne(z);
+    hit.bitmask()
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(super) mod lanes {
+    use std::arch::x86_64::*;
+
+    /// Adds ray `i` to the children whose bits are set in `hits` (branch-free transpose).
+    #[inline(always)]
+    pub fn add_ray(cm: &mut [__m128i; 2], hits: u32, i: usize) {
+        // SAFETY: SSE2 is part of the x86_64 baseline.
+        unsafe {
+            let h = _mm_set1_epi32(hits as i32);
+            let r = _mm_set1_epi32((1u32 << i) as i32);
+            let b0 = _mm_setr_epi32(1, 2, 4, 8);
+            let b1 = _mm_setr_epi32(16, 32, 64, 128);
+            cm[0] = _mm_or_si128(cm[0], _mm_and_si128(_mm_cmpeq_epi32(_mm_and_si128(h, b0), b0), r));
+            cm[1] = _mm_or_si128(cm[1], _mm_and_si128(_mm_cmpeq_epi32(_mm_and_si128(h, b1), b1), r));
+        }
+    }
+
+    #[inline(always)]
+    pub fn zero() -> [__m128i; 2] {
+        // SAFETY: SSE2 is part of the x86_64 baseline.
+        unsafe { [_mm_setzero_si128(), _mm_setzero_si128()] }
+    }
+
+    #[inline(always)]
+    pub fn to_array(cm: [__m128i; 2]) -> [u32; 8] {
+        // SAFETY: two 16-byte registers into 32 bytes.
+        unsafe { std::mem::transmute(cm) }
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+pub(super) mod lanes {
+    pub fn add_ray(cm: &mut [u32; 8], hits: u32, i: usize) {
+        for (c, m) in cm.iter_mut().enumerate() {
+            *m |= ((hits >> c) & 1) << i;
+        }
+    }
+    pub fn zero() -> [u32; 8] {
+        [0; 8]
+    }
+    pub fn to_array(cm: [u32; 8]) -> [u32; 8] {
+        cm
+    }
+}
+
+/// Bit c set iff child slot c is not empty (its meta byte is not 0).
+#[inline(always)]
+pub(super) fn present_children(meta: &[u8; 8]) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        // SAFETY: SSE2 is part of the x86_64 baseline; the load reads exactly the 8 bytes of `meta`.
+        unsafe {
+            let b = _mm_loadl_epi64(meta.as_ptr() as *const __m128i);
+            !(_mm_movemask_epi8(_mm_cmpeq_epi8(b, _mm_setzero_si128())) as u32) & 0xff
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        meta.iter().enumerate().fold(0, |m, (c, &b)| m | ((b != 0) as u32) << c)
+    }
+}
+
+/// 8-wide versions of the per-ray kernels, for CPUs with AVX2 (runtime-detected). The triangle
+/// test is the same sequence of IEEE operations as `hit_group` / `accel::hit_seen` (so the same
+/// bits); the box test is the same as the 4-wide one.
+#[cfg(target_arch = "x86_64")]
+pub(super) mod wide {
+    use super::{Packet, Seen};
+    use glam::Vec4;
+    use std::arch::x86_64::*;
+
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub fn planes(pl: &[[Vec4; 2]; 6]) -> [__m256; 6] {
+        std::array::from_fn(|k| _mm256_set_m128(pl[k][1].into(), pl[k][0].into()))
+    }
+
+    /// Children (bits) whose slabs ray `i` crosses within [0, tmax].
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub fn ray_hits(pl: &[__m256; 6], p: &Packet, i: usize, tmax: f32, widen: f32) -> u32 {
+        let (ix, iy, iz) =
+            (_mm256_set1_ps(p.inv[0][i]), _mm256_set1_ps(p.inv[1][i]), _mm256_set1_ps(p.inv[2][i]));
+        let (x0, x1) = (_mm256_mul_ps(pl[0], ix), _mm256_mul_ps(pl[1], ix));
+        let (y0, y1) = (_mm256_mul_ps(pl[2], iy), _mm256_mul_ps(pl[3], iy));
+        let (z0, z1) = (_mm256_mul_ps(pl[4], iz), _mm256_mul_ps(pl[5], iz));
+        let tn = _mm256_max_ps(
+            _mm256_max_ps(_mm256_max_ps(_mm256_min_ps(x0, x1), _mm256_min_ps(y0, y1)), _mm256_min_ps(z0, z1)),
+            _mm256_setzero_ps(),
+        );
+        let tf = _mm256_min_ps(
+            _mm256_min_ps(_mm256_min_ps(_mm256_max_ps(x0, x1), _mm256_max_ps(y0, y1)), _mm256_max_ps(z0, z1)),
+            _mm256_set1_ps(tmax),
+        );
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, _mm256_mul_ps(tf, _mm256_set1_ps(widen)))) as u32
+    }
+
+    /// Which of rays 8g..8g+7 hit `s` within (0, tmax) (bits 0..8).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub fn hit8(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
+        // SAFETY: p.d[k] holds 8 Vec4 = 32 contiguous f32; 2g+1 < 8.
+        let ld = |k: usize| unsafe { _mm256_loadu_ps(p.d[k].as_ptr().add(2 * g) as *const f32) };
+        let (dx, dy, dz) = (ld(0), ld(1), ld(2));
+        let dotv = |q: [f32; 3]| {
+            let xy = _mm256_add_ps(
+                _mm256_mul_ps(dx, _mm256_set1_ps(q[0])),
+                _mm256_mul_ps(dy, _mm256_set1_ps(q[1])),
+            );
+            _mm256_add_ps(xy, _mm256_mul_ps(dz, _mm256_set1_ps(q[2])))
+        };
+        let (u, v, w) = (dotv(s.x), dotv(s.y), dotv(s.z));
+        let z = _mm256_setzero_ps();
+        let lt = |a| _mm256_cmp_ps::<_CMP_LT_OQ>(a, z);
+        let gt = |a| _mm256_cmp_ps::<_CMP_GT_OQ>(a, z);
+        let neg = _mm256_or_ps(_mm256_or_ps(lt(u), lt(v)), lt(w));
+        let pos = _mm256_or_ps(_mm256_or_ps(gt(u), gt(v)), gt(w));
+        let dn = dotv(s.n);
+        let t = _mm256_div_ps(_mm256_set1_ps(s.t), dn);
+        let sum = _mm256_add_ps(_mm256_add_ps(u, v), w);
+        let ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), _mm256_cmp_ps::<_CMP_NEQ_UQ>(dn, z));
+        let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_GT_OQ>(t, z));
+        let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(t, _mm256_set1_ps(tmax)));
+        let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_NEQ_UQ>(sum, z));
+        _mm256_movemask_ps(ok) as u32
+    }
+}
+
+/// Bit 4g set iff group g (rays 4g..4g+3) has a ray in `m`.
+#[inline(always)]
+pub(super) fn groups_of(m: u32) -> u32 {
+    let x = m | (m >> 1);
+    (x | (x >> 2)) & 0x1111_1111
+}

@@ -5,7 +5,7 @@
 //! agrees with its single-ray traversal on every ray, and every ray where obvhs and hemilab disagree
 //! is judged against a test of every triangle (the reason is counted, hemilab must be right).
 
-use super::render::{check_pixels, dropped_warning, load_scene, pool};
+use super::render::{pool, scene_at};
 use crate::cli::BenchArgs;
 use crate::error::{Error, Result};
 use crate::render::bench::{self, Mismatches, RaySet};
@@ -123,15 +123,7 @@ fn compare(
 }
 
 pub fn run_bench(args: BenchArgs) -> Result<()> {
-    if let Some((w, h)) = args.resolution {
-        check_pixels(w, h)?;
-    }
-    let scene = load_scene(&args.scene)?;
-    if let Some(w) = dropped_warning(&scene) {
-        eprintln!("{w}");
-    }
-    let (width, height) = args.resolution.unwrap_or(scene.resolution);
-    check_pixels(width, height)?;
+    let (scene, width, height) = scene_at(&args.scene, args.resolution)?;
     let (distribution, sequence, seed_mode) =
         (Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Rotation);
     let sampler = SamplerConfig::new(sequence, seed_mode, args.rays, 1)

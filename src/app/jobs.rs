@@ -50,11 +50,7 @@ pub struct JobRunner {
 
 impl JobRunner {
     pub fn new(threads: Option<u32>, quiet: bool) -> Result<Self> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads.unwrap_or(0) as usize)
-            .build()
-            .map_err(|e| Error::Refused(format!("cannot start worker threads: {e}")))?;
-        Ok(Self { pool, bar: progress::bar(0, "", quiet) })
+        Ok(Self { pool: super::render::pool(threads)?, bar: progress::bar(0, "", quiet) })
     }
 
     /// Restarts the bar for a new stage of `total_rays` rays.

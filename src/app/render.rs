@@ -59,6 +59,21 @@ pub(super) fn check_pixels(w: u32, h: u32) -> Result<()> {
     Ok(())
 }
 
+/// Loads a scene for one image of `resolution` (default: the scene's), refusing an absurd size
+/// before the mesh is even read, and prints the dropped-triangle warning.
+pub(super) fn scene_at(path: &Path, resolution: Option<(u32, u32)>) -> Result<(Scene, u32, u32)> {
+    if let Some((w, h)) = resolution {
+        check_pixels(w, h)?;
+    }
+    let scene = load_scene(path)?;
+    if let Some(w) = dropped_warning(&scene) {
+        eprintln!("{w}");
+    }
+    let (width, height) = resolution.unwrap_or(scene.resolution);
+    check_pixels(width, height)?;
+    Ok((scene, width, height))
+}
+
 pub(super) fn pool(threads: Option<u32>) -> Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0) as usize)
@@ -75,15 +90,7 @@ pub fn run_render(args: RenderArgs) -> Result<()> {
     let sampler =
         SamplerConfig::new(args.sampling.sequence, args.sampling.seed_mode, args.rays, args.sampling.seed)
             .map_err(|e| Error::Usage(format!("--rays: {e}")))?;
-    if let Some((w, h)) = args.resolution {
-        check_pixels(w, h)?;
-    }
-    let scene = load_scene(&args.scene)?;
-    if let Some(w) = dropped_warning(&scene) {
-        eprintln!("{w}");
-    }
-    let (width, height) = args.resolution.unwrap_or(scene.resolution);
-    check_pixels(width, height)?;
+    let (scene, width, height) = scene_at(&args.scene, args.resolution)?;
     let dir = match out.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),

@@ -106,6 +106,25 @@ pub fn sidak_threshold(alpha: f64, k: usize) -> f64 {
     1.0 - (1.0 - alpha).powf(1.0 / k.max(1) as f64)
 }
 
+/// The z with P(|Z| > z) = `p` for a standard normal Z (p in (0, 1]): the "within z standard errors"
+/// bound whose two-sided false-alarm rate is `p`, e.g. p = `sidak_threshold(0.01, k)` for a family
+/// of k such checks. Z^2 is chi^2(1), so this inverts `chi2_p_value(z^2, 1)` by bisection.
+pub fn two_sided_z(p: f64) -> f64 {
+    if p.is_nan() || p >= 1.0 {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = (0.0f64, 40.0f64);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if chi2_p_value(mid * mid, 1) > p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Pools cells, sorted by expected count, until each pool expects at least `min_expected`;
 /// a short last pool joins the one before. Cells expecting 0 are left out (the caller checks
 /// that nothing landed there). Returns (observed, expected) per pool.
@@ -256,6 +275,15 @@ mod tests {
         let r = chi2_test(&[1.0, 10.0, 10.0], &[0.0, 10.0, 11.0], 5.0);
         assert!(matches!(r, Err(Chi2Error::SampleWhereExpectedZero { cell: 0, .. })));
         assert!(matches!(chi2_test(&[1.0], &[5.0, 6.0], 5.0), Err(Chi2Error::LengthMismatch { .. })));
+    }
+
+    #[test]
+    fn two_sided_z_matches_normal_quantiles() {
+        // Published two-sided quantiles of the standard normal.
+        for (p, z) in [(0.05, 1.959_964), (0.01, 2.575_829), (0.002_699_796, 3.0), (1e-6, 4.891_638)] {
+            assert!((two_sided_z(p) - z).abs() < 1e-5, "p = {p}: {}", two_sided_z(p));
+        }
+        assert_eq!(two_sided_z(1.0), 0.0);
     }
 
     #[test]

@@ -98,3 +98,81 @@ fn kitchen_packets_match_single_rays() {
     }
     assert!(checked > 100_000 && blocked_rays > 20_000, "{checked} rays, {blocked_rays} blocked");
 }
+
+/// The packet path's tangent-plane cull on grazing rays. The kitchen packets above never graze: the
+/// 32-point lattice keeps cos theta >= 0.125, so a cull that dropped every box reaching less than
+/// 1e-4 above the plane passed them (1e-3 is caught). Here fences stand in a ring around an AO origin
+/// on a floor, each topping out r * 1e-5 above the origin's tangent plane at distance r; packets of 32
+/// rays rise at slopes 2e-6 .. 2e-5 (all above the 1e-6 margin, so the cull is on), about half under
+/// a fence top. Packets (cull on and off) must agree with single rays and brute force on every ray,
+/// at unit placement and rotated and moved to 100 m (where rounding, not the slope, decides some
+/// rays). Dropping boxes reaching less than 1e-5 above the plane fails here; finer is hidden by the
+/// CWBVH's 8-bit box quantization (boxes grow by up to 1/255 of the node).
+#[test]
+fn grazing_packets_keep_fences_just_above_the_tangent_plane() {
+    use glam::{EulerRot, Mat3, Vec3};
+    use hemilab::scene::accel::Accel;
+    use hemilab::scene::packet::Occluders;
+    let placements = [
+        (Mat3::IDENTITY, Vec3::ZERO),
+        (Mat3::from_euler(EulerRot::XYZ, 0.3, -0.7, 1.1), Vec3::new(100.0, -50.0, 30.0)),
+    ];
+    for (rot, shift) in placements {
+        let at = |v: Vec3| rot * v + shift;
+        let f = 4.0;
+        let mut local = vec![
+            [Vec3::new(-f, -f, 0.0), Vec3::new(f, -f, 0.0), Vec3::new(f, f, 0.0)],
+            [Vec3::new(-f, -f, 0.0), Vec3::new(f, f, 0.0), Vec3::new(-f, f, 0.0)],
+        ];
+        let p = Vec3::new(0.3, 0.2, 0.0);
+        // The renderer's origin (offset along the floor's geometric normal; ~2 mm at 100 m), then the
+        // fences relative to its height in the floor's frame.
+        let floor: Vec<[Vec3; 3]> = local.iter().map(|t| [at(t[0]), at(t[1]), at(t[2])]).collect();
+        let n = (floor[0][1] - floor[0][0]).cross(floor[0][2] - floor[0][0]).normalize();
+        let origin = offset_origin(at(p), n, Accel::build(&floor).0.scale(0));
+        let o_local = rot.transpose() * (origin - shift);
+        let fences = 32;
+        let radius = |k: usize| 0.05 + 1.95 * (k as f32 / (fences - 1) as f32);
+        let azimuth = |k: usize| k as f32 * std::f32::consts::TAU / fences as f32;
+        for k in 0..fences {
+            let (r, (s, c)) = (radius(k), azimuth(k).sin_cos());
+            let (centre, side) = (o_local + r * Vec3::new(c, s, 0.0), 0.02 * Vec3::new(-s, c, 0.0));
+            let top = o_local.z + r * 1e-5;
+            local.push([centre - side - 0.01 * Vec3::Z, centre + side - 0.01 * Vec3::Z, centre.with_z(top)]);
+        }
+        let tris: Vec<[Vec3; 3]> = local.iter().map(|t| [at(t[0]), at(t[1]), at(t[2])]).collect();
+        let (acc, _) = Accel::build(&tris);
+        let (mut cache, mut checked, mut blocked, mut culled) = (Occluders::new(), 0, 0, 0);
+        for k in 0..fences {
+            let (s, c) = azimuth(k).sin_cos();
+            let dirs: Vec<Vec3> = (0..32)
+                .map(|i| {
+                    let slope = 2e-6 + 1.8e-5 * i as f32 / 31.0;
+                    frame::canonical((rot * Vec3::new(c, s, slope).normalize()).normalize())
+                })
+                .collect();
+            culled += dirs.iter().all(|d| d.dot(n) > 1e-6) as u32;
+            for tmax in [0.5, f32::INFINITY] {
+                let (mut with, mut without) = (vec![false; 32], vec![false; 32]);
+                acc.occluded_from(origin, Some(n), &dirs, tmax, &mut with, &mut cache);
+                acc.occluded_from(origin, None, &dirs, tmax, &mut without, &mut cache);
+                for (i, d) in dirs.iter().enumerate() {
+                    let ray = Ray::new(origin, *d, tmax);
+                    let want = acc.occluded(&ray);
+                    assert_eq!(
+                        acc.closest_brute_force(&ray).is_some(),
+                        want,
+                        "fence {k} ray {i} brute force"
+                    );
+                    assert_eq!(with[i], want, "fence {k} ray {i} tmax {tmax}: cull dropped or added a hit");
+                    assert_eq!(without[i], want, "fence {k} ray {i} tmax {tmax}: packet without cull");
+                    checked += 1;
+                    blocked += want as u32;
+                }
+            }
+        }
+        assert!(culled as usize >= fences - 2, "the cull was on for only {culled} of {fences} packets");
+        eprintln!("{blocked} of {checked} grazing rays blocked, cull on in {culled} of {fences} packets");
+        assert!(blocked > checked / 5 && blocked < 3 * checked / 4, "{blocked} of {checked} blocked");
+    }
+}

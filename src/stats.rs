@@ -254,6 +254,13 @@ mod tests {
             let got = chi2_p_value(x, dof);
             assert!((got - p).abs() < 1e-5, "{x} {dof}: {got}");
         }
+        // Below a + 1 (the series branch, where the warps' chi2 tests with thousands of dof land):
+        // the lower 5 % critical values, and dof 2 in closed form, Q = exp(-x/2).
+        for (x, dof) in [(77.929_46, 100), (3.940_299, 10)] {
+            let got = chi2_p_value(x, dof);
+            assert!((got - 0.95).abs() < 1e-5, "{x} {dof}: {got}");
+        }
+        assert!((chi2_p_value(0.103, 2) - (-0.0515f64).exp()).abs() < 1e-12);
         // P + Q = 1 on both branches.
         for (a, x) in [(0.5, 0.2), (3.0, 10.0), (2500.0, 2400.0)] {
             assert!((gamma_p(a, x) + gamma_q(a, x) - 1.0).abs() < 1e-12);

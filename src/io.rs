@@ -41,6 +41,16 @@ pub fn ensure_writable_dir(dir: &Path) -> Result<()> {
     fs::remove_file(&probe).map_err(|e| Error::io(&probe, e))
 }
 
+/// Refuses an output file that is an existing directory, before any work, so a command that writes
+/// several files never writes some and then fails on the next.
+pub fn ensure_writable_file(path: &Path) -> Result<()> {
+    if path.is_dir() {
+        let e = std::io::Error::new(std::io::ErrorKind::IsADirectory, "is a directory; name a file");
+        return Err(Error::io(path, e));
+    }
+    Ok(())
+}
+
 /// Writes `bytes` to `path` atomically: a temporary sibling, fsync, then rename over the target.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = match path.parent() {

@@ -154,3 +154,32 @@ fn bench_rejects_a_bad_distance() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("distance"));
 }
+
+/// Regression: a directory where the PNG preview goes used to fail only after the EXR was written,
+/// leaving half the output. Both targets are now checked before rendering.
+#[test]
+fn an_output_that_is_a_directory_writes_nothing() {
+    let dir = temp_dir("outdir");
+    std::fs::create_dir_all(dir.join("x.png")).unwrap();
+    let exr = dir.join("x.exr");
+    let out = hemilab(&[
+        "render",
+        "scenes/cornell-box.toml",
+        "--distribution",
+        "sine",
+        "--sequence",
+        "random",
+        "--seed-mode",
+        "shift",
+        "--rays",
+        "1",
+        "--resolution",
+        "8x8",
+        "--output",
+        exr.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("x.png") && err.contains("directory"), "{err}");
+    assert_eq!(entries(&dir), ["x.png"], "nothing written beside the directory");
+}

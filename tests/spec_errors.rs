@@ -246,3 +246,23 @@ fn all_problems_are_reported_at_once() {
         ],
     );
 }
+
+/// Regression: tables named so that their figure files clash (`banding`, `a` and `a_error`, a point
+/// figure's name) used to overwrite each other's PNGs silently.
+#[test]
+fn figure_file_names_must_not_clash() {
+    let t = |name: &str| {
+        format!(
+            "[[table]]\nname = \"{name}\"\nrays = [4]\nrows = [{{ distribution = \"sine\", sequence = \"random\" }}]\n"
+        )
+    };
+    let head = "scenes = [\"../scenes/cornell-box.toml\"]\n";
+    let e = error(&format!("{head}{}", t("banding")));
+    assert_has(&e, &["line 3", "key `table.name`", "banding.png", "banding figure"]);
+    let e = error(&format!("{head}{}{}", t("a"), t("a_error")));
+    assert_has(&e, &["line 7", "a_error.png", "table 'a'"]);
+    let e = error(&format!("{head}point_figures = true\n{}", t("table1")));
+    assert_has(&e, &["table1.png", "point figure"]);
+    let ok = format!("{head}{}", t("table1"));
+    assert!(parse_spec(&ok, Path::new(FILE)).is_ok(), "table1 is free without point figures");
+}

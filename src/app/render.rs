@@ -96,6 +96,8 @@ pub fn run_render(args: RenderArgs) -> Result<()> {
         _ => PathBuf::from("."),
     };
     io::ensure_writable_dir(&dir)?;
+    io::ensure_writable_file(out)?;
+    io::ensure_writable_file(&png)?;
 
     let job = RenderJob {
         distribution: args.sampling.distribution,

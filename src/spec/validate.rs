@@ -140,6 +140,20 @@ pub fn parse_spec(text: &str, path: &Path) -> Result<Spec> {
     }
 }
 
+/// The figure files (stems, `.png`) a group's report writes: `app::figures` names them so.
+fn figure_stems(g: &Group, scenes: &[SceneRef]) -> Vec<String> {
+    let suffixes: &[&str] = match g.kind {
+        GroupKind::Table => &["", "_error"],
+        GroupKind::Convergence => &["_rays", "_time"],
+    };
+    let bases: Vec<String> = if g.scenes.len() > 1 {
+        g.scenes.iter().map(|&si| format!("{}_{}", g.name, scenes[si].name)).collect()
+    } else {
+        vec![g.name.clone()]
+    };
+    bases.iter().flat_map(|b| suffixes.iter().map(move |s| format!("{b}{s}"))).collect()
+}
+
 fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
     let name = match &raw.name {
         Some(n) => p.ident(n, "name").unwrap_or_default(),
@@ -188,14 +202,40 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
     if all.is_empty() {
         p.add(0..0, "table", "the spec has no [[table]] and no [[convergence]]; add at least one");
     }
+    let point_figures = raw.point_figures.as_ref().is_some_and(|b| *b.get_ref());
+    // Figure files already taken: the banding plot, and the point figures when drawn.
+    let mut taken: Vec<(String, String)> = vec![("banding".into(), "the banding figure".into())];
+    if point_figures {
+        for f in ["table1", "figure2", "figure3", "figure4"] {
+            taken.push((f.into(), "a point figure (point_figures = true)".into()));
+        }
+    }
     for (kind, g) in all {
         if let Some(group) = group(kind, g, &scenes, replicates.unwrap_or(1), p) {
+            let key = format!("{}.name", kind_key(kind));
             if groups.iter().any(|o: &Group| o.name == group.name) {
                 p.add(
                     g.get_ref().name.span(),
-                    &format!("{}.name", kind_key(kind)),
+                    &key,
                     format!("duplicate name '{}'; table and convergence names must be unique", group.name),
                 );
+            } else {
+                // Two groups must not write the same figure file, or one silently replaces the other.
+                for file in figure_stems(&group, &scenes) {
+                    if let Some((_, owner)) = taken.iter().find(|(f, _)| *f == file) {
+                        p.add(
+                            g.get_ref().name.span(),
+                            &key,
+                            format!(
+                                "name '{}' would write {file}.png, which {owner} also writes; choose another name",
+                                group.name
+                            ),
+                        );
+                        break;
+                    }
+                }
+                let owner = format!("{} '{}'", kind_key(kind), group.name);
+                taken.extend(figure_stems(&group, &scenes).into_iter().map(|f| (f, owner.clone())));
             }
             groups.push(group);
         }
@@ -208,7 +248,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         ao_distance,
         replicates: replicates.unwrap_or(1),
         seed,
-        point_figures: raw.point_figures.as_ref().is_some_and(|b| *b.get_ref()),
+        point_figures,
         reference,
         groups,
     }

@@ -81,10 +81,13 @@ pub struct ReferenceArgs {
 
 #[derive(Debug, Args)]
 pub struct SamplingArgs {
+    /// Hemisphere distribution: uniform, sine, sine-cosine, concentric-cosine.
     #[arg(long, value_parser = parse_distribution, value_name = "D")]
     pub distribution: Distribution,
+    /// Point sequence: random, fibonacci, stratified, sobol.
     #[arg(long, value_parser = parse_sequence, value_name = "S")]
     pub sequence: Sequence,
+    /// Randomization across pixels: static, rotation, shift.
     #[arg(long, value_parser = parse_seed_mode, value_name = "M")]
     pub seed_mode: SeedMode,
     /// Run seed: different seeds give independent images.
@@ -147,10 +150,13 @@ pub fn parse_distance(s: &str) -> Result<f32, String> {
 
 #[derive(Debug, Args)]
 pub struct PointsArgs {
+    /// Hemisphere distribution: uniform, sine, sine-cosine, concentric-cosine.
     #[arg(long, value_parser = parse_distribution, value_name = "D")]
     pub distribution: Distribution,
+    /// Point sequence: random, fibonacci, stratified, sobol.
     #[arg(long, value_parser = parse_sequence, value_name = "S")]
     pub sequence: Sequence,
+    /// Randomization across pixels: static, rotation, shift.
     #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "static")]
     pub seed_mode: SeedMode,
     #[arg(long, default_value_t = 1)]

@@ -185,6 +185,11 @@ fn bad_ao_distance() {
     assert_has(&e, &["line 3", "key `ao_distance`", "\"infinite\""]);
     let e = error(&spec("ao_distance = \"far\"", "", ""));
     assert_has(&e, &["line 3", "key `ao_distance`"]);
+    // Distances the f32 renderer would turn into 0 or infinity.
+    let e = error(&spec("ao_distance = 1e-300", "", ""));
+    assert_has(&e, &["line 3", "key `ao_distance`", "\"infinite\""]);
+    let e = error(&spec("ao_distance = 1e300", "", ""));
+    assert_has(&e, &["line 3", "key `ao_distance`"]);
 }
 
 #[test]

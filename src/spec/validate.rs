@@ -268,13 +268,20 @@ fn distance(v: &S<toml::Value>, p: &mut Problems) -> Option<AoDistance> {
         toml::Value::Integer(i) => *i as f64,
         _ => f64::NAN,
     };
-    if d.is_finite() && d > 0.0 {
+    // The renderer works in f32: a distance that rounds to 0 or to infinity there is not the one asked for.
+    let f = d as f32;
+    if d.is_finite() && d > 0.0 && f.is_finite() && f >= f32::MIN_POSITIVE {
         Some(AoDistance::Finite(d))
     } else {
         p.add(
             v.span(),
             "ao_distance",
-            format!("{} is not allowed; a number > 0 or \"infinite\"", v.get_ref()),
+            format!(
+                "{} is not allowed; a number in [{:e}, {:e}] or \"infinite\"",
+                v.get_ref(),
+                f32::MIN_POSITIVE,
+                f32::MAX
+            ),
         );
         None
     }

@@ -1,25 +1,11 @@
 //! `hemilab points` end to end: the real binary in a temporary directory.
 
-use std::path::PathBuf;
 use std::process::Command;
 
-/// A fresh directory per test (named by test and process id), removed when dropped.
-struct TempDir(PathBuf);
+mod common;
 
-impl TempDir {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("hemilab-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+/// A fresh directory per test, removed when dropped.
+use common::Tmp as TempDir;
 
 fn points(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_hemilab")).arg("points").args(args).output().unwrap()

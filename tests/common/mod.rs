@@ -1,4 +1,4 @@
-//! Shared by the `run_*` tests: a fresh temporary directory per test, a tiny spec written into it
+//! Shared by the integration tests that run the binary: a fresh temporary directory per test, a tiny spec written into it
 //! (absolute scene paths, 24x18 pixels, few rays), and the real binary run inside it.
 #![allow(dead_code)]
 
@@ -11,7 +11,7 @@ pub struct Tmp(pub PathBuf);
 
 impl Tmp {
     pub fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("hemilab-run-{name}-{}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("hemilab-test-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         Tmp(dir)

@@ -270,7 +270,8 @@ fn stratified_one_point_per_stratum() {
                     // The static grid shifted by the pixel's mask offsets: shift it back.
                     let (x, y) = xy(pixel);
                     let (ox, oy) = PixelSeed::new(4, pixel).offsets(*mode, x, y);
-                    let back = |v: f32, o: u32| ((v as f64 * 16_777_216.0) as u32).wrapping_sub(o) % (1 << 24);
+                    let back =
+                        |v: f32, o: u32| ((v as f64 * 16_777_216.0) as u32).wrapping_sub(o) % (1 << 24);
                     let unit = |k: u32| k as f32 / 16_777_216.0;
                     pts.iter_mut().for_each(|p| *p = Vec2::new(unit(back(p.x, ox)), unit(back(p.y, oy))));
                 }

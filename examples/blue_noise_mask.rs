@@ -1,5 +1,5 @@
 //! Times the generation of the `blue-noise` seed mode's masks and draws them, so they can be looked
-//! at: `cargo run --release --example blue_noise_mask -- /tmp/mask.png [repeats]`.
+//! at: `cargo run --release --example blue_noise_mask -- /tmp/mask.png [repeats] [size to time]`.
 //! Panels, each the 64² mask tiled 2 × 2 and drawn at 2×: the x mask, the y mask, both as red and
 //! green, and the x mask's lowest quarter of ranks (a blue-noise dot pattern).
 
@@ -10,18 +10,19 @@ use std::time::Instant;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "/tmp/blue_noise_mask.png".into()));
     let repeats: usize = std::env::args().nth(2).map_or(Ok(9), |s| s.parse())?;
+    let size: u32 = std::env::args().nth(3).map_or(Ok(MASK_SIZE), |s| s.parse())?;
 
     let mut times: Vec<f64> = (0..repeats)
         .map(|i| {
             let t = Instant::now();
-            let m = BlueNoiseMask::void_and_cluster(MASK_SIZE, MASK_SIGMA, i as u64);
+            let m = BlueNoiseMask::void_and_cluster(size, MASK_SIGMA, i as u64);
             std::hint::black_box(m);
             t.elapsed().as_secs_f64()
         })
         .collect();
     times.sort_by(f64::total_cmp);
     println!(
-        "one {MASK_SIZE}x{MASK_SIZE} mask by void-and-cluster (sigma {MASK_SIGMA}), {repeats} runs: min {:.1} ms, median {:.1} ms, max {:.1} ms",
+        "one {size}x{size} mask by void-and-cluster (sigma {MASK_SIGMA}), {repeats} runs: min {:.1} ms, median {:.1} ms, max {:.1} ms",
         times[0] * 1e3,
         times[repeats / 2] * 1e3,
         times[repeats - 1] * 1e3

@@ -163,7 +163,8 @@ fn per_run_offsets_are_the_mask_itself_and_stay_blue() {
     // A run's offsets are the toroidally shifted mask plus a constant below one rank step, so their
     // spectrum is the mask's. Printed for comparison: a Cranley–Patterson rotation of the values
     // mod 1 (the usual way to make each pixel uniform, equally unbiased) cuts the range where it
-    // wraps, and that binary pattern lets several times more variance through the low-pass.
+    // wraps, and on the line that binary pattern lets several times more through the low-pass
+    // (on the torus, where a shifted point set lives, the rotation changes nothing).
     let white_lp = lowpass_rms(&white_ranks(11));
     for seed in [1u64, 2, 3, 1000, u64::MAX] {
         for c in 0..2 {

@@ -82,10 +82,12 @@ const _: () = assert!(CELL * MASK_SIZE * MASK_SIZE == FIX_ONE, "the ranks must t
 /// masks get independent shifts and jitters, so (x, y) is uniform on [0,1)² and the
 /// Cranley–Patterson-shifted set is unbiased in every pixel (tests/sampling_blue_noise.rs checks
 /// both). The usual alternative, a Cranley–Patterson rotation of the mask values by a uniform
-/// amount mod 1, is as unbiased but cuts the value range where it wraps: pixels reading ranks on
-/// either side of the cut jump by 1, a binary pattern that lets, measured, 7× more of the offsets'
-/// variance through the metrics' low-pass than the mask itself. The jitter never wraps, so the
-/// field a run sees is the mask itself plus a constant below 1/N.
+/// amount mod 1, is as unbiased and measured the same on the kitchen (low-pass RMSE within 2 % at
+/// 8–32 rays, inside the run-to-run spread): a shifted point set is a periodic function of its
+/// offset, so a rotation mod 1 moves no pixel's offset away from its neighbours' on the torus. The
+/// jitter is kept because it leaves a run's offsets equal to the mask itself (plus a constant below
+/// 1/N), so the mask's spectral test is a test of what the renderer uses; a rotation cuts the
+/// values where they wrap, which on the line (not the torus) lets 7× more through the low-pass.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MaskShift {
     shift: [(u32, u32); 2],

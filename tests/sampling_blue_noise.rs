@@ -190,6 +190,30 @@ fn per_run_offsets_are_the_mask_itself_and_stay_blue() {
 }
 
 #[test]
+fn masks_are_blue_on_the_circle_too() {
+    // A Cranley–Patterson-shifted set is a periodic function of its offset, so what reaches the
+    // image is the offsets on the circle: cos and sin of 2π · rank / N must be blue as well
+    // (rank 0 and rank N - 1 are neighbours there).
+    let white = white_ranks(5);
+    let circle =
+        |r: &[f64], f: fn(f64) -> f64| r.iter().map(|&v| f(TAU * v / (M * M) as f64)).collect::<Vec<_>>();
+    let white_lp = lowpass_rms(&circle(&white, f64::cos));
+    for (c, m) in masks().iter().enumerate() {
+        for (name, f) in [("cos", f64::cos as fn(f64) -> f64), ("sin", f64::sin)] {
+            let field = circle(&ranks_f64(m), f);
+            let rings = RINGS.map(|(a, b)| ring(&power_spectrum(&field), a, b));
+            let lp = lowpass_rms(&field);
+            eprintln!(
+                "mask {c} {name}(2π rank/N): rings {:?}, low-pass rms {lp:.4} (white {white_lp:.4})",
+                rings.map(|x| (x * 1e4).round() / 1e4)
+            );
+            assert!(rings[0] < 0.03 && rings[1] < 0.03, "mask {c} {name}: {rings:?}");
+            assert!(lp < 0.15 * white_lp, "mask {c} {name}: {lp} vs white {white_lp}");
+        }
+    }
+}
+
+#[test]
 fn masks_are_permutations_of_the_ranks_for_every_size() {
     for m in masks().iter().chain(&[
         BlueNoiseMask::void_and_cluster(2, 1.5, 1),

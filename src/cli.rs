@@ -87,7 +87,7 @@ pub struct SamplingArgs {
     /// Point sequence: random, fibonacci, stratified, sobol.
     #[arg(long, value_parser = parse_sequence, value_name = "S")]
     pub sequence: Sequence,
-    /// Randomization across pixels: static, rotation, shift.
+    /// Randomization across pixels: static, rotation, shift, blue-noise.
     #[arg(long, value_parser = parse_seed_mode, value_name = "M")]
     pub seed_mode: SeedMode,
     /// Run seed: different seeds give independent images.
@@ -156,7 +156,7 @@ pub struct PointsArgs {
     /// Point sequence: random, fibonacci, stratified, sobol.
     #[arg(long, value_parser = parse_sequence, value_name = "S")]
     pub sequence: Sequence,
-    /// Randomization across pixels: static, rotation, shift.
+    /// Randomization across pixels: static, rotation, shift, blue-noise.
     #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "static")]
     pub seed_mode: SeedMode,
     #[arg(long, default_value_t = 1)]

@@ -107,7 +107,7 @@ fn unknown_sequence_lists_choices() {
 #[test]
 fn unknown_seed_mode_lists_choices() {
     let e = error(&spec("", "", ", seed_mode = \"per-pixel\" "));
-    assert_has(&e, &["line 9", "rows.seed_mode", "'per-pixel'", "static, rotation, shift"]);
+    assert_has(&e, &["line 9", "rows.seed_mode", "'per-pixel'", "static, rotation, shift, blue-noise"]);
 }
 
 #[test]

@@ -63,10 +63,12 @@ pub fn write_all(
 pub fn row_label(row: Row) -> String {
     let seq = match (row.sequence, row.seed_mode) {
         (Sequence::Random, SeedMode::Static) => "pseudo-random, static seed".to_string(),
+        (Sequence::Random, SeedMode::BlueNoise) => "pseudo-random, blue-noise".to_string(),
         (Sequence::Random, _) => "pseudo-random".to_string(),
         (Sequence::Fibonacci, SeedMode::Rotation) => "Fibonacci, per-pixel seed".to_string(),
         (Sequence::Fibonacci, SeedMode::Static) => "Fibonacci, static seed".to_string(),
         (Sequence::Fibonacci, SeedMode::Shift) => "Fibonacci, shift".to_string(),
+        (Sequence::Fibonacci, SeedMode::BlueNoise) => "Fibonacci, blue-noise".to_string(),
         (s, m) => format!("{s}, {m}"),
     };
     format!("{}, {seq}", row.distribution)

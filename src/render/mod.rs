@@ -166,7 +166,7 @@ pub fn pixel_rays(
     out.origin = offset_origin(p, n, scene.accel.scale(hit.prim));
     out.normal = n;
     let basis = Frame::from_normal(n);
-    job.sampler.fill_pixel(pixel, points);
+    job.sampler.fill_pixel(x, y, pixel, points);
     out.dirs.clear();
     out.weights.clear();
     for &u in points.iter() {

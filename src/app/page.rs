@@ -4,6 +4,7 @@
 use super::figures::{Data, banding_stat, row_label, sweep_slope};
 use crate::error::Result;
 use crate::io;
+use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::report::{self, Figure, Table};
 use crate::results::{self, Stat};
 use crate::spec::{GroupKind, Row};
@@ -27,7 +28,10 @@ pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
         "Spec {} ({} jobs). Every number is measured against the reference of its scene over the \
          pixels that see a surface; mean ± sd over independent replicates (different seeds). \
          ρ is the lag-1 autocorrelation of the error image (horizontal / vertical): near 0 for \
-         independent per-pixel noise, near 1 for banding. Lowpass RMSE is the RMSE after a small \
+         independent per-pixel noise, near 1 for banding. The whiteness z-score tests the error image \
+         against white noise over every lag up to 4 pixels in every direction (a 2-D Ljung–Box \
+         statistic): about 0 ± 1 for independent per-pixel noise, above 5 for structure of any \
+         orientation or period — diagonal moiré and checkerboards included, which ρ misses. Lowpass RMSE is the RMSE after a small \
          Gaussian blur of the error: noise averages out under it, bands do not. Efficiency = \
          1 / (MSE × time).\n\nRaw numbers: results.csv, results.json (one record per image), \
          aggregates.csv, slopes.json.",
@@ -90,7 +94,7 @@ fn rmse_table(data: &Data, name: &str, scene: &str, rows: &[Row], rays: &[u32], 
                 cells.push(match results::lookup(&data.aggs, scene, row, n) {
                     Some(a) => {
                         let b = banding_stat(data.results, scene, row, n).map_or(f64::NAN, |b| b.0);
-                        format!("{}  (ρ {b:+.2})", pm(a.rmse, 4))
+                        format!("{}  (ρ {b:+.2}, z {:.1})", pm(a.rmse, 4), a.whiteness_z.mean)
                     }
                     None => "–".into(),
                 });
@@ -98,7 +102,10 @@ fn rmse_table(data: &Data, name: &str, scene: &str, rows: &[Row], rays: &[u32], 
             cells
         })
         .collect();
-    let title = format!("{name} ('{scene}'): RMSE, mean ± sd over {reps} replicates (ρ: banding metric)");
+    let title = format!(
+        "{name} ('{scene}'): RMSE, mean ± sd over {reps} replicates (ρ: lag-1 autocorrelation; z: whiteness \
+         z-score, > {STRUCTURED_Z} = structured)"
+    );
     Table { title, header, rows }
 }
 
@@ -141,6 +148,7 @@ fn aggregate_table(data: &Data) -> Table {
         "ρ x",
         "ρ y",
         "lowpass RMSE",
+        "whiteness z",
         "time (ms)",
         "M rays/s",
         "efficiency",
@@ -161,6 +169,7 @@ fn aggregate_table(data: &Data) -> Table {
                 pm(a.autocorr_x, 2),
                 pm(a.autocorr_y, 2),
                 pm(a.lowpass_rmse, 4),
+                pm(a.whiteness_z, 1),
                 pm(ms, 1),
                 format!("{:.1}", a.rays_per_s.mean / 1e6),
                 if a.efficiency.mean.is_finite() {

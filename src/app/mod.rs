@@ -9,6 +9,7 @@ pub mod points;
 mod reference;
 pub mod render;
 pub mod run;
+mod verdicts;
 
 pub use render::load_scene;
 

@@ -1,5 +1,6 @@
-//! `report.md` and `index.html`: one offline page with the run's numbers (references, each table's
-//! RMSE, convergence slopes, every aggregate) and every figure, linked by relative paths.
+//! `report.md` and `index.html`: one offline page with the run's numbers (the verdict on each claim,
+//! references, each table's RMSE, convergence slopes), every figure, linked by relative paths, and
+//! the long tables (verdict margins, every aggregate) folded at the end.
 
 use super::figures::{Data, banding_stat, row_label, sweep_slope};
 use crate::error::Result;
@@ -12,7 +13,14 @@ use std::path::Path;
 
 pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
     let spec = &data.loaded.spec;
-    let mut tables = vec![reference_table(data)];
+    let verdicts = super::verdicts::tables(data);
+    let mut tables = Vec::new();
+    let mut collapsed = Vec::new();
+    if let Some((summary, details)) = verdicts {
+        tables.push(summary);
+        collapsed.push(details);
+    }
+    tables.push(reference_table(data));
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
         for &si in &g.scenes {
             tables.push(rmse_table(data, &g.name, &spec.scenes[si].name, &g.rows, &g.rays, g.replicates));
@@ -22,7 +30,7 @@ pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
     if !slopes.rows.is_empty() {
         tables.push(slopes);
     }
-    tables.push(aggregate_table(data));
+    collapsed.push(aggregate_table(data));
     let title = format!("hemilab: {}", spec.name);
     let intro = format!(
         "Spec {} ({} jobs). Every number is measured against the reference of its scene over the \
@@ -33,18 +41,19 @@ pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
          statistic): about 0 ± 1 for independent per-pixel noise, above 5 for structure of any \
          orientation or period — diagonal moiré and checkerboards included, which ρ misses. Lowpass RMSE is the RMSE after a small \
          Gaussian blur of the error: noise averages out under it, bands do not. Efficiency = \
-         1 / (MSE × time).\n\nRaw numbers: results.csv, results.json (one record per image), \
+         1 / (MSE × time). A claim that fails on a scene is a result, not a bug: the verdict table \
+         says where the paper's findings carry over and where they do not.\n\nRaw numbers: results.csv, results.json (one record per image), \
          aggregates.csv, slopes.json.",
         spec.path.display(),
         data.results.len()
     );
     io::write_atomic(
         &out.join("index.html"),
-        report::html_report(&title, &intro, &tables, figures).as_bytes(),
+        report::html_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
     )?;
     io::write_atomic(
         &out.join("report.md"),
-        report::markdown_report(&title, &intro, &tables, figures).as_bytes(),
+        report::markdown_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
     )
 }
 

@@ -188,3 +188,30 @@ fn committed_procedural_meshes_are_what_the_code_generates() {
         assert_eq!(stored.lines().count(), text.lines().count(), "{}", path.display());
     }
 }
+
+#[test]
+fn rendering_a_small_scene_after_a_large_one_on_the_same_thread() {
+    // The renderer keeps each thread's last occluders (triangle indices) across images; a spec with
+    // several scenes renders a 30-triangle box right after the 57,000-triangle kitchen on the same
+    // threads. That once indexed past the box's triangles and panicked.
+    use hemilab::render::{RenderJob, render};
+    use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 16, 1).unwrap();
+    let job = |s: &hemilab::scene::Scene| RenderJob {
+        distribution: Distribution::SineCosine,
+        sampler,
+        width: 24,
+        height: 16,
+        ao_distance: s.ao_distance,
+    };
+    let big = load_scene(&root.join("scenes/kitchen.toml")).unwrap();
+    let small = load_scene(&root.join("scenes/cornell-box.toml")).unwrap();
+    let alone = pool.install(|| render(&small, &job(&small), &|_| {}));
+    let after = pool.install(|| {
+        render(&big, &job(&big), &|_| {});
+        render(&small, &job(&small), &|_| {})
+    });
+    assert_eq!((after.ao, after.coverage), (alone.ao, alone.coverage), "the cache changed the answer");
+}

@@ -82,7 +82,17 @@ fn reference_table(data: &Data) -> Table {
                 name.clone(),
                 format!("{}x{}", r.mean.width, r.mean.height),
                 row_label(data.loaded.spec.reference.estimator),
-                format!("{} × {}", m.replicates, m.rays),
+                match &m.adaptive {
+                    Some(a) => {
+                        let pixels = crate::reference::noise_floor_pixels(&r.coverage).max(1) as f64;
+                        let mean = a.total_rays.unwrap_or(0) as f64 / pixels;
+                        format!(
+                            "{} × adaptive, mean {mean:.0} (pilot {} × {})",
+                            m.replicates, m.replicates, m.rays
+                        )
+                    }
+                    None => format!("{} × {}", m.replicates, m.rays),
+                },
                 format!("{floor:.2e}"),
                 format!("{smallest:.2e}"),
                 format!("{:.3}", floor / smallest),

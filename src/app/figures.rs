@@ -199,7 +199,10 @@ fn table_figures(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> R
     let ref_cell = GridCell {
         image: &reference.mean,
         mask: Some(&reference.coverage),
-        caption: format!("{} × {} rays, noise {:.1e}", m.replicates, m.rays, reference.noise_floor()),
+        caption: match m.adaptive {
+            Some(_) => format!("{} × adaptive rays, noise {:.1e}", m.replicates, reference.noise_floor()),
+            None => format!("{} × {} rays, noise {:.1e}", m.replicates, m.rays, reference.noise_floor()),
+        },
     };
     let row_labels: Vec<String> = g.rows.iter().map(|r| row_label(*r)).collect();
     let col_labels: Vec<String> = g.rays.iter().map(|r| format!("{r} rays")).collect();

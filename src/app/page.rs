@@ -21,14 +21,18 @@ pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
         collapsed.push(details);
     }
     tables.push(reference_table(data));
+    // With several scenes the per-scene tables would push the figures pages down: the verdict sums
+    // them up, and they are folded after the figures.
+    let many = spec.scenes.len() > 1;
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
         for &si in &g.scenes {
-            tables.push(rmse_table(data, &g.name, &spec.scenes[si].name, &g.rows, &g.rays, g.replicates));
+            let t = rmse_table(data, &g.name, &spec.scenes[si].name, &g.rows, &g.rays, g.replicates);
+            if many { collapsed.push(t) } else { tables.push(t) }
         }
     }
     let slopes = slope_table(data);
     if !slopes.rows.is_empty() {
-        tables.push(slopes);
+        if many { collapsed.push(slopes) } else { tables.push(slopes) }
     }
     collapsed.push(aggregate_table(data));
     let title = format!("hemilab: {}", spec.name);

@@ -7,7 +7,8 @@ use crate::spec::Row;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 
-/// Column order of `results.csv`; the first fourteen are the ones issue 4 promises.
+/// Column order of `results.csv`; the first fourteen are the ones issue 4 promises, so later columns
+/// (whiteness_z, …) come after them.
 pub const CSV_COLUMNS: &[&str] = &[
     "scene",
     "distribution",
@@ -23,6 +24,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "lowpass_rmse",
     "time_s",
     "rays_per_s",
+    "whiteness_z",
     "rays_cast",
     "efficiency",
     "covered_pixels",
@@ -47,6 +49,8 @@ pub struct JobResult {
     pub autocorr_x: f64,
     pub autocorr_y: f64,
     pub lowpass_rmse: f64,
+    /// z-score of the error's 2-D portmanteau statistic against white noise (`metrics::whiteness`).
+    pub whiteness_z: f64,
     /// Render wall time only (no reference, no IO).
     pub time_s: f64,
     /// 0 when the time was too short to measure.
@@ -76,6 +80,7 @@ impl JobResult {
             autocorr_x: stats.autocorr_x,
             autocorr_y: stats.autocorr_y,
             lowpass_rmse: stats.lowpass_rmse,
+            whiteness_z: stats.whiteness_z,
             time_s,
             rays_per_s: if time_s > 0.0 { rays_cast as f64 / time_s } else { 0.0 },
             rays_cast,
@@ -121,6 +126,7 @@ pub fn to_csv(results: &[JobResult]) -> String {
             num(r.lowpass_rmse),
             num(r.time_s),
             num(r.rays_per_s),
+            num(r.whiteness_z),
             r.rays_cast.to_string(),
             r.efficiency.map_or(String::new(), num),
             r.covered_pixels.to_string(),
@@ -172,6 +178,7 @@ pub struct Aggregate {
     pub autocorr_x: Stat,
     pub autocorr_y: Stat,
     pub lowpass_rmse: Stat,
+    pub whiteness_z: Stat,
     pub time_s: Stat,
     pub rays_per_s: Stat,
     /// Over the replicates whose efficiency is defined (NaN when none).
@@ -203,6 +210,7 @@ pub fn aggregate(results: &[JobResult]) -> Vec<Aggregate> {
                 autocorr_x: st(&|r| r.autocorr_x),
                 autocorr_y: st(&|r| r.autocorr_y),
                 lowpass_rmse: st(&|r| r.lowpass_rmse),
+                whiteness_z: st(&|r| r.whiteness_z),
                 time_s: st(&|r| r.time_s),
                 rays_per_s: st(&|r| r.rays_per_s),
                 efficiency: st(&|r| r.efficiency.unwrap_or(f64::NAN)),
@@ -234,8 +242,17 @@ pub fn aggregate_columns() -> Vec<String> {
     c
 }
 
-const AGG_METRICS: [&str; 8] =
-    ["rmse", "bias", "autocorr_x", "autocorr_y", "lowpass_rmse", "time_s", "rays_per_s", "efficiency"];
+const AGG_METRICS: [&str; 9] = [
+    "rmse",
+    "bias",
+    "autocorr_x",
+    "autocorr_y",
+    "lowpass_rmse",
+    "whiteness_z",
+    "time_s",
+    "rays_per_s",
+    "efficiency",
+];
 
 /// `summary.csv`: one line per configuration.
 pub fn aggregates_to_csv(aggs: &[Aggregate]) -> String {
@@ -252,9 +269,17 @@ pub fn aggregates_to_csv(aggs: &[Aggregate]) -> String {
             a.rays,
             a.replicates
         );
-        for st in
-            [a.rmse, a.bias, a.autocorr_x, a.autocorr_y, a.lowpass_rmse, a.time_s, a.rays_per_s, a.efficiency]
-        {
+        for st in [
+            a.rmse,
+            a.bias,
+            a.autocorr_x,
+            a.autocorr_y,
+            a.lowpass_rmse,
+            a.whiteness_z,
+            a.time_s,
+            a.rays_per_s,
+            a.efficiency,
+        ] {
             let _ = write!(s, ",{},{}", num(st.mean), num(st.sd));
         }
         s.push('\n');
@@ -347,6 +372,7 @@ mod tests {
             autocorr_x: 0.1,
             autocorr_y: -0.1,
             lowpass_rmse: rmse / 4.0,
+            whiteness_z: 0.5,
         };
         JobResult::new(
             &job(rays, replicate),
@@ -364,15 +390,16 @@ mod tests {
         assert_eq!(
             lines.next().unwrap(),
             "scene,distribution,sequence,seed_mode,rays,replicate,seed,rmse,bias,autocorr_x,autocorr_y,\
-             lowpass_rmse,time_s,rays_per_s,rays_cast,efficiency,covered_pixels,key,image"
+             lowpass_rmse,time_s,rays_per_s,whiteness_z,rays_cast,efficiency,covered_pixels,key,image"
         );
         let row: Vec<&str> = lines.next().unwrap().split(',').collect();
         assert_eq!(row.len(), CSV_COLUMNS.len());
         assert_eq!(&row[..6], &["k", "sine-cosine", "fibonacci", "rotation", "8", "0"]);
         assert_eq!(row[7], "0.1");
         assert_eq!(row[13], "256");
-        assert_eq!(row[15], (1.0 / (0.1f64 * 0.1 * 0.5)).to_string());
-        assert_eq!(row[17], job(8, 0).key());
+        assert_eq!(row[14], "0.5");
+        assert_eq!(row[16], (1.0 / (0.1f64 * 0.1 * 0.5)).to_string());
+        assert_eq!(row[18], job(8, 0).key());
     }
 
     #[test]
@@ -382,7 +409,7 @@ mod tests {
         let csv = to_csv(&[r]);
         let line = csv.lines().nth(1).unwrap();
         assert!(line.ends_with(",\"a,b \"\"c\"\".exr\""), "{line}");
-        assert!(line.contains(",0,128,,16,"), "rays_per_s 0, efficiency empty: {line}");
+        assert!(line.contains(",0,0.5,128,,16,"), "rays_per_s 0, efficiency empty: {line}");
     }
 
     #[test]
@@ -432,5 +459,12 @@ mod tests {
         let csv = aggregates_to_csv(&aggs);
         assert!(csv.starts_with("scene,distribution,sequence,seed_mode,rays,replicates,rmse_mean,rmse_sd,"));
         assert_eq!(csv.lines().count(), 5);
+        // Every value sits under its own header (the test records all have whiteness z 0.5).
+        let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+        let first: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+        assert_eq!(header.len(), first.len());
+        let col = |name: &str| first[header.iter().position(|h| *h == name).unwrap()];
+        assert_eq!((col("whiteness_z_mean"), col("whiteness_z_sd")), ("0.5", "0"));
+        assert_eq!(col("rays"), "1");
     }
 }

@@ -16,6 +16,7 @@
 //! distribution = "sine-cosine"          # the estimator: unbiased and fast-converging
 //! sequence = "fibonacci"
 //! seed_mode = "shift"
+//! allocation = "even"                   # or "adaptive": rays per pixel ∝ its spread in a pilot pass
 //!
 //! [[table]]                             # any number, like the paper's tables 2 and 3
 //! name = "table2"                       # letters, digits, '-', '_'; unique over tables and sweeps
@@ -160,6 +161,9 @@ pub struct ReferenceSpec {
     pub replicates: u32,
     pub seed: u64,
     pub estimator: Row,
+    /// `allocation = "adaptive"`: a pilot pass measures each pixel's spread and the rays go where it
+    /// is (`reference::allocate`); `"even"` (the default): the same rays in every pixel.
+    pub adaptive: bool,
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -148,7 +148,8 @@ fn rerun_is_bit_identical_for_any_thread_count() {
     assert_eq!(one.len(), 16);
     for (a, b) in one.iter().zip(&two) {
         assert_eq!(image_bytes(&t.path("one"), a), image_bytes(&t.path("two"), b), "{}", a.image);
-        let metrics = |r: &JobResult| [r.rmse, r.bias, r.autocorr_x, r.autocorr_y, r.lowpass_rmse];
+        let metrics =
+            |r: &JobResult| [r.rmse, r.bias, r.autocorr_x, r.autocorr_y, r.lowpass_rmse, r.whiteness_z];
         assert_eq!(metrics(a).map(f64::to_bits), metrics(b).map(f64::to_bits), "{}", a.image);
         assert_eq!(timeless(a), timeless(b));
     }

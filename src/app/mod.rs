@@ -1,6 +1,7 @@
 //! The one orchestrator: load → validate everything → plan → render → measure → export.
 //! Only this module (through `io`) touches the filesystem.
 
+mod adaptive;
 mod bench;
 mod figures;
 mod jobs;
@@ -9,6 +10,7 @@ pub mod points;
 mod reference;
 pub mod render;
 pub mod run;
+mod verdicts;
 
 pub use render::load_scene;
 

@@ -37,6 +37,7 @@ struct RawReference {
     distribution: Option<S<String>>,
     sequence: Option<S<String>>,
     seed_mode: Option<S<String>>,
+    allocation: Option<S<String>>,
 }
 
 #[derive(Deserialize)]
@@ -293,6 +294,7 @@ fn reference(raw: Option<&RawReference>, seed: u64, p: &mut Problems) -> Referen
         replicates: 4,
         seed,
         estimator: Row::new(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Shift),
+        adaptive: false,
     };
     let Some(raw) = raw else { return r };
     if let Some(v) = &raw.rays {
@@ -325,6 +327,17 @@ fn reference(raw: Option<&RawReference>, seed: u64, p: &mut Problems) -> Referen
         e.seed_mode = m;
     }
     *e = e.canonical();
+    if let Some(a) = &raw.allocation {
+        match a.get_ref().as_str() {
+            "even" => r.adaptive = false,
+            "adaptive" => r.adaptive = true,
+            other => p.add(
+                a.span(),
+                "reference.allocation",
+                format!("'{other}' is not allowed; \"even\" or \"adaptive\""),
+            ),
+        }
+    }
     r
 }
 

@@ -23,6 +23,8 @@ pub mod scene;
 
 pub mod render;
 
+pub mod timing;
+
 pub mod image;
 
 pub mod metrics;

@@ -35,6 +35,8 @@ pub mod reference;
 
 pub mod results;
 
+pub mod compare;
+
 pub mod report;
 
 // The shell around the pipeline: command line, orchestration, errors, the filesystem.

@@ -25,9 +25,14 @@
 pub mod clock;
 mod workers;
 
-pub use workers::{Time, Worker, run_queue};
+pub use workers::{Time, Worker, run_queue, workers};
 
 use serde::{Deserialize, Serialize};
+
+/// What a time includes, as the report and `timing.json` say it.
+pub const TIME_INCLUDES: &str = "the CPU time of the one thread that rendered the image: primary rays, \
+    hit points, frames, point sets, warps and AO rays, and assembling the image; not the reference, the \
+    metrics or any file IO";
 
 /// Timing samples per unit unless the spec or `--timing-repeats` says otherwise.
 pub const DEFAULT_REPEATS: u32 = 3;
@@ -53,7 +58,13 @@ pub struct Protocol {
 
 impl Protocol {
     pub fn new(repeats: u32, seed: u64, workers: usize) -> Self {
-        Self { repeats: repeats.max(1), seed, warmup_s: WARMUP_S, workers: workers.max(1), threads_per_render: 1 }
+        Self {
+            repeats: repeats.max(1),
+            seed,
+            warmup_s: WARMUP_S,
+            workers: workers.max(1),
+            threads_per_render: 1,
+        }
     }
 }
 
@@ -116,6 +127,8 @@ pub struct Need {
     pub again: Vec<usize>,
     /// Timing samples already measured.
     pub have: usize,
+    /// Timing samples wanted in all.
+    pub repeats: u32,
 }
 
 /// One render of the schedule.
@@ -129,13 +142,13 @@ pub struct Slot {
     pub record: bool,
 }
 
-/// The renders that give every unit its fresh jobs and at least `repeats` timing samples, in
+/// The renders that give every unit its fresh jobs and at least its `repeats` timing samples, in
 /// passes: pass p holds the p-th render of every unit that needs one, shuffled by `seed` (a
 /// different order each pass). Deterministic: the same needs and seed give the same schedule.
-pub fn schedule(needs: &[Need], repeats: u32, seed: u64) -> Vec<Slot> {
+pub fn schedule(needs: &[Need], seed: u64) -> Vec<Slot> {
     let mut per_unit: Vec<Vec<Slot>> = Vec::with_capacity(needs.len());
     for (unit, n) in needs.iter().enumerate() {
-        let count = n.fresh.len().max((repeats as usize).saturating_sub(n.have));
+        let count = n.fresh.len().max((n.repeats as usize).saturating_sub(n.have));
         let all: Vec<usize> = n.again.iter().chain(&n.fresh).copied().collect();
         let mut slots: Vec<Slot> = n.fresh.iter().map(|&job| Slot { unit, job, record: true }).collect();
         if !all.is_empty() {
@@ -218,17 +231,17 @@ mod tests {
 
     fn needs() -> Vec<Need> {
         vec![
-            Need { fresh: vec![0, 1, 2, 3], ..Need::default() },
-            Need { fresh: vec![4], ..Need::default() },
-            Need { fresh: vec![], again: vec![9], have: 0 },
-            Need { fresh: vec![5], again: vec![6], have: 1 },
-            Need { fresh: vec![], again: vec![7, 8], have: 3 },
+            Need { fresh: vec![0, 1, 2, 3], repeats: 3, ..Need::default() },
+            Need { fresh: vec![4], repeats: 3, ..Need::default() },
+            Need { fresh: vec![], again: vec![9], have: 0, repeats: 3 },
+            Need { fresh: vec![5], again: vec![6], have: 1, repeats: 3 },
+            Need { fresh: vec![], again: vec![7, 8], have: 3, repeats: 3 },
         ]
     }
 
     #[test]
     fn schedule_renders_every_fresh_job_once_and_reaches_the_repeats() {
-        let s = schedule(&needs(), 3, 1);
+        let s = schedule(&needs(), 1);
         let count = |u: usize| s.iter().filter(|x| x.unit == u).count();
         assert_eq!([count(0), count(1), count(2), count(3), count(4)], [4, 3, 3, 2, 0]);
         for job in [0, 1, 2, 3, 4, 5] {
@@ -244,8 +257,9 @@ mod tests {
 
     #[test]
     fn schedule_is_interleaved_in_passes_and_seeded() {
-        let many: Vec<Need> = (0..40).map(|u| Need { fresh: vec![2 * u, 2 * u + 1], ..Need::default() }).collect();
-        let s = schedule(&many, 3, 7);
+        let many: Vec<Need> =
+            (0..40).map(|u| Need { fresh: vec![2 * u, 2 * u + 1], repeats: 3, ..Need::default() }).collect();
+        let s = schedule(&many, 7);
         assert_eq!(s.len(), 120);
         // Every unit's k-th render comes before any unit's (k+1)-th.
         let mut seen = vec![0usize; 40];
@@ -255,8 +269,8 @@ mod tests {
             seen[x.unit] += 1;
         }
         assert!(pass_of.windows(2).all(|w| w[0] <= w[1]), "passes in order");
-        assert_eq!(schedule(&many, 3, 7), s, "same seed, same order");
-        assert_ne!(schedule(&many, 3, 8), s, "another seed, another order");
+        assert_eq!(schedule(&many, 7), s, "same seed, same order");
+        assert_ne!(schedule(&many, 8), s, "another seed, another order");
         let first: Vec<usize> = s[..40].iter().map(|x| x.unit).collect();
         let second: Vec<usize> = s[40..80].iter().map(|x| x.unit).collect();
         assert_ne!(first, second, "each pass has its own order");
@@ -273,10 +287,8 @@ mod tests {
         assert!((sp.ao_time_s - 0.002).abs() < 1e-15 && (sp.ns_per_ray - 2000.0).abs() < 1e-6);
         assert!(Split::of(0.008, 0.009, 1000).ao_time_s.is_nan(), "time below the overhead: no split");
         // time = 9 ms + 50 ns/ray, exactly.
-        let pts: Vec<(u64, f64)> = [0u64, 19_200, 76_800, 1_228_800]
-            .iter()
-            .map(|&r| (r, 0.009 + 50e-9 * r as f64))
-            .collect();
+        let pts: Vec<(u64, f64)> =
+            [0u64, 19_200, 76_800, 1_228_800].iter().map(|&r| (r, 0.009 + 50e-9 * r as f64)).collect();
         let c = Calibration::fit(&pts).unwrap();
         assert!((c.overhead_s - 0.009).abs() < 1e-12 && (c.ns_per_ray - 50.0).abs() < 1e-6, "{c:?}");
         assert!((c.predict(100_000) - 0.014).abs() < 1e-12);

@@ -63,19 +63,24 @@ impl Worker {
     }
 }
 
-/// Runs `work` on every slot with `workers` workers, which take slots in order from a shared
+/// `n` workers (at least one).
+pub fn workers(n: usize) -> Result<Vec<Worker>, String> {
+    (0..n.max(1)).map(Worker::new).collect()
+}
+
+/// Runs `work` on every slot with the given workers, which take slots in order from a shared
 /// queue, and hands each result to `done` (one at a time, in completion order). The first error
 /// from either stops the queue: slots not yet started are not run, and that error is returned.
 pub fn run_queue<S, T, E>(
     slots: &[S],
-    workers: usize,
+    workers: Vec<Worker>,
     work: impl Fn(&Worker, &S) -> Result<T, E> + Sync,
     done: impl FnMut(&S, T) -> Result<(), E> + Send,
 ) -> Result<(), E>
 where
     S: Sync,
     T: Send,
-    E: Send + From<String>,
+    E: Send,
 {
     let next = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
@@ -87,13 +92,9 @@ where
         slot.get_or_insert(e);
     };
     std::thread::scope(|scope| {
-        for index in 0..workers.max(1).min(slots.len().max(1)) {
+        for worker in workers.into_iter().take(slots.len().max(1)) {
             let (next, stop, done, work, fail) = (&next, &stop, &done, &work, &fail);
             scope.spawn(move || {
-                let worker = match Worker::new(index) {
-                    Ok(w) => w,
-                    Err(e) => return fail(E::from(e)),
-                };
                 while !stop.load(Ordering::SeqCst) {
                     let i = next.fetch_add(1, Ordering::SeqCst);
                     let Some(slot) = slots.get(i) else { break };
@@ -124,14 +125,15 @@ mod tests {
         let mut seen = Vec::new();
         run_queue(
             &slots,
-            2,
+            workers(2).unwrap(),
             |w, &s| {
                 let (v, t) = w.timed(|| {
                     // rayon inside a timed call stays on the worker's one thread.
                     use rayon::prelude::*;
                     let name = std::thread::current().name().map(String::from);
-                    let all_here =
-                        (0..64).into_par_iter().all(|_| std::thread::current().name().map(String::from) == name);
+                    let all_here = (0..64)
+                        .into_par_iter()
+                        .all(|_| std::thread::current().name().map(String::from) == name);
                     (s * 2, all_here)
                 });
                 assert!(t.cpu_s >= 0.0 && t.wall_s >= 0.0);
@@ -155,7 +157,7 @@ mod tests {
         let ran = AtomicUsize::new(0);
         let r = run_queue(
             &slots,
-            2,
+            workers(2).unwrap(),
             |_, &s| {
                 ran.fetch_add(1, Ordering::SeqCst);
                 if s == 3 { Err(format!("slot {s} failed")) } else { Ok(()) }

@@ -83,7 +83,9 @@ fn timing_text(data: &Data) -> String {
         "Timing. A time is {}, read from the {}. Every configuration was rendered at least {} times (its \
          replicates, re-rendered for timing where fewer) in passes: each pass renders every configuration \
          once, in a seeded random order (seed {}), so drift of the machine lands on all configurations \
-         alike; {} worker(s) rendered side by side, each on {} thread, after {:.1} s of untimed warm-up \
+         alike. A second round, interleaved the same way, rendered again every configuration whose \
+         renders added up to less than {} s, up to {} renders in all (cheap renders are timed more \
+         often). {} worker(s) rendered side by side, each on {} thread, after {:.1} s of untimed warm-up \
          per scene. Times are the median over those renders, with min and max. The per-image overhead \
          (primary rays and setup: an image with no AO rays) is {overhead}; AO time = median time − \
          overhead, the marginal cost of a ray = AO time / AO rays, and efficiency = 1 / (MSE · AO time) \
@@ -94,6 +96,8 @@ fn timing_text(data: &Data) -> String {
         timing::clock::NAME,
         p.repeats,
         p.seed,
+        p.min_total_s,
+        p.max_repeats,
         p.workers,
         p.threads_per_render,
         p.warmup_s

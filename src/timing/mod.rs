@@ -13,6 +13,10 @@
 //!   configuration (scene, estimator, ray count); its replicates differ only in the seed. Every
 //!   render of a unit is one timing sample, and a unit with fewer than `repeats` replicates is
 //!   rendered again (timing only) until it has `repeats` samples. Median, min and max are kept.
+//! - **Cheap units get more samples**: after that first round, a unit whose samples add up to less
+//!   than `min_total_s` is rendered again until they would (by its median), up to `max_repeats`
+//!   samples ([`top_up`]) — a second round, interleaved the same way. A 10 ms render is then timed
+//!   about 15 times for a fraction of a second, while a 1 s render keeps its `repeats`.
 //! - **Interleaved order**: pass p holds the p-th sample of every unit, in a seeded random order
 //!   of its own ([`schedule`]), so slow drift (a build starting on the other core, frequency
 //!   changes) lands evenly on all units instead of on whichever ran last.
@@ -40,6 +44,10 @@ pub const DEFAULT_REPEATS: u32 = 3;
 pub const WARMUP_S: f64 = 0.3;
 /// Timing samples of the no-AO-ray overhead render per scene, at least.
 pub const OVERHEAD_REPEATS: u32 = 7;
+/// A unit whose samples add up to less CPU time than this gets more (see [`top_up`]).
+pub const MIN_TOTAL_S: f64 = 0.25;
+/// … but no more samples than this in all.
+pub const MAX_REPEATS: u32 = 15;
 
 /// How the renders of a run are timed.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -52,17 +60,23 @@ pub struct Protocol {
     pub warmup_s: f64,
     /// Renders side by side, each on one thread of its own.
     pub workers: usize,
+    /// Second round: units whose samples add up to less CPU time get more, up to `max_repeats`.
+    pub min_total_s: f64,
+    pub max_repeats: u32,
     /// Threads per timed render (always 1: see the module notes).
     pub threads_per_render: usize,
 }
 
 impl Protocol {
     pub fn new(repeats: u32, seed: u64, workers: usize) -> Self {
+        let repeats = repeats.max(1);
         Self {
-            repeats: repeats.max(1),
+            repeats,
             seed,
             warmup_s: WARMUP_S,
             workers: workers.max(1),
+            min_total_s: MIN_TOTAL_S,
+            max_repeats: MAX_REPEATS.max(repeats),
             threads_per_render: 1,
         }
     }
@@ -166,6 +180,25 @@ pub fn schedule(needs: &[Need], seed: u64) -> Vec<Slot> {
         out.extend(pass);
     }
     out
+}
+
+/// The second round's needs: for each unit (its jobs and the samples it has), enough further
+/// renders that its samples would add up to `min_total_s` at its median time, at most
+/// `max_samples` in all; units already there need nothing.
+pub fn top_up(units: &[(Vec<usize>, Vec<f64>)], min_total_s: f64, max_samples: u32) -> Vec<Need> {
+    units
+        .iter()
+        .map(|(jobs, samples)| {
+            let total: f64 = samples.iter().filter(|x| x.is_finite()).sum();
+            let median = crate::stats::median(samples);
+            let want = if total < min_total_s && median > 0.0 {
+                ((min_total_s / median).ceil() as u32).min(max_samples)
+            } else {
+                0
+            };
+            Need { fresh: vec![], again: jobs.clone(), have: samples.len(), repeats: want }
+        })
+        .collect()
 }
 
 /// SplitMix64's finalizer.
@@ -275,6 +308,22 @@ mod tests {
         let second: Vec<usize> = s[40..80].iter().map(|x| x.unit).collect();
         assert_ne!(first, second, "each pass has its own order");
         assert_ne!(first, (0..40).collect::<Vec<_>>(), "not plan order");
+    }
+
+    #[test]
+    fn top_up_gives_cheap_units_more_samples() {
+        let units = vec![
+            (vec![0, 1], vec![0.01, 0.012, 0.011]), // 33 ms in all: 23 samples wanted, 15 at most
+            (vec![2], vec![0.05, 0.06, 0.05]),      // 160 ms: 5 samples
+            (vec![3], vec![0.5, 0.5, 0.5]),         // already 1.5 s
+        ];
+        let needs = top_up(&units, 0.25, 15);
+        assert_eq!(needs.iter().map(|n| n.repeats).collect::<Vec<_>>(), [15, 5, 0]);
+        let s = schedule(&needs, 3);
+        let count = |u: usize| s.iter().filter(|x| x.unit == u).count();
+        assert_eq!([count(0), count(1), count(2)], [12, 2, 0]);
+        assert!(s.iter().all(|x| !x.record), "timing only");
+        assert!(s.iter().filter(|x| x.unit == 0).any(|x| x.job == 0) && s.iter().any(|x| x.job == 1));
     }
 
     #[test]

@@ -253,7 +253,7 @@ pub fn run_jobs(
         cpu_s: 0.0,
     };
     let workers = timing::workers(protocol.workers).map_err(Error::Refused)?;
-    timing::run_queue(&slots, workers, &work, |slot, d| state.done(n, slot, d, write))?;
+    timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write))?;
     // Second round: more samples for the units whose samples add up to little time.
     if state.renders > 0 {
         let mut members: Vec<Vec<usize>> = vec![Vec::new(); needs.len()];
@@ -272,7 +272,7 @@ pub fn run_jobs(
         let slots = timing::schedule(&extra, protocol.seed ^ 0x5eed_0002);
         bar.set_length(bar.length().unwrap_or(0) + cost(&slots));
         let workers = timing::workers(protocol.workers).map_err(Error::Refused)?;
-        timing::run_queue(&slots, workers, &work, |slot, d| state.done(n, slot, d, write))?;
+        timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write))?;
     }
     let State { records, overhead_samples, renders, cpu_s, .. } = state;
 

@@ -86,7 +86,9 @@ fn timing_text(data: &Data) -> String {
          alike. A second round, interleaved the same way, rendered again every configuration whose \
          renders added up to less than {} s, up to {} renders in all (cheap renders are timed more \
          often). {} worker(s) rendered side by side, each on {} thread, after {:.1} s of untimed warm-up \
-         per scene. Times are the median over those renders, with min and max. The per-image overhead \
+         per scene. Times are the median over those renders, with min and max; the spread of a time is half \
+         the width of its median's distribution-free 95 % interval (order statistics; min..max when there \
+         are too few renders for 95 %). The per-image overhead \
          (primary rays and setup: an image with no AO rays) is {overhead}; AO time = median time − \
          overhead, the marginal cost of a ray = AO time / AO rays, and efficiency = 1 / (MSE · AO time) \
          in 1/s, which the overhead cannot dominate. The machine may be shared with other work: thread \

@@ -82,7 +82,8 @@ impl Protocol {
     }
 }
 
-/// Median, min and max of a unit's timing samples, in seconds.
+/// Median, min and max of a unit's timing samples, in seconds, and the median's distribution-free
+/// 95 % confidence interval (`stats::median_interval`; min..max when there are too few samples).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
     pub median: f64,
@@ -90,6 +91,8 @@ pub struct Summary {
     pub max: f64,
     /// Samples.
     pub n: usize,
+    pub ci_low: f64,
+    pub ci_high: f64,
 }
 
 impl Summary {
@@ -101,12 +104,14 @@ impl Summary {
         }
         let min = v.iter().copied().fold(f64::INFINITY, f64::min);
         let max = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        Some(Self { median: crate::stats::median(&v), min, max, n: v.len() })
+        let (ci_low, ci_high, _) = crate::stats::median_interval(&v, 0.95);
+        Some(Self { median: crate::stats::median(&v), min, max, n: v.len(), ci_low, ci_high })
     }
 
-    /// Half the range: the spread the report puts on a time.
-    pub fn half_range(&self) -> f64 {
-        0.5 * (self.max - self.min)
+    /// Half the width of the median's confidence interval: the spread the report puts on a time.
+    /// Unlike half the range it shrinks as samples are added, and one slow outlier does not set it.
+    pub fn spread(&self) -> f64 {
+        0.5 * (self.ci_high - self.ci_low)
     }
 }
 
@@ -330,7 +335,10 @@ mod tests {
     fn summaries_splits_and_calibration() {
         let s = Summary::of(&[0.3, 0.1, f64::NAN, 0.2, 0.5]).unwrap();
         assert_eq!((s.median, s.min, s.max, s.n), (0.25, 0.1, 0.5, 4));
-        assert!((s.half_range() - 0.2).abs() < 1e-15);
+        assert!((s.spread() - 0.2).abs() < 1e-15, "four samples: the interval is min..max");
+        let many: Vec<f64> = (0..15).map(|i| 1.0 + 0.01 * i as f64).chain([9.0]).collect();
+        let s = Summary::of(&many).unwrap();
+        assert!(s.max == 9.0 && s.spread() < 0.06, "an outlier sets the max, not the spread: {s:?}");
         assert!(Summary::of(&[]).is_none());
         let sp = Split::of(0.011, 0.009, 1000);
         assert!((sp.ao_time_s - 0.002).abs() < 1e-15 && (sp.ns_per_ray - 2000.0).abs() < 1e-6);

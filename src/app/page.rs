@@ -88,7 +88,8 @@ fn timing_text(data: &Data) -> String {
          often). {} worker(s) rendered side by side, each on {} thread, after {:.1} s of untimed warm-up \
          per scene. Times are the median over those renders, with min and max; the spread of a time is half \
          the width of its median's distribution-free 95 % interval (order statistics; min..max when there \
-         are too few renders for 95 %). The per-image overhead \
+         are too few renders for 95 %), combined with a run-to-run scatter of {:.0} % of the median that one \
+         run cannot see (measured between runs of the paper experiment; README, Timing). The per-image overhead \
          (primary rays and setup: an image with no AO rays) is {overhead}; AO time = median time − \
          overhead, the marginal cost of a ray = AO time / AO rays, and efficiency = 1 / (MSE · AO time) \
          in 1/s, which the overhead cannot dominate. The machine may be shared with other work: thread \
@@ -102,7 +103,8 @@ fn timing_text(data: &Data) -> String {
         p.max_repeats,
         p.workers,
         p.threads_per_render,
-        p.warmup_s
+        p.warmup_s,
+        100.0 * timing::RUN_TO_RUN
     )
 }
 

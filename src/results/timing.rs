@@ -40,7 +40,7 @@ pub fn fill_timing(results: &mut [JobResult], overhead: &dyn Fn(&str) -> Option<
 
 /// The spread of an efficiency E = 1 / (MSE · T): E · √((se(MSE)/MSE)² + (δT/T)²), with se(MSE)
 /// the standard error of the mean MSE over `replicates` and δT the spread of the median time
-/// (`Summary::spread`: half its 95 % interval). The overhead's own uncertainty is left out: it
+/// (`Summary::spread`: half its 95 % interval and the run-to-run scatter). The overhead's own uncertainty is left out: it
 /// shifts every configuration of a scene alike. NaN when E is.
 pub fn efficiency_spread(
     efficiency: f64,

@@ -91,7 +91,7 @@ fn winners(data: &Data, scene: &str, best: &[Best]) -> String {
                 .map(|(m, _)| m)
                 .fold(f64::NEG_INFINITY, f64::max);
             let band = if band > 0.1 {
-                format!(" — its error is banded (ρ up to {band:.2}, see the banding figure)")
+                format!(" — its error is banded (ρ, the lag-1 error autocorrelation, up to {band:.2}: table of all configurations)")
             } else {
                 String::new()
             };

@@ -321,3 +321,49 @@ fn timing_columns_follow_the_protocol() {
     assert_eq!(again["session"]["timed_renders"], 0);
     assert_eq!(again["overhead"], timing["overhead"], "the overhead of the session that made the times");
 }
+
+#[test]
+fn a_run_over_two_scenes_times_each_with_its_own_overhead() {
+    // The kitchen first, then the 30-triangle Cornell box: each worker thread renders both,
+    // interleaved, so nothing it keeps from one scene may be used on the other.
+    let t = Tmp::new("two-scenes");
+    let spec = format!(
+        r#"name = "two"
+scenes = ["{}", "{}"]
+resolution = [24, 18]
+replicates = 2
+[reference]
+rays = 16
+replicates = 2
+[[convergence]]
+name = "c"
+rays = [1, 4, 16]
+distributions = ["sine-cosine"]
+sequences = ["fibonacci"]
+seed_modes = ["shift"]
+"#,
+        scene("kitchen.toml"),
+        scene("cornell-box.toml")
+    );
+    let spec = t.spec("two.toml", &spec);
+    t.run_ok(&spec, "out", "ref", &["--threads", "2"]);
+    let recs = records(&t.path("out"));
+    assert_eq!(recs.len(), 12);
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
+    let over: Vec<(String, f64)> = timing["overhead"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| (o["scene"].as_str().unwrap().to_string(), o["overhead_s"]["median"].as_f64().unwrap()))
+        .collect();
+    assert_eq!(over.iter().map(|o| o.0.as_str()).collect::<Vec<_>>(), ["kitchen", "cornell-box"]);
+    for r in &recs {
+        let own = over.iter().find(|o| o.0 == r.scene).unwrap().1;
+        assert_eq!(r.overhead_s, own, "{} takes its own scene's overhead", r.scene);
+    }
+    // The same images whichever way the renders were spread over threads.
+    t.run_ok(&spec, "one", "ref", &["--threads", "1"]);
+    let a: Vec<JobResult> = recs.iter().map(timeless).collect();
+    assert_eq!(records(&t.path("one")).iter().map(timeless).collect::<Vec<_>>(), a);
+}

@@ -313,6 +313,34 @@ fn timing_columns_follow_the_protocol() {
     for c in ["time_median_s", "time_min_s", "time_max_s", "overhead_s", "ns_per_ray", "efficiency_spread"] {
         assert!(aggs.lines().next().unwrap().split(',').any(|h| h == c), "aggregates.csv lacks {c}");
     }
+    // Killed after its last job but before the timing columns were filled: every record is there,
+    // none split. The rerun renders no job again, only what the timing still needs.
+    let unsplit: Vec<JobResult> = recs
+        .iter()
+        .map(|r| JobResult {
+            time_median_s: f64::NAN,
+            time_min_s: f64::NAN,
+            time_max_s: f64::NAN,
+            timings: 0,
+            overhead_s: f64::NAN,
+            ao_time_s: f64::NAN,
+            ns_per_ray: f64::NAN,
+            efficiency: None,
+            ..r.clone()
+        })
+        .collect();
+    std::fs::write(t.path("out/results.json"), hemilab::results::to_json(&unsplit)).unwrap();
+    std::fs::remove_file(t.path("out/timing.json")).unwrap();
+    t.run_ok(&spec, "out", "ref", &["--timing-repeats", "5"]);
+    let refilled = records(&t.path("out"));
+    for (a, b) in refilled.iter().zip(&recs) {
+        assert_eq!(timeless(a), timeless(b));
+        assert!(a.timings >= 5 && a.overhead_s > 0.0 && a.time_median_s > 0.0, "{a:?}");
+        assert_eq!(a.times[..b.times.len()], b.times[..], "kept samples stay");
+    }
+    let recs = refilled;
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
     // A rerun with nothing to do renders nothing and keeps every time.
     t.run_ok(&spec, "out", "ref", &["--timing-repeats", "5"]);
     assert_eq!(records(&t.path("out")), recs);

@@ -2,6 +2,15 @@
 //! machinery of Mitsuba 3's chi2.py / pbrt-v4's bsdfs_test.cpp, and small helpers for
 //! "within k standard errors" checks. The distributions themselves (gamma functions, chi-square,
 //! normal quantiles) come from the statrs crate.
+//! Fits with confidence intervals, paired differences and
+//! medians live in `stats/fit.rs`.
+
+mod fit;
+
+pub use fit::{
+    LinearFit, linear_fit, loglog_fit, median, median_interval, paired_difference, student_t_quantile,
+    student_t_two_sided_p,
+};
 
 use std::fmt;
 

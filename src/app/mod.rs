@@ -2,14 +2,18 @@
 //! Only this module (through `io`) touches the filesystem.
 
 mod adaptive;
+mod answer;
 mod bench;
+mod data;
 mod figures;
 mod jobs;
+mod load;
 mod page;
 pub mod points;
 mod reference;
 pub mod render;
 pub mod run;
+mod timed;
 mod verdicts;
 
 pub use render::load_scene;

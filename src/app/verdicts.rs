@@ -3,7 +3,7 @@
 //! end of the page, the margins at every ray count. The claim logic is `report::verdict`'s; this file
 //! picks the ray counts the spec measured and formats the cells.
 
-use super::figures::Data;
+use super::data::Data;
 use crate::report::Table;
 use crate::report::verdict::{self, Claim, Outcome, Verdict};
 use crate::spec::GroupKind;

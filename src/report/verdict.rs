@@ -293,28 +293,29 @@ mod tests {
     use super::*;
 
     fn rec(scene: &str, c: Config, rays: u32, replicate: u32, rmse: f64, z: f64) -> JobResult {
-        JobResult {
+        let job = crate::plan::Job {
             scene: scene.into(),
-            distribution: c.distribution.into(),
-            sequence: c.sequence.into(),
-            seed_mode: c.seed_mode.into(),
+            scene_id: scene.into(),
+            scene_name: scene.into(),
+            distribution: c.distribution.parse().unwrap(),
+            sequence: c.sequence.parse().unwrap(),
+            seed_mode: c.seed_mode.parse().unwrap(),
             rays,
             replicate,
             seed: replicate as u64,
+            resolution: None,
+            ao_distance: None,
+        };
+        let stats = crate::metrics::ErrorStats {
+            covered: 1,
             rmse,
             bias: 0.0,
             autocorr_x: 0.0,
             autocorr_y: 0.0,
             lowpass_rmse: 0.0,
-            time_s: 1.0,
-            rays_per_s: 1.0,
             whiteness_z: z,
-            rays_cast: 1,
-            efficiency: None,
-            covered_pixels: 1,
-            key: String::new(),
-            image: String::new(),
-        }
+        };
+        JobResult::new(&job, &stats, 1, "")
     }
 
     #[test]

@@ -141,6 +141,8 @@ pub struct Point {
     pub replicates: Vec<u32>,
     pub mse: Vec<f64>,
     pub lowpass_mse: Vec<f64>,
+    /// Each replicate's whiteness z-score (`metrics::whiteness`): above 5, the error is structured.
+    pub whiteness_z: Vec<f64>,
 }
 
 /// A configuration's ladder, points in increasing ray count.
@@ -239,6 +241,8 @@ pub struct AtBudget {
     pub lowpass_slope: f64,
     /// The time's relative spread there (spread / median, interpolated).
     pub time_rel_spread: f64,
+    /// Mean whiteness z-score over the replicates, interpolated linearly between the two points.
+    pub whiteness_z: f64,
     /// The two measured points the budget lies between, and the weight.
     pub lo: usize,
     pub w: f64,
@@ -296,6 +300,7 @@ pub fn at_budget(curve: &Curve, budget_s: f64) -> Result<AtBudget, Place> {
         slope: slope(mean(&a.mse), mean(&b.mse)),
         lowpass_slope: slope(mean(&a.lowpass_mse), mean(&b.lowpass_mse)),
         time_rel_spread: (1.0 - w) * a.time_spread_s / a.time_s + w * b.time_spread_s / b.time_s,
+        whiteness_z: (1.0 - w) * mean(&a.whiteness_z) + w * mean(&b.whiteness_z),
         lo,
         w,
     })

@@ -17,6 +17,7 @@ fn curve(r: Row, c: f64, noise: &[f64]) -> Curve {
             replicates: (0..noise.len() as u32).collect(),
             mse: noise.iter().map(|k| k * c / n as f64).collect(),
             lowpass_mse: noise.iter().map(|k| k * c / (4.0 * n as f64)).collect(),
+            whiteness_z: noise.iter().map(|_| n as f64).collect(),
         })
         .collect();
     Curve { row: r, points }
@@ -116,6 +117,8 @@ fn interpolation_is_exact_for_a_power_law_in_time() {
     assert!((a.rays - 5.5).abs() < 1e-9, "{}", a.rays);
     assert!((a.mse[0] - 2e-6 / 0.55e-3).abs() < 1e-9 && (a.mse[1] - 2.4e-6 / 0.55e-3).abs() < 1e-9);
     assert!((a.slope + 1.0).abs() < 1e-12);
+    let z = 4.0 + 4.0 * (5.5f64 / 4.0).ln() / 2f64.ln();
+    assert!((a.whiteness_z - z).abs() < 1e-9, "z 4 and 8 at rays 4 and 8, linear in w: {}", a.whiteness_z);
     let m = a.mean_mse(Metric::Rmse);
     assert!((m.value - 2.2e-6 / 0.55e-3).abs() < 1e-9);
     assert!((m.se - 0.2e-6 / 0.55e-3).abs() < 1e-9, "sd 0.28e-6/t over two replicates: se 0.2e-6/t");

@@ -76,7 +76,10 @@ fn draw<DB: DrawingBackend>(
         .margin(16)
         .x_label_area_size(56)
         .y_label_area_size(84)
-        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .build_cartesian_2d(
+            (x0..x1).log_scale().with_key_points(ticks(x0, x1, false)).with_light_points(ticks(x0, x1, true)),
+            (y0..y1).log_scale().with_key_points(ticks(y0, y1, false)).with_light_points(ticks(y0, y1, true)),
+        )
         .map_err(err)?;
     chart
         .configure_mesh()
@@ -84,8 +87,8 @@ fn draw<DB: DrawingBackend>(
         .y_desc(y_label)
         .axis_desc_style((FONT, 20.0))
         .label_style((FONT, 17.0))
-        .x_label_formatter(&|v| log_tick(*v, x1 / x0))
-        .y_label_formatter(&|v| log_tick(*v, y1 / y0))
+        .x_label_formatter(&|v| log_tick(*v, 1.0))
+        .y_label_formatter(&|v| log_tick(*v, 1.0))
         .light_line_style(RGBColor(238, 238, 238))
         .bold_line_style(RGBColor(205, 205, 205))
         .draw()
@@ -134,6 +137,26 @@ fn draw<DB: DrawingBackend>(
         legend.draw_text(e, &font, (54, y)).map_err(err)?;
     }
     Ok(())
+}
+
+/// Log-axis ticks in [lo, hi]: 1, 2 and 5 × 10^k (every 1 … 9 × 10^k when fewer than three of
+/// those fall inside, or for the light grid).
+fn ticks(lo: f64, hi: f64, light: bool) -> Vec<f64> {
+    let pick = |m: &[f64]| -> Vec<f64> {
+        let mut v = Vec::new();
+        for k in lo.log10().floor() as i32..=hi.log10().ceil() as i32 {
+            for &a in m {
+                let t = a * 10f64.powi(k);
+                if (lo..=hi).contains(&t) {
+                    v.push(t);
+                }
+            }
+        }
+        v
+    };
+    let all = pick(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]);
+    let main = pick(&[1.0, 2.0, 5.0]);
+    if light || main.len() < 3 { all } else { main }
 }
 
 /// Categorical colours of the winner map (Tableau 10 without its grey, which means "no

@@ -115,7 +115,8 @@ pub fn select(patterns: &[Pattern]) -> Result<Vec<Row>, String> {
         if hits.is_empty() {
             let show = |o: Option<&str>| o.unwrap_or("*").to_string();
             return Err(format!(
-                "'{}/{}/{}' matches no configuration advise runs",
+                "'{}/{}/{}' matches no configuration of the default set (which leaves out random × static \
+                 and concentric-cosine × rotation of a lattice, scramble or jitter; name one in full to run it)",
                 show(p.distribution.map(|d| d.name())),
                 show(p.sequence.map(|s| s.name())),
                 show(p.seed_mode.map(|m| m.name()))

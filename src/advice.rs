@@ -412,13 +412,13 @@ pub fn default_budgets(paper_default: &Curve) -> Vec<f64> {
     out
 }
 
-/// `x` rounded to `digits` significant digits.
-pub fn round_significant(x: f64, digits: i32) -> f64 {
+/// `x` rounded to `digits` (≥ 1) significant digits, as the nearest double to that decimal (so
+/// 5.1 prints as 5.1, not 5.1000000000000005).
+pub fn round_significant(x: f64, digits: usize) -> f64 {
     if x == 0.0 || !x.is_finite() {
         return x;
     }
-    let scale = 10f64.powi(digits - 1 - x.abs().log10().floor() as i32);
-    (x * scale).round() / scale
+    format!("{:.*e}", digits.max(1) - 1, x).parse().unwrap_or(x)
 }
 
 #[cfg(test)]

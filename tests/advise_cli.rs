@@ -210,3 +210,36 @@ fn bad_input_exits_2_and_writes_nothing() {
         assert_eq!(t.listing(), before, "{scene} wrote something");
     }
 }
+
+#[test]
+fn the_committed_kitchen_reference_is_reused_by_default() {
+    // Without --resolution: the largest stored reference of the kitchen with at most 64x48 pixels,
+    // i.e. the committed one of experiments/claims.toml, found by its manifest (read only here).
+    let t = Tmp::new("advise-kitchen");
+    let reference = format!("{}/reference", env!("CARGO_MANIFEST_DIR"));
+    let before = std::fs::read_dir(&reference).unwrap().count();
+    let o = t.hemilab(&[
+        "advise",
+        &scene("kitchen.toml"),
+        "--rays",
+        "2,4",
+        "--replicates",
+        "2",
+        "--only",
+        "sine-cosine/fibonacci/shift",
+        "--budget-ms",
+        "1000",
+        "--reference-dir",
+        &reference,
+        "--out",
+        "out",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let a = json(&t.path("out/advice.json"));
+    assert_eq!(a["resolution"], serde_json::json!([64, 48]));
+    let setup = a["setup"].as_str().unwrap();
+    assert!(setup.contains("stored reference") && setup.contains("kitchen-64x48-1dfbdfc7.exr"), "{setup}");
+    assert_eq!(a["recommendations"][0]["status"], "above", "1 s is beyond 4 rays at 64x48");
+    assert_eq!(std::fs::read_dir(&reference).unwrap().count(), before, "nothing added to reference/");
+}

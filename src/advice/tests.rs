@@ -179,4 +179,6 @@ fn default_budgets_lie_inside_the_baseline_range() {
     assert_eq!(round_significant(0.012345, 2), 0.012);
     assert_eq!(round_significant(987.0, 2), 990.0);
     assert_eq!(round_significant(0.0, 2), 0.0);
+    assert_eq!(round_significant(5.0999, 2), 5.1);
+    assert_eq!(round_significant(0.0051, 1).to_string(), "0.005");
 }

@@ -96,6 +96,12 @@ fn conf(row: Row) -> Value {
     })
 }
 
+/// Seconds as ms for advice.json, without the float noise of the conversion (5.1, not
+/// 5.1000000000000005).
+fn ms_value(s: f64) -> f64 {
+    advice::round_significant(s * 1e3, 15)
+}
+
 fn ms(s: f64) -> String {
     format!("{}", advice::round_significant(s * 1e3, 3))
 }
@@ -240,7 +246,7 @@ fn recommendation(r: &Ranking, low: &Ranking) -> Value {
     };
     let note = if r.ranked.is_empty() { outside_note(r) } else { advice_line(r, low) };
     let o = v.as_object_mut().expect("an object");
-    o.insert("budget_ms".into(), json!(r.budget_s * 1e3));
+    o.insert("budget_ms".into(), json!(ms_value(r.budget_s)));
     o.insert("status".into(), json!(status(r)));
     o.insert("note".into(), json!(note));
     o.insert("paper_default".into(), default_at(r).map_or(Value::Null, |d| entry(d, r)));
@@ -289,7 +295,7 @@ fn advice_json(m: &Measured, a: &Analysis) -> Value {
                 .filter(|(_, n)| *n > 0)
                 .map(|(r, n)| json!({"configuration": conf(*r), "pixels": n}))
                 .collect();
-            json!({ "budget_ms": map.budget_s * 1e3, "covered_pixels": covered, "unresolved_pixels": unresolved, "wins": wins })
+            json!({ "budget_ms": ms_value(map.budget_s), "covered_pixels": covered, "unresolved_pixels": unresolved, "wins": wins })
         })
         .collect();
     let manifest = &m.reference.manifest;
@@ -318,7 +324,7 @@ fn advice_json(m: &Measured, a: &Analysis) -> Value {
             "replicates": manifest.replicates,
         },
         "paper_default": conf(PAPER_DEFAULT),
-        "budgets_ms": a.budgets_s.iter().map(|b| b * 1e3).collect::<Vec<_>>(),
+        "budgets_ms": a.budgets_s.iter().map(|&b| ms_value(b)).collect::<Vec<_>>(),
         "budgets_chosen_by_advise": a.default_budgets,
         "recommendations": a.rankings.iter().map(|(r, l)| recommendation(r, l)).collect::<Vec<_>>(),
         "winner_map": {

@@ -299,7 +299,8 @@ pub(super) fn winner_note(m: &Measured, a: &Analysis) -> String {
          has the least MSE at the budget over {} replicates (squared error pooled over the pixel's 3x3 neighbourhood, interpolated between the \
          two measured ray counts around the budget). Coloured where the runner-up's MSE is higher by \
          more than {:.2} paired standard errors (Student's t, one-sided 1 %, replicates paired by \
-         seed); grey where no win is that clear; slate: no surface. The first panel is the reference.",
+         seed); grey where no win is that clear (equal configurations colour 0.2-1.4 % of pixels by \
+         chance); slate: no surface. The first panel is the reference.",
         m.map_replicates, a.threshold
     )
 }

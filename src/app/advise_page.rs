@@ -1,15 +1,13 @@
-//! advice.json, advice.md and index.html from advise's analysis, and the lines it prints: the
-//! answer per budget first, then what a time is, the rankings, and every measured point.
+//! advice.md and index.html from advise's analysis (advice.json is `advise_json`), and the lines
+//! it prints: the answer per budget first, then what a time is, the rankings, and every measured point.
 
 use super::advise_report::{Analysis, Measured, label, winner_note};
-use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking, winner};
+use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking};
 use crate::error::Result;
 use crate::io;
 use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::report::{self, Figure, Table};
-use crate::spec::Row;
 use crate::timing;
-use serde_json::{Value, json};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -17,7 +15,7 @@ use std::path::Path;
 const SHOWN: usize = 10;
 
 pub(super) fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) -> Result<String> {
-    let json = advice_json(m, a);
+    let json = super::advise_json::advice_json(m, a);
     let mut text = serde_json::to_string_pretty(&json).unwrap_or_default();
     text.push('\n');
     let lines: Vec<String> = a.rankings.iter().map(|(r, l)| advice_line(r, l)).collect();
@@ -84,30 +82,16 @@ pub(super) fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) 
     Ok(s)
 }
 
-fn mean(v: &[f64]) -> f64 {
+pub(super) fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
-fn conf(row: Row) -> Value {
-    json!({
-        "distribution": row.distribution.name(),
-        "sequence": row.sequence.name(),
-        "seed_mode": row.seed_mode.name(),
-    })
-}
-
-/// Seconds as ms for advice.json, without the float noise of the conversion (5.1, not
-/// 5.1000000000000005).
-fn ms_value(s: f64) -> f64 {
-    advice::round_significant(s * 1e3, 15)
-}
-
-fn ms(s: f64) -> String {
+pub(super) fn ms(s: f64) -> String {
     format!("{}", advice::round_significant(s * 1e3, 3))
 }
 
 /// One sentence per budget: what to ship and what it gains, or why there is no answer.
-fn advice_line(r: &Ranking, low: &Ranking) -> String {
+pub(super) fn advice_line(r: &Ranking, low: &Ranking) -> String {
     let b = ms(r.budget_s);
     let Some(best) = r.ranked.first() else { return format!("At {b} ms per image: {}.", outside_note(r)) };
     let e = best.rmse(Metric::Rmse);
@@ -152,16 +136,16 @@ fn advice_line(r: &Ranking, low: &Ranking) -> String {
 }
 
 /// The rays to ship: the interpolated count, rounded down (at least 1).
-fn shipped_rays(a: &AtBudget) -> u32 {
+pub(super) fn shipped_rays(a: &AtBudget) -> u32 {
     (a.rays.floor() as u32).max(1)
 }
 
-fn default_at(r: &Ranking) -> Option<&AtBudget> {
+pub(super) fn default_at(r: &Ranking) -> Option<&AtBudget> {
     r.ranked.iter().find(|a| a.row == PAPER_DEFAULT)
 }
 
 /// Why a budget has no ranked configuration.
-fn outside_note(r: &Ranking) -> String {
+pub(super) fn outside_note(r: &Ranking) -> String {
     let below: Vec<f64> = r
         .outside
         .iter()
@@ -189,7 +173,7 @@ fn outside_note(r: &Ranking) -> String {
     }
 }
 
-fn status(r: &Ranking) -> &'static str {
+pub(super) fn status(r: &Ranking) -> &'static str {
     if !r.ranked.is_empty() {
         return "inside";
     }
@@ -201,145 +185,6 @@ fn status(r: &Ranking) -> &'static str {
     } else {
         "outside"
     }
-}
-
-fn entry(a: &AtBudget, r: &Ranking) -> Value {
-    let (e, l) = (a.rmse(Metric::Rmse), a.rmse(Metric::Lowpass));
-    let g = default_at(r).map(|d| advice::gain(d, a, Metric::Rmse));
-    let lg = default_at(r).map(|d| advice::gain(d, a, Metric::Lowpass));
-    json!({
-        "configuration": conf(a.row),
-        "rays": shipped_rays(a),
-        "rays_interpolated": a.rays,
-        "rmse": e.value,
-        "rmse_se": e.se,
-        "lowpass_rmse": l.value,
-        "lowpass_rmse_se": l.se,
-        "whiteness_z": a.whiteness_z,
-        "gain_vs_paper_default": g.map(|g| g.value),
-        "gain_vs_paper_default_se": g.map(|g| g.se),
-        "gain_se_replicates": g.map(|g| g.se_replicates),
-        "gain_se_timing": g.map(|g| g.se_timing),
-        "lowpass_gain_vs_paper_default": lg.map(|g| g.value),
-        "lowpass_gain_vs_paper_default_se": lg.map(|g| g.se),
-        "z_vs_best": r.ranked.first().map(|b| advice::paired_z(b, a, r.metric)),
-    })
-}
-
-fn recommendation(r: &Ranking, low: &Ranking) -> Value {
-    let outside: Vec<Value> = r
-        .outside
-        .iter()
-        .map(|(row, p)| match p {
-            Place::Below { fastest_s } => {
-                json!({"configuration": conf(*row), "where": "below", "time_ms": fastest_s * 1e3})
-            }
-            Place::Above { slowest_s } => {
-                json!({"configuration": conf(*row), "where": "above", "time_ms": slowest_s * 1e3})
-            }
-            Place::Inside { .. } => json!({"configuration": conf(*row), "where": "inside"}),
-        })
-        .collect();
-    let mut v = match r.ranked.first() {
-        Some(best) => entry(best, r),
-        None => json!({ "configuration": null, "rays": null, "rmse": null, "gain_vs_paper_default": null }),
-    };
-    let note = if r.ranked.is_empty() { outside_note(r) } else { advice_line(r, low) };
-    let o = v.as_object_mut().expect("an object");
-    o.insert("budget_ms".into(), json!(ms_value(r.budget_s)));
-    o.insert("status".into(), json!(status(r)));
-    o.insert("note".into(), json!(note));
-    o.insert("paper_default".into(), default_at(r).map_or(Value::Null, |d| entry(d, r)));
-    o.insert("runner_up".into(), r.ranked.get(1).map_or(Value::Null, |s| entry(s, r)));
-    o.insert("best_lowpass".into(), low.ranked.first().map_or(Value::Null, |b| entry(b, low)));
-    o.insert("ranking".into(), Value::Array(r.ranked.iter().map(|a| entry(a, r)).collect()));
-    o.insert("lowpass_ranking".into(), Value::Array(low.ranked.iter().map(|a| entry(a, low)).collect()));
-    o.insert("outside".into(), Value::Array(outside));
-    v
-}
-
-fn advice_json(m: &Measured, a: &Analysis) -> Value {
-    let spec = &m.setup.loaded.spec;
-    let configurations: Vec<Value> = a
-        .curves
-        .iter()
-        .map(|c| {
-            let points: Vec<Value> = c
-                .points
-                .iter()
-                .map(|p| {
-                    json!({
-                        "rays": p.rays,
-                        "time_ms": p.time_s * 1e3,
-                        "time_spread_ms": p.time_spread_s * 1e3,
-                        "replicates": p.replicates,
-                        "mse": p.mse,
-                        "lowpass_mse": p.lowpass_mse,
-                        "rmse": mean(&p.mse).sqrt(),
-                        "lowpass_rmse": mean(&p.lowpass_mse).sqrt(),
-                    })
-                })
-                .collect();
-            json!({ "configuration": conf(c.row), "points": points })
-        })
-        .collect();
-    let maps: Vec<Value> = a
-        .maps
-        .iter()
-        .map(|map| {
-            let (won, unresolved, covered) = winner::tally(&map.pixels, map.rows.len());
-            let wins: Vec<Value> = map
-                .rows
-                .iter()
-                .zip(won)
-                .filter(|(_, n)| *n > 0)
-                .map(|(r, n)| json!({"configuration": conf(*r), "pixels": n}))
-                .collect();
-            json!({ "budget_ms": ms_value(map.budget_s), "covered_pixels": covered, "unresolved_pixels": unresolved, "wins": wins })
-        })
-        .collect();
-    let manifest = &m.reference.manifest;
-    json!({
-        "hemilab_version": env!("CARGO_PKG_VERSION"),
-        "scene": m.setup.stem,
-        "scene_file": spec.scenes[0].path.display().to_string(),
-        "resolution": spec.resolution,
-        "time_per_image": format!(
-            "{}, of one thread rendering the whole image at {}x{}: {}",
-            timing::clock::NAME,
-            spec.resolution.map_or(0, |r| r[0]),
-            spec.resolution.map_or(0, |r| r[1]),
-            timing::TIME_INCLUDES
-        ),
-        "protocol": m.protocol,
-        "overhead_ms": m.session.overhead.first().copied().flatten().map(|s| s.median * 1e3),
-        "replicates": spec.replicates,
-        "rays": m.setup.rays,
-        "setup": m.setup.choice,
-        "reference": {
-            "file": m.reference.exr.display().to_string(),
-            "noise_floor": m.reference.noise_floor(),
-            "estimator": { "distribution": manifest.distribution, "sequence": manifest.sequence, "seed_mode": manifest.seed_mode },
-            "rays": manifest.rays,
-            "replicates": manifest.replicates,
-        },
-        "paper_default": conf(PAPER_DEFAULT),
-        "budgets_ms": a.budgets_s.iter().map(|&b| ms_value(b)).collect::<Vec<_>>(),
-        "budgets_chosen_by_advise": a.default_budgets,
-        "recommendations": a.rankings.iter().map(|(r, l)| recommendation(r, l)).collect::<Vec<_>>(),
-        "winner_map": {
-            "file": (!a.maps.is_empty()).then_some("winner_map.png"),
-            "significance": format!(
-                "per pixel, the runner-up's MSE (3x3 pooled, at the budget) minus the winner's, paired over the \
-                 replicates, above {:.3} standard errors (Student's t, one-sided {} %, n - 1 dof)",
-                a.threshold,
-                winner::LEVEL * 100.0
-            ),
-            "budgets": maps,
-        },
-        "configurations": configurations,
-        "session": { "timed_renders": m.session.renders, "cpu_s": m.session.cpu_s, "wall_s": m.session.wall_s },
-    })
 }
 
 fn pm(e: advice::Estimate, digits: usize) -> String {

@@ -3,6 +3,7 @@
 
 mod adaptive;
 mod advise;
+mod advise_json;
 mod advise_page;
 mod advise_report;
 mod answer;

@@ -6,6 +6,8 @@ use crate::spec::{AoDistance, Row, Spec};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+pub mod shard;
+
 /// One image to render.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Job {

@@ -73,6 +73,14 @@ fn paths(dir: &Path, manifest: &Manifest) -> (PathBuf, PathBuf) {
 }
 
 /// The reference of scene `si`, from `dir` or freshly rendered into it.
+///
+/// Shards of one spec may start together on a shared filesystem: each takes the reference's lock
+/// file (`<stem>.lock`, an OS lock released even if the process is killed) before it looks, so one
+/// builds while the others wait and then reuse its result. The image and the manifest are each
+/// written atomically, image first, so no reader ever sees a half-written file or a manifest
+/// without its image. Where the lock cannot be taken (a read-only reference directory, a filesystem
+/// without locks) the run goes on without it: then build the references in a step of their own
+/// (`hemilab reference`) and run the shards with `--no-build-reference`.
 pub fn obtain(
     spec: &Spec,
     si: usize,
@@ -84,6 +92,18 @@ pub fn obtain(
     let geometry = Geometry::of(spec.resolution, spec.ao_distance, scene);
     let wanted = wanted_manifest(spec, si, scene, geometry);
     let (exr, json) = paths(dir, &wanted);
+    let lock_path = dir.join(format!("{}.lock", wanted.file_stem()));
+    if policy != Policy::ReuseOnly {
+        io::create_dir_all(dir)?;
+    }
+    let waiting = |holder: &str| {
+        eprintln!("reference for '{}': waiting for {holder} ({})", scene.name, lock_path.display())
+    };
+    let (_lock, unlocked) = match io::exists(dir).then(|| io::lock(&lock_path, waiting)).transpose()? {
+        Some(Ok(lock)) => (Some(lock), None),
+        Some(Err(why)) => (None, Some(why)),
+        None => (None, None),
+    };
     if policy != Policy::Rebuild {
         match load_if_matching(spec, &wanted, &exr, &json)? {
             Ok(r) => return Ok(r),
@@ -106,6 +126,9 @@ pub fn obtain(
         }
     }
     io::ensure_writable_dir(dir)?;
+    if let Some(why) = unlocked {
+        eprintln!("warning: {why}; another run started now could build this reference at the same time");
+    }
     build(spec, si, scene, wanted, &exr, &json, runner)
 }
 

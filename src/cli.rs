@@ -58,6 +58,10 @@ pub struct RunArgs {
     /// Where reference images and their manifests live.
     #[arg(long, default_value = "reference")]
     pub reference_dir: PathBuf,
+    /// Timed renders per configuration at least (default: the spec's `[timing] repeats`, else 3);
+    /// a configuration with fewer replicates is re-rendered, for its time only.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub timing_repeats: Option<u32>,
     #[command(flatten)]
     pub common: Common,
 }

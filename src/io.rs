@@ -110,7 +110,10 @@ pub fn hostname() -> String {
 
 /// The host name with only letters, digits, '-' and '.', for file names.
 fn host_tag() -> String {
-    hostname().chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
+    hostname()
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' })
+        .collect()
 }
 
 /// The CPU model (`model name` in `/proc/cpuinfo`) and its logical CPU count, e.g.

@@ -23,6 +23,8 @@ pub mod scene;
 
 pub mod render;
 
+pub mod timing;
+
 pub mod image;
 
 pub mod metrics;
@@ -32,6 +34,8 @@ pub mod stats;
 pub mod reference;
 
 pub mod results;
+
+pub mod compare;
 
 pub mod report;
 

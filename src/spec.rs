@@ -17,6 +17,10 @@
 //! sequence = "fibonacci"
 //! seed_mode = "shift"
 //!
+//! [timing]                              # optional section; see `timing` for the protocol
+//! repeats = 3                           # timed renders per (row, rays) at least, 1..=100
+//! seed = 1                              # of the interleaved order; default: the base seed
+//!
 //! [[table]]                             # any number, like the paper's tables 2 and 3
 //! name = "table2"                       # letters, digits, '-', '_'; unique over tables and sweeps
 //! rays = [8, 16, 32]                    # 1..=65536 each
@@ -59,6 +63,8 @@ pub const MAX_RAYS: u32 = 65_536;
 pub const MAX_REFERENCE_RAYS: u32 = 1 << 22;
 pub const MAX_REPLICATES: u32 = 1000;
 pub const MAX_SIDE: u32 = 16_384;
+/// Timed renders per configuration: beyond this a run is a benchmark, not an experiment.
+pub const MAX_TIMING_REPEATS: u32 = 100;
 
 /// AO distance d: rays hitting farther than this count as open.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -162,6 +168,15 @@ pub struct ReferenceSpec {
     pub estimator: Row,
 }
 
+/// How `hemilab run` times its renders (`[timing]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimingSpec {
+    /// Timed renders per configuration at least: its replicates, plus timing-only re-renders.
+    pub repeats: u32,
+    /// Seed of the interleaved render order.
+    pub seed: u64,
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spec {
     pub path: PathBuf,
@@ -176,6 +191,7 @@ pub struct Spec {
     /// only the spec that reproduces the paper asks for them.
     pub point_figures: bool,
     pub reference: ReferenceSpec,
+    pub timing: TimingSpec,
     /// Tables and sweeps in file order.
     pub groups: Vec<Group>,
 }

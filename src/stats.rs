@@ -1,6 +1,13 @@
 //! Leaf statistics module (imports nothing of the crate): the chi-square goodness-of-fit
 //! machinery of Mitsuba 3's chi2.py / pbrt-v4's bsdfs_test.cpp, and small helpers for
-//! "within k standard errors" checks.
+//! "within k standard errors" checks. Fits with confidence intervals, paired differences and
+//! medians live in `stats/fit.rs`.
+
+mod fit;
+
+pub use fit::{
+    LinearFit, linear_fit, loglog_fit, median, paired_difference, student_t_quantile, student_t_two_sided_p,
+};
 
 use std::fmt;
 

@@ -102,11 +102,14 @@ fn resume_after_interruption_gives_identical_results() {
     let full_csv = timeless_csv(&out);
     let images: Vec<Vec<u8>> = full.iter().map(|r| image_bytes(&out, r)).collect();
 
-    // Interrupted after 6 jobs: results.json holds those (marked by an impossible time so a skip is
-    // visible), the later images never got written, and job 1's image was lost too.
+    // Interrupted after 6 jobs: results.json holds those (their first time sample marked by an
+    // impossible value so a skip is visible; a kept record may still get timing-only re-renders),
+    // the later images never got written, and job 1's image was lost too.
     const SENTINEL: f64 = 1234.5;
-    let kept: Vec<JobResult> =
-        full[..6].iter().map(|r| JobResult { time_s: SENTINEL, ..r.clone() }).collect();
+    let kept: Vec<JobResult> = full[..6]
+        .iter()
+        .map(|r| JobResult { time_s: SENTINEL, times: vec![SENTINEL], walls: vec![SENTINEL], ..r.clone() })
+        .collect();
     std::fs::write(out.join("results.json"), hemilab::results::to_json(&kept)).unwrap();
     std::fs::write(out.join("results.csv"), hemilab::results::to_csv(&kept)).unwrap();
     for r in &full[6..] {
@@ -118,7 +121,7 @@ fn resume_after_interruption_gives_identical_results() {
     let resumed = records(&out);
     assert_eq!(resumed.len(), 16);
     for (i, r) in resumed.iter().enumerate() {
-        let skipped = r.time_s == SENTINEL;
+        let skipped = r.times.first() == Some(&SENTINEL);
         assert_eq!(
             skipped,
             i < 6 && i != 1,
@@ -131,7 +134,7 @@ fn resume_after_interruption_gives_identical_results() {
 
     t.run_ok(&spec, "out", "ref", &["--force"]);
     let forced = records(&out);
-    assert!(forced.iter().all(|r| r.time_s != SENTINEL), "--force redoes every job");
+    assert!(forced.iter().all(|r| !r.times.contains(&SENTINEL)), "--force redoes every job");
     let a: Vec<JobResult> = full.iter().map(timeless).collect();
     assert_eq!(forced.iter().map(timeless).collect::<Vec<_>>(), a);
     assert_eq!(timeless_csv(&out), full_csv);
@@ -202,7 +205,11 @@ fn plan_prints_jobs_and_estimate_without_rendering() {
     assert_eq!(sweep["group"], "c");
     let rows = sweep["slopes"].as_array().unwrap();
     assert_eq!(rows.len(), 2, "{slopes}");
-    assert!(rows.iter().all(|r| r["points"] == 3 && r["vs_rays"].as_f64().unwrap() < 0.0), "{slopes}");
+    assert!(
+        rows.iter().all(|r| r["points"] == 3 && r["vs_rays"]["value"].as_f64().unwrap() < 0.0),
+        "{slopes}"
+    );
+    assert!(rows.iter().all(|r| r["vs_rays"]["ci95"].as_array().is_some_and(|c| c.len() == 2)), "{slopes}");
 }
 
 #[test]
@@ -236,4 +243,75 @@ fn noise_floor_warning_says_how_many_rays_are_needed() {
         err.contains("warning: reference noise floor") && err.contains("rays per replicate are needed"),
         "a 1-ray reference is far too noisy and the run says so:\n{err}"
     );
+}
+
+#[test]
+fn timing_columns_follow_the_protocol() {
+    let t = Tmp::new("timing");
+    let spec = t.spec("tiny.toml", &tiny_spec(64, ""));
+    // Two replicates, five timed renders per configuration: three timing-only re-renders each.
+    t.run_ok(&spec, "out", "ref", &["--timing-repeats", "5", "--threads", "2"]);
+    let recs = records(&t.path("out"));
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
+    assert_eq!(timing["protocol"]["repeats"], 5);
+    assert_eq!(timing["protocol"]["workers"], 2);
+    assert_eq!(timing["protocol"]["threads_per_render"], 1);
+    let overhead = &timing["overhead"][0]["overhead_s"];
+    assert_eq!(overhead["n"], 7, "{timing}");
+    let over = overhead["median"].as_f64().unwrap();
+    assert!(over > 0.0);
+    // 8 configurations x 5 renders + 7 overhead renders.
+    assert_eq!(timing["session"]["timed_renders"], 47, "{timing}");
+    for r in &recs {
+        let same: Vec<&JobResult> = recs.iter().filter(|o| o.config() == r.config()).collect();
+        let samples: Vec<f64> = same.iter().flat_map(|o| o.times.iter().copied()).collect();
+        assert_eq!(samples.len(), 5, "{:?}", r.config());
+        assert_eq!(r.timings, 5);
+        assert!(!r.times.is_empty() && r.times.len() == r.walls.len());
+        assert_eq!(
+            r.time_s,
+            hemilab::stats::median(&r.times),
+            "a job's own time is the median of its renders"
+        );
+        assert_eq!(r.time_median_s, hemilab::stats::median(&samples));
+        let min = samples.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = samples.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!((r.time_min_s, r.time_max_s), (min, max));
+        assert_eq!(r.overhead_s, over, "one overhead per scene");
+        assert_eq!(r.timing_threads, 1);
+        if r.time_median_s > over {
+            assert_eq!(r.ao_time_s, r.time_median_s - over);
+            assert!((r.ns_per_ray - 1e9 * r.ao_time_s / r.rays_cast as f64).abs() < 1e-9 * r.ns_per_ray);
+            let e = r.efficiency.unwrap();
+            assert!((e - 1.0 / (r.rmse * r.rmse * r.ao_time_s)).abs() < 1e-9 * e);
+        } else {
+            assert!(r.ao_time_s.is_nan() && r.efficiency.is_none(), "no split below the overhead: {r:?}");
+        }
+    }
+    // The CSV carries the same numbers, undefined ones as empty fields.
+    let csv = std::fs::read_to_string(t.path("out/results.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    for (line, r) in csv.lines().skip(1).zip(&recs) {
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!(f[col("time_median_s")].parse::<f64>().unwrap(), r.time_median_s);
+        assert_eq!(f[col("timings")], "5");
+        assert_eq!(f[col("overhead_s")].parse::<f64>().unwrap(), r.overhead_s);
+        assert_eq!(
+            f[col("ao_time_s")].parse::<f64>().ok().unwrap_or(f64::NAN).to_bits(),
+            r.ao_time_s.to_bits()
+        );
+    }
+    let aggs = std::fs::read_to_string(t.path("out/aggregates.csv")).unwrap();
+    for c in ["time_median_s", "time_min_s", "time_max_s", "overhead_s", "ns_per_ray", "efficiency_spread"] {
+        assert!(aggs.lines().next().unwrap().split(',').any(|h| h == c), "aggregates.csv lacks {c}");
+    }
+    // A rerun with nothing to do renders nothing and keeps every time.
+    t.run_ok(&spec, "out", "ref", &["--timing-repeats", "5"]);
+    assert_eq!(records(&t.path("out")), recs);
+    let again: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
+    assert_eq!(again["session"]["timed_renders"], 0);
+    assert_eq!(again["overhead"], timing["overhead"], "the overhead of the session that made the times");
 }

@@ -271,3 +271,15 @@ fn figure_file_names_must_not_clash() {
     let ok = format!("{head}{}", t("table1"));
     assert!(parse_spec(&ok, Path::new(FILE)).is_ok(), "table1 is free without point figures");
 }
+
+#[test]
+fn timing_section_defaults_and_ranges() {
+    let s = parse_spec(&spec("seed = 9", "", ""), Path::new(FILE)).unwrap();
+    assert_eq!((s.timing.repeats, s.timing.seed), (3, 9), "defaults: 3 repeats, the base seed");
+    let s = parse_spec(&spec("[timing]\nrepeats = 7\nseed = 2\n", "", ""), Path::new(FILE)).unwrap();
+    assert_eq!((s.timing.repeats, s.timing.seed), (7, 2));
+    let e = error(&spec("[timing]\nrepeats = 0\n", "", ""));
+    assert_has(&e, &["line 4", "key `timing.repeats`", "1..=100"]);
+    let e = error(&spec("[timing]\nrepeat = 5\n", "", ""));
+    assert_has(&e, &["line 4", "repeat", "repeats"]);
+}

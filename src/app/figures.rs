@@ -1,19 +1,16 @@
-//! The run's figures: every `[[table]]` as AO images and signed-error grids (the paper's Tables 2
-//! and 3), every `[[convergence]]` as RMSE against rays and against time, the banding metric of the
-//! tables' configurations, the paper's point figures when the spec asks, and one page linking them
-//! all (`page.rs`). Drawing is `report`'s job; this module picks the data and writes the bytes.
+//! The run's figures, one function per figure: every `[[table]]` as AO images and signed-error
+//! grids (the paper's Tables 2 and 3), every `[[convergence]]` as RMSE against rays and against
+//! render time and its efficiency against rays, the banding metric of the tables' configurations,
+//! and the paper's point figures when the spec asks. Drawing is `report`'s job; this module picks
+//! the data from `data::Data` and writes the bytes. The page (`page.rs`) lists what it returns.
 
-use super::page;
+use super::data::{Data, banding_stat, is_config, row_label, sweep_points, sweep_slope, table_configs};
 use super::points::figure_rows;
-use super::reference::Reference;
-use super::run::Loaded;
 use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::io;
-use crate::metrics::mean_sd;
-use crate::plan::Plan;
-use crate::report::{self, Figure, Format, GridCell, Series};
-use crate::results::{self, Aggregate, JobResult};
+use crate::report::{self, Figure, Format, GridCell, Guide, Series};
+use crate::results;
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use crate::spec::{Group, GroupKind, Row};
 use std::path::Path;
@@ -21,23 +18,9 @@ use std::path::Path;
 /// Point counts of the paper's Table 1 and Figures 2-4.
 const POINT_COUNTS: [u32; 3] = [500, 1000, 5000];
 
-/// Everything the figures and the page are drawn from.
-pub struct Data<'a> {
-    pub loaded: &'a Loaded,
-    pub references: &'a [Reference],
-    pub results: &'a [JobResult],
-    pub aggs: Vec<Aggregate>,
-}
-
-pub fn write_all(
-    loaded: &Loaded,
-    _plan: &Plan,
-    references: &[Reference],
-    results: &[JobResult],
-    out: &Path,
-) -> Result<()> {
-    let data = Data { loaded, references, results, aggs: results::aggregate(results) };
-    let spec = &loaded.spec;
+/// Writes every figure of the run into `out` and returns them in page order.
+pub fn write_all(data: &Data, out: &Path) -> Result<Vec<Figure>> {
+    let spec = &data.loaded.spec;
     let mut figures = Vec::new();
     if spec.point_figures {
         figures.extend(point_figures(spec.seed, out)?);
@@ -50,54 +33,17 @@ pub fn write_all(
                 g.name.clone()
             };
             match g.kind {
-                GroupKind::Table => figures.extend(table_figures(&data, g, si, &stem, out)?),
-                GroupKind::Convergence => figures.extend(convergence_figures(&data, g, si, &stem, out)?),
+                GroupKind::Table => figures.extend(table_figures(data, g, si, &stem, out)?),
+                GroupKind::Convergence => {
+                    figures.extend(convergence_rays(data, g, si, &stem, out)?);
+                    figures.extend(convergence_time(data, g, si, &stem, out)?);
+                    figures.extend(efficiency_figure(data, g, si, &stem, out)?);
+                }
             }
         }
     }
-    figures.extend(banding_figure(&data, out)?);
-    page::write(&data, &figures, out)
-}
-
-/// A readable name of a row, as the paper says it.
-pub fn row_label(row: Row) -> String {
-    let seq = match (row.sequence, row.seed_mode) {
-        (Sequence::Random, SeedMode::Static) => "pseudo-random, static seed".to_string(),
-        (Sequence::Random, SeedMode::BlueNoise) => "pseudo-random, blue-noise".to_string(),
-        (Sequence::Random, _) => "pseudo-random".to_string(),
-        (Sequence::Fibonacci, SeedMode::Rotation) => "Fibonacci, per-pixel seed".to_string(),
-        (Sequence::Fibonacci, SeedMode::Static) => "Fibonacci, static seed".to_string(),
-        (Sequence::Fibonacci, SeedMode::Shift) => "Fibonacci, shift".to_string(),
-        (Sequence::Fibonacci, SeedMode::BlueNoise) => "Fibonacci, blue-noise".to_string(),
-        (s, m) => format!("{s}, {m}"),
-    };
-    format!("{}, {seq}", row.distribution)
-}
-
-/// Whether a result belongs to (scene, row, rays).
-fn is_config(r: &JobResult, scene: &str, row: Row, rays: u32) -> bool {
-    let row = row.canonical();
-    r.scene == scene
-        && r.rays == rays
-        && r.distribution == row.distribution.name()
-        && r.sequence == row.sequence.name()
-        && r.seed_mode == row.seed_mode.name()
-}
-
-/// The banding metric of one image: mean of the horizontal and vertical lag-1 error autocorrelation.
-fn banding(r: &JobResult) -> f64 {
-    0.5 * (r.autocorr_x + r.autocorr_y)
-}
-
-/// Mean ± sd of the banding metric over the replicates of a configuration.
-pub fn banding_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Option<(f64, f64)> {
-    let v: Vec<f64> = results
-        .iter()
-        .filter(|r| is_config(r, scene, row, rays))
-        .map(banding)
-        .filter(|b| b.is_finite())
-        .collect();
-    (!v.is_empty()).then(|| mean_sd(&v))
+    figures.extend(banding_figure(data, out)?);
+    Ok(figures)
 }
 
 fn drawn(path: &Path, r: std::result::Result<Vec<u8>, String>) -> Result<Vec<u8>> {
@@ -221,98 +167,146 @@ fn table_figures(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> R
     Ok(figs)
 }
 
-/// The aggregates of one sweep row, in ray order.
-fn sweep_points<'a>(data: &'a Data, g: &Group, scene: &str, row: Row) -> Vec<&'a Aggregate> {
-    g.rays.iter().filter_map(|&rays| results::lookup(&data.aggs, scene, row, rays)).collect()
+/// A log-log figure as PNG (on the page) and SVG (linked below it).
+#[allow(clippy::too_many_arguments)]
+fn log_log(
+    out: &Path,
+    base: &str,
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    series: &[Series],
+    guides: &[Guide],
+    caption: String,
+) -> Result<Figure> {
+    let svg = format!("{base}.svg");
+    let bytes = drawn(
+        &out.join(&svg),
+        report::convergence_plot(title, x_label, y_label, series, guides, Format::Svg),
+    );
+    io::write_atomic(&out.join(&svg), &bytes?)?;
+    let png = format!("{base}.png");
+    let bytes = drawn(
+        &out.join(&png),
+        report::convergence_plot(title, x_label, y_label, series, guides, Format::Png),
+    );
+    write_figure(out, &png, caption, vec![svg], bytes)
 }
 
-/// The fitted slopes of one sweep row, over the sweep's own ray counts.
-pub fn sweep_slope(data: &Data, g: &Group, scene: &str, row: Row) -> Option<results::Slope> {
-    let pts: Vec<Aggregate> = sweep_points(data, g, scene, row).into_iter().cloned().collect();
-    results::convergence_slopes(&pts, &g.rays).into_iter().next()
+/// The reference's noise floor as a guide, when it is a positive number.
+fn floor_guide(data: &Data, si: usize) -> Vec<Guide> {
+    let floor = data.references[si].noise_floor();
+    if floor.is_finite() && floor > 0.0 {
+        vec![Guide::Horizontal(floor, "reference noise floor".into())]
+    } else {
+        vec![]
+    }
 }
 
-fn convergence_figures(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+fn size(data: &Data, si: usize) -> String {
+    format!("{}x{} px", data.references[si].mean.width, data.references[si].mean.height)
+}
+
+/// RMSE against rays per pixel, mean ± sd over replicates, slope and its 95 % interval in the legend.
+fn convergence_rays(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
-    let floor = Some(data.references[si].noise_floor()).filter(|f| f.is_finite() && *f > 0.0);
-    let mut by_rays = Vec::new();
-    let mut by_time = Vec::new();
+    let series: Vec<Series> = g
+        .rows
+        .iter()
+        .filter_map(|&row| {
+            let pts = sweep_points(data, g, scene, row);
+            let points = pts.iter().map(|a| (a.rays as f64, a.rmse.mean, a.rmse.sd)).collect::<Vec<_>>();
+            let note = sweep_slope(data, g, scene, row)
+                .and_then(|s| s.vs_rays)
+                .map(|f| format!("slope {}", f.text()));
+            (!points.is_empty()).then(|| Series { note, ..Series::new(row_label(row), points) })
+        })
+        .collect();
+    if series.is_empty() {
+        return Ok(vec![]);
+    }
+    let title = format!("RMSE against rays per pixel ('{scene}', {})", size(data, si));
+    let cap = format!(
+        "{}: {title}; mean ± sd over {} replicates; least-squares log-log slope and its 95 % interval in \
+         the legend; dashed: the reference's noise floor.",
+        g.name, g.replicates
+    );
+    let axes = ("rays per pixel", "RMSE");
+    Ok(vec![log_log(out, &format!("{stem}_rays"), &title, axes, &series, &floor_guide(data, si), cap)?])
+}
+
+/// RMSE against the median render time (min..max of the timed renders as x bars), the
+/// no-AO-ray overhead as a wall; slope against AO time in the legend.
+fn convergence_time(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+    let scene = &data.loaded.spec.scenes[si].name;
+    let mut series = Vec::new();
     for &row in &g.rows {
-        let pts = sweep_points(data, g, scene, row);
+        let mut pts: Vec<_> = sweep_points(data, g, scene, row)
+            .into_iter()
+            .filter_map(|a| a.time.filter(|t| t.min > 0.0).map(|t| (t, a)))
+            .collect();
+        pts.sort_by(|a, b| a.0.median.total_cmp(&b.0.median));
         if pts.is_empty() {
             continue;
         }
-        let slope = sweep_slope(data, g, scene, row);
-        let label = row_label(row);
-        by_rays.push(Series {
-            label: label.clone(),
-            points: pts.iter().map(|a| (a.rays as f64, a.rmse.mean, a.rmse.sd)).collect(),
-            slope: slope.as_ref().and_then(|s| s.vs_rays),
+        let note = sweep_slope(data, g, scene, row)
+            .and_then(|s| s.vs_ao_time)
+            .map(|f| format!("slope vs AO time {}", f.text()));
+        series.push(Series {
+            label: row_label(row),
+            points: pts.iter().map(|(t, a)| (t.median * 1e3, a.rmse.mean, a.rmse.sd)).collect(),
+            x_range: pts.iter().map(|(t, _)| (t.min * 1e3, t.max * 1e3)).collect(),
+            note,
         });
-        let mut timed: Vec<(f64, f64, f64)> = pts
-            .iter()
-            .filter(|a| a.time_s.mean > 0.0 && a.time_s.mean.is_finite())
-            .map(|a| (a.time_s.mean, a.rmse.mean, a.rmse.sd))
-            .collect();
-        timed.sort_by(|a, b| a.0.total_cmp(&b.0));
-        if !timed.is_empty() {
-            by_time.push(Series { label, points: timed, slope: slope.and_then(|s| s.vs_time) });
-        }
     }
-    let mut figs = Vec::new();
-    if by_rays.is_empty() {
-        return Ok(figs);
+    if series.is_empty() {
+        return Ok(vec![]);
     }
-    let reps = g.replicates;
-    let plots = [
-        ("rays", "rays per pixel", "RMSE against rays per pixel", &by_rays),
-        ("time", "render time per image (s)", "RMSE against render time", &by_time),
-    ];
-    for (what, x_label, title, series) in plots {
-        if series.is_empty() {
-            continue;
-        }
-        let (w, h) = (data.references[si].mean.width, data.references[si].mean.height);
-        let title = format!("{title} ('{scene}', {w}x{h} px)");
-        let base = format!("{stem}_{what}");
-        let svg = format!("{base}.svg");
-        let bytes = drawn(
-            &out.join(&svg),
-            report::convergence_plot(&title, x_label, "RMSE", series, floor, Format::Svg),
-        );
-        io::write_atomic(&out.join(&svg), &bytes?)?;
-        let png = format!("{base}.png");
-        let bytes = drawn(
-            &out.join(&png),
-            report::convergence_plot(&title, x_label, "RMSE", series, floor, Format::Png),
-        );
-        let cap = format!(
-            "{}: {title}; mean ± sd over {reps} replicates, least-squares log-log slope in the legend, \
-             dashed: the reference's noise floor.",
-            g.name
-        );
-        figs.push(write_figure(out, &png, cap, vec![svg], bytes)?);
+    let mut guides = floor_guide(data, si);
+    if let Some(o) = data.overhead[si].filter(|o| o.median > 0.0) {
+        guides.push(Guide::Vertical(o.median * 1e3, "image with no AO rays (overhead)".into()));
     }
-    Ok(figs)
+    let title = format!("RMSE against render time ('{scene}', {})", size(data, si));
+    let cap = format!(
+        "{}: {title}. x: median over every timed render of the configuration (bars: min..max); a time is \
+         {}. y: mean ± sd over {} replicates. Dashed vertical: the overhead, the time of an image with no \
+         AO rays; the legend's slope is fitted against the AO time (render time minus the overhead), \
+         with its 95 % interval.",
+        g.name,
+        crate::timing::TIME_INCLUDES,
+        g.replicates
+    );
+    let axes = ("render time per image (ms, one thread)", "RMSE");
+    Ok(vec![log_log(out, &format!("{stem}_time"), &title, axes, &series, &guides, cap)?])
 }
 
-/// Every (scene, row, rays) of the spec's tables, in file order, without duplicates.
-pub fn table_configs(data: &Data) -> Vec<(String, Row, u32)> {
-    let spec = &data.loaded.spec;
-    let mut out: Vec<(String, Row, u32)> = Vec::new();
-    for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
-        for &si in &g.scenes {
-            for &row in &g.rows {
-                for &rays in &g.rays {
-                    let c = (spec.scenes[si].name.clone(), row.canonical(), rays);
-                    if !out.contains(&c) {
-                        out.push(c);
-                    }
-                }
-            }
-        }
+/// Efficiency 1 / (MSE · AO time) against rays per pixel, ± its spread.
+fn efficiency_figure(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+    let scene = &data.loaded.spec.scenes[si].name;
+    let series: Vec<Series> = g
+        .rows
+        .iter()
+        .filter_map(|&row| {
+            let points: Vec<(f64, f64, f64)> = sweep_points(data, g, scene, row)
+                .iter()
+                .filter(|a| a.efficiency.is_finite() && a.efficiency > 0.0)
+                .map(|a| (a.rays as f64, a.efficiency, a.efficiency_spread.max(0.0)))
+                .collect();
+            (!points.is_empty()).then(|| Series::new(row_label(row), points))
+        })
+        .collect();
+    if series.is_empty() {
+        return Ok(vec![]);
     }
-    out
+    let title = format!("Efficiency against rays per pixel ('{scene}', {})", size(data, si));
+    let cap = format!(
+        "{}: {title}. Efficiency = 1 / (MSE · AO time) in 1/s, with MSE the mean over replicates of the \
+         squared RMSE and AO time the median render time minus the per-image overhead, so the overhead \
+         cannot dominate at low ray counts; higher is better. Bars: ± the spread (standard error of the \
+         MSE and half the range of the timed renders, combined).",
+        g.name
+    );
+    let axes = ("rays per pixel", "efficiency (1/(MSE·s))");
+    Ok(vec![log_log(out, &format!("{stem}_efficiency"), &title, axes, &series, &[], cap)?])
 }
 
 /// The structured-error metric of every table configuration, so Table 3's banding is a number.

@@ -1,5 +1,5 @@
-//! Turning a planned job into an image: its geometry on its scene, the sampler, the thread pool, and
-//! the time it took (render only: no reference, no IO).
+//! Turning a planned job into an image on all threads (the references; `timed.rs` renders the
+//! measured jobs): its geometry on its scene, the sampler, the thread pool.
 
 use crate::error::{Error, Result};
 use crate::plan::Job;
@@ -9,7 +9,6 @@ use crate::sampling::SamplerConfig;
 use crate::scene::Scene;
 use crate::spec::AoDistance;
 use indicatif::ProgressBar;
-use std::time::Instant;
 
 /// Image size and AO distance of a job: the spec's override, else the scene's own.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,8 +36,6 @@ impl Geometry {
 
 pub struct Rendered {
     pub output: RenderOutput,
-    /// Wall time of the render alone.
-    pub time_s: f64,
 }
 
 /// Renders jobs on one thread pool and advances one progress bar counted in rays
@@ -51,13 +48,6 @@ pub struct JobRunner {
 impl JobRunner {
     pub fn new(threads: Option<u32>, quiet: bool) -> Result<Self> {
         Ok(Self { pool: super::render::pool(threads)?, bar: progress::bar(0, "", quiet) })
-    }
-
-    /// Restarts the bar for a new stage of `total_rays` rays.
-    pub fn stage(&self, what: &str, total_rays: u64) {
-        self.bar.reset();
-        self.bar.set_length(total_rays);
-        self.bar.set_message(what.to_string());
     }
 
     pub fn render(&self, job: &Job, scene: &Scene, label: &str) -> Result<Rendered> {
@@ -74,10 +64,8 @@ impl JobRunner {
         self.bar.set_message(label.to_string());
         let before = self.bar.position();
         let rays = job.rays as u64;
-        let start = Instant::now();
         let output = self.pool.install(|| render::render(scene, &rj, &|px| self.bar.inc(px * rays)));
-        let time_s = start.elapsed().as_secs_f64();
         self.bar.set_position(before + g.pixels() * rays);
-        Ok(Rendered { output, time_s })
+        Ok(Rendered { output })
     }
 }

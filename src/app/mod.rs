@@ -1,14 +1,18 @@
 //! The one orchestrator: load → validate everything → plan → render → measure → export.
 //! Only this module (through `io`) touches the filesystem.
 
+mod answer;
 mod bench;
+mod data;
 mod figures;
 mod jobs;
+mod load;
 mod page;
 pub mod points;
 mod reference;
 pub mod render;
 pub mod run;
+mod timed;
 
 pub use render::load_scene;
 

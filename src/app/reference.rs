@@ -93,7 +93,9 @@ pub fn obtain(
     let wanted = wanted_manifest(spec, si, scene, geometry);
     let (exr, json) = paths(dir, &wanted);
     let lock_path = dir.join(format!("{}.lock", wanted.file_stem()));
-    if policy != Policy::ReuseOnly {
+    if policy != Policy::ReuseOnly && !io::exists(dir) {
+        // Nothing to reuse: it will be built here, and the lock file needs the directory.
+        io::ensure_writable_dir(dir)?;
         io::create_dir_all(dir)?;
     }
     let waiting = |holder: &str| {

@@ -79,6 +79,23 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     Ok(())
 }
 
+/// Puts a copy of `from` at `to` atomically: a hard link where the filesystem allows (no bytes
+/// copied), else a copy; either way through a temporary sibling and a rename.
+pub fn link_or_copy(from: &Path, to: &Path) -> Result<()> {
+    let dir = to.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let name = to.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.link-{}-{}", host_tag(), std::process::id()));
+    let _ = fs::remove_file(&tmp);
+    if fs::hard_link(from, &tmp).is_ok() {
+        return fs::rename(&tmp, to).map_err(|e| {
+            let _ = fs::remove_file(&tmp);
+            Error::io(to, e)
+        });
+    }
+    write_atomic(to, &read_bytes(from)?)
+}
+
 pub fn write_exr(path: &Path, channels: &[Channel]) -> Result<()> {
     let bytes =
         image::encode_exr(channels).map_err(|e| Error::input(path, format!("cannot encode EXR: {e}")))?;

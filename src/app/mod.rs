@@ -7,11 +7,13 @@ mod data;
 mod figures;
 mod jobs;
 mod load;
+mod merge;
 mod page;
 pub mod points;
 mod reference;
 pub mod render;
 pub mod run;
+mod shard;
 mod timed;
 
 pub use render::load_scene;
@@ -24,6 +26,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Run(args) => run::run_run(args),
         Command::Plan(args) => run::run_plan(args),
         Command::Reference(args) => run::run_reference(args),
+        Command::Merge(args) => merge::run_merge(args),
         Command::Render(args) => render::run_render(args),
         Command::Bench(args) => bench::run_bench(args),
         Command::Points(args) => points::run(&args),

@@ -39,7 +39,7 @@ const WARMUP_RAYS: u32 = 16;
 /// The resume key: the job, and everything outside the job that its numbers depend on (scene
 /// content, reference, hemilab version). The reference's measured fields (its render time, noise
 /// floor) are left out: a rebuilt identical reference must not invalidate finished jobs.
-fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
+pub(super) fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
     let manifest = refmath::Manifest { noise_floor: None, time_s: None, ..reference.manifest.clone() };
     let what = format!(
         "{};{};{};{}",

@@ -146,6 +146,15 @@ pub fn cpu_model() -> String {
     format!("{} ({cpus} CPUs)", model.unwrap_or_else(|| std::env::consts::ARCH.to_string()))
 }
 
+/// The 1-minute load average and the number of CPUs the kernel has online (`/proc/loadavg`,
+/// `/proc/cpuinfo`): how many threads want a core, machine-wide, and how many cores there are.
+pub fn load_average() -> Option<(f64, usize)> {
+    let load = fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()?;
+    let cpus =
+        fs::read_to_string("/proc/cpuinfo").ok()?.lines().filter(|l| l.starts_with("processor")).count();
+    (cpus > 0).then_some((load, cpus))
+}
+
 /// An exclusive lock on a file, held until dropped. It is the operating system's advisory lock
 /// (`flock`; over NFS the kernel maps it to a lock the server keeps), so it is released when the
 /// process ends however it ends: a killed job leaves no stale lock behind. The lock file itself is

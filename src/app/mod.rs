@@ -4,6 +4,7 @@
 mod answer;
 mod bench;
 mod data;
+mod estimate;
 mod figures;
 mod jobs;
 mod load;
@@ -24,7 +25,7 @@ use crate::error::Result;
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Run(args) => run::run_run(args),
-        Command::Plan(args) => run::run_plan(args),
+        Command::Plan(args) => estimate::run_plan(args),
         Command::Reference(args) => run::run_reference(args),
         Command::Merge(args) => merge::run_merge(args),
         Command::Render(args) => render::run_render(args),

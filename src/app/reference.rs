@@ -134,6 +134,13 @@ pub fn obtain(
     build(spec, si, scene, wanted, &exr, &json, runner)
 }
 
+/// The reference scene `si` needs, if `dir` holds no usable one (what `obtain` would build).
+pub fn missing(spec: &Spec, si: usize, scene: &Scene, dir: &Path) -> Result<Option<Manifest>> {
+    let wanted = wanted_manifest(spec, si, scene, Geometry::of(spec.resolution, spec.ao_distance, scene));
+    let (exr, json) = paths(dir, &wanted);
+    Ok(load_if_matching(spec, &wanted, &exr, &json)?.err().map(|_| wanted))
+}
+
 /// `Ok(Err((file, why)))` when there is nothing reusable; `Err` only for a stored file that cannot
 /// be read.
 fn load_if_matching(

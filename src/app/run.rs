@@ -8,7 +8,7 @@ use super::load::{Loaded, load};
 use super::reference::{self as refs, Policy, Reference};
 use super::shard;
 use super::timed::{self, Session};
-use crate::cli::{PlanArgs, ReferenceArgs, RunArgs};
+use crate::cli::{ReferenceArgs, RunArgs};
 use crate::error::{Error, Result};
 use crate::io;
 use crate::plan::{self, shard::Shard};
@@ -18,24 +18,6 @@ use crate::spec::{self, Spec};
 use crate::timing::{self, Protocol, Summary};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-
-/// Assumed throughput for `hemilab plan`'s time estimate (measure yours with `hemilab bench`).
-pub const ASSUMED_RAYS_PER_S: f64 = 8.0e6;
-
-pub fn run_plan(args: PlanArgs) -> Result<()> {
-    let loaded = load(&args.spec)?;
-    let plan = plan::plan(&loaded.spec);
-    let est = plan::estimate(
-        &plan,
-        |job| {
-            let (_, s) = loaded.scene_of(job);
-            [s.resolution.0, s.resolution.1]
-        },
-        ASSUMED_RAYS_PER_S,
-    );
-    print!("{}", plan::format_plan(&args.spec, &plan, &est, ASSUMED_RAYS_PER_S));
-    Ok(())
-}
 
 pub fn run_reference(args: ReferenceArgs) -> Result<()> {
     let loaded = load(&args.spec)?;

@@ -55,7 +55,7 @@ fn image_rel(job: &Job) -> String {
     format!("images/{}.exr", job.file_stem())
 }
 
-fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
+pub(super) fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
     let (_, scene) = loaded.scene_of(job);
     let g = super::jobs::Geometry::of(job.resolution, job.ao_distance, scene);
     let sampler = SamplerConfig::new(job.sequence, job.seed_mode, rays, job.seed)
@@ -72,7 +72,7 @@ fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
 /// The overhead render: `job`'s image with no AO rays, i.e. primary rays, hit points, frames and
 /// the image itself. (Built directly: `SamplerConfig::new` refuses zero points, which would
 /// have no estimate; this render's image is never used, only its time.)
-fn overhead_job(base: &RenderJob) -> RenderJob {
+pub(super) fn overhead_job(base: &RenderJob) -> RenderJob {
     let sampler =
         SamplerConfig { sequence: Sequence::Random, seed_mode: SeedMode::Rotation, count: 0, seed: 0 };
     RenderJob { sampler, ..*base }

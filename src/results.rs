@@ -46,13 +46,15 @@ pub const CSV_COLUMNS: &[&str] = &[
     "image",
 ];
 
-/// The columns that hold measured times (everything else is bit-identical between runs).
+/// The columns that hold measured times, or depend on them (how many renders a configuration got:
+/// cheap ones get more); everything else is bit-identical between runs.
 pub const TIME_COLUMNS: &[&str] = &[
     "time_s",
     "rays_per_s",
     "time_median_s",
     "time_min_s",
     "time_max_s",
+    "timings",
     "overhead_s",
     "ao_time_s",
     "ns_per_ray",

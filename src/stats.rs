@@ -6,7 +6,8 @@
 mod fit;
 
 pub use fit::{
-    LinearFit, linear_fit, loglog_fit, median, paired_difference, student_t_quantile, student_t_two_sided_p,
+    LinearFit, linear_fit, loglog_fit, median, median_interval, paired_difference, student_t_quantile,
+    student_t_two_sided_p,
 };
 
 use std::fmt;

@@ -260,16 +260,21 @@ fn timing_columns_follow_the_protocol() {
     assert_eq!(timing["protocol"]["workers"], 2);
     assert_eq!(timing["protocol"]["threads_per_render"], 1);
     let overhead = &timing["overhead"][0]["overhead_s"];
-    assert_eq!(overhead["n"], 7, "{timing}");
+    let over_n = overhead["n"].as_u64().unwrap();
+    assert!((7..=15).contains(&over_n), "{timing}");
     let over = overhead["median"].as_f64().unwrap();
     assert!(over > 0.0);
-    // 8 configurations x 5 renders + 7 overhead renders.
-    assert_eq!(timing["session"]["timed_renders"], 47, "{timing}");
+    let mut renders = over_n;
     for r in &recs {
         let same: Vec<&JobResult> = recs.iter().filter(|o| o.config() == r.config()).collect();
         let samples: Vec<f64> = same.iter().flat_map(|o| o.times.iter().copied()).collect();
-        assert_eq!(samples.len(), 5, "{:?}", r.config());
-        assert_eq!(r.timings, 5);
+        // At least the 5 asked for; these 24x18 renders are cheap, so the second round adds more,
+        // up to 15 in all.
+        assert!((5..=15).contains(&samples.len()), "{:?}: {} samples", r.config(), samples.len());
+        assert_eq!(r.timings, samples.len());
+        if r.replicate == 0 {
+            renders += samples.len() as u64;
+        }
         assert!(!r.times.is_empty() && r.times.len() == r.walls.len());
         assert_eq!(
             r.time_s,
@@ -291,6 +296,7 @@ fn timing_columns_follow_the_protocol() {
             assert!(r.ao_time_s.is_nan() && r.efficiency.is_none(), "no split below the overhead: {r:?}");
         }
     }
+    assert_eq!(timing["session"]["timed_renders"], renders, "{timing}");
     // The CSV carries the same numbers, undefined ones as empty fields.
     let csv = std::fs::read_to_string(t.path("out/results.csv")).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
@@ -298,7 +304,7 @@ fn timing_columns_follow_the_protocol() {
     for (line, r) in csv.lines().skip(1).zip(&recs) {
         let f: Vec<&str> = line.split(',').collect();
         assert_eq!(f[col("time_median_s")].parse::<f64>().unwrap(), r.time_median_s);
-        assert_eq!(f[col("timings")], "5");
+        assert_eq!(f[col("timings")], r.timings.to_string());
         assert_eq!(f[col("overhead_s")].parse::<f64>().unwrap(), r.overhead_s);
         assert_eq!(
             f[col("ao_time_s")].parse::<f64>().ok().unwrap_or(f64::NAN).to_bits(),

@@ -25,20 +25,28 @@ pub fn answer(data: &Data) -> Answer {
         if all.is_empty() {
             continue;
         }
-        let mut p = format!(
-            "Answer for '{scene}' (sweep '{}'): the least error per unit of time — the highest efficiency, \
-             1 / (MSE · AO time) — ",
-            g.name
-        );
-        p += &winners(data, scene, &all);
+        text.push(format!(
+            "Answer for '{scene}' (sweep '{}'). The least error per unit of time — the highest efficiency, \
+             1 / (MSE · AO time) — at each of its {} ray counts: {}.",
+            g.name,
+            all.len(),
+            winners(data, scene, &all)
+        ));
         if !unbiased.is_empty() {
-            p += &format!(
-                ". Among estimators that are unbiased in every pixel: {}",
+            text.push(format!(
+                "Among estimators that are unbiased in every pixel: {}.",
                 winners(data, scene, &unbiased)
-            );
+            ));
         }
-        p += ". Margins are the winner's efficiency over the runner-up's and their distance in combined \
-              spreads (table below; a margin under 3 spreads is not resolved by this run).";
+        for set in [&all, &unbiased] {
+            if let Some((w, r)) = top_two(set) {
+                text.push(head_to_head(data, g, scene, w, r));
+            }
+        }
+        let p = "A margin is the winner's efficiency over the runner-up's at the same ray count; under 3 \
+                 combined spreads this run's timing does not resolve the order (tables below: the margin per \
+                 ray count, and the paired RMSE differences and time ratios behind it)."
+            .to_string();
         text.push(p);
         tables.push(best_table(g, scene, &all, &unbiased));
         let paired = paired_table(data, g, scene);
@@ -83,7 +91,7 @@ fn winners(data: &Data, scene: &str, best: &[Best]) -> String {
                 .map(|(m, _)| m)
                 .fold(f64::NEG_INFINITY, f64::max);
             let band = if band > 0.1 {
-                format!(" — its error is banded (ρ up to {band:.2}, see the banding figure)")
+                format!(" — its error is banded (ρ, the lag-1 error autocorrelation, up to {band:.2}: table of all configurations)")
             } else {
                 String::new()
             };
@@ -115,6 +123,99 @@ fn ray_list(picked: &[u32], all: &[u32]) -> String {
     let runs: Vec<String> =
         runs.iter().map(|&(a, b)| if a == b { a.to_string() } else { format!("{a}–{b}") }).collect();
     runs.join(", ")
+}
+
+/// The most frequent winner and the row it most often beats or loses to: the pair the answer
+/// turns on. `None` when one row has no rival.
+fn top_two(best: &[Best]) -> Option<(Row, Row)> {
+    let mut wins: Vec<(Row, usize)> = Vec::new();
+    for b in best {
+        let r = compare::row_of(b.best)?;
+        match wins.iter_mut().find(|(x, _)| *x == r) {
+            Some((_, k)) => *k += 1,
+            None => wins.push((r, 1)),
+        }
+    }
+    let w = wins.iter().max_by_key(|(_, k)| *k)?.0;
+    let mut rivals: Vec<(Row, usize)> = Vec::new();
+    for b in best {
+        let (Some(x), Some(y)) = (compare::row_of(b.best), b.runner_up.and_then(compare::row_of)) else {
+            continue;
+        };
+        let other = if x == w {
+            y
+        } else if y == w {
+            x
+        } else {
+            continue;
+        };
+        match rivals.iter_mut().find(|(o, _)| *o == other) {
+            Some((_, k)) => *k += 1,
+            None => rivals.push((other, 1)),
+        }
+    }
+    Some((w, rivals.iter().max_by_key(|(_, k)| *k)?.0))
+}
+
+/// `w` against `r` at every ray count of the sweep, replicate by replicate: where w's RMSE is lower
+/// or higher by at least 5 paired standard errors, and the ratio of their median times.
+fn head_to_head(data: &Data, g: &Group, scene: &str, w: Row, r: Row) -> String {
+    let (mut lower, mut higher, mut within) = (Vec::new(), Vec::new(), Vec::new());
+    let mut ratios = Vec::new();
+    for &n in &g.rays {
+        if let Some(p) = compare::paired_rmse(data.results, scene, r, w, n) {
+            let bucket = if p.z() <= -5.0 {
+                &mut lower
+            } else if p.z() >= 5.0 {
+                &mut higher
+            } else {
+                &mut within
+            };
+            bucket.push((n, 100.0 * p.relative));
+        }
+        let t = |x: Row| lookup(&data.aggs, scene, x, n).and_then(|a| a.time).map(|t| t.median);
+        if let (Some(tw), Some(tr)) = (t(w), t(r)) {
+            ratios.push(tw / tr);
+        }
+    }
+    let all: Vec<u32> = g.rays.clone();
+    let part = |v: &[(u32, f64)], what: &str| {
+        if v.is_empty() {
+            return None;
+        }
+        let lo = v.iter().map(|x| x.1.abs()).fold(f64::INFINITY, f64::min);
+        let hi = v.iter().map(|x| x.1.abs()).fold(f64::NEG_INFINITY, f64::max);
+        let rays: Vec<u32> = v.iter().map(|x| x.0).collect();
+        Some(format!(
+            "{lo:.1}–{hi:.1} % {what} at {} of {} ray counts ({})",
+            v.len(),
+            all.len(),
+            ray_list(&rays, &all)
+        ))
+    };
+    let mut parts: Vec<String> =
+        [part(&lower, "lower"), part(&higher, "higher")].into_iter().flatten().collect();
+    if !within.is_empty() {
+        let rays: Vec<u32> = within.iter().map(|x| x.0).collect();
+        parts.push(format!(
+            "within 5 paired standard errors at {} ({})",
+            within.len(),
+            ray_list(&rays, &all)
+        ));
+    }
+    let time = if ratios.is_empty() {
+        String::new()
+    } else {
+        let lo = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        format!("; its median render time is ×{lo:.2}–{hi:.2} the other's")
+    };
+    format!(
+        "{} against {}, replicate by replicate (the same seeds): RMSE {}{time}.",
+        row_label(w),
+        row_label(r),
+        parts.join(", ")
+    )
 }
 
 fn best_cells(b: Option<&Best>) -> [String; 3] {

@@ -301,8 +301,8 @@ fn efficiency_figure(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) 
     let cap = format!(
         "{}: {title}. Efficiency = 1 / (MSE · AO time) in 1/s, with MSE the mean over replicates of the \
          squared RMSE and AO time the median render time minus the per-image overhead, so the overhead \
-         cannot dominate at low ray counts; higher is better. Bars: ± the spread (standard error of the \
-         MSE and half the range of the timed renders, combined).",
+         cannot dominate at low ray counts; higher is better. Bars: ± the spread (the standard error of \
+         the MSE, and half the 95 % interval of the median time with the run-to-run scatter, combined).",
         g.name
     );
     let axes = ("rays per pixel", "efficiency (1/(MSE·s))");

@@ -84,8 +84,13 @@ fn timing_text(data: &Data) -> String {
         "Timing. A time is {}, read from the {}. Every configuration was rendered at least {} times (its \
          replicates, re-rendered for timing where fewer) in passes: each pass renders every configuration \
          once, in a seeded random order (seed {}), so drift of the machine lands on all configurations \
-         alike; {} worker(s) rendered side by side, each on {} thread, after {:.1} s of untimed warm-up \
-         per scene. Times are the median over those renders, with min and max. The per-image overhead \
+         alike. A second round, interleaved the same way, rendered again every configuration whose \
+         renders added up to less than {} s, up to {} renders in all (cheap renders are timed more \
+         often). {} worker(s) rendered side by side, each on {} thread, after {:.1} s of untimed warm-up \
+         per scene. Times are the median over those renders, with min and max; the spread of a time is half \
+         the width of its median's distribution-free 95 % interval (order statistics; min..max when there \
+         are too few renders for 95 %), combined with a run-to-run scatter of {:.0} % of the median that one \
+         run cannot see (measured between runs of the paper experiment; README, Timing). The per-image overhead \
          (primary rays and setup: an image with no AO rays) is {overhead}; AO time = median time − \
          overhead, the marginal cost of a ray = AO time / AO rays, and efficiency = 1 / (MSE · AO time) \
          in 1/s, which the overhead cannot dominate. The machine may be shared with other work: thread \
@@ -95,9 +100,12 @@ fn timing_text(data: &Data) -> String {
         timing::clock::NAME,
         p.repeats,
         p.seed,
+        p.min_total_s,
+        p.max_repeats,
         p.workers,
         p.threads_per_render,
-        p.warmup_s
+        p.warmup_s,
+        100.0 * timing::RUN_TO_RUN
     )
 }
 

@@ -84,6 +84,57 @@ struct Done {
     record: Option<JobResult>,
 }
 
+/// What the finished renders have produced so far.
+struct State {
+    /// By plan position: resumed, or filled as jobs finish.
+    records: Vec<Option<JobResult>>,
+    /// Timing-only renders that finished before their job's first render did.
+    pending: HashMap<usize, Vec<Time>>,
+    /// Per scene: the no-AO-ray renders' times.
+    overhead_samples: Vec<Vec<f64>>,
+    renders: usize,
+    cpu_s: f64,
+}
+
+impl State {
+    /// Files one finished render (`n`: the plan's job count; ids from `n` on are overhead renders).
+    /// A new record is written out at once, so a killed run keeps it.
+    fn done(
+        &mut self,
+        n: usize,
+        slot: &Slot,
+        d: Done,
+        write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
+    ) -> Result<()> {
+        self.renders += 1;
+        self.cpu_s += d.time.cpu_s;
+        if slot.job >= n {
+            self.overhead_samples[slot.job - n].push(d.time.cpu_s);
+            return Ok(());
+        }
+        match (d.record, &mut self.records[slot.job]) {
+            (Some(mut rec), r) => {
+                rec.add_time(d.time.cpu_s, d.time.wall_s);
+                for t in self.pending.remove(&slot.job).unwrap_or_default() {
+                    rec.add_time(t.cpu_s, t.wall_s);
+                }
+                *r = Some(rec);
+                write(&self.records.iter().flatten().cloned().collect::<Vec<_>>())?;
+            }
+            (None, Some(rec)) => rec.add_time(d.time.cpu_s, d.time.wall_s),
+            (None, None) => self.pending.entry(slot.job).or_default().push(d.time),
+        }
+        Ok(())
+    }
+
+    /// Every timed render of job `i` so far.
+    fn samples(&self, i: usize) -> Vec<f64> {
+        let mut v: Vec<f64> = self.records[i].as_ref().map(|r| r.times.clone()).unwrap_or_default();
+        v.extend(self.pending.get(&i).into_iter().flatten().map(|t| t.cpu_s));
+        v
+    }
+}
+
 /// Renders and measures every job of `plan` not already in `previous` (by key, with its image),
 /// times everything per the protocol, and returns the records in plan order.
 #[allow(clippy::too_many_arguments)]
@@ -108,7 +159,7 @@ pub fn run_jobs(
             run_key(j, s, &references[si])
         })
         .collect();
-    let mut records: Vec<Option<JobResult>> = plan
+    let records: Vec<Option<JobResult>> = plan
         .jobs
         .iter()
         .zip(&keys)
@@ -159,8 +210,9 @@ pub fn run_jobs(
     }
     let scene_of_id = |id: usize| if id < n { loaded.scene_of(&plan.jobs[id]).0 } else { id - n };
     let pixels = |id: usize| jobs[id].width as u64 * jobs[id].height as u64;
+    let cost = |slots: &[Slot]| slots.iter().map(|s| pixels(s.job) * jobs[s.job].sampler.count as u64).sum();
     bar.reset();
-    bar.set_length(slots.iter().map(|s| pixels(s.job) * jobs[s.job].sampler.count as u64).sum());
+    bar.set_length(cost(&slots));
     bar.set_message("jobs");
 
     let work = |worker: &timing::Worker, slot: &Slot| -> Result<Done> {
@@ -193,33 +245,36 @@ pub fn run_jobs(
         Ok(Done { time, record: Some(record) })
     };
 
-    let mut overhead_samples: Vec<Vec<f64>> = vec![Vec::new(); scenes];
-    let mut pending: HashMap<usize, Vec<Time>> = HashMap::new();
-    let (mut renders, mut cpu_s) = (0usize, 0.0f64);
-    let done = |slot: &Slot, d: Done| -> Result<()> {
-        renders += 1;
-        cpu_s += d.time.cpu_s;
-        if slot.job >= n {
-            overhead_samples[slot.job - n].push(d.time.cpu_s);
-            return Ok(());
-        }
-        match (d.record, &mut records[slot.job]) {
-            (Some(mut rec), r) => {
-                rec.add_time(d.time.cpu_s, d.time.wall_s);
-                for t in pending.remove(&slot.job).unwrap_or_default() {
-                    rec.add_time(t.cpu_s, t.wall_s);
-                }
-                *r = Some(rec);
-                write(&records.iter().flatten().cloned().collect::<Vec<_>>())?;
-            }
-            (None, Some(rec)) => rec.add_time(d.time.cpu_s, d.time.wall_s),
-            // A re-render that finished before the job's first render did.
-            (None, None) => pending.entry(slot.job).or_default().push(d.time),
-        }
-        Ok(())
+    let mut state = State {
+        records,
+        pending: HashMap::new(),
+        overhead_samples: vec![Vec::new(); scenes],
+        renders: 0,
+        cpu_s: 0.0,
     };
     let workers = timing::workers(protocol.workers).map_err(Error::Refused)?;
-    timing::run_queue(&slots, workers, work, done)?;
+    timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write))?;
+    // Second round: more samples for the units whose samples add up to little time.
+    if state.renders > 0 {
+        let mut members: Vec<Vec<usize>> = vec![Vec::new(); needs.len()];
+        for (i, job) in plan.jobs.iter().enumerate() {
+            members[unit_of[&(job.scene_id.clone(), job.row().canonical(), job.rays)]].push(i);
+        }
+        let units: Vec<(Vec<usize>, Vec<f64>)> = needs
+            .iter()
+            .enumerate()
+            .map(|(u, need)| match members.get(u).filter(|m| !m.is_empty()) {
+                Some(m) => (m.clone(), m.iter().flat_map(|&i| state.samples(i)).collect()),
+                None => (need.again.clone(), state.overhead_samples[need.again[0] - n].clone()),
+            })
+            .collect();
+        let extra = timing::top_up(&units, protocol.min_total_s, protocol.max_repeats);
+        let slots = timing::schedule(&extra, protocol.seed ^ 0x5eed_0002);
+        bar.set_length(bar.length().unwrap_or(0) + cost(&slots));
+        let workers = timing::workers(protocol.workers).map_err(Error::Refused)?;
+        timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write))?;
+    }
+    let State { records, overhead_samples, renders, cpu_s, .. } = state;
 
     let overhead: Vec<Option<Summary>> = overhead_samples.iter().map(|s| Summary::of(s)).collect();
     let mut records: Vec<JobResult> =

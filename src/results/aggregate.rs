@@ -124,10 +124,12 @@ pub fn aggregate_columns() -> Vec<String> {
 }
 
 const AGG_METRICS: [&str; 5] = ["rmse", "bias", "autocorr_x", "autocorr_y", "lowpass_rmse"];
-const AGG_TIMING: [&str; 10] = [
+const AGG_TIMING: [&str; 12] = [
     "time_median_s",
     "time_min_s",
     "time_max_s",
+    "time_ci_low_s",
+    "time_ci_high_s",
     "timings",
     "overhead_s",
     "ao_time_s",
@@ -159,10 +161,12 @@ pub fn aggregates_to_csv(aggs: &[Aggregate]) -> String {
         let f = |g: fn(&Summary) -> f64| t.as_ref().map_or(String::new(), |t| num(g(t)));
         let _ = write!(
             s,
-            ",{},{},{},{},{},{},{},{},{},{}",
+            ",{},{},{},{},{},{},{},{},{},{},{},{}",
             f(|t| t.median),
             f(|t| t.min),
             f(|t| t.max),
+            f(|t| t.ci_low),
+            f(|t| t.ci_high),
             t.map_or(0, |t| t.n),
             num(a.overhead_s),
             num(a.ao_time_s),
@@ -209,7 +213,10 @@ mod tests {
         for a in &aggs {
             assert!((a.efficiency - e).abs() < 1e-9 * e, "{}", a.efficiency);
             let se = a.mse.sd / 3f64.sqrt() / a.mse.mean;
-            assert!((a.efficiency_spread - e * se).abs() < 1e-9 * e, "identical times: only the MSE's error");
+            // Identical times: the MSE's error and the run-to-run scatter of the median time.
+            let t = a.time.unwrap().median;
+            let rel = se.hypot(crate::timing::RUN_TO_RUN * t / a.ao_time_s);
+            assert!((a.efficiency_spread - e * rel).abs() < 1e-9 * e, "{} {}", a.efficiency_spread, e * rel);
         }
         let slopes = convergence_slopes(&aggs, &[]);
         assert_eq!(slopes.len(), 1);

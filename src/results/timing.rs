@@ -39,9 +39,9 @@ pub fn fill_timing(results: &mut [JobResult], overhead: &dyn Fn(&str) -> Option<
 }
 
 /// The spread of an efficiency E = 1 / (MSE · T): E · √((se(MSE)/MSE)² + (δT/T)²), with se(MSE)
-/// the standard error of the mean MSE over `replicates` and δT half the range of the timing
-/// samples. The overhead's own uncertainty is left out: it shifts every configuration of a scene
-/// alike. NaN when E is.
+/// the standard error of the mean MSE over `replicates` and δT the spread of the median time
+/// (`Summary::spread`: half its 95 % interval and the run-to-run scatter). The overhead's own uncertainty is left out: it
+/// shifts every configuration of a scene alike. NaN when E is.
 pub fn efficiency_spread(
     efficiency: f64,
     mse: Stat,
@@ -50,7 +50,7 @@ pub fn efficiency_spread(
     ao_time_s: f64,
 ) -> f64 {
     let se = if replicates > 1 { mse.sd / (replicates as f64).sqrt() } else { 0.0 };
-    let dt = time.map_or(f64::NAN, |t| t.half_range());
+    let dt = time.map_or(f64::NAN, |t| t.spread());
     let rel = ((se / mse.mean).powi(2) + (dt / ao_time_s).powi(2)).sqrt();
     efficiency * rel
 }

@@ -187,6 +187,36 @@ pub fn median(values: &[f64]) -> f64 {
     if v.len() % 2 == 1 { v[m] } else { 0.5 * (v[m - 1] + v[m]) }
 }
 
+/// Distribution-free confidence interval of the median: the order statistics x_(k) and
+/// x_(n+1−k) with k the largest rank for which the interval still covers the median with
+/// probability at least `level` (from the binomial(n, ½) distribution of the count below it); with
+/// too few values for `level`, the widest interval, [min, max]. Returns (low, high, coverage);
+/// NaNs for no finite value. Assumes nothing about the distribution, so one slow outlier among
+/// many timings does not widen it.
+pub fn median_interval(values: &[f64], level: f64) -> (f64, f64, f64) {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return (f64::NAN, f64::NAN, f64::NAN);
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    // P(B <= j) for B ~ binomial(n, 1/2), accumulated in log space.
+    let ln_half_n = -(n as f64) * std::f64::consts::LN_2;
+    let ln_choose =
+        |j: usize| ln_gamma(n as f64 + 1.0) - ln_gamma(j as f64 + 1.0) - ln_gamma((n - j) as f64 + 1.0);
+    let mut below = ln_half_n.exp(); // P(B <= k - 1), k = 1
+    let mut k = 1;
+    while 2 * (k + 1) <= n + 1 {
+        let next = below + (ln_choose(k) + ln_half_n).exp(); // P(B <= k)
+        if 1.0 - 2.0 * next < level {
+            break;
+        }
+        below = next;
+        k += 1;
+    }
+    (v[k - 1], v[n - k], 1.0 - 2.0 * below)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -250,6 +280,21 @@ mod tests {
         let (d, se) = paired_difference(&[1.0, 2.0, 3.0], &[2.0, 2.0, 5.0]);
         assert!((d - 1.0).abs() < 1e-12 && (se - 1.0 / 3f64.sqrt()).abs() < 1e-12, "{d} {se}");
         assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        // Order-statistic intervals of the median (tables of the sign test): n = 4 is too few for
+        // 95 % (min..max covers 87.5 %); n = 12 gives x(3)..x(10) at 96.1 %; n = 15, x(4)..x(12) at 96.5 %.
+        let (lo, hi, c) = median_interval(&[4.0, 1.0, 3.0, 2.0], 0.95);
+        assert_eq!((lo, hi), (1.0, 4.0));
+        assert!((c - 0.875).abs() < 1e-12);
+        let twelve: Vec<f64> = (1..=12).map(f64::from).collect();
+        let (lo, hi, c) = median_interval(&twelve, 0.95);
+        assert_eq!((lo, hi), (3.0, 10.0));
+        assert!((c - (1.0 - 2.0 * 79.0 / 4096.0)).abs() < 1e-12, "{c}");
+        let fifteen: Vec<f64> = (1..=15).map(f64::from).collect();
+        let (lo, hi, c) = median_interval(&fifteen, 0.95);
+        assert_eq!((lo, hi), (4.0, 12.0));
+        assert!((c - (1.0 - 2.0 * 576.0 / 32768.0)).abs() < 1e-12, "{c}");
+        assert_eq!(median_interval(&[7.0], 0.95).0, 7.0);
+        assert!(median_interval(&[], 0.95).0.is_nan());
         assert_eq!(median(&[4.0, 1.0, 2.0, 3.0, f64::NAN]), 2.5);
         assert!(median(&[]).is_nan());
     }

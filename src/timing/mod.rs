@@ -13,6 +13,10 @@
 //!   configuration (scene, estimator, ray count); its replicates differ only in the seed. Every
 //!   render of a unit is one timing sample, and a unit with fewer than `repeats` replicates is
 //!   rendered again (timing only) until it has `repeats` samples. Median, min and max are kept.
+//! - **Cheap units get more samples**: after that first round, a unit whose samples add up to less
+//!   than `min_total_s` is rendered again until they would (by its median), up to `max_repeats`
+//!   samples ([`top_up`]) — a second round, interleaved the same way. A 10 ms render is then timed
+//!   about 15 times for a fraction of a second, while a 1 s render keeps its `repeats`.
 //! - **Interleaved order**: pass p holds the p-th sample of every unit, in a seeded random order
 //!   of its own ([`schedule`]), so slow drift (a build starting on the other core, frequency
 //!   changes) lands evenly on all units instead of on whichever ran last.
@@ -40,6 +44,16 @@ pub const DEFAULT_REPEATS: u32 = 3;
 pub const WARMUP_S: f64 = 0.3;
 /// Timing samples of the no-AO-ray overhead render per scene, at least.
 pub const OVERHEAD_REPEATS: u32 = 7;
+/// Relative run-to-run scatter of a median time that no single run can see (each run is one
+/// process: its memory layout, the other work on the machine). Measured: five runs of the paper
+/// experiment on this project's shared 2-core machine (2026-11-23, load 4-8) gave a standard
+/// deviation of ln(median time) between runs of 0.023 for the median configuration and 0.044 at
+/// the 90th percentile, while a configuration's own 4 renders sometimes spread by only 1 %.
+pub const RUN_TO_RUN: f64 = 0.03;
+/// A unit whose samples add up to less CPU time than this gets more (see [`top_up`]).
+pub const MIN_TOTAL_S: f64 = 0.25;
+/// … but no more samples than this in all.
+pub const MAX_REPEATS: u32 = 15;
 
 /// How the renders of a run are timed.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -52,23 +66,30 @@ pub struct Protocol {
     pub warmup_s: f64,
     /// Renders side by side, each on one thread of its own.
     pub workers: usize,
+    /// Second round: units whose samples add up to less CPU time get more, up to `max_repeats`.
+    pub min_total_s: f64,
+    pub max_repeats: u32,
     /// Threads per timed render (always 1: see the module notes).
     pub threads_per_render: usize,
 }
 
 impl Protocol {
     pub fn new(repeats: u32, seed: u64, workers: usize) -> Self {
+        let repeats = repeats.max(1);
         Self {
-            repeats: repeats.max(1),
+            repeats,
             seed,
             warmup_s: WARMUP_S,
             workers: workers.max(1),
+            min_total_s: MIN_TOTAL_S,
+            max_repeats: MAX_REPEATS.max(repeats),
             threads_per_render: 1,
         }
     }
 }
 
-/// Median, min and max of a unit's timing samples, in seconds.
+/// Median, min and max of a unit's timing samples, in seconds, and the median's distribution-free
+/// 95 % confidence interval (`stats::median_interval`; min..max when there are too few samples).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
     pub median: f64,
@@ -76,6 +97,8 @@ pub struct Summary {
     pub max: f64,
     /// Samples.
     pub n: usize,
+    pub ci_low: f64,
+    pub ci_high: f64,
 }
 
 impl Summary {
@@ -87,12 +110,15 @@ impl Summary {
         }
         let min = v.iter().copied().fold(f64::INFINITY, f64::min);
         let max = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        Some(Self { median: crate::stats::median(&v), min, max, n: v.len() })
+        let (ci_low, ci_high, _) = crate::stats::median_interval(&v, 0.95);
+        Some(Self { median: crate::stats::median(&v), min, max, n: v.len(), ci_low, ci_high })
     }
 
-    /// Half the range: the spread the report puts on a time.
-    pub fn half_range(&self) -> f64 {
-        0.5 * (self.max - self.min)
+    /// The spread the report puts on a time: half the width of the median's confidence interval
+    /// (unlike half the range it shrinks as samples are added, and one slow outlier does not set
+    /// it), combined in quadrature with the run-to-run scatter [`RUN_TO_RUN`] × median.
+    pub fn spread(&self) -> f64 {
+        (0.5 * (self.ci_high - self.ci_low)).hypot(RUN_TO_RUN * self.median)
     }
 }
 
@@ -166,6 +192,25 @@ pub fn schedule(needs: &[Need], seed: u64) -> Vec<Slot> {
         out.extend(pass);
     }
     out
+}
+
+/// The second round's needs: for each unit (its jobs and the samples it has), enough further
+/// renders that its samples would add up to `min_total_s` at its median time, at most
+/// `max_samples` in all; units already there need nothing.
+pub fn top_up(units: &[(Vec<usize>, Vec<f64>)], min_total_s: f64, max_samples: u32) -> Vec<Need> {
+    units
+        .iter()
+        .map(|(jobs, samples)| {
+            let total: f64 = samples.iter().filter(|x| x.is_finite()).sum();
+            let median = crate::stats::median(samples);
+            let want = if total < min_total_s && median > 0.0 {
+                ((min_total_s / median).ceil() as u32).min(max_samples)
+            } else {
+                0
+            };
+            Need { fresh: vec![], again: jobs.clone(), have: samples.len(), repeats: want }
+        })
+        .collect()
 }
 
 /// SplitMix64's finalizer.
@@ -278,10 +323,35 @@ mod tests {
     }
 
     #[test]
+    fn top_up_gives_cheap_units_more_samples() {
+        let units = vec![
+            (vec![0, 1], vec![0.01, 0.012, 0.011]), // 33 ms in all: 23 samples wanted, 15 at most
+            (vec![2], vec![0.05, 0.06, 0.05]),      // 160 ms: 5 samples
+            (vec![3], vec![0.5, 0.5, 0.5]),         // already 1.5 s
+        ];
+        let needs = top_up(&units, 0.25, 15);
+        assert_eq!(needs.iter().map(|n| n.repeats).collect::<Vec<_>>(), [15, 5, 0]);
+        let s = schedule(&needs, 3);
+        let count = |u: usize| s.iter().filter(|x| x.unit == u).count();
+        assert_eq!([count(0), count(1), count(2)], [12, 2, 0]);
+        assert!(s.iter().all(|x| !x.record), "timing only");
+        assert!(s.iter().filter(|x| x.unit == 0).any(|x| x.job == 0) && s.iter().any(|x| x.job == 1));
+    }
+
+    #[test]
     fn summaries_splits_and_calibration() {
         let s = Summary::of(&[0.3, 0.1, f64::NAN, 0.2, 0.5]).unwrap();
         assert_eq!((s.median, s.min, s.max, s.n), (0.25, 0.1, 0.5, 4));
-        assert!((s.half_range() - 0.2).abs() < 1e-15);
+        let expect = 0.2f64.hypot(RUN_TO_RUN * 0.25);
+        assert!((s.spread() - expect).abs() < 1e-15, "four samples: the interval is min..max");
+        let many: Vec<f64> = (0..15).map(|i| 1.0 + 0.01 * i as f64).chain([9.0]).collect();
+        let s = Summary::of(&many).unwrap();
+        assert!(s.max == 9.0 && s.spread() < 0.07, "an outlier sets the max, not the spread: {s:?}");
+        let same = Summary::of(&[0.5; 9]).unwrap();
+        assert!(
+            (same.spread() - RUN_TO_RUN * 0.5).abs() < 1e-15,
+            "identical renders still carry the run-to-run term"
+        );
         assert!(Summary::of(&[]).is_none());
         let sp = Split::of(0.011, 0.009, 1000);
         assert!((sp.ao_time_s - 0.002).abs() < 1e-15 && (sp.ns_per_ray - 2000.0).abs() < 1e-6);

@@ -86,10 +86,9 @@ impl Calibrated {
     }
 
     fn model(&self, loaded: &Loaded, jobs: usize, workers: usize) -> cost::Model {
+        let spec = &loaded.spec;
         cost::Model {
-            repeats: loaded.spec.timing.repeats,
-            workers,
-            warmup_s: timing::WARMUP_S,
+            protocol: timing::Protocol::new(spec.timing.repeats, spec.timing.seed, workers),
             overhead_renders: timing::OVERHEAD_REPEATS,
             // Results are rewritten after every job, on average half full.
             post_s: self.measure_s + self.serialize_per_record_s * jobs as f64 / 2.0,

@@ -263,8 +263,8 @@ fn shard_overhead(s: &ShardDir, name: &str) -> Option<Summary> {
 }
 
 /// Per scene, the overhead for the report's figures and text: one shard's as it is; several
-/// shards' as the median of their medians, their overall min and max, and their renders (each
-/// record keeps the overhead of its own shard).
+/// shards' as the median of their medians, their overall min and max, the widest interval, and
+/// all their renders (each record keeps the overhead of its own shard).
 fn merged_overhead(spec: &crate::spec::Spec, shards: &[ShardDir]) -> Vec<Option<Summary>> {
     spec.scenes
         .iter()
@@ -280,6 +280,9 @@ fn merged_overhead(spec: &crate::spec::Spec, shards: &[ShardDir]) -> Vec<Option<
                         min: all.iter().map(|o| o.min).fold(f64::INFINITY, f64::min),
                         max: all.iter().map(|o| o.max).fold(f64::NEG_INFINITY, f64::max),
                         n: all.iter().map(|o| o.n).sum(),
+                        // The widest: no interval is claimed narrower than a shard's own.
+                        ci_low: all.iter().map(|o| o.ci_low).fold(f64::INFINITY, f64::min),
+                        ci_high: all.iter().map(|o| o.ci_high).fold(f64::NEG_INFINITY, f64::max),
                     })
                 }
             }

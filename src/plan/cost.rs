@@ -2,27 +2,35 @@
 //! render of each job costs on this machine (the calibration `hemilab plan` measures). The
 //! protocol decides the renders: every configuration (unit) is rendered at least `repeats` times
 //! (its replicates, then timing-only re-renders), each scene's no-AO-ray overhead render
-//! `overhead_renders` times, and every worker warms up on each scene before its first timed render.
+//! `overhead_renders` times; then cheap units are topped up by the protocol's own rule
+//! (`timing::top_up`); and every worker warms up on each scene before its first timed render.
 
 use super::shard;
 use super::{Job, Plan};
+use crate::timing::{self, Protocol};
 
 /// The protocol and the machine's per-job costs, as the estimate needs them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Model {
-    /// Timed renders per configuration at least.
-    pub repeats: u32,
-    /// One-thread renders side by side.
-    pub workers: usize,
-    /// Untimed CPU seconds per worker and scene before the first timed render.
-    pub warmup_s: f64,
-    /// Timed no-AO-ray renders per scene.
+    /// Repeats, workers, warm-up and the second round's rule.
+    pub protocol: Protocol,
+    /// Timed no-AO-ray renders per scene in the first round.
     pub overhead_renders: u32,
     /// CPU seconds per recorded job besides its render: metrics, EXR encoding, rewriting results.
     pub post_s: f64,
     /// Wall seconds per CPU second of a worker (1 on an idle machine, more when other work shares
-    /// the cores), as measured during the calibration.
+    /// the cores).
     pub contention: f64,
+}
+
+impl Model {
+    /// Samples of a unit of `jobs` jobs after `n` first-round renders of `t` seconds each and the
+    /// second round.
+    fn samples(&self, jobs: usize, n: usize, t: f64) -> usize {
+        let p = &self.protocol;
+        let need = timing::top_up(&[((0..jobs).collect(), vec![t; n])], p.min_total_s, p.max_repeats);
+        n.max(need.first().map_or(0, |x| x.repeats as usize))
+    }
 }
 
 /// The predicted cost of a plan, in parts.
@@ -52,9 +60,10 @@ pub fn jobs(
     let units = shard::units(plan);
     let mut b = Breakdown { units: units.len(), ..Breakdown::default() };
     for u in &units {
-        let n = u.len().max(m.repeats as usize);
+        let t = render_s(&plan.jobs[u[0]]);
+        let n = m.samples(u.len(), u.len().max(m.protocol.repeats as usize), t);
         b.renders += n;
-        b.render_cpu_s += n as f64 * render_s(&plan.jobs[u[0]]);
+        b.render_cpu_s += n as f64 * t;
     }
     let mut scenes: Vec<&str> = plan.jobs.iter().map(|j| j.scene_id.as_str()).collect();
     scenes.sort_unstable();
@@ -62,15 +71,16 @@ pub fn jobs(
     if b.renders == 0 {
         return b;
     }
-    let workers = m.workers.clamp(1, b.renders);
+    let workers = m.protocol.workers.clamp(1, b.renders);
     for s in &scenes {
-        b.overhead_cpu_s += m.overhead_renders as f64 * overhead_s(s);
+        let t = overhead_s(s);
+        b.overhead_cpu_s += m.samples(1, m.overhead_renders as usize, t) as f64 * t;
     }
     b.post_cpu_s = plan.jobs.len() as f64 * m.post_s;
-    b.warmup_cpu_s = (workers * scenes.len()) as f64 * m.warmup_s;
+    b.warmup_cpu_s = (workers * scenes.len()) as f64 * m.protocol.warmup_s;
     // Workers share the renders; each warms up on every scene itself.
     let per_worker = (b.render_cpu_s + b.overhead_cpu_s + b.post_cpu_s) / workers as f64;
-    b.wall_s = (per_worker + scenes.len() as f64 * m.warmup_s) * m.contention.max(1.0);
+    b.wall_s = (per_worker + scenes.len() as f64 * m.protocol.warmup_s) * m.contention.max(1.0);
     b
 }
 
@@ -103,14 +113,11 @@ replicates = 1
 rows = [ { distribution = "sine", sequence = "random" } ]
 "#,
         );
-        let m = Model {
-            repeats: 3,
-            workers: 2,
-            warmup_s: 0.5,
-            overhead_renders: 7,
-            post_s: 0.01,
-            contention: 1.0,
-        };
+        let mut protocol = Protocol::new(3, 1, 2);
+        protocol.warmup_s = 0.5;
+        protocol.min_total_s = 0.25;
+        protocol.max_repeats = 15;
+        let m = Model { protocol, overhead_renders: 7, post_s: 0.01, contention: 1.0 };
         let b = jobs(&p, |j| j.rays as f64, |_| 0.1, &m);
         assert_eq!((b.units, b.renders), (2, 7));
         assert_eq!(b.render_cpu_s, 4.0 * 8.0 + 3.0 * 16.0);
@@ -121,8 +128,24 @@ rows = [ { distribution = "sine", sequence = "random" } ]
         assert!((b.wall_s - wall).abs() < 1e-9, "{b:?}");
         let busy = jobs(&p, |j| j.rays as f64, |_| 0.1, &Model { contention: 2.5, ..m });
         assert!((busy.wall_s - 2.5 * wall).abs() < 1e-9);
-        let one = jobs(&p, |j| j.rays as f64, |_| 0.1, &Model { workers: 1, ..m });
+        let one = jobs(
+            &p,
+            |j| j.rays as f64,
+            |_| 0.1,
+            &Model { protocol: Protocol { workers: 1, ..protocol }, ..m },
+        );
         assert!((one.wall_s - (80.75 + 0.5)).abs() < 1e-9);
         assert_eq!(jobs(&Plan::default(), |_| 1.0, |_| 1.0, &m), Breakdown::default());
+
+        // Cheap renders: the second round tops each unit up towards 0.25 s, at most 15 samples, and
+        // the overhead render too: 8 ms needs 32 → 15, 16 ms needs 16 → 15, 10 ms needs 25 → 15.
+        let cheap = jobs(&p, |j| j.rays as f64 * 1e-3, |_| 0.01, &m);
+        assert_eq!(cheap.renders, 30);
+        assert!((cheap.render_cpu_s - 15.0 * (0.008 + 0.016)).abs() < 1e-12, "{cheap:?}");
+        assert!((cheap.overhead_cpu_s - 15.0 * 0.01).abs() < 1e-12, "{cheap:?}");
+        // 50 ms: 4 × 0.1 s and 3 × 0.2 s are past 0.25 s already; the overhead (7 × 0.1 s) too.
+        let dear = jobs(&p, |j| j.rays as f64 * 12.5e-3, |_| 0.1, &m);
+        assert_eq!(dear.renders, 7);
+        assert!((dear.overhead_cpu_s - 0.7).abs() < 1e-12);
     }
 }

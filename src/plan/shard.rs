@@ -20,10 +20,11 @@ use crate::spec::Row;
 use std::collections::HashMap;
 use std::fmt;
 
-/// Primary ray, hit point, frame and image cost of a pixel, in AO-ray equivalents, for balancing
-/// only. (Measured with the plan's calibration on the kitchen at 160×120: see `DESIGN` in the README
-/// section on sharding; its exact value moves the balance by a few percent, never correctness.)
-pub const OVERHEAD_RAYS_PER_PIXEL: u64 = 4;
+/// Per-image cost of a pixel (primary ray, hit point, frame, point set, image) in AO-ray
+/// equivalents, for balancing only: `hemilab plan` measured about 10 ms per image plus 47–74 ns per
+/// AO ray on the kitchen at 160×120, i.e. about 10 rays per pixel. Its exact value moves the
+/// balance by a few percent, never which jobs run.
+pub const OVERHEAD_RAYS_PER_PIXEL: u64 = 10;
 
 /// Shard K (0-based) of N.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -135,7 +135,10 @@ fn concurrent_shards_merge_into_the_plain_run() {
     let timing: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(merged.join("timing.json")).unwrap()).unwrap();
     assert_eq!(timing["machines"], 1);
-    assert_eq!(timing["shards"].as_array().unwrap().len(), 3);
+    let per_shard = timing["shards"].as_array().unwrap();
+    assert_eq!(per_shard.len(), 3);
+    let traced: usize = per_shard.iter().map(|s| s["records"].as_array().unwrap().len()).sum();
+    assert_eq!(traced, 16, "every record traced to the shard (and machine) that timed it");
 }
 
 #[test]

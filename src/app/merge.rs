@@ -134,7 +134,7 @@ pub fn run_merge(args: MergeArgs) -> Result<()> {
     let m0 = &shards[0].manifest;
     let protocol = Protocol::new(m0.timing.repeats, m0.timing.seed, m0.timing.workers);
     let note = provenance(&shards);
-    write_timing(&out, &shards, protocol, &note)?;
+    write_timing(&out, &shards, &found, protocol, &note)?;
     let summary = super::run::summarize(&loaded, &references, &merged, &session, &out)?;
     let mut data = Data::new(&loaded, &references, &merged, protocol, overhead);
     data.notes.push(note.clone());
@@ -323,12 +323,22 @@ fn provenance(shards: &[ShardDir]) -> String {
     s
 }
 
-/// The merged `timing.json`: the protocol, and per shard its machine, overhead and session.
-fn write_timing(out: &Path, shards: &[ShardDir], protocol: Protocol, note: &str) -> Result<()> {
+/// The merged `timing.json`: the protocol, and per shard its machine, overhead and session, and
+/// the keys of the records taken from it (so each record's time can be traced to its machine).
+fn write_timing(
+    out: &Path,
+    shards: &[ShardDir],
+    found: &[Option<(usize, &JobResult)>],
+    protocol: Protocol,
+    note: &str,
+) -> Result<()> {
     let per_shard: Vec<serde_json::Value> = shards
         .iter()
-        .map(|s| {
+        .enumerate()
+        .map(|(i, s)| {
             let m = &s.manifest;
+            let keys: Vec<&str> =
+                found.iter().flatten().filter(|(si, _)| *si == i).map(|(_, r)| r.key.as_str()).collect();
             serde_json::json!({
                 "dir": s.dir.display().to_string(),
                 "shard": m.shard,
@@ -338,6 +348,7 @@ fn write_timing(out: &Path, shards: &[ShardDir], protocol: Protocol, note: &str)
                 "timing": m.timing,
                 "overhead": s.timing.as_ref().and_then(|t| t.get("overhead")).cloned(),
                 "session": s.timing.as_ref().and_then(|t| t.get("session")).cloned(),
+                "records": keys,
             })
         })
         .collect();

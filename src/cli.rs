@@ -21,7 +21,7 @@ pub struct Cli {
 pub enum Command {
     /// Run an experiment spec: render every job, measure it against the reference, write results and report.
     Run(RunArgs),
-    /// Print the job list of a spec and an estimate of its rays and time, without rendering.
+    /// Print a spec's plan and how long its run will take here (from a short calibration), per shard with --shards.
     Plan(PlanArgs),
     /// (Re)build the reference images a spec needs.
     Reference(ReferenceArgs),
@@ -96,7 +96,7 @@ pub fn parse_shard(s: &str) -> Result<ShardArg, String> {
 pub struct PlanArgs {
     /// Experiment spec (TOML).
     pub spec: PathBuf,
-    /// Estimate shard K of N (0-based, e.g. 1/3) and list its jobs; the table shows all N shards.
+    /// Estimate shard K of N (0-based, e.g. 1/3) (its jobs with --jobs); the table shows all N shards.
     #[arg(long, value_parser = Shard::parse, value_name = "K/N", conflicts_with = "shards")]
     pub shard: Option<Shard>,
     /// Show how the plan splits into N shards (jobs and estimated time of each).

@@ -56,7 +56,7 @@ struct Calibrated {
     /// second, in which the scheduler favours threads that just started; the load average
     /// (threads wanting a core, with the run's workers added, per online CPU) is a minute's average
     /// of the whole machine. On this project's shared 2-core machine the first alone came out
-    /// 1.4–2× below what the run then saw, the second alone up to 1.3× above.
+    /// 1.3–2.3× below what the run then saw, the second 1.2–1.6× above.
     contention: f64,
     measured: f64,
     averaged: Option<f64>,

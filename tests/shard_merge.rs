@@ -200,6 +200,14 @@ fn an_incomplete_or_mixed_merge_writes_nothing() {
     // A directory that is no shard.
     let e = assert_error(&merge(&["ref"], "tiny.toml"), "ref/shard.json");
     assert!(e.contains("hemilab run --shard K/N"), "{e}");
+    // The references the shards used are not where the merge looks.
+    let o = output(hemilab(
+        &t,
+        &["merge", "tiny.toml", "out/tiny/shard-0-of-3", "--reference-dir", "elsewhere", "--out", "merged"],
+        &[],
+    ));
+    let e = assert_error(&o, "no usable reference for scene 'cornell-box' in elsewhere");
+    assert!(e.contains("the --reference-dir the shards used"), "{e}");
     assert!(!t.path("merged").exists(), "nothing written by any refused merge");
 }
 

@@ -58,6 +58,18 @@ pub fn run_merge(args: MergeArgs) -> Result<()> {
         }
     }
 
+    for (si, scene) in loaded.scenes.iter().enumerate() {
+        if let Some(m) = refs::missing(spec, si, scene, &args.reference_dir)? {
+            return Err(Error::Refused(format!(
+                "no usable reference for scene '{}' in {}: {} x {} rays wanted; pass the --reference-dir \
+                 the shards used",
+                spec.scenes[si].name,
+                args.reference_dir.display(),
+                m.replicates,
+                m.rays
+            )));
+        }
+    }
     let runner = JobRunner::new(None, args.quiet)?;
     let references = (0..loaded.scenes.len())
         .map(|si| refs::obtain(spec, si, &loaded.scenes[si], &args.reference_dir, Policy::ReuseOnly, &runner))

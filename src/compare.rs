@@ -245,6 +245,7 @@ mod tests {
             autocorr_x: stat,
             autocorr_y: stat,
             lowpass_rmse: stat,
+            whiteness_z: stat,
             mse: stat,
             time: None,
             overhead_s: 0.009,
@@ -350,6 +351,7 @@ mod tests {
                 autocorr_x: 0.0,
                 autocorr_y: 0.0,
                 lowpass_rmse: 0.0,
+                whiteness_z: 0.0,
             };
             JobResult::new(&job, &stats, 8, "x.exr")
         };

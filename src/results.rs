@@ -14,7 +14,8 @@ use crate::metrics::ErrorStats;
 use crate::plan::Job;
 use serde::{Deserialize, Serialize};
 
-/// Column order of `results.csv`; the first fourteen are the ones issue 4 promises.
+/// Column order of `results.csv`; the first fourteen are the ones issue 4 promises, so later columns
+/// (whiteness_z, the timing columns, …) come after them.
 pub const CSV_COLUMNS: &[&str] = &[
     "scene",
     "distribution",
@@ -30,6 +31,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "lowpass_rmse",
     "time_s",
     "rays_per_s",
+    "whiteness_z",
     "rays_cast",
     "time_median_s",
     "time_min_s",
@@ -80,6 +82,8 @@ pub struct JobResult {
     pub autocorr_x: f64,
     pub autocorr_y: f64,
     pub lowpass_rmse: f64,
+    /// z-score of the error's 2-D portmanteau statistic against white noise (`metrics::whiteness`).
+    pub whiteness_z: f64,
     /// This job's own render time (the median of its renders when it was rendered more than once).
     #[serde(deserialize_with = "timing::nan_null")]
     pub time_s: f64,
@@ -140,6 +144,7 @@ impl JobResult {
             autocorr_x: stats.autocorr_x,
             autocorr_y: stats.autocorr_y,
             lowpass_rmse: stats.lowpass_rmse,
+            whiteness_z: stats.whiteness_z,
             time_s: f64::NAN,
             rays_per_s: 0.0,
             rays_cast,
@@ -226,6 +231,7 @@ pub fn to_csv(results: &[JobResult]) -> String {
             num(r.lowpass_rmse),
             num(r.time_s),
             num(r.rays_per_s),
+            num(r.whiteness_z),
             r.rays_cast.to_string(),
             num(r.time_median_s),
             num(r.time_min_s),
@@ -288,6 +294,7 @@ mod tests {
             autocorr_x: 0.1,
             autocorr_y: -0.1,
             lowpass_rmse: rmse / 4.0,
+            whiteness_z: 0.5,
         };
         let mut r = JobResult::new(
             &job(rays, replicate),
@@ -312,7 +319,7 @@ mod tests {
         assert_eq!(
             lines.next().unwrap(),
             "scene,distribution,sequence,seed_mode,rays,replicate,seed,rmse,bias,autocorr_x,autocorr_y,\
-             lowpass_rmse,time_s,rays_per_s,rays_cast,time_median_s,time_min_s,time_max_s,timings,overhead_s,\
+             lowpass_rmse,time_s,rays_per_s,whiteness_z,rays_cast,time_median_s,time_min_s,time_max_s,timings,overhead_s,\
              ao_time_s,ns_per_ray,efficiency,timing_threads,wall_s,covered_pixels,key,image"
         );
         let row: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -342,7 +349,7 @@ mod tests {
         let csv = to_csv(&timed(vec![r], 0.1));
         let line = csv.lines().nth(1).unwrap();
         assert!(line.ends_with(",\"a,b \"\"c\"\".exr\""), "{line}");
-        assert!(line.contains(",0,0,128,"), "time and rays_per_s 0: {line}");
+        assert!(line.contains(",0,0,0.5,128,"), "time and rays_per_s 0, whiteness 0.5: {line}");
         assert!(
             line.contains(",0.1,,,,1,"),
             "below the overhead: AO time, ns per ray, efficiency empty: {line}"

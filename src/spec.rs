@@ -16,6 +16,7 @@
 //! distribution = "sine-cosine"          # the estimator: unbiased and fast-converging
 //! sequence = "fibonacci"
 //! seed_mode = "shift"
+//! allocation = "even"                   # or "adaptive": rays per pixel ∝ its spread in a pilot pass
 //!
 //! [timing]                              # optional section; see `timing` for the protocol
 //! repeats = 3                           # timed renders per (row, rays) at least, 1..=100
@@ -166,6 +167,9 @@ pub struct ReferenceSpec {
     pub replicates: u32,
     pub seed: u64,
     pub estimator: Row,
+    /// `allocation = "adaptive"`: a pilot pass measures each pixel's spread and the rays go where it
+    /// is (`reference::allocate`); `"even"` (the default): the same rays in every pixel.
+    pub adaptive: bool,
 }
 
 /// How `hemilab run` times its renders (`[timing]`).

@@ -151,7 +151,8 @@ fn rerun_is_bit_identical_for_any_thread_count() {
     assert_eq!(one.len(), 16);
     for (a, b) in one.iter().zip(&two) {
         assert_eq!(image_bytes(&t.path("one"), a), image_bytes(&t.path("two"), b), "{}", a.image);
-        let metrics = |r: &JobResult| [r.rmse, r.bias, r.autocorr_x, r.autocorr_y, r.lowpass_rmse];
+        let metrics =
+            |r: &JobResult| [r.rmse, r.bias, r.autocorr_x, r.autocorr_y, r.lowpass_rmse, r.whiteness_z];
         assert_eq!(metrics(a).map(f64::to_bits), metrics(b).map(f64::to_bits), "{}", a.image);
         assert_eq!(timeless(a), timeless(b));
     }
@@ -315,6 +316,34 @@ fn timing_columns_follow_the_protocol() {
     for c in ["time_median_s", "time_min_s", "time_max_s", "overhead_s", "ns_per_ray", "efficiency_spread"] {
         assert!(aggs.lines().next().unwrap().split(',').any(|h| h == c), "aggregates.csv lacks {c}");
     }
+    // Killed after its last job but before the timing columns were filled: every record is there,
+    // none split. The rerun renders no job again, only what the timing still needs.
+    let unsplit: Vec<JobResult> = recs
+        .iter()
+        .map(|r| JobResult {
+            time_median_s: f64::NAN,
+            time_min_s: f64::NAN,
+            time_max_s: f64::NAN,
+            timings: 0,
+            overhead_s: f64::NAN,
+            ao_time_s: f64::NAN,
+            ns_per_ray: f64::NAN,
+            efficiency: None,
+            ..r.clone()
+        })
+        .collect();
+    std::fs::write(t.path("out/results.json"), hemilab::results::to_json(&unsplit)).unwrap();
+    std::fs::remove_file(t.path("out/timing.json")).unwrap();
+    t.run_ok(&spec, "out", "ref", &["--timing-repeats", "5"]);
+    let refilled = records(&t.path("out"));
+    for (a, b) in refilled.iter().zip(&recs) {
+        assert_eq!(timeless(a), timeless(b));
+        assert!(a.timings >= 5 && a.overhead_s > 0.0 && a.time_median_s > 0.0, "{a:?}");
+        assert_eq!(a.times[..b.times.len()], b.times[..], "kept samples stay");
+    }
+    let recs = refilled;
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
     // A rerun with nothing to do renders nothing and keeps every time.
     t.run_ok(&spec, "out", "ref", &["--timing-repeats", "5"]);
     assert_eq!(records(&t.path("out")), recs);
@@ -322,4 +351,50 @@ fn timing_columns_follow_the_protocol() {
         serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
     assert_eq!(again["session"]["timed_renders"], 0);
     assert_eq!(again["overhead"], timing["overhead"], "the overhead of the session that made the times");
+}
+
+#[test]
+fn a_run_over_two_scenes_times_each_with_its_own_overhead() {
+    // The kitchen first, then the 30-triangle Cornell box: each worker thread renders both,
+    // interleaved, so nothing it keeps from one scene may be used on the other.
+    let t = Tmp::new("two-scenes");
+    let spec = format!(
+        r#"name = "two"
+scenes = ["{}", "{}"]
+resolution = [24, 18]
+replicates = 2
+[reference]
+rays = 16
+replicates = 2
+[[convergence]]
+name = "c"
+rays = [1, 4, 16]
+distributions = ["sine-cosine"]
+sequences = ["fibonacci"]
+seed_modes = ["shift"]
+"#,
+        scene("kitchen.toml"),
+        scene("cornell-box.toml")
+    );
+    let spec = t.spec("two.toml", &spec);
+    t.run_ok(&spec, "out", "ref", &["--threads", "2"]);
+    let recs = records(&t.path("out"));
+    assert_eq!(recs.len(), 12);
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
+    let over: Vec<(String, f64)> = timing["overhead"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| (o["scene"].as_str().unwrap().to_string(), o["overhead_s"]["median"].as_f64().unwrap()))
+        .collect();
+    assert_eq!(over.iter().map(|o| o.0.as_str()).collect::<Vec<_>>(), ["kitchen", "cornell-box"]);
+    for r in &recs {
+        let own = over.iter().find(|o| o.0 == r.scene).unwrap().1;
+        assert_eq!(r.overhead_s, own, "{} takes its own scene's overhead", r.scene);
+    }
+    // The same images whichever way the renders were spread over threads.
+    t.run_ok(&spec, "one", "ref", &["--threads", "1"]);
+    let a: Vec<JobResult> = recs.iter().map(timeless).collect();
+    assert_eq!(records(&t.path("one")).iter().map(timeless).collect::<Vec<_>>(), a);
 }

@@ -194,10 +194,15 @@ fn bad_ao_distance() {
 
 #[test]
 fn bad_reference_settings() {
-    let e = error(&spec("[reference]\nrays = 0\nreplicates = 1\ndistribution = \"cos\"", "", ""));
+    let e = error(&spec(
+        "[reference]\nrays = 0\nreplicates = 1\ndistribution = \"cos\"\nallocation = \"smart\"",
+        "",
+        "",
+    ));
     assert_has(&e, &["line 4, key `reference.rays`", "\"auto\""]);
     assert_has(&e, &["line 5, key `reference.replicates`", "2..=1000"]);
     assert_has(&e, &["line 6, key `reference.distribution`", "sine-cosine"]);
+    assert_has(&e, &["line 7, key `reference.allocation`", "\"even\" or \"adaptive\""]);
 }
 
 #[test]

@@ -94,6 +94,17 @@ pub fn banding_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> 
     (!v.is_empty()).then(|| mean_sd(&v))
 }
 
+/// Mean ± sd of the whiteness z-score over the replicates of a configuration.
+pub fn whiteness_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Option<(f64, f64)> {
+    let v: Vec<f64> = results
+        .iter()
+        .filter(|r| is_config(r, scene, row, rays))
+        .map(|r| r.whiteness_z)
+        .filter(|z| z.is_finite())
+        .collect();
+    (!v.is_empty()).then(|| mean_sd(&v))
+}
+
 /// The aggregates of one sweep row, in ray order.
 pub fn sweep_points<'a>(data: &'a Data, g: &Group, scene: &str, row: Row) -> Vec<&'a Aggregate> {
     g.rays.iter().filter_map(|&rays| results::lookup(&data.aggs, scene, row, rays)).collect()

@@ -30,8 +30,10 @@ use std::fmt::Write as _;
 use std::sync::Mutex;
 
 /// AO rays per calibration render, about: enough to dwarf the per-image cost, few enough that a
-/// dozen estimators take a fraction of a second.
+/// dozen estimators take a fraction of a second …
 const CALIBRATION_RAYS: u64 = 250_000;
+/// … and all estimator renders of all scenes together no more than this.
+const CALIBRATION_TOTAL_RAYS: u64 = 4_000_000;
 /// Timed samples of the overhead and 1-ray renders per scene.
 const CALIBRATION_SAMPLES: usize = 3;
 /// Untimed CPU seconds each calibration worker renders on a scene first.
@@ -129,6 +131,7 @@ fn calibrate(
             }
         }
     }
+    let probes_in_all = rows.iter().map(Vec::len).sum::<usize>() as u64;
     let mut probes = Vec::new();
     let mut renders: Vec<RenderJob> = Vec::new();
     let mut warm: Vec<Option<RenderJob>> = vec![None; loaded.scenes.len()];
@@ -136,7 +139,8 @@ fn calibrate(
     for (si, jobs) in rows.iter().enumerate() {
         let Some(first) = jobs.first() else { continue };
         let g = Geometry::of(first.resolution, first.ao_distance, &loaded.scenes[si]);
-        let rays = (CALIBRATION_RAYS / g.pixels().max(1)).clamp(2, 64) as u32;
+        let per_probe = CALIBRATION_RAYS.min(CALIBRATION_TOTAL_RAYS / probes_in_all.max(1));
+        let rays = (per_probe / g.pixels().max(1)).clamp(2, 64) as u32;
         rays_of[si] = rays;
         warm[si] = Some(render_job(loaded, first, 16)?);
         for _ in 0..CALIBRATION_SAMPLES {
@@ -161,19 +165,17 @@ fn calibrate(
     }
     let results: Mutex<Vec<(Probe, Time, u64)>> = Mutex::new(Vec::new());
     let sample: Mutex<Option<RenderOutput>> = Mutex::new(None);
-    let work =
-        |w: &timing::Worker, &(p, r): &(Probe, usize)| -> Result<(Probe, Time, Option<RenderOutput>)> {
-            let scene = &loaded.scenes[p.scene];
-            if let Some(wj) = &warm[p.scene] {
-                w.warm_up(p.scene, CALIBRATION_WARMUP_S, || {
-                    render::render(scene, wj, &|_| {});
-                });
-            }
-            let (out, t) = w.timed(|| render::render(scene, &renders[r], &|_| {}));
-            Ok((p, t, Some(out)))
-        };
-    let done = |_: &(Probe, usize), (p, t, out): (Probe, Time, Option<RenderOutput>)| -> Result<()> {
-        let out = out.expect("rendered");
+    let work = |w: &timing::Worker, &(p, r): &(Probe, usize)| -> Result<(Probe, Time, RenderOutput)> {
+        let scene = &loaded.scenes[p.scene];
+        if let Some(wj) = &warm[p.scene] {
+            w.warm_up(p.scene, CALIBRATION_WARMUP_S, || {
+                render::render(scene, wj, &|_| {});
+            });
+        }
+        let (out, t) = w.timed(|| render::render(scene, &renders[r], &|_| {}));
+        Ok((p, t, out))
+    };
+    let done = |_: &(Probe, usize), (p, t, out): (Probe, Time, RenderOutput)| -> Result<()> {
         results.lock().unwrap_or_else(|e| e.into_inner()).push((p, t, out.rays));
         let mut s = sample.lock().unwrap_or_else(|e| e.into_inner());
         if s.is_none() && p.rays > 1 {
@@ -256,13 +258,25 @@ fn calibrate(
     })
 }
 
-/// Wall seconds to build the references that must be built (on `threads` threads).
+/// Rays per covered pixel of an adaptive reference's renders after its pilot, on average: its
+/// budget, or for `rays = "auto"` (settled only by the pilot) the rays an even reference would
+/// need, which the adaptive allocation is there to undercut.
+fn adaptive_rays(loaded: &Loaded, si: usize, m: &Manifest) -> Option<u32> {
+    let a = m.adaptive.as_ref()?;
+    Some(a.budget.unwrap_or_else(|| refs::auto_rays(&loaded.spec, si)))
+}
+
+/// Wall seconds to build the references that must be built (on `threads` threads): every
+/// replicate at the manifest's rays (an adaptive reference's pilot), and an adaptive one's renders.
 fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Option<Manifest>], threads: usize) -> f64 {
     let mut cpu = 0.0;
     for (si, b) in builds.iter().enumerate() {
         let Some(m) = b else { continue };
-        for job in plan::reference_jobs(&loaded.spec, si, m.rays) {
-            cpu += cal.render_s(loaded, &job);
+        let passes = [Some(m.rays), adaptive_rays(loaded, si, m)];
+        for rays in passes.into_iter().flatten() {
+            for job in plan::reference_jobs(&loaded.spec, si, rays) {
+                cpu += cal.render_s(loaded, &job);
+            }
         }
     }
     cpu / threads.max(1) as f64 * cal.contention
@@ -324,11 +338,14 @@ pub fn run_plan(args: PlanArgs) -> Result<()> {
     for (si, sc) in spec.scenes.iter().enumerate() {
         match &builds[si] {
             Some(m) => {
-                let _ = writeln!(
-                    s,
-                    "reference '{}': must be built ({} x {} rays)",
-                    sc.name, m.replicates, m.rays
-                );
+                let how = match adaptive_rays(&loaded, si, m) {
+                    Some(r) => format!(
+                        "adaptive: a pilot of {0} x {1} rays, then {0} x about {r}",
+                        m.replicates, m.rays
+                    ),
+                    None => format!("{} x {} rays", m.replicates, m.rays),
+                };
+                let _ = writeln!(s, "reference '{}': must be built ({how})", sc.name);
             }
             None => {
                 let _ = writeln!(

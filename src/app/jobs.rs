@@ -50,17 +50,33 @@ impl JobRunner {
         Ok(Self { pool: super::render::pool(threads)?, bar: progress::bar(0, "", quiet) })
     }
 
-    pub fn render(&self, job: &Job, scene: &Scene, label: &str) -> Result<Rendered> {
+    /// What the renderer needs to know of a planned job.
+    fn render_job(job: &Job, scene: &Scene) -> Result<RenderJob> {
         let g = Geometry::of(job.resolution, job.ao_distance, scene);
         let sampler = SamplerConfig::new(job.sequence, job.seed_mode, job.rays, job.seed)
             .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
-        let rj = RenderJob {
+        Ok(RenderJob {
             distribution: job.distribution,
             sampler,
             width: g.width,
             height: g.height,
             ao_distance: g.distance.as_f32(),
-        };
+        })
+    }
+
+    /// `job` with `counts[i]` rays in pixel i instead of `job.rays` (adaptive references); the bar
+    /// advances by the rays cast.
+    pub fn render_counts(&self, job: &Job, scene: &Scene, counts: &[u32], label: &str) -> Result<Rendered> {
+        let rj = Self::render_job(job, scene)?;
+        self.bar.set_message(label.to_string());
+        let output =
+            self.pool.install(|| super::adaptive::render_counts(scene, &rj, counts, &|n| self.bar.inc(n)));
+        Ok(Rendered { output })
+    }
+
+    pub fn render(&self, job: &Job, scene: &Scene, label: &str) -> Result<Rendered> {
+        let g = Geometry::of(job.resolution, job.ao_distance, scene);
+        let rj = Self::render_job(job, scene)?;
         self.bar.set_message(label.to_string());
         let before = self.bar.position();
         let rays = job.rays as u64;

@@ -1,6 +1,7 @@
 //! The one orchestrator: load → validate everything → plan → render → measure → export.
 //! Only this module (through `io`) touches the filesystem.
 
+mod adaptive;
 mod answer;
 mod bench;
 mod data;
@@ -16,6 +17,7 @@ pub mod render;
 pub mod run;
 mod shard;
 mod timed;
+mod verdicts;
 
 pub use render::load_scene;
 

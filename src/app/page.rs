@@ -1,11 +1,14 @@
 //! `report.md` and `index.html`: one offline page with the run's answer first (generated in
-//! `answer.rs`), what a time is, then the numbers (references, each table's RMSE, convergence
-//! slopes and costs, every aggregate) and every figure `figures.rs` wrote, linked by relative paths.
+//! `answer.rs`) and the verdict on each claim per scene (`verdicts.rs`), what a time is, then the
+//! numbers (references, each table's RMSE, convergence slopes and costs) and every figure
+//! `figures.rs` wrote, linked by relative paths; the long tables (verdict margins, every aggregate)
+//! folded at the end.
 
 use super::answer;
 use super::data::{Data, agg_label, banding_stat, row_label, sweep_slope};
 use crate::error::Result;
 use crate::io;
+use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::report::{self, Figure, Table};
 use crate::results::{self, SlopeFit, Stat};
 use crate::spec::{GroupKind, Row};
@@ -15,18 +18,28 @@ use std::path::Path;
 pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
     let spec = &data.loaded.spec;
     let answer = answer::answer(data);
-    let mut tables = answer.tables;
+    let mut tables = Vec::new();
+    let mut collapsed = Vec::new();
+    if let Some((summary, details)) = super::verdicts::tables(data) {
+        tables.push(summary);
+        collapsed.push(details);
+    }
+    tables.extend(answer.tables);
     tables.push(reference_table(data));
+    // With several scenes the per-scene tables would push the figures pages down: the verdict sums
+    // them up, and they are folded after the figures.
+    let many = spec.scenes.len() > 1;
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
         for &si in &g.scenes {
-            tables.push(rmse_table(data, &g.name, &spec.scenes[si].name, &g.rows, &g.rays, g.replicates));
+            let t = rmse_table(data, &g.name, &spec.scenes[si].name, &g.rows, &g.rays, g.replicates);
+            if many { collapsed.push(t) } else { tables.push(t) }
         }
     }
     let slopes = slope_table(data);
     if !slopes.rows.is_empty() {
-        tables.push(slopes);
+        if many { collapsed.push(slopes) } else { tables.push(slopes) }
     }
-    tables.push(aggregate_table(data));
+    collapsed.push(aggregate_table(data));
     let title = format!("hemilab: {}", spec.name);
     let mut intro = answer.text;
     intro.push(timing_text(data));
@@ -36,8 +49,13 @@ pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
          pixels that see a surface; mean ± sd over independent replicates (different seeds; replicate r \
          has the same seed in every configuration, so differences are paired). ρ is the lag-1 \
          autocorrelation of the error image (horizontal / vertical): near 0 for independent per-pixel \
-         noise, near 1 for banding. Lowpass RMSE is the RMSE after a small Gaussian blur of the error: \
-         noise averages out under it, bands do not. Slopes carry 95 % confidence intervals.",
+         noise, near 1 for banding. The whiteness z-score tests the error image against white noise \
+         over every lag up to 4 pixels in every direction (a 2-D Ljung–Box statistic): about 0 ± 1 for \
+         independent per-pixel noise, above 5 for structure of any orientation or period — diagonal \
+         moiré and checkerboards included, which ρ misses. Lowpass RMSE is the RMSE after a small \
+         Gaussian blur of the error: noise averages out under it, bands do not. Slopes carry 95 % \
+         confidence intervals. A claim that fails on a scene is a result, not a bug: the verdict table \
+         says where the paper's findings carry over and where they do not.",
         spec.path.display(),
         data.results.len()
     ));
@@ -49,11 +67,11 @@ pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
     let intro = intro.join("\n\n");
     io::write_atomic(
         &out.join("index.html"),
-        report::html_report(&title, &intro, &tables, figures).as_bytes(),
+        report::html_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
     )?;
     io::write_atomic(
         &out.join("report.md"),
-        report::markdown_report(&title, &intro, &tables, figures).as_bytes(),
+        report::markdown_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
     )
 }
 
@@ -134,7 +152,17 @@ fn reference_table(data: &Data) -> Table {
                 name.clone(),
                 format!("{}x{}", r.mean.width, r.mean.height),
                 row_label(data.loaded.spec.reference.estimator),
-                format!("{} × {}", m.replicates, m.rays),
+                match &m.adaptive {
+                    Some(a) => {
+                        let pixels = crate::reference::noise_floor_pixels(&r.coverage).max(1) as f64;
+                        let mean = a.total_rays.unwrap_or(0) as f64 / pixels;
+                        format!(
+                            "{} × adaptive, mean {mean:.0} (pilot {} × {})",
+                            m.replicates, m.replicates, m.rays
+                        )
+                    }
+                    None => format!("{} × {}", m.replicates, m.rays),
+                },
                 format!("{floor:.2e}"),
                 format!("{smallest:.2e}"),
                 format!("{:.3}", floor / smallest),
@@ -155,7 +183,12 @@ fn rmse_table(data: &Data, name: &str, scene: &str, rows: &[Row], rays: &[u32], 
                 cells.push(match results::lookup(&data.aggs, scene, row, n) {
                     Some(a) => {
                         let b = banding_stat(data.results, scene, row, n).map_or(f64::NAN, |b| b.0);
-                        format!("{}  (ρ {b:+.2}, lowpass {:.4})", pm(a.rmse, 4), a.lowpass_rmse.mean)
+                        format!(
+                            "{}  (ρ {b:+.2}, z {:.1}, lowpass {:.4})",
+                            pm(a.rmse, 4),
+                            a.whiteness_z.mean,
+                            a.lowpass_rmse.mean
+                        )
                     }
                     None => "–".into(),
                 });
@@ -164,8 +197,8 @@ fn rmse_table(data: &Data, name: &str, scene: &str, rows: &[Row], rays: &[u32], 
         })
         .collect();
     let title = format!(
-        "{name} ('{scene}'): RMSE, mean ± sd over {reps} replicates (ρ: banding metric; lowpass: RMSE of the \
-         blurred error)"
+        "{name} ('{scene}'): RMSE, mean ± sd over {reps} replicates (ρ: lag-1 autocorrelation; z: whiteness \
+         z-score, > {STRUCTURED_Z} = structured; lowpass: RMSE of the blurred error)"
     );
     Table { title, header, rows }
 }
@@ -234,6 +267,7 @@ fn aggregate_table(data: &Data) -> Table {
         "ρ x",
         "ρ y",
         "lowpass RMSE",
+        "whiteness z",
         "time (ms): median [min–max], n",
         "AO time (ms)",
         "ns per AO ray",
@@ -257,6 +291,7 @@ fn aggregate_table(data: &Data) -> Table {
                 pm(a.autocorr_x, 2),
                 pm(a.autocorr_y, 2),
                 pm(a.lowpass_rmse, 4),
+                pm(a.whiteness_z, 1),
                 time,
                 num(a.ao_time_s, format!("{:.2}", a.ao_time_s * 1e3)),
                 num(a.ns_per_ray, format!("{:.1}", a.ns_per_ray)),

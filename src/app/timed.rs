@@ -183,8 +183,9 @@ pub fn run_jobs(
             }
         }
     }
-    // Render jobs (ids < n), then one overhead job per scene (id n + scene), timed only when
-    // something else is: the overhead must come from the same session as the times it is taken from.
+    // Render jobs (ids < n), then one overhead job per scene (id n + scene), timed when something
+    // else is (the overhead must come from the same session as the times it is taken from) or when
+    // a record was never split (a run killed after its last job, before the end).
     let mut jobs: Vec<RenderJob> =
         plan.jobs.iter().map(|j| render_job(loaded, j, j.rays)).collect::<Result<_>>()?;
     let mut warm: Vec<Option<RenderJob>> = vec![None; scenes];
@@ -195,7 +196,7 @@ pub fn run_jobs(
         }
     }
     let mut slots = timing::schedule(&needs, protocol.seed);
-    if !slots.is_empty() {
+    if !slots.is_empty() || records.iter().flatten().any(|r| r.timings == 0) {
         for (si, w) in warm.iter().enumerate() {
             jobs.push(overhead_job(w.as_ref().unwrap_or(&jobs[0])));
             if w.is_some() {

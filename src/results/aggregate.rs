@@ -35,6 +35,7 @@ pub struct Aggregate {
     pub autocorr_x: Stat,
     pub autocorr_y: Stat,
     pub lowpass_rmse: Stat,
+    pub whiteness_z: Stat,
     /// Mean squared error per replicate, mean ± sd: what efficiency divides by.
     pub mse: Stat,
     /// Over every timed render of the configuration (`None` before any).
@@ -85,6 +86,7 @@ pub fn aggregate(results: &[JobResult]) -> Vec<Aggregate> {
                 autocorr_x: st(&|r| r.autocorr_x),
                 autocorr_y: st(&|r| r.autocorr_y),
                 lowpass_rmse: st(&|r| r.lowpass_rmse),
+                whiteness_z: st(&|r| r.whiteness_z),
                 mse,
                 time,
                 overhead_s: first.overhead_s,
@@ -123,7 +125,7 @@ pub fn aggregate_columns() -> Vec<String> {
     c
 }
 
-const AGG_METRICS: [&str; 5] = ["rmse", "bias", "autocorr_x", "autocorr_y", "lowpass_rmse"];
+const AGG_METRICS: [&str; 6] = ["rmse", "bias", "autocorr_x", "autocorr_y", "lowpass_rmse", "whiteness_z"];
 const AGG_TIMING: [&str; 12] = [
     "time_median_s",
     "time_min_s",
@@ -154,7 +156,7 @@ pub fn aggregates_to_csv(aggs: &[Aggregate]) -> String {
             a.rays,
             a.replicates
         );
-        for st in [a.rmse, a.bias, a.autocorr_x, a.autocorr_y, a.lowpass_rmse] {
+        for st in [a.rmse, a.bias, a.autocorr_x, a.autocorr_y, a.lowpass_rmse, a.whiteness_z] {
             let _ = write!(s, ",{},{}", num(st.mean), num(st.sd));
         }
         let t = a.time;

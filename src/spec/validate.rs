@@ -38,6 +38,7 @@ struct RawReference {
     distribution: Option<S<String>>,
     sequence: Option<S<String>>,
     seed_mode: Option<S<String>>,
+    allocation: Option<S<String>>,
 }
 
 #[derive(Deserialize)]
@@ -312,6 +313,7 @@ fn reference(raw: Option<&RawReference>, seed: u64, p: &mut Problems) -> Referen
         replicates: 4,
         seed,
         estimator: Row::new(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Shift),
+        adaptive: false,
     };
     let Some(raw) = raw else { return r };
     if let Some(v) = &raw.rays {
@@ -344,6 +346,17 @@ fn reference(raw: Option<&RawReference>, seed: u64, p: &mut Problems) -> Referen
         e.seed_mode = m;
     }
     *e = e.canonical();
+    if let Some(a) = &raw.allocation {
+        match a.get_ref().as_str() {
+            "even" => r.adaptive = false,
+            "adaptive" => r.adaptive = true,
+            other => p.add(
+                a.span(),
+                "reference.allocation",
+                format!("'{other}' is not allowed; \"even\" or \"adaptive\""),
+            ),
+        }
+    }
     r
 }
 

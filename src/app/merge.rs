@@ -319,6 +319,12 @@ fn provenance(shards: &[ShardDir]) -> String {
         shards[0].manifest.shards,
         list.join("; ")
     );
+    let workers: std::collections::BTreeSet<usize> =
+        shards.iter().map(|s| s.manifest.timing.workers).collect();
+    if workers.len() > 1 {
+        let w: Vec<String> = workers.iter().map(|w| w.to_string()).collect();
+        let _ = write!(s, " The shards ran with different numbers of workers ({}).", w.join(", "));
+    }
     if machines.len() > 1 {
         let _ = write!(
             s,
@@ -375,4 +381,38 @@ fn write_timing(
     });
     let text = serde_json::to_string_pretty(&v).unwrap_or_default();
     io::write_atomic(&out.join("timing.json"), text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::app::shard::TimingOf;
+
+    fn shard(k: u32, host: &str, workers: usize) -> ShardDir {
+        let manifest = Manifest {
+            hemilab_version: "0".into(),
+            spec: "s".into(),
+            spec_path: "s.toml".into(),
+            plan: "p".into(),
+            shard: k,
+            shards: 3,
+            jobs: 1,
+            planned_jobs: 3,
+            host: host.into(),
+            cpu: "CPU X (8 CPUs)".into(),
+            timing: TimingOf { repeats: 3, seed: 1, workers },
+        };
+        ShardDir { dir: PathBuf::from(format!("d{k}")), manifest, records: Vec::new(), timing: None }
+    }
+
+    #[test]
+    fn provenance_names_machines_and_warns_when_several() {
+        let one = provenance(&[shard(0, "a", 2), shard(1, "a", 2), shard(2, "a", 2)]);
+        assert!(one.contains("0/3, 1/3, 2/3 on a (CPU X (8 CPUs))"), "{one}");
+        assert!(one.contains("All shards ran on one machine") && !one.contains("Warning"), "{one}");
+        let two = provenance(&[shard(0, "a", 2), shard(1, "b", 4), shard(2, "a", 2)]);
+        assert!(two.contains("0/3, 2/3 on a (CPU X (8 CPUs)); 1/3 on b (CPU X (8 CPUs))"), "{two}");
+        assert!(two.contains("Warning: the timings come from 2 different machines"), "{two}");
+        assert!(two.contains("different numbers of workers (2, 4)"), "{two}");
+    }
 }

@@ -171,7 +171,7 @@ fn plan_prints_jobs_and_estimate_without_rendering() {
     let t = Tmp::new("plan");
     let spec = t.spec("tiny.toml", &tiny_spec(64, ""));
     let before = t.listing();
-    let o = t.hemilab(&["plan", "tiny.toml"]);
+    let o = t.hemilab(&["plan", "tiny.toml", "--jobs", "--reference-dir", "ref"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(t.listing(), before, "plan writes nothing");
     let text = stdout(&o);
@@ -187,13 +187,15 @@ fn plan_prints_jobs_and_estimate_without_rendering() {
         let got = (f[2], f[3], f[4], f[5].parse::<u32>().unwrap(), f[6].parse::<u32>().unwrap());
         assert_eq!(got, want, "job {}", i + 1);
     }
-    // An upper bound: every one of the 24x18 pixels of every job at the job's ray count.
+    // The summary first: an upper bound of the rays (every one of the 24x18 pixels of every job at
+    // the job's ray count) and a time estimate; the job list after it.
     let rays: u32 = TINY_ORDER.iter().map(|j| j.3).sum();
     let total = (24 * 18 * rays).to_string();
-    let last = text.lines().last().unwrap();
-    assert!(last.starts_with("total: 16 jobs"), "{last}");
-    assert!(last.contains(&format!("at most {total} rays")), "{last}");
-    assert!(last.contains(" s") && last.contains("≈"), "a time estimate: {last}");
+    let first = text.lines().next().unwrap();
+    assert!(first.contains(": 16 jobs in 8 configurations"), "{first}");
+    assert!(first.contains(&format!("at most {total} AO rays")), "{first}");
+    let estimate = text.lines().position(|l| l.starts_with("estimate: ≈ ")).expect("a time estimate");
+    assert!(estimate < text.lines().position(|l| l.starts_with("jobs, in run order")).unwrap());
 
     // The run renders exactly these jobs, in this order.
     t.run_ok(&spec, "out", "ref", &[]);

@@ -19,6 +19,8 @@ pub struct Data<'a> {
     /// How the renders were timed, and each scene's no-AO-ray overhead (spec order).
     pub protocol: Protocol,
     pub overhead: Vec<Option<Summary>>,
+    /// Paragraphs the page adds after its timing text (e.g. `merge`: which shard ran where).
+    pub notes: Vec<String>,
 }
 
 impl<'a> Data<'a> {
@@ -29,7 +31,8 @@ impl<'a> Data<'a> {
         protocol: Protocol,
         overhead: Vec<Option<Summary>>,
     ) -> Self {
-        Self { loaded, references, results, aggs: results::aggregate(results), protocol, overhead }
+        let aggs = results::aggregate(results);
+        Self { loaded, references, results, aggs, protocol, overhead, notes: Vec::new() }
     }
 
     /// The spec's `[[convergence]]` groups, with each scene they cover (index, name).

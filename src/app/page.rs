@@ -43,6 +43,7 @@ pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
     let title = format!("hemilab: {}", spec.name);
     let mut intro = answer.text;
     intro.push(timing_text(data));
+    intro.extend(data.notes.iter().cloned());
     intro.push(format!(
         "Spec {} ({} jobs). Every number is measured against the reference of its scene over the \
          pixels that see a surface; mean ± sd over independent replicates (different seeds; replicate r \

@@ -105,6 +105,14 @@ fn paths(dir: &Path, manifest: &Manifest) -> (PathBuf, PathBuf) {
 }
 
 /// The reference of scene `si`, from `dir` or freshly rendered into it.
+///
+/// Shards of one spec may start together on a shared filesystem: each takes the reference's lock
+/// file (`<stem>.lock`, an OS lock released even if the process is killed) before it looks, so one
+/// builds while the others wait and then reuse its result. The image and the manifest are each
+/// written atomically, image first, so no reader ever sees a half-written file or a manifest
+/// without its image. Where the lock cannot be taken (a read-only reference directory, a filesystem
+/// without locks) the run goes on without it: then build the references in a step of their own
+/// (`hemilab reference`) and run the shards with `--no-build-reference`.
 pub fn obtain(
     spec: &Spec,
     si: usize,
@@ -116,6 +124,20 @@ pub fn obtain(
     let geometry = Geometry::of(spec.resolution, spec.ao_distance, scene);
     let wanted = wanted_manifest(spec, si, scene, geometry);
     let (exr, json) = paths(dir, &wanted);
+    let lock_path = dir.join(format!("{}.lock", wanted.file_stem()));
+    if policy != Policy::ReuseOnly && !io::exists(dir) {
+        // Nothing to reuse: it will be built here, and the lock file needs the directory.
+        io::ensure_writable_dir(dir)?;
+        io::create_dir_all(dir)?;
+    }
+    let waiting = |holder: &str| {
+        eprintln!("reference for '{}': waiting for {holder} ({})", scene.name, lock_path.display())
+    };
+    let (_lock, unlocked) = match io::exists(dir).then(|| io::lock(&lock_path, waiting)).transpose()? {
+        Some(Ok(lock)) => (Some(lock), None),
+        Some(Err(why)) => (None, Some(why)),
+        None => (None, None),
+    };
     if policy != Policy::Rebuild {
         match load_if_matching(spec, &wanted, &exr, &json)? {
             Ok(r) => return Ok(r),
@@ -138,7 +160,17 @@ pub fn obtain(
         }
     }
     io::ensure_writable_dir(dir)?;
+    if let Some(why) = unlocked {
+        eprintln!("warning: {why}; another run started now could build this reference at the same time");
+    }
     build(spec, si, scene, wanted, &exr, &json, runner)
+}
+
+/// The reference scene `si` needs, if `dir` holds no usable one (what `obtain` would build).
+pub fn missing(spec: &Spec, si: usize, scene: &Scene, dir: &Path) -> Result<Option<Manifest>> {
+    let wanted = wanted_manifest(spec, si, scene, Geometry::of(spec.resolution, spec.ao_distance, scene));
+    let (exr, json) = paths(dir, &wanted);
+    Ok(load_if_matching(spec, &wanted, &exr, &json)?.err().map(|_| wanted))
 }
 
 /// `Ok(Err((file, why)))` when there is nothing reusable; `Err` only for a stored file that cannot

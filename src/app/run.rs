@@ -6,35 +6,18 @@ use super::data::Data;
 use super::jobs::JobRunner;
 use super::load::{Loaded, load};
 use super::reference::{self as refs, Policy, Reference};
+use super::shard;
 use super::timed::{self, Session};
-use crate::cli::{PlanArgs, ReferenceArgs, RunArgs};
+use crate::cli::{ReferenceArgs, RunArgs};
 use crate::error::{Error, Result};
 use crate::io;
-use crate::plan;
+use crate::plan::{self, shard::Shard};
 use crate::reference as refmath;
 use crate::results::{self, JobResult};
 use crate::spec::{self, Spec};
 use crate::timing::{self, Protocol, Summary};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-
-/// Assumed throughput for `hemilab plan`'s time estimate (measure yours with `hemilab bench`).
-pub const ASSUMED_RAYS_PER_S: f64 = 8.0e6;
-
-pub fn run_plan(args: PlanArgs) -> Result<()> {
-    let loaded = load(&args.spec)?;
-    let plan = plan::plan(&loaded.spec);
-    let est = plan::estimate(
-        &plan,
-        |job| {
-            let (_, s) = loaded.scene_of(job);
-            [s.resolution.0, s.resolution.1]
-        },
-        ASSUMED_RAYS_PER_S,
-    );
-    print!("{}", plan::format_plan(&args.spec, &plan, &est, ASSUMED_RAYS_PER_S));
-    Ok(())
-}
 
 pub fn run_reference(args: ReferenceArgs) -> Result<()> {
     let loaded = load(&args.spec)?;
@@ -54,17 +37,22 @@ pub fn run_reference(args: ReferenceArgs) -> Result<()> {
     Ok(())
 }
 
-/// Output directory: `--out`, else `out/<spec name>/`.
-pub fn out_dir(args: &RunArgs, spec: &Spec) -> PathBuf {
-    args.out.clone().unwrap_or_else(|| Path::new("out").join(&spec.name))
+/// Output directory: `--out`, else `out/<spec name>/`, and a shard's `out/<spec name>/shard-K-of-N/`.
+pub fn out_dir(args: &RunArgs, spec: &Spec, shard: Option<Shard>) -> PathBuf {
+    let default = Path::new("out").join(&spec.name);
+    let default = shard.map_or(default.clone(), |s| default.join(s.dir_name()));
+    args.out.clone().unwrap_or(default)
 }
 
 pub fn run_run(args: RunArgs) -> Result<()> {
     let loaded = load(&args.spec)?;
-    let out = out_dir(&args, &loaded.spec);
+    let env = |name: &str| std::env::var(name).ok();
+    let shard = args.shard.map(|a| shard::resolve(a, args.shards, &env)).transpose().map_err(Error::Usage)?;
+    let out = out_dir(&args, &loaded.spec, shard);
     io::ensure_writable_dir(&out)?;
     io::ensure_writable_dir(&out.join("images"))?;
-    let plan = plan::plan(&loaded.spec);
+    let full = plan::plan(&loaded.spec);
+    let plan = shard.map_or_else(|| full.clone(), |s| shard::select(&loaded, &full, s));
     let previous = if args.force { HashMap::new() } else { previous_results(&out)? };
     let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
 
@@ -74,6 +62,9 @@ pub fn run_run(args: RunArgs) -> Result<()> {
         .collect::<Result<Vec<_>>>()?;
 
     let protocol = protocol(&args, &loaded.spec);
+    if let Some(s) = shard {
+        shard::Manifest::new(&loaded, &full, s, plan.jobs.len(), protocol).write(&out)?;
+    }
     let write = |r: &[JobResult]| write_results(&out, r);
     let (results, mut session) =
         timed::run_jobs(&loaded, &plan, &references, &previous, &out, protocol, &runner.bar, &write)?;
@@ -82,6 +73,11 @@ pub fn run_run(args: RunArgs) -> Result<()> {
         session.overhead = previous_overhead(&out, &loaded.spec);
     }
     write_timing(&out, &loaded.spec, protocol, &session)?;
+    if let Some(s) = shard {
+        // A shard's report would be of a part; `merge` writes the whole one.
+        println!("shard {s}: {} of {} jobs → {}", results.len(), full.jobs.len(), out.display());
+        return Ok(());
+    }
     let summary = summarize(&loaded, &references, &results, &session, &out)?;
     let data = Data::new(&loaded, &references, &results, protocol, session.overhead.clone());
     let figures = super::figures::write_all(&data, &out)?;
@@ -112,7 +108,7 @@ fn previous_results(out: &Path) -> Result<HashMap<String, JobResult>> {
     Ok(list.into_iter().map(|r| (r.key.clone(), r)).collect())
 }
 
-fn write_results(out: &Path, results: &[JobResult]) -> Result<()> {
+pub(super) fn write_results(out: &Path, results: &[JobResult]) -> Result<()> {
     io::write_atomic(&out.join("results.json"), results::to_json(results).as_bytes())?;
     io::write_atomic(&out.join("results.csv"), results::to_csv(results).as_bytes())
 }
@@ -185,7 +181,7 @@ fn sweep_slopes<'a>(spec: &'a Spec, aggs: &[results::Aggregate]) -> Vec<SweepSlo
 }
 
 /// Aggregates and slopes to files, the noise-floor check, and the text printed at the end.
-fn summarize(
+pub(super) fn summarize(
     loaded: &Loaded,
     references: &[Reference],
     results: &[JobResult],

@@ -39,7 +39,7 @@ const WARMUP_RAYS: u32 = 16;
 /// The resume key: the job, and everything outside the job that its numbers depend on (scene
 /// content, reference, hemilab version). The reference's measured fields (its render time, noise
 /// floor) are left out: a rebuilt identical reference must not invalidate finished jobs.
-fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
+pub(super) fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
     let manifest = refmath::Manifest { noise_floor: None, time_s: None, ..reference.manifest.clone() };
     let what = format!(
         "{};{};{};{}",
@@ -55,7 +55,7 @@ fn image_rel(job: &Job) -> String {
     format!("images/{}.exr", job.file_stem())
 }
 
-fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
+pub(super) fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
     let (_, scene) = loaded.scene_of(job);
     let g = super::jobs::Geometry::of(job.resolution, job.ao_distance, scene);
     let sampler = SamplerConfig::new(job.sequence, job.seed_mode, rays, job.seed)
@@ -72,7 +72,7 @@ fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
 /// The overhead render: `job`'s image with no AO rays, i.e. primary rays, hit points, frames and
 /// the image itself. (Built directly: `SamplerConfig::new` refuses zero points, which would
 /// have no estimate; this render's image is never used, only its time.)
-fn overhead_job(base: &RenderJob) -> RenderJob {
+pub(super) fn overhead_job(base: &RenderJob) -> RenderJob {
     let sampler =
         SamplerConfig { sequence: Sequence::Random, seed_mode: SeedMode::Rotation, count: 0, seed: 0 };
     RenderJob { sampler, ..*base }

@@ -125,28 +125,23 @@ impl Margin {
 /// Paired margin of `b − a`, over the replicates present in both (values keyed by replicate).
 /// `None` with fewer than two pairs.
 pub fn paired(a: &[(u32, f64)], b: &[(u32, f64)]) -> Option<Margin> {
-    let d: Vec<f64> = a
+    let (va, vb): (Vec<f64>, Vec<f64>) = a
         .iter()
-        .filter_map(|&(r, va)| b.iter().find(|x| x.0 == r).map(|&(_, vb)| vb - va))
-        .filter(|x| x.is_finite())
-        .collect();
-    if d.len() < 2 {
+        .filter_map(|&(r, va)| b.iter().find(|x| x.0 == r).map(|&(_, vb)| (va, vb)))
+        .filter(|(va, vb)| (vb - va).is_finite())
+        .unzip();
+    if va.len() < 2 {
         return None;
     }
-    let n = d.len() as f64;
-    let mean = d.iter().sum::<f64>() / n;
-    let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    Some(Margin { mean, se: (var / n).sqrt(), n: d.len() })
+    let (mean, se) = crate::stats::paired_difference(&va, &vb);
+    Some(Margin { mean, se, n: va.len() })
 }
 
 /// The margin (in SE) a paired comparison of `n` pairs needs to be significant at `ALPHA`:
 /// Student's t quantile with n − 1 degrees of freedom (statrs).
 pub fn critical_se(n: usize) -> f64 {
-    use statrs::distribution::{ContinuousCDF, StudentsT};
-    match StudentsT::new(0.0, 1.0, (n.max(2) - 1) as f64) {
-        Ok(t) => t.inverse_cdf(1.0 - ALPHA / 2.0),
-        Err(_) => f64::INFINITY,
-    }
+    let t = crate::stats::student_t_quantile(ALPHA, (n.max(2) - 1) as f64);
+    if t.is_nan() { f64::INFINITY } else { t }
 }
 
 /// One cell of the verdict table.

@@ -1,84 +1,32 @@
 //! Fits with confidence intervals, paired differences and medians: what the report needs to say
-//! how sure a slope, a difference or a time is. Kept apart from the chi-square machinery so either
-//! can move onto a statistics crate on its own; imports only `super` (no other crate module).
+//! how sure a slope, a difference or a time is. Student's t comes from statrs; imports nothing else
+//! of the crate but `super`.
 
 use super::{ln_gamma, mean_and_standard_error};
-
-/// Regularized incomplete beta function I_x(a, b) (Numerical Recipes 6.4: the continued fraction,
-/// on whichever side of the mean converges fast). Used only by the Student t functions below.
-fn regularized_beta(a: f64, b: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 0.0;
-    }
-    if x >= 1.0 {
-        return 1.0;
-    }
-    let front = (ln_gamma(a + b) - ln_gamma(a) - ln_gamma(b) + a * x.ln() + b * (1.0 - x).ln()).exp();
-    if x < (a + 1.0) / (a + b + 2.0) {
-        front * beta_cf(a, b, x) / a
-    } else {
-        1.0 - front * beta_cf(b, a, 1.0 - x) / b
-    }
-}
-
-fn beta_cf(a: f64, b: f64, x: f64) -> f64 {
-    const TINY: f64 = 1e-300;
-    let clamp = |v: f64| if v.abs() < TINY { TINY } else { v };
-    let (qab, qap, qam) = (a + b, a + 1.0, a - 1.0);
-    let mut c = 1.0;
-    let mut d = 1.0 / clamp(1.0 - qab * x / qap);
-    let mut h = d;
-    for m in 1..10_000 {
-        let m = m as f64;
-        let m2 = 2.0 * m;
-        let aa = m * (b - m) * x / ((qam + m2) * (a + m2));
-        d = 1.0 / clamp(1.0 + aa * d);
-        c = clamp(1.0 + aa / c);
-        h *= d * c;
-        let aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
-        d = 1.0 / clamp(1.0 + aa * d);
-        c = clamp(1.0 + aa / c);
-        let del = d * c;
-        h *= del;
-        if (del - 1.0).abs() < 1e-15 {
-            break;
-        }
-    }
-    h
-}
+use statrs::distribution::{ContinuousCDF, StudentsT};
 
 /// P(|T| > t) for Student's T with `dof` degrees of freedom: I_{dof/(dof+t²)}(dof/2, 1/2).
 pub fn student_t_two_sided_p(t: f64, dof: f64) -> f64 {
-    if t.is_nan() || dof.is_nan() || dof <= 0.0 {
-        return f64::NAN;
+    match StudentsT::new(0.0, 1.0, dof) {
+        Ok(d) if !t.is_nan() => 2.0 * d.sf(t.abs()),
+        _ => f64::NAN,
     }
-    regularized_beta(dof / 2.0, 0.5, dof / (dof + t * t))
 }
 
 /// The t with P(|T| > t) = `p` for Student's T with `dof` degrees of freedom, e.g. 12.706 for
 /// p = 0.05 and 1 dof: the half-width, in standard errors, of a two-sided confidence interval of
-/// level 1 − p from a fit with `dof` residual degrees of freedom. Bisection on the p-value.
+/// level 1 − p from a fit with `dof` residual degrees of freedom.
 pub fn student_t_quantile(p: f64, dof: f64) -> f64 {
     if p >= 1.0 {
         return 0.0;
     }
-    if p.is_nan() || p <= 0.0 || dof.is_nan() || dof <= 0.0 {
+    if p.is_nan() || p <= 0.0 {
         return f64::NAN;
     }
-    let mut hi = 2.0f64;
-    while student_t_two_sided_p(hi, dof) > p && hi < 1e12 {
-        hi *= 2.0;
+    match StudentsT::new(0.0, 1.0, dof) {
+        Ok(d) => d.inverse_cdf(1.0 - p / 2.0),
+        Err(_) => f64::NAN,
     }
-    let mut lo = 0.0f64;
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if student_t_two_sided_p(mid, dof) > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
 }
 
 /// A weighted least-squares line y = intercept + slope · x, with the standard errors of both

@@ -157,6 +157,8 @@ fn advice_json_validates_and_its_recommendations_recompute() {
     assert!(std::fs::read_dir(t.path("ref")).unwrap().count() >= 2);
 
     // Budgets outside every measured time: said so, not extrapolated; the reference is reused.
+    std::fs::create_dir_all(t.path("far")).unwrap();
+    std::fs::write(t.path("far/winner_map.png"), "an earlier map").unwrap();
     let o = advise(&t, &["--out", "far", "--budget-ms", "0.00001,100000"]);
     assert!(o.status.success(), "{}", common::stderr(&o));
     let far = json(&t.path("far/advice.json"));
@@ -167,7 +169,7 @@ fn advice_json_validates_and_its_recommendations_recompute() {
         assert!(rec["note"].as_str().unwrap().contains("measured range"), "{}", rec["note"]);
         assert_eq!(rec["outside"].as_array().unwrap().len(), 4);
     }
-    assert!(!t.path("far/winner_map.png").exists(), "no budget to map");
+    assert!(!t.path("far/winner_map.png").exists(), "no budget to map, and the earlier map is gone");
     assert!(far["setup"].as_str().unwrap().contains("stored reference"), "{}", far["setup"]);
 }
 

@@ -273,7 +273,10 @@ fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
             links: vec![],
         });
     }
-    if !a.maps.is_empty() {
+    if a.maps.is_empty() {
+        // No budget to map: a map left by an earlier advise in this directory would mislead.
+        io::remove_file_if_exists(&out.join("winner_map.png"))?;
+    } else {
         let png = winner_png(m, a)?;
         io::write_atomic(&out.join("winner_map.png"), &png)?;
         figs.push(Figure { path: "winner_map.png".into(), caption: winner_note(m, a), links: vec![] });

@@ -18,6 +18,7 @@
 
 pub mod winner;
 
+use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use crate::spec::Row;
 
@@ -250,6 +251,11 @@ pub struct AtBudget {
 }
 
 impl AtBudget {
+    /// Whether its error is structured (bands, moiré) rather than noise.
+    pub fn structured(&self) -> bool {
+        self.whiteness_z > STRUCTURED_Z
+    }
+
     fn values(&self, m: Metric) -> &[f64] {
         match m {
             Metric::Rmse => &self.mse,
@@ -382,6 +388,13 @@ pub struct Ranking {
     pub metric: Metric,
     pub ranked: Vec<AtBudget>,
     pub outside: Vec<(Row, Place)>,
+}
+
+/// What to ship at a budget: the best-ranked configuration whose error is not structured
+/// (whiteness z at most [`STRUCTURED_Z`]), because a sampler with visible bands or moiré is not an
+/// answer a renderer can ship however low its RMSE; the best overall when every one is structured.
+pub fn recommended(r: &Ranking) -> Option<&AtBudget> {
+    r.ranked.iter().find(|a| !a.structured()).or_else(|| r.ranked.first())
 }
 
 pub fn rank(curves: &[Curve], budget_s: f64, metric: Metric) -> Ranking {

@@ -60,7 +60,7 @@ fn recommendation(r: &Ranking, low: &Ranking) -> Value {
             Place::Inside { .. } => json!({"configuration": conf(*row), "where": "inside"}),
         })
         .collect();
-    let mut v = match r.ranked.first() {
+    let mut v = match advice::recommended(r) {
         Some(best) => entry(best, r),
         None => json!({ "configuration": null, "rays": null, "rmse": null, "gain_vs_paper_default": null }),
     };
@@ -70,7 +70,12 @@ fn recommendation(r: &Ranking, low: &Ranking) -> Value {
     o.insert("status".into(), json!(status(r)));
     o.insert("note".into(), json!(note));
     o.insert("paper_default".into(), default_at(r).map_or(Value::Null, |d| entry(d, r)));
-    o.insert("runner_up".into(), r.ranked.get(1).map_or(Value::Null, |s| entry(s, r)));
+    o.insert("structured".into(), json!(advice::recommended(r).is_some_and(|b| b.structured())));
+    let shipped = advice::recommended(r).map(|b| b.row);
+    let least_structured = r.ranked.first().filter(|t| Some(t.row) != shipped);
+    o.insert("least_rmse_structured".into(), least_structured.map_or(Value::Null, |t| entry(t, r)));
+    let runner_up = r.ranked.iter().find(|a| Some(a.row) != shipped && !a.structured());
+    o.insert("runner_up".into(), runner_up.map_or(Value::Null, |s| entry(s, r)));
     o.insert("best_lowpass".into(), low.ranked.first().map_or(Value::Null, |b| entry(b, low)));
     o.insert("ranking".into(), Value::Array(r.ranked.iter().map(|a| entry(a, r)).collect()));
     o.insert("lowpass_ranking".into(), Value::Array(low.ranked.iter().map(|a| entry(a, low)).collect()));

@@ -5,7 +5,6 @@ use super::advise_report::{Analysis, Measured, label, winner_note};
 use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking};
 use crate::error::Result;
 use crate::io;
-use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::report::{self, Figure, Table};
 use crate::timing;
 use std::fmt::Write as _;
@@ -93,7 +92,9 @@ pub(super) fn ms(s: f64) -> String {
 /// One sentence per budget: what to ship and what it gains, or why there is no answer.
 pub(super) fn advice_line(r: &Ranking, low: &Ranking) -> String {
     let b = ms(r.budget_s);
-    let Some(best) = r.ranked.first() else { return format!("At {b} ms per image: {}.", outside_note(r)) };
+    let Some(best) = advice::recommended(r) else {
+        return format!("At {b} ms per image: {}.", outside_note(r));
+    };
     let e = best.rmse(Metric::Rmse);
     let mut s = format!(
         "At {b} ms per image: ship {} with {} rays per pixel (RMSE {:.4} ± {:.4})",
@@ -102,10 +103,11 @@ pub(super) fn advice_line(r: &Ranking, low: &Ranking) -> String {
         e.value,
         e.se
     );
-    if best.whiteness_z > STRUCTURED_Z {
+    if best.structured() {
         let _ = write!(
             s,
-            " — its error is structured (whiteness z {:.0}: bands or moiré that RMSE does not show)",
+            " — its error is structured (whiteness z {:.0}: bands or moiré that RMSE does not show), as is \
+             every configuration measured here",
             best.whiteness_z
         );
     }
@@ -121,9 +123,18 @@ pub(super) fn advice_line(r: &Ranking, low: &Ranking) -> String {
         }
         None => s += "; the paper's default is outside its measured times here",
     }
-    if let Some(second) = r.ranked.get(1) {
+    if let Some(second) = r.ranked.iter().find(|a| a.row != best.row && !a.structured()) {
         let z = advice::paired_z(best, second, Metric::Rmse);
         let _ = write!(s, "; runner-up {} ({:+.1} paired SE)", label(second.row), z);
+    }
+    if let Some(top) = r.ranked.first().filter(|t| t.row != best.row) {
+        let _ = write!(
+            s,
+            "; {} has {:.0} % less RMSE but its error is structured (whiteness z {:.0}), so it is not advised",
+            label(top.row),
+            100.0 * (1.0 - top.rmse(Metric::Rmse).value / e.value),
+            top.whiteness_z
+        );
     }
     if let Some(lb) = low.ranked.first().filter(|l| l.row != best.row) {
         let _ = write!(s, "; least low-pass RMSE: {}", label(lb.row));
@@ -197,7 +208,7 @@ fn summary_table(a: &Analysis) -> Table {
         .iter()
         .map(|(r, l)| {
             let b = ms(r.budget_s);
-            let Some(best) = r.ranked.first() else {
+            let Some(best) = advice::recommended(r) else {
                 return vec![b, status(r).into(), String::new(), String::new(), String::new(), String::new()];
             };
             let gain = default_at(r)

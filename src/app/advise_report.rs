@@ -236,7 +236,7 @@ fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
     let [w, h] = m.setup.loaded.spec.resolution.unwrap_or([0, 0]);
     let mut highlight: Vec<Row> = vec![PAPER_DEFAULT];
     for (r, l) in &a.rankings {
-        for best in [r.ranked.first(), l.ranked.first()].into_iter().flatten() {
+        for best in [advice::recommended(r), r.ranked.first(), l.ranked.first()].into_iter().flatten() {
             if !highlight.contains(&best.row) {
                 highlight.push(best.row);
             }

@@ -5,7 +5,7 @@
 
 use glam::Vec2;
 use hemilab::app::load_scene;
-use hemilab::render::offset_origin;
+use hemilab::render::ao_origin;
 use hemilab::sampling::{Distribution, Frame, frame};
 use hemilab::scene::accel::Ray;
 use std::path::Path;
@@ -33,13 +33,7 @@ fn kitchen_traversal_matches_brute_force() {
                 assert_eq!(hit.map(|h| h.t.to_bits()), brute.map(|h| h.t.to_bits()), "primary ({x}, {y})");
             }
             let Some(hit) = hit else { continue };
-            let [a, b, c] = acc.triangle(hit.prim);
-            let p = a + hit.bary_b * (b - a) + hit.bary_c * (c - a);
-            let mut n = (b - a).cross(c - a).normalize();
-            if n.dot(pr.dir) > 0.0 {
-                n = -n;
-            }
-            let origin = offset_origin(p, n, acc.scale(hit.prim));
+            let (origin, n) = ao_origin(acc.triangle(hit.prim), hit.bary_b, hit.bary_c, pr.dir);
             // One direction anywhere, one near the horizon (where hits in crevices are short).
             for v in [unit(), 0.95 + 0.05 * unit()] {
                 let s = Distribution::SineCosine.sample(Vec2::new(unit(), v));
@@ -124,12 +118,11 @@ fn grazing_packets_keep_fences_just_above_the_tangent_plane() {
             [Vec3::new(-f, -f, 0.0), Vec3::new(f, -f, 0.0), Vec3::new(f, f, 0.0)],
             [Vec3::new(-f, -f, 0.0), Vec3::new(f, f, 0.0), Vec3::new(-f, f, 0.0)],
         ];
-        let p = Vec3::new(0.3, 0.2, 0.0);
-        // The renderer's origin (offset along the floor's geometric normal; ~2 mm at 100 m), then the
-        // fences relative to its height in the floor's frame.
+        // The renderer's origin for the floor point (0.3, 0.2, 0) (barycentrics in the first floor
+        // triangle, seen from above), then the fences relative to its height in the floor's frame.
         let floor: Vec<[Vec3; 3]> = local.iter().map(|t| [at(t[0]), at(t[1]), at(t[2])]).collect();
-        let n = (floor[0][1] - floor[0][0]).cross(floor[0][2] - floor[0][0]).normalize();
-        let origin = offset_origin(at(p), n, Accel::build(&floor).0.scale(0));
+        let (origin, n) = ao_origin(floor[0], 0.0125, 0.525, -(rot * Vec3::Z));
+        assert!((rot.transpose() * (origin - shift) - Vec3::new(0.3, 0.2, 0.0)).length() < 1e-4);
         let o_local = rot.transpose() * (origin - shift);
         let fences = 32;
         let radius = |k: usize| 0.05 + 1.95 * (k as f32 / (fences - 1) as f32);

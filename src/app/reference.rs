@@ -57,7 +57,7 @@ pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry
     Manifest::wanted(
         &spec.scenes[si],
         &scene.content_hash,
-        &format!("{:?}", scene.camera),
+        &format!("{:?}", scene.view),
         [geometry.width, geometry.height],
         geometry.distance,
         spec.reference.estimator,

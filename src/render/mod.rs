@@ -5,7 +5,7 @@
 pub mod bench;
 mod offset;
 
-pub use offset::offset_origin;
+pub use offset::ao_origin;
 
 use crate::image::Image;
 use crate::sampling::{Distribution, Frame, SamplerConfig, frame};
@@ -156,14 +156,8 @@ pub fn pixel_rays(
     let Some(hit) = scene.accel.closest(&Ray::new(primary.origin, primary.dir, f32::INFINITY)) else {
         return false;
     };
-    let [a, b, c] = scene.accel.triangle(hit.prim);
-    // From barycentrics and edges: exact on axis-aligned planes, error ~ulps of the vertices elsewhere.
-    let p = a + hit.bary_b * (b - a) + hit.bary_c * (c - a);
-    let mut n = (b - a).cross(c - a).normalize();
-    if n.dot(primary.dir) > 0.0 {
-        n = -n;
-    }
-    out.origin = offset_origin(p, n, scene.accel.scale(hit.prim));
+    let (origin, n) = ao_origin(scene.accel.triangle(hit.prim), hit.bary_b, hit.bary_c, primary.dir);
+    out.origin = origin;
     out.normal = n;
     let basis = Frame::from_normal(n);
     job.sampler.fill_pixel(pixel, points);

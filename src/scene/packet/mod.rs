@@ -14,9 +14,10 @@ mod simd;
 
 use super::accel::Accel;
 use glam::{Vec3, Vec3A, Vec4};
+pub(super) use simd::child_planes;
 #[cfg(target_arch = "x86_64")]
 use simd::wide;
-use simd::{Packet, child_planes, groups_of, hit_group, lanes, present_children};
+use simd::{Packet, groups_of, hit_group, lanes, present_children};
 
 /// Rays per packet.
 pub const PACKET: usize = 32;

@@ -67,7 +67,7 @@ pub(super) fn q8(v: &[u8; 8]) -> [Vec4; 2] {
 /// padded outwards by 2^-18 of their extent from `o` (far more than the rounding of the planes
 /// and of the triangle test's edge values).
 #[inline(always)]
-pub(super) fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 6] {
+pub(in crate::scene) fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 6] {
     let e = node.compute_extent();
     let rel = Vec3A::from(node.p) - o;
     let pad = (rel.abs() + e * 255.0) * (1.0 / 262144.0);
@@ -95,7 +95,8 @@ pub(super) fn hit_group(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
     let dn = dotv(s.n);
     let t = Vec4::splat(s.t) / dn;
     let sum = (u + v) + w;
-    let hit = !(neg & pos) & dn.cmpne(z) & t.cmpgt(z) & t.cmplt(Vec4::splat(tmax)) & sum.cmpne(z);
+    let sure = dn.abs().cmpgt(Vec4::splat(s.g));
+    let hit = !(neg & pos) & sure & t.cmpgt(z) & t.cmplt(Vec4::splat(tmax)) & sum.cmpne(z);
     hit.bitmask()
 }
 
@@ -221,7 +222,9 @@ pub(super) mod wide {
         let dn = dotv(s.n);
         let t = _mm256_div_ps(_mm256_set1_ps(s.t), dn);
         let sum = _mm256_add_ps(_mm256_add_ps(u, v), w);
-        let ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), _mm256_cmp_ps::<_CMP_NEQ_UQ>(dn, z));
+        let abs_dn = _mm256_andnot_ps(_mm256_set1_ps(-0.0), dn);
+        let sure = _mm256_cmp_ps::<_CMP_GT_OQ>(abs_dn, _mm256_set1_ps(s.g));
+        let ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), sure);
         let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_GT_OQ>(t, z));
         let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(t, _mm256_set1_ps(tmax)));
         let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_NEQ_UQ>(sum, z));

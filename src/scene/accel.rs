@@ -38,6 +38,8 @@ pub struct Accel {
     pub(crate) tris: Vec<Tri>,
     /// The input triangles in input order (the benchmark builds its plain-obvhs baseline from them).
     source: Vec<obvhs::triangle::Triangle>,
+    /// Unique per build in this process (never 0), so caches can tell scenes apart.
+    pub(crate) id: u64,
 }
 
 /// A closest hit: distance, triangle (BVH order) and the barycentrics of `b` and `c`.
@@ -96,7 +98,9 @@ impl Accel {
             let n = Vec3A::from(cross(v[1] - v[0], v[2] - v[0]));
             tris.push(Tri { a: v[0], b: v[1], c: v[2], n });
         }
-        (Self { bvh, tris, source: soup }, core.as_secs_f64())
+        static BUILDS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        let id = BUILDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        (Self { bvh, tris, source: soup, id }, core.as_secs_f64())
     }
 
     /// The vertices of triangle `prim` (BVH order) in the order `Hit`'s barycentrics refer to.
@@ -171,6 +175,7 @@ impl Accel {
 /// origin (`child_planes`) and its slab test, with the entry clamped at 0 (obvhs clamps at 1e-4).
 /// Returns obvhs's hit mask (high byte: inner nodes, low: leaves).
 #[inline(always)]
+#[allow(clippy::needless_range_loop)] // h indexes the halves of six plane arrays
 fn node_hits(node: &CwBvhNode, ray: &Ray, tmax: f32, oct_inv4: u32) -> u32 {
     let pl = child_planes(node, ray.org);
     let (ix, iy, iz) = (Vec4::splat(ray.inv.x), Vec4::splat(ray.inv.y), Vec4::splat(ray.inv.z));

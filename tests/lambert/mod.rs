@@ -55,3 +55,85 @@ impl Pooled {
         (signed / k, var.sqrt() / k)
     }
 }
+
+use glam::Vec2;
+use hemilab::render::{PixelRays, RenderJob, pixel_rays, render};
+use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use hemilab::scene::Scene;
+
+/// One configuration's pooled comparison with the closed form.
+#[derive(Debug)]
+pub struct Pooling {
+    pub what: String,
+    pub pixels: usize,
+    pub bias: f64,
+    pub se: f64,
+}
+
+impl Pooling {
+    pub fn z(&self) -> f64 {
+        self.bias.abs() / self.se
+    }
+}
+
+/// The covered pixels of a `side` x `side` image of `scene` whose AO `exact` knows: it gets the
+/// pixel's AO origin and normal (the renderer's own, camera-relative, as f64) and returns the
+/// exact AO (1 - occluded fraction) or None to leave the pixel out.
+pub fn exact_pixels(
+    scene: &Scene,
+    side: u32,
+    exact: impl Fn(DVec3, DVec3) -> Option<f64>,
+) -> Vec<(usize, f64)> {
+    let sampler = SamplerConfig::new(Sequence::Random, SeedMode::Shift, 1, 0).unwrap();
+    let job = RenderJob {
+        distribution: Distribution::SineCosine,
+        sampler,
+        width: side,
+        height: side,
+        ao_distance: scene.ao_distance,
+    };
+    let (mut points, mut px, mut out) = (vec![Vec2::ZERO; 1], PixelRays::default(), Vec::new());
+    for y in 0..side {
+        for x in 0..side {
+            let i = (y * side + x) as usize;
+            if pixel_rays(scene, &job, x, y, i as u64, &mut points, &mut px)
+                && let Some(v) = exact(px.origin.as_dvec3(), px.normal.as_dvec3())
+            {
+                out.push((i, v));
+            }
+        }
+    }
+    out
+}
+
+/// Every distribution with pseudo-random and Fibonacci points (per-pixel `shift`, so each pixel's
+/// estimate is unbiased), `seeds` renders each of `rays` rays per pixel: the pooled mean signed
+/// error over `pixels` and its standard error, per configuration.
+pub fn pooled_errors(
+    scene: &Scene,
+    side: u32,
+    rays: u32,
+    seeds: u64,
+    pixels: &[(usize, f64)],
+) -> Vec<Pooling> {
+    let mut out = Vec::new();
+    for &distribution in Distribution::ALL {
+        for sequence in [Sequence::Random, Sequence::Fibonacci] {
+            let mut pool = Pooled::new((side * side) as usize);
+            for seed in 0..seeds {
+                let sampler = SamplerConfig::new(sequence, SeedMode::Shift, rays, 100 + seed).unwrap();
+                let job = RenderJob {
+                    distribution,
+                    sampler,
+                    width: side,
+                    height: side,
+                    ao_distance: scene.ao_distance,
+                };
+                pool.add(&render(scene, &job, &|_| {}).ao.data);
+            }
+            let (bias, se) = pool.bias(pixels);
+            out.push(Pooling { what: format!("{distribution} {sequence}"), pixels: pixels.len(), bias, se });
+        }
+    }
+    out
+}

@@ -44,6 +44,9 @@ pub struct Occluders {
     /// How many rays each blocked first (the next packet tries the best blockers first).
     counts: [u32; OCCLUDERS],
     len: usize,
+    /// The `Accel::id` the triangles belong to: a thread's cache outlives a scene (a thread-local in
+    /// the renderer), and another scene's triangle numbers may not even exist in this one.
+    owner: u64,
     /// The traversal stack, kept to spare each packet zeroing its own.
     stack: Vec<(u32, u32)>,
 }
@@ -188,6 +191,9 @@ impl Accel {
         let nodes = &self.bvh.nodes;
         if dirs.is_empty() || nodes.is_empty() {
             return 0;
+        }
+        if cache.owner != self.id {
+            (cache.owner, cache.len) = (self.id, 0);
         }
         let all = if dirs.len() >= 32 { u32::MAX } else { (1u32 << dirs.len()) - 1 };
         let mut p = Packet { d: [[Vec4::ZERO; GROUPS]; 3], inv: [[0.0; PACKET]; 3] };

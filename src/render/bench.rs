@@ -119,8 +119,14 @@ pub struct Mismatches {
     pub obvhs_node_test_short: u64,
     /// Same, for a hit at 1e-4 or farther (should be 0).
     pub obvhs_node_test_other: u64,
-    /// obvhs's traversal agrees with its own triangle test over all triangles: the triangle tests
-    /// (obvhs's non-watertight Möller-Trumbore vs hemilab's watertight one) decide differently.
+    /// obvhs's traversal agrees with its own triangle test over all triangles, and that test hits a
+    /// triangle whose exact (f64) crossing lies behind the origin: Möller-Trumbore has no error
+    /// bound, so from an origin lifted a few ulps off a large triangle it finds that triangle again
+    /// at a small positive t. hemilab's test proves the side before it reports a hit.
+    pub obvhs_hit_behind_origin: u64,
+    /// obvhs's traversal agrees with its own triangle test over all triangles, and the triangle
+    /// tests (obvhs's non-watertight Möller-Trumbore vs hemilab's watertight one) decide
+    /// differently for another reason.
     pub triangle_test: u64,
     /// hemilab disagrees with its own triangle test over all triangles (must be 0).
     pub hemilab_wrong: u64,
@@ -154,9 +160,16 @@ pub fn mismatches(
             let truth = acc.closest_brute_force(&ray);
             m.hemilab_wrong = (truth.is_some() != ours[i]) as u64;
             let oray = obvhs::ray::Ray::new(origin.into(), Vec3A::from(dir) + Vec3A::ZERO, OBVHS_TMIN, tmax);
-            let obvhs_all = base.tris.iter().map(|t| t.intersect(&oray)).fold(f32::INFINITY, f32::min);
+            let (obvhs_all, hit) = base
+                .tris
+                .iter()
+                .enumerate()
+                .map(|(k, t)| (t.intersect(&oray), k))
+                .fold((f32::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
             if (obvhs_all < tmax) == obvhs[i] {
-                m.triangle_test = 1;
+                let t = &acc.source_triangles()[base.bvh.primitive_indices[hit] as usize];
+                let behind = obvhs[i] && exact_t([t.v0, t.v1, t.v2], origin, dir) <= 0.0;
+                (m.obvhs_hit_behind_origin, m.triangle_test) = if behind { (1, 0) } else { (0, 1) };
             } else if obvhs_all < 1e-4 {
                 m.obvhs_node_test_short = 1;
             } else {
@@ -168,8 +181,17 @@ pub fn mismatches(
             total: a.total + b.total,
             obvhs_node_test_short: a.obvhs_node_test_short + b.obvhs_node_test_short,
             obvhs_node_test_other: a.obvhs_node_test_other + b.obvhs_node_test_other,
+            obvhs_hit_behind_origin: a.obvhs_hit_behind_origin + b.obvhs_hit_behind_origin,
             triangle_test: a.triangle_test + b.triangle_test,
             hemilab_wrong: a.hemilab_wrong + b.hemilab_wrong,
             hemilab_vs_single_ray: a.hemilab_vs_single_ray + b.hemilab_vs_single_ray,
         })
+}
+
+/// Where the ray's line crosses the triangle's plane, in f64 from the f32 inputs (accurate to about
+/// 1e-16 relative, so its sign is the truth for any crossing that is not exactly at the origin).
+fn exact_t(v: [Vec3A; 3], origin: Vec3, dir: Vec3) -> f64 {
+    let [a, b, c] = v.map(|p| Vec3::from(p).as_dvec3());
+    let n = (b - a).cross(c - a);
+    (a - origin.as_dvec3()).dot(n) / dir.as_dvec3().dot(n)
 }

@@ -22,14 +22,16 @@ use std::cmp::Ordering;
 /// One triangle by its three vertices (edges would not be shared bit-exactly between neighbours).
 /// One cache line: a packet visiting a leaf touches one line per triangle. The vertices are
 /// stored in lexicographic order (a < b < c), so every edge starts at its smaller end (see `Seen`).
+/// The fourth lanes carry the rounding bounds `seen_from` needs, computed once here: M (see
+/// `T_ERR`) in those of a, b, c, and `Seen::g` in that of n.
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(64))]
 pub(crate) struct Tri {
-    a: Vec3A,
-    b: Vec3A,
-    c: Vec3A,
+    a: Vec4,
+    b: Vec4,
+    c: Vec4,
     /// (b - a) × (c - a), for an accurate distance.
-    n: Vec3A,
+    n: Vec4,
 }
 
 /// The BVH and the triangles in BVH order, so a leaf's primitives are read contiguously.
@@ -95,8 +97,16 @@ impl Accel {
             let t = &soup[i as usize];
             let mut v = [t.v0, t.v1, t.v2];
             v.sort_unstable_by(|p, q| if lex_less(*p, *q) { Ordering::Less } else { Ordering::Greater });
-            let n = Vec3A::from(cross(v[1] - v[0], v[2] - v[0]));
-            tris.push(Tri { a: v[0], b: v[1], c: v[2], n });
+            let (e1, e2) = (v[1] - v[0], v[2] - v[0]);
+            let n = Vec3A::from(cross(e1, e2));
+            // The magnitudes N is made of (see `T_ERR`); 0 on the axes where N is exactly 0.
+            let m = (e1.yzx() * e2.zxy()).abs() + (e1.zxy() * e2.yzx()).abs();
+            tris.push(Tri {
+                a: v[0].extend(m.x),
+                b: v[1].extend(m.y),
+                c: v[2].extend(m.z),
+                n: n.extend(DN_ERR * m.element_sum()),
+            });
         }
         static BUILDS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
         let id = BUILDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -106,7 +116,7 @@ impl Accel {
     /// The vertices of triangle `prim` (BVH order) in the order `Hit`'s barycentrics refer to.
     pub fn triangle(&self, prim: u32) -> [Vec3; 3] {
         let t = &self.tris[prim as usize];
-        [t.a.into(), t.b.into(), t.c.into()]
+        [t.a.truncate(), t.b.truncate(), t.c.truncate()]
     }
 
     /// The triangles as given to `build` (after dropping unusable ones), in that order.
@@ -210,19 +220,21 @@ fn node_hits(node: &CwBvhNode, ray: &Ray, tmax: f32, oct_inv4: u32) -> u32 {
 /// The sign of t decides whether the triangle is in front of the origin or behind it, and rounding
 /// can flip it where T or d·N is tiny: an AO origin lifted off a large triangle by less than the
 /// triangle's rounding (which grows with its size, not with the lift) would see it in front. So a
-/// hit needs both signs proven: |T| above a bound on T's rounding error (else `t` is 0 and nothing
-/// is hit, once per origin) and |d·N| above `g`, a bound on the rounding of d·N for any unit d.
-/// A triangle whose plane passes within its rounding error of the origin, or a ray within about
-/// 1e-6 rad of parallel to it, is therefore never hit; any hit that is reported is truly in front.
+/// hit needs both signs proven: |T| above a bound on T's rounding error (else `g` is infinite and
+/// nothing is hit, decided once per origin), and d·N of T's sign by more than `g`, a bound on the
+/// rounding of d·N for any unit d (one comparison per ray: sgn·d·N > g). A triangle whose plane
+/// passes within its rounding error of the origin, or a ray within about 1e-6 rad of parallel to
+/// it, is therefore never hit; any hit that is reported is truly in front (t >= 0).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Seen {
     pub x: [f32; 3],
     pub y: [f32; 3],
     pub z: [f32; 3],
     pub n: [f32; 3],
-    /// T, or 0 where its sign is not certain.
     pub t: f32,
-    /// |d·N| must exceed this for a hit.
+    /// ±1: the sign of T (multiplying by it is exact).
+    pub sgn: f32,
+    /// sgn·d·N must exceed this for a hit; infinite where T's sign is not certain.
     pub g: f32,
 }
 
@@ -257,16 +269,15 @@ impl Tri {
     /// glam's cross is the same per-component formula as `cross` (same products, same order).
     #[inline(always)]
     pub(crate) fn seen_from(&self, o: Vec3A) -> Seen {
-        let (pa, pb) = (self.a - o, self.b - o);
-        let (e1, e2) = (self.b - self.a, self.c - self.a);
-        let e_ab = pa.cross(e1);
-        let e_ac = pa.cross(e2);
-        let e_bc = pb.cross(self.c - self.b);
-        let n = self.n.to_array();
+        let (a, b, c) = (Vec3A::from_vec4(self.a), Vec3A::from_vec4(self.b), Vec3A::from_vec4(self.c));
+        let (pa, pb) = (a - o, b - o);
+        let e_ab = pa.cross(b - a);
+        let e_ac = pa.cross(c - a);
+        let e_bc = pb.cross(c - b);
+        let n = [self.n.x, self.n.y, self.n.z];
         let t = dot(pa.to_array(), n);
-        // The magnitudes N is made of (see `T_ERR`); 0 on the axes where N is exactly 0.
-        let m = (e1.yzx() * e2.zxy()).abs() + (e1.zxy() * e2.yzx()).abs();
-        let t = if t.abs() > T_ERR * pa.abs().dot(m) { t } else { 0.0 };
+        let m = Vec3A::new(self.a.w, self.b.w, self.c.w);
+        let sure = t.abs() > T_ERR * pa.abs().dot(m);
         // Opposite a: B×C = (b-o)×(c-b); opposite b: C×A = -(a-o)×(c-a); opposite c: A×B.
         Seen {
             x: e_bc.to_array(),
@@ -274,13 +285,15 @@ impl Tri {
             z: e_ab.to_array(),
             n,
             t,
-            g: DN_ERR * m.element_sum(),
+            sgn: 1.0f32.copysign(t),
+            g: if sure { self.n.w } else { f32::INFINITY },
         }
     }
 }
 
-/// The decision for one ray direction: (t, barycentrics of a, b, c) for 0 < t < tmax. A ray
-/// exactly on an edge (value 0) counts for both triangles that share it.
+/// The decision for one ray direction: (t, barycentrics of a, b, c) for 0 <= t < tmax (t = 0 only
+/// where a proven positive distance underflows). A ray exactly on an edge (value 0) counts for
+/// both triangles that share it.
 #[inline(always)]
 pub(crate) fn hit_seen(s: &Seen, d: [f32; 3], tmax: f32) -> Option<(f32, f32, f32, f32)> {
     let u = dot(d, s.x);
@@ -290,15 +303,17 @@ pub(crate) fn hit_seen(s: &Seen, d: [f32; 3], tmax: f32) -> Option<(f32, f32, f3
         return None;
     }
     let dn = dot(d, s.n);
-    if dn.abs() <= s.g {
+    // Not `!(.. <= ..)`: a NaN must fail.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    if !(dn * s.sgn > s.g) {
         return None;
     }
     let t = s.t / dn;
     let sum = (u + v) + w;
-    (t > 0.0 && t < tmax && sum != 0.0).then(|| (t, u / sum, v / sum, w / sum))
+    (t < tmax && sum != 0.0).then(|| (t, u / sum, v / sum, w / sum))
 }
 
-/// Ray/triangle test for 0 < t < tmax (see `Seen`).
+/// Ray/triangle test for 0 <= t < tmax (see `Seen`).
 #[inline(always)]
 fn intersect(tri: &Tri, ray: &Ray, tmax: f32) -> Option<(f32, f32, f32, f32)> {
     hit_seen(&tri.seen_from(ray.org), ray.dir.to_array(), tmax)

@@ -83,7 +83,7 @@ pub(in crate::scene) fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 
     [lx, hx, ly, hy, lz, hz]
 }
 
-/// Which lanes of group `g` hit `s` within (0, tmax): the vector form of `accel::hit_seen`.
+/// Which lanes of group `g` hit `s` within [0, tmax): the vector form of `accel::hit_seen`.
 #[inline(always)]
 pub(super) fn hit_group(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
     let (dx, dy, dz) = (p.d[0][g], p.d[1][g], p.d[2][g]);
@@ -95,8 +95,8 @@ pub(super) fn hit_group(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
     let dn = dotv(s.n);
     let t = Vec4::splat(s.t) / dn;
     let sum = (u + v) + w;
-    let sure = dn.abs().cmpgt(Vec4::splat(s.g));
-    let hit = !(neg & pos) & sure & t.cmpgt(z) & t.cmplt(Vec4::splat(tmax)) & sum.cmpne(z);
+    let sure = (dn * Vec4::splat(s.sgn)).cmpgt(Vec4::splat(s.g));
+    let hit = !(neg & pos) & sure & t.cmplt(Vec4::splat(tmax)) & sum.cmpne(z);
     hit.bitmask()
 }
 
@@ -222,10 +222,9 @@ pub(super) mod wide {
         let dn = dotv(s.n);
         let t = _mm256_div_ps(_mm256_set1_ps(s.t), dn);
         let sum = _mm256_add_ps(_mm256_add_ps(u, v), w);
-        let abs_dn = _mm256_andnot_ps(_mm256_set1_ps(-0.0), dn);
-        let sure = _mm256_cmp_ps::<_CMP_GT_OQ>(abs_dn, _mm256_set1_ps(s.g));
+        let signed = _mm256_mul_ps(dn, _mm256_set1_ps(s.sgn));
+        let sure = _mm256_cmp_ps::<_CMP_GT_OQ>(signed, _mm256_set1_ps(s.g));
         let ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), sure);
-        let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_GT_OQ>(t, z));
         let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(t, _mm256_set1_ps(tmax)));
         let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_NEQ_UQ>(sum, z));
         _mm256_movemask_ps(ok) as u32

@@ -222,7 +222,7 @@ fn node_hits(node: &CwBvhNode, ray: &Ray, tmax: f32, oct_inv4: u32) -> u32 {
 /// triangle's rounding (which grows with its size, not with the lift) would see it in front. So a
 /// hit needs both signs proven: |T| above a bound on T's rounding error (else `g` is infinite and
 /// nothing is hit, decided once per origin), and d·N of T's sign by more than `g`, a bound on the
-/// rounding of d·N for any unit d (one comparison per ray: sgn·d·N > g). A triangle whose plane
+/// rounding of d·N for any unit d (one comparison per ray, with N turned to T's side). A triangle whose plane
 /// passes within its rounding error of the origin, or a ray within about 1e-6 rad of parallel to
 /// it, is therefore never hit; any hit that is reported is truly in front (t >= 0).
 #[derive(Debug, Clone, Copy)]
@@ -230,11 +230,11 @@ pub(crate) struct Seen {
     pub x: [f32; 3],
     pub y: [f32; 3],
     pub z: [f32; 3],
+    /// N, negated where T < 0, so that a hit needs d·n > g whatever the side (negation is exact).
     pub n: [f32; 3],
+    /// |T|.
     pub t: f32,
-    /// ±1: the sign of T (multiplying by it is exact).
-    pub sgn: f32,
-    /// sgn·d·N must exceed this for a hit; infinite where T's sign is not certain.
+    /// d·n must exceed this for a hit; infinite where T's sign is not certain.
     pub g: f32,
 }
 
@@ -274,19 +274,44 @@ impl Tri {
         let e_ab = pa.cross(b - a);
         let e_ac = pa.cross(c - a);
         let e_bc = pb.cross(c - b);
-        let n = [self.n.x, self.n.y, self.n.z];
-        let t = dot(pa.to_array(), n);
-        let m = Vec3A::new(self.a.w, self.b.w, self.c.w);
-        let sure = t.abs() > T_ERR * pa.abs().dot(m);
+        let n = Vec3A::from_vec4(self.n);
+        let t = dot(pa.to_array(), n.to_array());
+        let (m, n) = lanes::w_of_abc_and_signed(self.a, self.b, self.c, n, t);
+        let at = t.abs();
         // Opposite a: B×C = (b-o)×(c-b); opposite b: C×A = -(a-o)×(c-a); opposite c: A×B.
         Seen {
             x: e_bc.to_array(),
             y: (-e_ac).to_array(),
             z: e_ab.to_array(),
-            n,
-            t,
-            sgn: 1.0f32.copysign(t),
-            g: if sure { self.n.w } else { f32::INFINITY },
+            n: n.to_array(),
+            t: at,
+            g: if at > T_ERR * pa.abs().dot(m) { self.n.w } else { f32::INFINITY },
+        }
+    }
+}
+
+/// Lane shuffles of `seen_from` (SSE2 on x86_64, plain code elsewhere).
+mod lanes {
+    use glam::{Vec3A, Vec4};
+
+    /// (M: the fourth lanes of a, b, c; N negated if t < 0).
+    #[inline(always)]
+    pub fn w_of_abc_and_signed(a: Vec4, b: Vec4, c: Vec4, n: Vec3A, t: f32) -> (Vec3A, Vec3A) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::*;
+            // SAFETY: SSE2 is part of the x86_64 baseline.
+            unsafe {
+                let ab = _mm_unpackhi_ps(a.into(), b.into()); // a.z b.z a.w b.w
+                let m = _mm_shuffle_ps::<0b11_11_11_10>(ab, c.into()); // a.w b.w c.w c.w
+                let sign = _mm_and_ps(_mm_set1_ps(t), _mm_set1_ps(-0.0));
+                (Vec3A::from(m), Vec3A::from(_mm_xor_ps(n.into(), sign)))
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let n = if t.is_sign_negative() { -n } else { n };
+            (Vec3A::new(a.w, b.w, c.w), n)
         }
     }
 }
@@ -303,9 +328,9 @@ pub(crate) fn hit_seen(s: &Seen, d: [f32; 3], tmax: f32) -> Option<(f32, f32, f3
         return None;
     }
     let dn = dot(d, s.n);
-    // Not `!(.. <= ..)`: a NaN must fail.
+    // Not `dn <= s.g`: a NaN must fail.
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    if !(dn * s.sgn > s.g) {
+    if !(dn > s.g) {
         return None;
     }
     let t = s.t / dn;

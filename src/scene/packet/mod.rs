@@ -230,6 +230,9 @@ impl Accel {
                 return;
             }
             let s = self.tris[prim as usize].seen_from(o);
+            if s.g == f32::INFINITY {
+                return; // the origin is within the rounding of its plane: no ray can hit it
+            }
             let mut new = 0u32;
             #[cfg(target_arch = "x86_64")]
             if WIDE {

@@ -95,7 +95,7 @@ pub(super) fn hit_group(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
     let dn = dotv(s.n);
     let t = Vec4::splat(s.t) / dn;
     let sum = (u + v) + w;
-    let sure = (dn * Vec4::splat(s.sgn)).cmpgt(Vec4::splat(s.g));
+    let sure = dn.cmpgt(Vec4::splat(s.g));
     let hit = !(neg & pos) & sure & t.cmplt(Vec4::splat(tmax)) & sum.cmpne(z);
     hit.bitmask()
 }
@@ -222,8 +222,7 @@ pub(super) mod wide {
         let dn = dotv(s.n);
         let t = _mm256_div_ps(_mm256_set1_ps(s.t), dn);
         let sum = _mm256_add_ps(_mm256_add_ps(u, v), w);
-        let signed = _mm256_mul_ps(dn, _mm256_set1_ps(s.sgn));
-        let sure = _mm256_cmp_ps::<_CMP_GT_OQ>(signed, _mm256_set1_ps(s.g));
+        let sure = _mm256_cmp_ps::<_CMP_GT_OQ>(dn, _mm256_set1_ps(s.g));
         let ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), sure);
         let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(t, _mm256_set1_ps(tmax)));
         let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_NEQ_UQ>(sum, z));

@@ -324,7 +324,10 @@ pub(crate) fn hit_seen(s: &Seen, d: [f32; 3], tmax: f32) -> Option<(f32, f32, f3
     let u = dot(d, s.x);
     let v = dot(d, s.y);
     let w = dot(d, s.z);
-    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+    // Mixed signs: no hit. min/max exactly as SSE's minps/maxps (the second operand where either
+    // is NaN), so that this and the packet kernels agree even on NaN.
+    let (mn, mx) = (|a: f32, b: f32| if a < b { a } else { b }, |a: f32, b: f32| if a > b { a } else { b });
+    if mn(mn(u, v), w) < 0.0 && mx(mx(u, v), w) > 0.0 {
         return None;
     }
     let dn = dot(d, s.n);

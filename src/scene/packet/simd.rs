@@ -90,8 +90,9 @@ pub(super) fn hit_group(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
     let dotv = |q: [f32; 3]| (dx * Vec4::splat(q[0]) + dy * Vec4::splat(q[1])) + dz * Vec4::splat(q[2]);
     let (u, v, w) = (dotv(s.x), dotv(s.y), dotv(s.z));
     let z = Vec4::ZERO;
-    let neg = u.cmplt(z) | v.cmplt(z) | w.cmplt(z);
-    let pos = u.cmpgt(z) | v.cmpgt(z) | w.cmpgt(z);
+    // min/max as SSE does them (the second operand where either is NaN), as `accel::hit_seen`.
+    let neg = u.min(v).min(w).cmplt(z);
+    let pos = u.max(v).max(w).cmpgt(z);
     let dn = dotv(s.n);
     let t = Vec4::splat(s.t) / dn;
     let sum = (u + v) + w;
@@ -215,10 +216,8 @@ pub(super) mod wide {
         };
         let (u, v, w) = (dotv(s.x), dotv(s.y), dotv(s.z));
         let z = _mm256_setzero_ps();
-        let lt = |a| _mm256_cmp_ps::<_CMP_LT_OQ>(a, z);
-        let gt = |a| _mm256_cmp_ps::<_CMP_GT_OQ>(a, z);
-        let neg = _mm256_or_ps(_mm256_or_ps(lt(u), lt(v)), lt(w));
-        let pos = _mm256_or_ps(_mm256_or_ps(gt(u), gt(v)), gt(w));
+        let neg = _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_min_ps(_mm256_min_ps(u, v), w), z);
+        let pos = _mm256_cmp_ps::<_CMP_GT_OQ>(_mm256_max_ps(_mm256_max_ps(u, v), w), z);
         let dn = dotv(s.n);
         let t = _mm256_div_ps(_mm256_set1_ps(s.t), dn);
         let sum = _mm256_add_ps(_mm256_add_ps(u, v), w);

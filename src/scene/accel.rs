@@ -336,9 +336,9 @@ pub(crate) fn hit_seen(s: &Seen, d: [f32; 3], tmax: f32) -> Option<(f32, f32, f3
     if !(dn > s.g) {
         return None;
     }
-    let t = s.t / dn;
+    // t = |T| / d·n < tmax, without the division (d·n > 0 here); the packets do the same.
     let sum = (u + v) + w;
-    (t < tmax && sum != 0.0).then(|| (t, u / sum, v / sum, w / sum))
+    (s.t < tmax * dn && sum != 0.0).then(|| (s.t / dn, u / sum, v / sum, w / sum))
 }
 
 /// Ray/triangle test for 0 <= t < tmax (see `Seen`).

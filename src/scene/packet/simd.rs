@@ -94,10 +94,10 @@ pub(super) fn hit_group(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
     let neg = u.min(v).min(w).cmplt(z);
     let pos = u.max(v).max(w).cmpgt(z);
     let dn = dotv(s.n);
-    let t = Vec4::splat(s.t) / dn;
+    let near = Vec4::splat(s.t).cmplt(Vec4::splat(tmax) * dn);
     let sum = (u + v) + w;
     let sure = dn.cmpgt(Vec4::splat(s.g));
-    let hit = !(neg & pos) & sure & t.cmplt(Vec4::splat(tmax)) & sum.cmpne(z);
+    let hit = !(neg & pos) & sure & near & sum.cmpne(z);
     hit.bitmask()
 }
 
@@ -219,11 +219,11 @@ pub(super) mod wide {
         let neg = _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_min_ps(_mm256_min_ps(u, v), w), z);
         let pos = _mm256_cmp_ps::<_CMP_GT_OQ>(_mm256_max_ps(_mm256_max_ps(u, v), w), z);
         let dn = dotv(s.n);
-        let t = _mm256_div_ps(_mm256_set1_ps(s.t), dn);
+        let near = _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_set1_ps(s.t), _mm256_mul_ps(_mm256_set1_ps(tmax), dn));
         let sum = _mm256_add_ps(_mm256_add_ps(u, v), w);
         let sure = _mm256_cmp_ps::<_CMP_GT_OQ>(dn, _mm256_set1_ps(s.g));
         let ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), sure);
-        let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(t, _mm256_set1_ps(tmax)));
+        let ok = _mm256_and_ps(ok, near);
         let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_NEQ_UQ>(sum, z));
         _mm256_movemask_ps(ok) as u32
     }

@@ -1,8 +1,9 @@
 //! A pixel's AO rays traced together over obvhs's CWBVH nodes: they share their origin, so one
 //! walk of the 8-wide tree serves up to 32 of them. Per node, what depends only on the origin is
 //! done once (child planes relative to the origin; the distance from the origin to each child box,
-//! culling boxes beyond d; boxes wholly below the surface's tangent plane; boxes holding the
-//! origin, which every ray enters); only the slab test is per ray, one ray against all 8 children.
+//! culling boxes beyond d; boxes below the cone the packet's rays rise in above the surface's
+//! tangent plane; boxes holding the origin, which every ray enters); only the slab test is per ray,
+//! one ray against all 8 children.
 //! Per triangle, `Seen` is done once and each ray costs 4 dot products, 4 or 8 rays at a time. The
 //! previous pixel's occluders are tried first (`Occluders`).
 //!

@@ -3,7 +3,7 @@
 
 use hemilab::app::points::figure_rows;
 use hemilab::image::Image;
-use hemilab::report::{self, Figure, Format, GridCell, Series, Table};
+use hemilab::report::{self, Figure, Format, GridCell, Guide, Series, Table};
 use hemilab::sampling::{Distribution, SeedMode, Sequence};
 use std::path::PathBuf;
 
@@ -80,15 +80,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     .iter()
     .enumerate()
     .map(|(k, (slope, label))| Series {
-        label: label.to_string(),
-        points: rays
-            .iter()
-            .map(|&n: &f64| {
-                let m = 0.3 * n.powf(*slope) * (1.0 + 0.05 * (noise(k as u64 * 100 + n as u64) as f64 - 0.5));
-                (n, m, 0.15 * m)
-            })
-            .collect(),
-        slope: Some(*slope),
+        note: Some(format!("slope {slope:+.2} [{:+.2}, {:+.2}]", slope - 0.02, slope + 0.02)),
+        ..Series::new(
+            label.to_string(),
+            rays.iter()
+                .map(|&n: &f64| {
+                    let m =
+                        0.3 * n.powf(*slope) * (1.0 + 0.05 * (noise(k as u64 * 100 + n as u64) as f64 - 0.5));
+                    (n, m, 0.15 * m)
+                })
+                .collect(),
+        )
     })
     .collect();
     for f in [Format::Png, Format::Svg] {
@@ -98,7 +100,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "rays per pixel",
             "RMSE",
             &series,
-            Some(4e-4),
+            &[Guide::Horizontal(4e-4, "reference noise floor".into())],
             f,
         )?;
         write(&format!("convergence_rays.{ext}"), &c)?;
@@ -113,21 +115,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     // Many series against run time: the legend must hold every row of Tables 2-3 and the variants.
     let many: Vec<Series> = (0..11)
-        .map(|k| Series {
-            label: format!("configuration {k} / sine-cosine"),
-            points: [0.05, 0.1, 0.2, 0.4, 0.8, 1.6]
-                .iter()
-                .map(|&t: &f64| (t * (1.0 + k as f64 * 0.1), 0.01 * t.powf(-0.5 - 0.04 * k as f64), 0.001))
-                .collect(),
-            slope: Some(-0.5 - 0.04 * k as f64),
+        .map(|k| {
+            let times = [0.05, 0.1, 0.2, 0.4, 0.8, 1.6].map(|t: f64| t * (1.0 + k as f64 * 0.1));
+            Series {
+                label: format!("configuration {k} / sine-cosine"),
+                points: times.iter().map(|&t| (t, 0.01 * t.powf(-0.5 - 0.04 * k as f64), 0.001)).collect(),
+                x_range: times.iter().map(|&t| (0.95 * t, 1.1 * t)).collect(),
+                note: Some(format!("slope vs AO time {:+.2}", -0.5 - 0.04 * k as f64)),
+            }
         })
         .collect();
+    let guides = [
+        Guide::Horizontal(2e-3, "reference noise floor".into()),
+        Guide::Vertical(0.03, "image with no AO rays (overhead)".into()),
+    ];
     let c = report::convergence_plot(
         "RMSE against render time",
         "render time (s)",
         "RMSE",
         &many,
-        Some(2e-3),
+        &guides,
         Format::Png,
     )?;
     write("convergence_time.png", &c)?;

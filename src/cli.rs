@@ -1,6 +1,7 @@
 //! Command-line definitions only; `app` does the work. Names are parsed here so that a bad value
 //! fails before anything runs, with clap's exit status 2 and the list of valid choices.
 
+use crate::plan::shard::Shard;
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
@@ -20,10 +21,12 @@ pub struct Cli {
 pub enum Command {
     /// Run an experiment spec: render every job, measure it against the reference, write results and report.
     Run(RunArgs),
-    /// Print the job list of a spec and an estimate of its rays and time, without rendering.
+    /// Print a spec's plan and how long its run will take here (from a short calibration), per shard with --shards.
     Plan(PlanArgs),
     /// (Re)build the reference images a spec needs.
     Reference(ReferenceArgs),
+    /// Merge the output directories of `run --shard K/N` into one set of results and one report.
+    Merge(MergeArgs),
     /// Render one AO image of a scene.
     Render(RenderArgs),
     /// Measure AO rays per second on a scene (the performance figure of record).
@@ -58,14 +61,74 @@ pub struct RunArgs {
     /// Where reference images and their manifests live.
     #[arg(long, default_value = "reference")]
     pub reference_dir: PathBuf,
+    /// Timed renders per configuration at least (default: the spec's `[timing] repeats`, else 3);
+    /// a configuration with fewer replicates is re-rendered, for its time only.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub timing_repeats: Option<u32>,
+    /// Run only shard K of N (0-based, e.g. 0/3), into out/<spec name>/shard-K-of-N/; merge the
+    /// shards with `hemilab merge`. `auto`: K and N from a Slurm job array (SLURM_ARRAY_TASK_ID,
+    /// SLURM_ARRAY_TASK_COUNT; submit with --array=0-(N-1)) or a Kubernetes Indexed Job
+    /// (JOB_COMPLETION_INDEX, with --shards N).
+    #[arg(long, value_parser = parse_shard, value_name = "K/N|auto")]
+    pub shard: Option<ShardArg>,
+    /// N for `--shard auto` in a Kubernetes Indexed Job (its `completions`).
+    #[arg(long, requires = "shard", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub shards: Option<u32>,
     #[command(flatten)]
     pub common: Common,
+}
+
+/// `--shard`: a fixed shard, or `auto` from the batch scheduler's environment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShardArg {
+    Fixed(Shard),
+    Auto,
+}
+
+pub fn parse_shard(s: &str) -> Result<ShardArg, String> {
+    if s.trim().eq_ignore_ascii_case("auto") {
+        return Ok(ShardArg::Auto);
+    }
+    Shard::parse(s).map(ShardArg::Fixed)
 }
 
 #[derive(Debug, Args)]
 pub struct PlanArgs {
     /// Experiment spec (TOML).
     pub spec: PathBuf,
+    /// Estimate shard K of N (0-based, e.g. 1/3) (its jobs with --jobs); the table shows all N shards.
+    #[arg(long, value_parser = Shard::parse, value_name = "K/N", conflicts_with = "shards")]
+    pub shard: Option<Shard>,
+    /// Show how the plan splits into N shards (jobs and estimated time of each).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub shards: Option<u32>,
+    /// Also list every job, in run order, after the summary.
+    #[arg(long)]
+    pub jobs: bool,
+    /// Where reference images live (whether they must be built counts in the estimate).
+    #[arg(long, default_value = "reference")]
+    pub reference_dir: PathBuf,
+    /// Threads the run will use (default: all cores), as `run --threads`.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+}
+
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Experiment spec (TOML) the shards ran.
+    pub spec: PathBuf,
+    /// Output directories of `hemilab run SPEC --shard K/N`, one per shard.
+    #[arg(required = true, value_name = "SHARD_DIR")]
+    pub shard_dirs: Vec<PathBuf>,
+    /// Output directory of the merged results and report (default: out/<spec name>/).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Where reference images live (the report measures against them).
+    #[arg(long, default_value = "reference")]
+    pub reference_dir: PathBuf,
+    /// No progress bars.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 #[derive(Debug, Args)]
@@ -87,7 +150,7 @@ pub struct SamplingArgs {
     /// Point sequence: random, fibonacci, stratified, sobol.
     #[arg(long, value_parser = parse_sequence, value_name = "S")]
     pub sequence: Sequence,
-    /// Randomization across pixels: static, rotation, shift.
+    /// Randomization across pixels: static, rotation, shift, blue-noise.
     #[arg(long, value_parser = parse_seed_mode, value_name = "M")]
     pub seed_mode: SeedMode,
     /// Run seed: different seeds give independent images.
@@ -156,7 +219,7 @@ pub struct PointsArgs {
     /// Point sequence: random, fibonacci, stratified, sobol.
     #[arg(long, value_parser = parse_sequence, value_name = "S")]
     pub sequence: Sequence,
-    /// Randomization across pixels: static, rotation, shift.
+    /// Randomization across pixels: static, rotation, shift, blue-noise.
     #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "static")]
     pub seed_mode: SeedMode,
     #[arg(long, default_value_t = 1)]

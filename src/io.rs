@@ -41,6 +41,11 @@ pub fn ensure_writable_dir(dir: &Path) -> Result<()> {
     fs::remove_file(&probe).map_err(|e| Error::io(&probe, e))
 }
 
+/// Creates `dir` and its parents if missing.
+pub fn create_dir_all(dir: &Path) -> Result<()> {
+    fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))
+}
+
 /// Refuses an output file that is an existing directory, before any work, so a command that writes
 /// several files never writes some and then fails on the next.
 pub fn ensure_writable_file(path: &Path) -> Result<()> {
@@ -59,7 +64,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     };
     fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
+    // Host and process in the name: on a shared filesystem two machines' writers may have one pid.
+    let tmp = dir.join(format!(".{name}.tmp-{}-{}", host_tag(), std::process::id()));
     let result = (|| {
         let mut f = fs::File::create(&tmp)?;
         f.write_all(bytes)?;
@@ -71,6 +77,23 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         return Err(Error::io(path, e));
     }
     Ok(())
+}
+
+/// Puts a copy of `from` at `to` atomically: a hard link where the filesystem allows (no bytes
+/// copied), else a copy; either way through a temporary sibling and a rename.
+pub fn link_or_copy(from: &Path, to: &Path) -> Result<()> {
+    let dir = to.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let name = to.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.link-{}-{}", host_tag(), std::process::id()));
+    let _ = fs::remove_file(&tmp);
+    if fs::hard_link(from, &tmp).is_ok() {
+        return fs::rename(&tmp, to).map_err(|e| {
+            let _ = fs::remove_file(&tmp);
+            Error::io(to, e)
+        });
+    }
+    write_atomic(to, &read_bytes(from)?)
 }
 
 pub fn write_exr(path: &Path, channels: &[Channel]) -> Result<()> {
@@ -89,5 +112,123 @@ pub fn remove_file_if_exists(path: &Path) -> Result<()> {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
         Err(e) => Err(Error::io(path, e)),
+    }
+}
+
+/// This machine's host name (`/proc/sys/kernel/hostname`, else `$HOSTNAME`), or "unknown".
+pub fn hostname() -> String {
+    fs::read_to_string("/proc/sys/kernel/hostname")
+        .ok()
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .map(|h| h.trim().to_string())
+        .filter(|h| !h.is_empty())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// The host name with only letters, digits, '-' and '.', for file names.
+fn host_tag() -> String {
+    hostname()
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' })
+        .collect()
+}
+
+/// The CPU model (`model name` in `/proc/cpuinfo`) and its logical CPU count, e.g.
+/// "AMD EPYC 7B13 (2 CPUs)"; the architecture where `/proc` has no model name.
+pub fn cpu_model() -> String {
+    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let model = fs::read_to_string("/proc/cpuinfo").ok().and_then(|t| {
+        t.lines()
+            .find(|l| l.starts_with("model name"))
+            .and_then(|l| l.split_once(':'))
+            .map(|(_, m)| m.split_whitespace().collect::<Vec<_>>().join(" "))
+    });
+    format!("{} ({cpus} CPUs)", model.unwrap_or_else(|| std::env::consts::ARCH.to_string()))
+}
+
+/// The 1-minute load average and the number of CPUs the kernel has online (`/proc/loadavg`,
+/// `/proc/cpuinfo`): how many threads want a core, machine-wide, and how many cores there are.
+pub fn load_average() -> Option<(f64, usize)> {
+    let load = fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()?;
+    let cpus =
+        fs::read_to_string("/proc/cpuinfo").ok()?.lines().filter(|l| l.starts_with("processor")).count();
+    (cpus > 0).then_some((load, cpus))
+}
+
+/// An exclusive lock on a file, held until dropped. It is the operating system's advisory lock
+/// (`flock`; over NFS the kernel maps it to a lock the server keeps), so it is released when the
+/// process ends however it ends: a killed job leaves no stale lock behind. The lock file itself is
+/// left in place; removing it would let a process lock a deleted file while another locks a new one.
+pub struct Lock {
+    _file: fs::File,
+}
+
+/// Takes the exclusive lock on `path` (creating the file), waiting while another process holds it;
+/// `waiting` is told who holds it (the note the holder wrote: host, pid, since when) before the wait.
+/// `Ok(Err(why))` when the lock cannot be taken here at all (a read-only directory, a filesystem
+/// without locks): the caller decides whether to go on without it.
+pub fn lock(path: &Path, waiting: impl FnOnce(&str)) -> Result<std::result::Result<Lock, String>> {
+    let open = fs::OpenOptions::new().read(true).write(true).create(true).truncate(false).open(path);
+    let mut file = match open {
+        Ok(f) => f,
+        Err(e) => return Ok(Err(format!("cannot create {}: {e}", path.display()))),
+    };
+    match file.try_lock() {
+        Ok(()) => {}
+        Err(fs::TryLockError::WouldBlock) => {
+            let holder = fs::read_to_string(path).unwrap_or_default();
+            let holder = holder.trim();
+            waiting(if holder.is_empty() { "another process" } else { holder });
+            if let Err(e) = file.lock() {
+                return Err(Error::io(path, e));
+            }
+        }
+        Err(fs::TryLockError::Error(e)) => {
+            return Ok(Err(format!("cannot lock {}: {e}", path.display())));
+        }
+    }
+    let since = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
+    let note = format!("hemilab on host {} pid {} since unix time {since}\n", hostname(), std::process::id());
+    // The note is for the message of whoever waits next; the lock does not depend on it.
+    let _ = file.set_len(0).and_then(|()| {
+        use std::io::Seek;
+        file.seek(std::io::SeekFrom::Start(0))?;
+        file.write_all(note.as_bytes())
+    });
+    Ok(Ok(Lock { _file: file }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_lock_waits_for_its_holder_and_names_it() {
+        let dir = std::env::temp_dir().join(format!("hemilab-lock-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("x.lock");
+        let held = lock(&path, |_| panic!("nobody holds it yet")).unwrap().unwrap();
+        let (tx, rx) = std::sync::mpsc::channel();
+        let p2 = path.clone();
+        let waiter = std::thread::spawn(move || {
+            let mut told = String::new();
+            let l = lock(&p2, |h| told = h.to_string()).unwrap().unwrap();
+            tx.send(()).unwrap();
+            drop(l);
+            told
+        });
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        assert!(rx.try_recv().is_err(), "the second lock waits while the first is held");
+        drop(held);
+        rx.recv_timeout(std::time::Duration::from_secs(10)).expect("released on drop");
+        let told = waiter.join().unwrap();
+        assert!(told.contains(&format!("pid {}", std::process::id())), "{told}");
+        let _ = fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn machine_description_is_not_empty() {
+        assert!(!hostname().is_empty());
+        assert!(cpu_model().contains("CPUs)"));
     }
 }

@@ -10,7 +10,10 @@
 //!                       sampling/)
 //! ```
 //!
-//! `app` is the one orchestrator; `io` is the only module that touches the filesystem.
+//! `timing` is how a render's cost is measured (thread CPU time, interleaved repeats, per-image
+//! overhead apart from per-ray cost); `compare` turns the records into the answer (best per unit
+//! time, paired differences). `app` is the one orchestrator; `io` is the only module that touches
+//! the filesystem.
 
 // Declared in pipeline order (blank lines keep rustfmt from sorting them).
 pub mod spec;
@@ -23,6 +26,8 @@ pub mod scene;
 
 pub mod render;
 
+pub mod timing;
+
 pub mod image;
 
 pub mod metrics;
@@ -32,6 +37,8 @@ pub mod stats;
 pub mod reference;
 
 pub mod results;
+
+pub mod compare;
 
 pub mod report;
 

@@ -1,6 +1,9 @@
 //! Error statistics of an image against a reference, over covered pixels only (a leaf: imports only
-//! `crate::image`). RMSE and bias say how far off; the lag-1 autocorrelation and the low-pass RMSE
-//! say whether the error is *structured* — the paper's Table 3 banding, which RMSE alone cannot see.
+//! `crate::image`, and `stats` for distributions). RMSE and bias say how far off; the whiteness
+//! z-score (`whiteness`: every short lag, every direction), the lag-1 autocorrelation and the low-pass
+//! RMSE say whether the error is *structured* — the paper's Table 3 banding, which RMSE alone cannot see.
+
+pub mod whiteness;
 
 use crate::image::Image;
 use std::fmt;
@@ -43,6 +46,9 @@ pub struct ErrorStats {
     pub autocorr_x: f64,
     pub autocorr_y: f64,
     pub lowpass_rmse: f64,
+    /// z-score of the 2-D portmanteau statistic against white noise (`whiteness`): ~N(0, 1) for
+    /// independent per-pixel noise, above `whiteness::STRUCTURED_Z` for structure in any direction.
+    pub whiteness_z: f64,
 }
 
 /// Width of the low-pass: wide enough to average pixel noise away, narrow enough to keep bands.
@@ -86,6 +92,7 @@ pub fn measure(image: &Image, reference: &Image, mask: &Image) -> Result<ErrorSt
         autocorr_x,
         autocorr_y,
         lowpass_rmse: lowpass_rmse(&err, mask, LOWPASS_SIGMA),
+        whiteness_z: whiteness::whiteness(&err, mask).z,
     })
 }
 

@@ -4,7 +4,10 @@
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use crate::spec::{AoDistance, Row, Spec};
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+
+pub mod cost;
+pub mod shard;
 
 /// One image to render.
 #[derive(Debug, Clone, PartialEq)]
@@ -167,20 +170,18 @@ pub fn reference_jobs(spec: &Spec, scene: usize, rays: u32) -> Vec<Job> {
         .collect()
 }
 
-/// What `hemilab plan` reports before anything is rendered.
+/// What a plan asks for in pixels and rays, before anything is rendered.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Estimate {
     pub jobs: usize,
     /// Upper bound: every pixel covered (background pixels cast no AO rays).
     pub total_rays: u64,
     pub pixels: u64,
-    /// `total_rays / rays_per_s`.
-    pub seconds: f64,
 }
 
 /// `resolution_of` supplies the scene's own resolution for jobs without an override (the planner
 /// does not read scene files).
-pub fn estimate(plan: &Plan, resolution_of: impl Fn(&Job) -> [u32; 2], rays_per_s: f64) -> Estimate {
+pub fn estimate(plan: &Plan, resolution_of: impl Fn(&Job) -> [u32; 2]) -> Estimate {
     let mut total_rays = 0u64;
     let mut pixels = 0u64;
     for job in &plan.jobs {
@@ -189,14 +190,12 @@ pub fn estimate(plan: &Plan, resolution_of: impl Fn(&Job) -> [u32; 2], rays_per_
         pixels += px;
         total_rays = total_rays.saturating_add(px.saturating_mul(job.rays as u64));
     }
-    let seconds = if rays_per_s > 0.0 { total_rays as f64 / rays_per_s } else { f64::INFINITY };
-    Estimate { jobs: plan.jobs.len(), total_rays, pixels, seconds }
+    Estimate { jobs: plan.jobs.len(), total_rays, pixels }
 }
 
-/// The job list and estimate as `hemilab plan` prints it.
-pub fn format_plan(spec_path: &Path, plan: &Plan, estimate: &Estimate, rays_per_s: f64) -> String {
+/// The job list as `hemilab plan --jobs` prints it: run order, numbered from 1.
+pub fn format_jobs(plan: &Plan) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "plan for {}: {} jobs", spec_path.display(), plan.jobs.len());
     let _ = writeln!(
         s,
         "{:>4}  {:<16} {:<18} {:<10} {:<9} {:>6} {:>4}  {:<16}",
@@ -216,16 +215,6 @@ pub fn format_plan(spec_path: &Path, plan: &Plan, estimate: &Estimate, rays_per_
             j.key()
         );
     }
-    let _ = writeln!(
-        s,
-        "total: {} jobs, {} pixels, at most {} rays (≈ {:.1} Grays); at {:.1} M rays/s ≈ {}",
-        estimate.jobs,
-        estimate.pixels,
-        estimate.total_rays,
-        estimate.total_rays as f64 / 1e9,
-        rays_per_s / 1e6,
-        format_duration(estimate.seconds)
-    );
     s
 }
 

@@ -40,6 +40,86 @@ pub struct Manifest {
     /// Render time of all replicates (measured, not compared).
     #[serde(default)]
     pub time_s: Option<f64>,
+    /// Set for an adaptive reference (`allocation = "adaptive"`): its rays per pixel follow a pilot
+    /// pass, and `rays` is then the pilot's count.
+    #[serde(default)]
+    pub adaptive: Option<Adaptive>,
+}
+
+/// What determines an adaptive reference's allocation, and what it came to. The pilot is rendered
+/// with the manifest's estimator and `pilot_rays` rays, seeds from their own stream; the rule turns
+/// its per-pixel spread into rays per pixel, deterministically, so these settings and the seed
+/// determine the image exactly.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Adaptive {
+    /// The allocation rule and its version (`ADAPTIVE_RULE`).
+    pub rule: String,
+    /// The fewest rays any covered pixel gets.
+    pub min_rays: u32,
+    /// `Some(n)`: a fixed budget, n rays per covered pixel on average (`rays = n` in the spec);
+    /// `None`: as many as the target floor needs (`rays = "auto"`).
+    pub budget: Option<u32>,
+    /// Rays per replicate actually cast over the covered pixels (measured, not compared).
+    #[serde(default)]
+    pub total_rays: Option<u64>,
+    /// The most rays any pixel got (measured, not compared).
+    #[serde(default)]
+    pub max_rays: Option<u32>,
+}
+
+/// Version of the allocation rule: bump it when `allocate` changes, so stored references are redone.
+pub const ADAPTIVE_RULE: &str = "sd-proportional-v1";
+
+/// The numbers `allocate` works from (see there).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Allocation {
+    /// K, the reference's replicates.
+    pub replicates: u32,
+    /// R0, the pilot's rays per pixel.
+    pub pilot_rays: u32,
+    /// Mean rays per covered pixel, or `None` to meet `target_floor`.
+    pub budget: Option<u32>,
+    pub target_floor: f64,
+    pub min_rays: u32,
+    pub max_rays: u32,
+}
+
+/// Rays per pixel of an adaptive reference. Replicate k renders pixel i with n_i rays of an unbiased
+/// estimator; the n_i depend only on a pilot pass rendered with *other* seeds, so each replicate's
+/// estimate is unbiased given the n_i, and so is their mean, and the spread of the replicates still
+/// gives an honest standard error.
+///
+/// With the pilot's per-pixel sd s_i at `pilot_rays` R0 rays, a pixel's variance at n rays is at most
+/// s_i² R0 / n (variance falls at least as 1/n for an unbiased estimator of independent or
+/// better-than-independent rays), so the squared noise floor of K replicates is at most
+/// (R0 / (P K)) Σ s_i² / n_i over the P covered pixels. For a fixed total Σ n_i this is least for
+/// n_i ∝ s_i (Neyman allocation; Lagrange multipliers), giving (R0 / (P K)) (Σ s_i)² / Σ n_i — never
+/// more than even allocation's (R0 / (P K)) P Σ s_i² / Σ n_i, by Cauchy–Schwarz, and much less when
+/// the spread sits in a few pixels (occlusion edges) and most pixels are exact (open sky, full
+/// occlusion). With no budget, the total is the least that brings that bound to `target_floor`;
+/// with a budget of n, the total is n per covered pixel.
+/// Every covered pixel gets at least `min_rays` (a pilot can miss a rare occluder) and at most
+/// `max_rays`; background pixels get 0.
+pub fn allocate(sd: &Image, mask: &Image, a: &Allocation) -> Vec<u32> {
+    let Allocation { replicates, pilot_rays, budget, target_floor, min_rays, max_rays } = *a;
+    let idx: Vec<usize> = (0..sd.len().min(mask.len())).filter(|&i| covered(mask, i)).collect();
+    let sum_s: f64 = idx.iter().map(|&i| (sd.data[i] as f64).max(0.0)).sum();
+    let mut n = vec![0u32; sd.len()];
+    let p = idx.len() as f64;
+    // n_i = λ s_i: either Σ n_i = budget, or (R0 / (P K)) Σ s_i / λ = target².
+    let lambda = match budget {
+        Some(b) if sum_s > 0.0 => b as f64 * p / sum_s,
+        None if sum_s > 0.0 && target_floor > 0.0 => {
+            pilot_rays as f64 * sum_s / (p * replicates.max(1) as f64 * target_floor * target_floor)
+        }
+        _ => 0.0,
+    };
+    for &i in &idx {
+        let want = (lambda * (sd.data[i] as f64).max(0.0)).ceil();
+        n[i] = if want.is_finite() { want.clamp(min_rays as f64, max_rays as f64) as u32 } else { max_rays };
+    }
+    n
 }
 
 impl Manifest {
@@ -72,6 +152,7 @@ impl Manifest {
             seed,
             noise_floor: None,
             time_s: None,
+            adaptive: None,
         }
     }
 
@@ -104,6 +185,12 @@ impl Manifest {
         cmp("sequence", self.sequence.clone(), wanted.sequence.clone());
         cmp("seed_mode", self.seed_mode.clone(), wanted.seed_mode.clone());
         cmp("seed", self.seed.to_string(), wanted.seed.to_string());
+        // An adaptive reference's settings, not what they came to.
+        let settings = |a: &Option<Adaptive>| match a {
+            Some(a) => format!("adaptive ({}, min {} rays, budget {:?})", a.rule, a.min_rays, a.budget),
+            None => "even".to_string(),
+        };
+        cmp("allocation", settings(&self.adaptive), settings(&wanted.adaptive));
         d
     }
 
@@ -174,6 +261,39 @@ pub fn noise_floor(stderr: &Image, mask: &Image) -> f64 {
     if n == 0 { 0.0 } else { (sq / n as f64).sqrt() }
 }
 
+/// The largest value over each covered pixel's 3 x 3 covered neighbourhood. A spread measured from a
+/// few pilot replicates can read 0 or near 0 by chance (all replicates hit the same count of a small
+/// occluder); its neighbours, seeing the same occluder, guard against starving such a pixel.
+pub fn neighbourhood_max(img: &Image, mask: &Image) -> Image {
+    let (w, h) = (img.width as i64, img.height as i64);
+    let mut out = Image::new(img.width, img.height);
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            if !covered(mask, i) {
+                continue;
+            }
+            let mut m = img.data[i];
+            for (dx, dy) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx >= 0 && ny >= 0 && nx < w && ny < h {
+                    let j = (ny * w + nx) as usize;
+                    if covered(mask, j) {
+                        m = m.max(img.data[j]);
+                    }
+                }
+            }
+            out.data[i] = m;
+        }
+    }
+    out
+}
+
+/// Covered pixels of a coverage mask.
+pub fn noise_floor_pixels(mask: &Image) -> usize {
+    (0..mask.len()).filter(|&i| covered(mask, i)).count()
+}
+
 /// The floor a reference should reach for a spec whose smallest measured RMSE is `smallest_rmse`.
 pub fn target_floor(smallest_rmse: f64) -> f64 {
     smallest_rmse * FLOOR_RATIO
@@ -192,6 +312,49 @@ pub fn rays_needed(floor: f64, rays: u32, target: f64) -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn allocation_follows_the_spread_and_meets_the_target_bound() {
+        // Four covered pixels: exact (sd 0), small, large spread; one background pixel.
+        let sd = Image::from_vec(5, 1, vec![0.0, 0.01, 0.04, 0.04, 0.5]);
+        let mask = Image::from_vec(5, 1, vec![1.0, 1.0, 1.0, 1.0, 0.0]);
+        let (k, r0, target) = (4u32, 64u32, 0.002);
+        let at = |budget: Option<u32>, min_rays: u32, max_rays: u32| Allocation {
+            replicates: k,
+            pilot_rays: r0,
+            budget,
+            target_floor: target,
+            min_rays,
+            max_rays,
+        };
+        let n = allocate(&sd, &mask, &at(None, 8, 1 << 22));
+        assert_eq!((n[0], n[4]), (8, 0), "exact pixel gets the minimum, background nothing: {n:?}");
+        assert_eq!(n[2], n[3]);
+        assert!((n[2] as f64 / n[1] as f64 - 4.0).abs() < 0.01, "rays ∝ sd: {n:?}");
+        // The bound (R0 / (P K)) Σ s_i² / n_i at the allocation is the target (up to rounding up).
+        let bound = (0..4).map(|i| (sd.data[i] as f64).powi(2) / n[i] as f64).sum::<f64>() * r0 as f64
+            / (4.0 * k as f64);
+        assert!(bound.sqrt() <= target && bound.sqrt() > 0.99 * target, "{} vs {target}", bound.sqrt());
+        // Even allocation needs more rays for the same bound: P Σ s² / (Σ s)² times as many.
+        let total: u64 = n[1..4].iter().map(|&x| x as u64).sum();
+        let even_each = r0 as f64 * (0..4).map(|i| (sd.data[i] as f64).powi(2)).sum::<f64>()
+            / (4.0 * k as f64 * target * target);
+        assert!((total as f64) < 0.8 * 4.0 * even_each, "{total} vs {}", 4.0 * even_each);
+        // A fixed budget is split in proportion, and an all-exact image gets the minimum everywhere.
+        let b = allocate(&sd, &mask, &at(Some(225), 1, 1 << 22));
+        assert_eq!(&b[1..4], &[100, 400, 400]);
+        let flat = Image::from_vec(5, 1, vec![0.0; 5]);
+        assert_eq!(allocate(&flat, &mask, &at(None, 3, 99)), vec![3, 3, 3, 3, 0]);
+        assert_eq!(allocate(&sd, &mask, &at(Some(1 << 30), 1, 500))[2], 500, "capped");
+    }
+
+    #[test]
+    fn neighbourhood_max_stays_on_covered_pixels() {
+        let img = Image::from_vec(3, 2, vec![0.0, 0.0, 0.5, 0.0, 0.1, 9.0]);
+        let mask = Image::from_vec(3, 2, vec![1.0, 1.0, 1.0, 1.0, 1.0, 0.0]);
+        let m = neighbourhood_max(&img, &mask);
+        assert_eq!(m.data, vec![0.1, 0.5, 0.5, 0.1, 0.5, 0.0]);
+    }
 
     #[test]
     fn rays_needed_scales_with_square() {

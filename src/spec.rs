@@ -16,6 +16,11 @@
 //! distribution = "sine-cosine"          # the estimator: unbiased and fast-converging
 //! sequence = "fibonacci"
 //! seed_mode = "shift"
+//! allocation = "even"                   # or "adaptive": rays per pixel ∝ its spread in a pilot pass
+//!
+//! [timing]                              # optional section; see `timing` for the protocol
+//! repeats = 3                           # timed renders per (row, rays) at least, 1..=100
+//! seed = 1                              # of the interleaved order; default: the base seed
 //!
 //! [[table]]                             # any number, like the paper's tables 2 and 3
 //! name = "table2"                       # letters, digits, '-', '_'; unique over tables and sweeps
@@ -36,9 +41,9 @@
 //! ```
 //!
 //! Keys are snake_case; names are those of `sampling` (`uniform`, `sine`, `sine-cosine`,
-//! `concentric-cosine`; `random`, `fibonacci`, `stratified`, `sobol`; `static`, `rotation`, `shift`).
-//! `random` + `shift` is the same estimator as `random` + `rotation` (fresh numbers per pixel) and is
-//! merged into it; `random` + `static` is kept.
+//! `concentric-cosine`; `random`, `fibonacci`, `stratified`, `sobol`; `static`, `rotation`, `shift`,
+//! `blue-noise`). `random` + `shift` is the same estimator as `random` + `rotation` (fresh numbers per
+//! pixel) and is merged into it; `random` + `static` and `random` + `blue-noise` are kept.
 //!
 //! Parsing is two-phase so that errors point at lines: serde (with `deny_unknown_fields`) checks the
 //! shape and stops at the first unknown key or wrong type; then every value carries its span
@@ -59,6 +64,8 @@ pub const MAX_RAYS: u32 = 65_536;
 pub const MAX_REFERENCE_RAYS: u32 = 1 << 22;
 pub const MAX_REPLICATES: u32 = 1000;
 pub const MAX_SIDE: u32 = 16_384;
+/// Timed renders per configuration: beyond this a run is a benchmark, not an experiment.
+pub const MAX_TIMING_REPEATS: u32 = 100;
 
 /// AO distance d: rays hitting farther than this count as open.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -160,6 +167,18 @@ pub struct ReferenceSpec {
     pub replicates: u32,
     pub seed: u64,
     pub estimator: Row,
+    /// `allocation = "adaptive"`: a pilot pass measures each pixel's spread and the rays go where it
+    /// is (`reference::allocate`); `"even"` (the default): the same rays in every pixel.
+    pub adaptive: bool,
+}
+
+/// How `hemilab run` times its renders (`[timing]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimingSpec {
+    /// Timed renders per configuration at least: its replicates, plus timing-only re-renders.
+    pub repeats: u32,
+    /// Seed of the interleaved render order.
+    pub seed: u64,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -176,6 +195,7 @@ pub struct Spec {
     /// only the spec that reproduces the paper asks for them.
     pub point_figures: bool,
     pub reference: ReferenceSpec,
+    pub timing: TimingSpec,
     /// Tables and sweeps in file order.
     pub groups: Vec<Group>,
 }

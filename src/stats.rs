@@ -1,104 +1,48 @@
 //! Leaf statistics module (imports nothing of the crate): the chi-square goodness-of-fit
 //! machinery of Mitsuba 3's chi2.py / pbrt-v4's bsdfs_test.cpp, and small helpers for
-//! "within k standard errors" checks.
+//! "within k standard errors" checks. The distributions themselves (gamma functions, chi-square,
+//! normal quantiles) come from the statrs crate.
+//! Fits with confidence intervals, paired differences and
+//! medians live in `stats/fit.rs`.
+
+mod fit;
+
+pub use fit::{
+    LinearFit, linear_fit, loglog_fit, median, median_interval, paired_difference, student_t_quantile,
+    student_t_two_sided_p,
+};
 
 use std::fmt;
 
-/// ln Gamma(x) for x > 0, Lanczos approximation (g = 7, n = 9), ~1e-15 relative.
+/// ln Gamma(x) for x > 0 (statrs).
 pub fn ln_gamma(x: f64) -> f64 {
-    const C: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    if x < 0.5 {
-        // Reflection keeps the series in its accurate range.
-        let pi = std::f64::consts::PI;
-        return (pi / (pi * x).sin()).ln() - ln_gamma(1.0 - x);
-    }
-    let x = x - 1.0;
-    let mut a = C[0];
-    let t = x + 7.5;
-    for (i, c) in C.iter().enumerate().skip(1) {
-        a += c / (x + i as f64);
-    }
-    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
+    statrs::function::gamma::ln_gamma(x)
 }
 
-/// Regularized lower incomplete gamma P(a, x) (Numerical Recipes 6.2: series below a + 1,
-/// Lentz continued fraction above).
+/// Regularized lower incomplete gamma P(a, x) (statrs); 0 for x <= 0.
 pub fn gamma_p(a: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        0.0
-    } else if x < a + 1.0 {
-        gamma_series(a, x)
-    } else {
-        1.0 - gamma_cf(a, x)
-    }
+    if x <= 0.0 { 0.0 } else { statrs::function::gamma::gamma_lr(a, x) }
 }
 
-/// Regularized upper incomplete gamma Q(a, x) = 1 - P(a, x), computed directly in the tail
-/// so tiny p-values keep their digits.
+/// Regularized upper incomplete gamma Q(a, x) = 1 - P(a, x) (statrs, computed directly in the tail
+/// so tiny p-values keep their digits); 1 for x <= 0.
 pub fn gamma_q(a: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        1.0
-    } else if x < a + 1.0 {
-        1.0 - gamma_series(a, x)
-    } else {
-        gamma_cf(a, x)
-    }
-}
-
-fn gamma_series(a: f64, x: f64) -> f64 {
-    let (mut ap, mut sum) = (a, 1.0 / a);
-    let mut del = sum;
-    for _ in 0..10_000 {
-        ap += 1.0;
-        del *= x / ap;
-        sum += del;
-        if del.abs() < sum.abs() * 1e-16 {
-            break;
-        }
-    }
-    sum * (-x + a * x.ln() - ln_gamma(a)).exp()
-}
-
-fn gamma_cf(a: f64, x: f64) -> f64 {
-    const TINY: f64 = 1e-300;
-    let mut b = x + 1.0 - a;
-    let mut c = 1.0 / TINY;
-    let mut d = 1.0 / b;
-    let mut h = d;
-    for i in 1..10_000 {
-        let an = -(i as f64) * (i as f64 - a);
-        b += 2.0;
-        d = an * d + b;
-        if d.abs() < TINY {
-            d = TINY;
-        }
-        c = b + an / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        let del = d * c;
-        h *= del;
-        if (del - 1.0).abs() < 1e-16 {
-            break;
-        }
-    }
-    (-x + a * x.ln() - ln_gamma(a)).exp() * h
+    if x <= 0.0 { 1.0 } else { statrs::function::gamma::gamma_ur(a, x) }
 }
 
 /// P(X >= statistic) for X ~ chi^2(dof).
 pub fn chi2_p_value(statistic: f64, dof: usize) -> f64 {
-    gamma_q(dof as f64 / 2.0, statistic / 2.0)
+    use statrs::distribution::{ChiSquared, ContinuousCDF};
+    if statistic <= 0.0 {
+        return 1.0;
+    }
+    ChiSquared::new(dof as f64).map_or(f64::NAN, |d| d.sf(statistic))
+}
+
+/// The standard normal quantile Φ⁻¹(p) (statrs), for p in (0, 1).
+pub fn normal_quantile(p: f64) -> f64 {
+    use statrs::distribution::{ContinuousCDF, Normal};
+    Normal::standard().inverse_cdf(p)
 }
 
 /// Per-test significance level so that k independent tests together reject with prob. alpha.
@@ -108,21 +52,12 @@ pub fn sidak_threshold(alpha: f64, k: usize) -> f64 {
 
 /// The z with P(|Z| > z) = `p` for a standard normal Z (p in (0, 1]): the "within z standard errors"
 /// bound whose two-sided false-alarm rate is `p`, e.g. p = `sidak_threshold(0.01, k)` for a family
-/// of k such checks. Z^2 is chi^2(1), so this inverts `chi2_p_value(z^2, 1)` by bisection.
+/// of k such checks. Taken from the lower tail, −Φ⁻¹(p/2), so that tiny p keep their digits.
 pub fn two_sided_z(p: f64) -> f64 {
     if p.is_nan() || p >= 1.0 {
         return 0.0;
     }
-    let (mut lo, mut hi) = (0.0f64, 40.0f64);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if chi2_p_value(mid * mid, 1) > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+    -normal_quantile(0.5 * p)
 }
 
 /// Pools cells, sorted by expected count, until each pool expects at least `min_expected`;

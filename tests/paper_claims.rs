@@ -1,15 +1,18 @@
 //! The paper's claims, asserted on real renders: `experiments/claims.toml` (the kitchen at 64x48,
 //! fixed seeds, 8 replicates) run through the real binary against the committed reference. Every
-//! failure message prints the numbers it compared. Margins are asserted in standard errors of the
-//! difference of means, so a pass is not luck of the seeds.
+//! failure message prints the numbers it compared. Margins are asserted in paired standard errors:
+//! replicate r uses the same seed in every configuration, so two configurations are compared
+//! replicate by replicate (sd of the per-replicate differences / √n), and a pass is not luck of the
+//! seeds.
 
 use hemilab::results::{Aggregate, JobResult, Slope, aggregate, convergence_slopes, from_json};
+use hemilab::stats::paired_difference;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
 const RAYS: [u32; 3] = [8, 16, 32];
-/// A claimed difference must be at least this many standard errors of the difference wide.
+/// A claimed difference must be at least this many paired standard errors wide.
 const MIN_SE: f64 = 5.0;
 
 struct Run {
@@ -65,9 +68,33 @@ fn cell<'a>(r: &'a Run, distribution: &str, sequence: &str, seed_mode: &str, ray
         .unwrap_or_else(|| panic!("no result for {distribution}/{sequence}/{seed_mode} at {rays} rays"))
 }
 
-/// Standard error of the difference of two replicate means.
-fn se_diff(a: &Aggregate, b: &Aggregate) -> f64 {
-    (a.rmse.sd.powi(2) / a.replicates as f64 + b.rmse.sd.powi(2) / b.replicates as f64).sqrt()
+/// RMSE per replicate of one configuration, by replicate index.
+fn per_replicate(r: &Run, a: &Aggregate) -> Vec<(u32, f64)> {
+    let mut v: Vec<(u32, f64)> = r
+        .results
+        .iter()
+        .filter(|x| {
+            (x.distribution.as_str(), x.sequence.as_str(), x.seed_mode.as_str(), x.rays)
+                == (a.distribution.as_str(), a.sequence.as_str(), a.seed_mode.as_str(), a.rays)
+        })
+        .map(|x| (x.replicate, x.rmse))
+        .collect();
+    v.sort_by_key(|x| x.0);
+    v
+}
+
+/// Mean and paired standard error of `worse − better` over the replicates both have (same seeds).
+fn paired(r: &Run, better: &Aggregate, worse: &Aggregate) -> (f64, f64, usize) {
+    let (b, w) = (per_replicate(r, better), per_replicate(r, worse));
+    assert_eq!(
+        b.iter().map(|x| x.0).collect::<Vec<_>>(),
+        w.iter().map(|x| x.0).collect::<Vec<_>>(),
+        "both configurations have the same replicates"
+    );
+    let bv: Vec<f64> = b.iter().map(|x| x.1).collect();
+    let wv: Vec<f64> = w.iter().map(|x| x.1).collect();
+    let (d, se) = paired_difference(&bv, &wv);
+    (d, se, bv.len())
 }
 
 fn show(a: &Aggregate) -> String {
@@ -77,17 +104,18 @@ fn show(a: &Aggregate) -> String {
     )
 }
 
-/// `better` has lower RMSE than `worse` by at least `MIN_SE` standard errors.
-fn assert_lower(better: &Aggregate, worse: &Aggregate, claim: &str) {
-    let (d, se) = (worse.rmse.mean - better.rmse.mean, se_diff(better, worse));
+/// `better` has lower RMSE than `worse` by at least `MIN_SE` paired standard errors.
+fn assert_lower(r: &Run, better: &Aggregate, worse: &Aggregate, claim: &str) {
+    let (d, se, n) = paired(r, better, worse);
+    assert!(n >= 4, "{claim}: only {n} paired replicates");
     assert!(
         d > MIN_SE * se,
-        "{claim}: expected {} below {} by > {MIN_SE} SE; difference {d:.5}, SE {se:.5} ({:.1} SE)",
+        "{claim}: expected {} below {} by > {MIN_SE} paired SE; difference {d:.5}, SE {se:.5} ({:.1} SE)",
         show(better),
         show(worse),
         d / se
     );
-    eprintln!("{claim}: {} < {} by {:.1} SE", show(better), show(worse), d / se);
+    eprintln!("{claim}: {} < {} by {:.1} paired SE", show(better), show(worse), d / se);
 }
 
 #[test]
@@ -96,7 +124,7 @@ fn claim1_sine_cosine_beats_uniform_and_sine_with_random_numbers() {
     for rays in RAYS {
         let sc = cell(r, "sine-cosine", "random", "rotation", rays);
         for other in ["uniform", "sine"] {
-            assert_lower(sc, cell(r, other, "random", "rotation", rays), "claim 1");
+            assert_lower(r, sc, cell(r, other, "random", "rotation", rays), "claim 1");
         }
     }
 }
@@ -110,7 +138,7 @@ fn claim2_fibonacci_with_per_pixel_seed_beats_random() {
             let rnd = cell(r, d, "random", "rotation", rays);
             eprintln!("{d} at {rays} rays: fibonacci/random RMSE ratio {:.3}", fib.rmse.mean / rnd.rmse.mean);
             if d == "sine-cosine" {
-                assert_lower(fib, rnd, "claim 2");
+                assert_lower(r, fib, rnd, "claim 2");
             }
         }
     }
@@ -179,7 +207,8 @@ fn claim4_convergence_slopes() {
         v.join(", ")
     };
     let random = slope(&slopes, "random", "rotation");
-    let k = random.vs_rays.expect("random slope");
+    let rfit = random.vs_rays.expect("random slope");
+    let k = rfit.value;
     assert_eq!(random.points, sweep.len(), "random row lacks ray counts: {}", points(random));
     assert!(
         (k + 0.5).abs() <= 0.08,
@@ -187,10 +216,19 @@ fn claim4_convergence_slopes() {
         points(random)
     );
     let shift = slope(&slopes, "fibonacci", "shift");
-    let f = shift.vs_rays.expect("shift slope");
+    let sfit = shift.vs_rays.expect("shift slope");
     assert_eq!(shift.points, sweep.len(), "shift row lacks ray counts: {}", points(shift));
-    assert!(f < -0.6, "claim 4: fibonacci shift slope {f:.3} not steeper than -0.6 ({})", points(shift));
-    eprintln!("claim 4: slopes random {k:.3}, fibonacci shift {f:.3}");
+    // The whole 95 % interval of the lattice's slope is steeper than -0.6, and below the random one's.
+    let [_, s_hi] = sfit.ci95.expect("an interval from 9 points");
+    let [r_lo, _] = rfit.ci95.expect("an interval from 9 points");
+    assert!(
+        s_hi < -0.6 && s_hi < r_lo,
+        "claim 4: fibonacci shift slope {} not steeper than -0.6 and than random {} ({})",
+        sfit.text(),
+        rfit.text(),
+        points(shift)
+    );
+    eprintln!("claim 4: slopes random {}, fibonacci shift {}", rfit.text(), sfit.text());
 }
 
 #[test]

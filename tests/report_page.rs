@@ -105,6 +105,8 @@ sequences = ["random", "fibonacci"]
         "sweep_rays.svg",
         "sweep_time.png",
         "sweep_time.svg",
+        "sweep_efficiency.png",
+        "sweep_efficiency.svg",
         "banding.png",
         "banding.svg",
     ] {
@@ -114,11 +116,26 @@ sequences = ["random", "fibonacci"]
     }
     assert_page_is_whole(&out);
     let html = std::fs::read_to_string(out.join("index.html")).unwrap();
-    for text in
-        ["References", "noise floor", "slope vs rays", "lowpass RMSE", "efficiency", "sine-cosine, Fibonacci"]
-    {
+    for text in [
+        "References",
+        "noise floor",
+        "slope vs rays",
+        "slope vs AO time",
+        "lowpass RMSE",
+        "efficiency",
+        "sine-cosine, Fibonacci",
+        "Paired comparisons",
+        "ns per AO ray",
+        hemilab::timing::TIME_INCLUDES,
+    ] {
         assert!(html.contains(text), "index.html lacks '{text}'");
     }
+    // The answer comes first: before every table and figure.
+    let answer =
+        html.find("Answer for &#39;cornell-box&#39;").or_else(|| html.find("Answer for 'cornell-box'"));
+    let answer = answer.unwrap_or_else(|| panic!("no answer paragraph:\n{html}"));
+    assert!(answer < html.find("<table").unwrap() && answer < html.find("<figure").unwrap());
+    assert!(html.contains("Answer: the most efficient configuration at each ray count"));
 }
 
 #[test]

@@ -102,11 +102,14 @@ fn resume_after_interruption_gives_identical_results() {
     let full_csv = timeless_csv(&out);
     let images: Vec<Vec<u8>> = full.iter().map(|r| image_bytes(&out, r)).collect();
 
-    // Interrupted after 6 jobs: results.json holds those (marked by an impossible time so a skip is
-    // visible), the later images never got written, and job 1's image was lost too.
+    // Interrupted after 6 jobs: results.json holds those (their first time sample marked by an
+    // impossible value so a skip is visible; a kept record may still get timing-only re-renders),
+    // the later images never got written, and job 1's image was lost too.
     const SENTINEL: f64 = 1234.5;
-    let kept: Vec<JobResult> =
-        full[..6].iter().map(|r| JobResult { time_s: SENTINEL, ..r.clone() }).collect();
+    let kept: Vec<JobResult> = full[..6]
+        .iter()
+        .map(|r| JobResult { time_s: SENTINEL, times: vec![SENTINEL], walls: vec![SENTINEL], ..r.clone() })
+        .collect();
     std::fs::write(out.join("results.json"), hemilab::results::to_json(&kept)).unwrap();
     std::fs::write(out.join("results.csv"), hemilab::results::to_csv(&kept)).unwrap();
     for r in &full[6..] {
@@ -118,7 +121,7 @@ fn resume_after_interruption_gives_identical_results() {
     let resumed = records(&out);
     assert_eq!(resumed.len(), 16);
     for (i, r) in resumed.iter().enumerate() {
-        let skipped = r.time_s == SENTINEL;
+        let skipped = r.times.first() == Some(&SENTINEL);
         assert_eq!(
             skipped,
             i < 6 && i != 1,
@@ -131,7 +134,7 @@ fn resume_after_interruption_gives_identical_results() {
 
     t.run_ok(&spec, "out", "ref", &["--force"]);
     let forced = records(&out);
-    assert!(forced.iter().all(|r| r.time_s != SENTINEL), "--force redoes every job");
+    assert!(forced.iter().all(|r| !r.times.contains(&SENTINEL)), "--force redoes every job");
     let a: Vec<JobResult> = full.iter().map(timeless).collect();
     assert_eq!(forced.iter().map(timeless).collect::<Vec<_>>(), a);
     assert_eq!(timeless_csv(&out), full_csv);
@@ -148,7 +151,8 @@ fn rerun_is_bit_identical_for_any_thread_count() {
     assert_eq!(one.len(), 16);
     for (a, b) in one.iter().zip(&two) {
         assert_eq!(image_bytes(&t.path("one"), a), image_bytes(&t.path("two"), b), "{}", a.image);
-        let metrics = |r: &JobResult| [r.rmse, r.bias, r.autocorr_x, r.autocorr_y, r.lowpass_rmse];
+        let metrics =
+            |r: &JobResult| [r.rmse, r.bias, r.autocorr_x, r.autocorr_y, r.lowpass_rmse, r.whiteness_z];
         assert_eq!(metrics(a).map(f64::to_bits), metrics(b).map(f64::to_bits), "{}", a.image);
         assert_eq!(timeless(a), timeless(b));
     }
@@ -167,7 +171,7 @@ fn plan_prints_jobs_and_estimate_without_rendering() {
     let t = Tmp::new("plan");
     let spec = t.spec("tiny.toml", &tiny_spec(64, ""));
     let before = t.listing();
-    let o = t.hemilab(&["plan", "tiny.toml"]);
+    let o = t.hemilab(&["plan", "tiny.toml", "--jobs", "--reference-dir", "ref"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(t.listing(), before, "plan writes nothing");
     let text = stdout(&o);
@@ -183,13 +187,15 @@ fn plan_prints_jobs_and_estimate_without_rendering() {
         let got = (f[2], f[3], f[4], f[5].parse::<u32>().unwrap(), f[6].parse::<u32>().unwrap());
         assert_eq!(got, want, "job {}", i + 1);
     }
-    // An upper bound: every one of the 24x18 pixels of every job at the job's ray count.
+    // The summary first: an upper bound of the rays (every one of the 24x18 pixels of every job at
+    // the job's ray count) and a time estimate; the job list after it.
     let rays: u32 = TINY_ORDER.iter().map(|j| j.3).sum();
     let total = (24 * 18 * rays).to_string();
-    let last = text.lines().last().unwrap();
-    assert!(last.starts_with("total: 16 jobs"), "{last}");
-    assert!(last.contains(&format!("at most {total} rays")), "{last}");
-    assert!(last.contains(" s") && last.contains("≈"), "a time estimate: {last}");
+    let first = text.lines().next().unwrap();
+    assert!(first.contains(": 16 jobs in 8 configurations"), "{first}");
+    assert!(first.contains(&format!("at most {total} AO rays")), "{first}");
+    let estimate = text.lines().position(|l| l.starts_with("estimate: ≈ ")).expect("a time estimate");
+    assert!(estimate < text.lines().position(|l| l.starts_with("jobs, in run order")).unwrap());
 
     // The run renders exactly these jobs, in this order.
     t.run_ok(&spec, "out", "ref", &[]);
@@ -202,7 +208,11 @@ fn plan_prints_jobs_and_estimate_without_rendering() {
     assert_eq!(sweep["group"], "c");
     let rows = sweep["slopes"].as_array().unwrap();
     assert_eq!(rows.len(), 2, "{slopes}");
-    assert!(rows.iter().all(|r| r["points"] == 3 && r["vs_rays"].as_f64().unwrap() < 0.0), "{slopes}");
+    assert!(
+        rows.iter().all(|r| r["points"] == 3 && r["vs_rays"]["value"].as_f64().unwrap() < 0.0),
+        "{slopes}"
+    );
+    assert!(rows.iter().all(|r| r["vs_rays"]["ci95"].as_array().is_some_and(|c| c.len() == 2)), "{slopes}");
 }
 
 #[test]
@@ -236,4 +246,155 @@ fn noise_floor_warning_says_how_many_rays_are_needed() {
         err.contains("warning: reference noise floor") && err.contains("rays per replicate are needed"),
         "a 1-ray reference is far too noisy and the run says so:\n{err}"
     );
+}
+
+#[test]
+fn timing_columns_follow_the_protocol() {
+    let t = Tmp::new("timing");
+    let spec = t.spec("tiny.toml", &tiny_spec(64, ""));
+    // Two replicates, five timed renders per configuration: three timing-only re-renders each.
+    t.run_ok(&spec, "out", "ref", &["--timing-repeats", "5", "--threads", "2"]);
+    let recs = records(&t.path("out"));
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
+    assert_eq!(timing["protocol"]["repeats"], 5);
+    assert_eq!(timing["protocol"]["workers"], 2);
+    assert_eq!(timing["protocol"]["threads_per_render"], 1);
+    let overhead = &timing["overhead"][0]["overhead_s"];
+    let over_n = overhead["n"].as_u64().unwrap();
+    assert!((7..=15).contains(&over_n), "{timing}");
+    let over = overhead["median"].as_f64().unwrap();
+    assert!(over > 0.0);
+    let mut renders = over_n;
+    for r in &recs {
+        let same: Vec<&JobResult> = recs.iter().filter(|o| o.config() == r.config()).collect();
+        let samples: Vec<f64> = same.iter().flat_map(|o| o.times.iter().copied()).collect();
+        // At least the 5 asked for; these 24x18 renders are cheap, so the second round adds more,
+        // up to 15 in all.
+        assert!((5..=15).contains(&samples.len()), "{:?}: {} samples", r.config(), samples.len());
+        assert_eq!(r.timings, samples.len());
+        if r.replicate == 0 {
+            renders += samples.len() as u64;
+        }
+        assert!(!r.times.is_empty() && r.times.len() == r.walls.len());
+        assert_eq!(
+            r.time_s,
+            hemilab::stats::median(&r.times),
+            "a job's own time is the median of its renders"
+        );
+        assert_eq!(r.time_median_s, hemilab::stats::median(&samples));
+        let min = samples.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = samples.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!((r.time_min_s, r.time_max_s), (min, max));
+        assert_eq!(r.overhead_s, over, "one overhead per scene");
+        assert_eq!(r.timing_threads, 1);
+        if r.time_median_s > over {
+            assert_eq!(r.ao_time_s, r.time_median_s - over);
+            assert!((r.ns_per_ray - 1e9 * r.ao_time_s / r.rays_cast as f64).abs() < 1e-9 * r.ns_per_ray);
+            let e = r.efficiency.unwrap();
+            assert!((e - 1.0 / (r.rmse * r.rmse * r.ao_time_s)).abs() < 1e-9 * e);
+        } else {
+            assert!(r.ao_time_s.is_nan() && r.efficiency.is_none(), "no split below the overhead: {r:?}");
+        }
+    }
+    assert_eq!(timing["session"]["timed_renders"], renders, "{timing}");
+    // The CSV carries the same numbers, undefined ones as empty fields.
+    let csv = std::fs::read_to_string(t.path("out/results.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    for (line, r) in csv.lines().skip(1).zip(&recs) {
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!(f[col("time_median_s")].parse::<f64>().unwrap(), r.time_median_s);
+        assert_eq!(f[col("timings")], r.timings.to_string());
+        assert_eq!(f[col("overhead_s")].parse::<f64>().unwrap(), r.overhead_s);
+        assert_eq!(
+            f[col("ao_time_s")].parse::<f64>().ok().unwrap_or(f64::NAN).to_bits(),
+            r.ao_time_s.to_bits()
+        );
+    }
+    let aggs = std::fs::read_to_string(t.path("out/aggregates.csv")).unwrap();
+    for c in ["time_median_s", "time_min_s", "time_max_s", "overhead_s", "ns_per_ray", "efficiency_spread"] {
+        assert!(aggs.lines().next().unwrap().split(',').any(|h| h == c), "aggregates.csv lacks {c}");
+    }
+    // Killed after its last job but before the timing columns were filled: every record is there,
+    // none split. The rerun renders no job again, only what the timing still needs.
+    let unsplit: Vec<JobResult> = recs
+        .iter()
+        .map(|r| JobResult {
+            time_median_s: f64::NAN,
+            time_min_s: f64::NAN,
+            time_max_s: f64::NAN,
+            timings: 0,
+            overhead_s: f64::NAN,
+            ao_time_s: f64::NAN,
+            ns_per_ray: f64::NAN,
+            efficiency: None,
+            ..r.clone()
+        })
+        .collect();
+    std::fs::write(t.path("out/results.json"), hemilab::results::to_json(&unsplit)).unwrap();
+    std::fs::remove_file(t.path("out/timing.json")).unwrap();
+    t.run_ok(&spec, "out", "ref", &["--timing-repeats", "5"]);
+    let refilled = records(&t.path("out"));
+    for (a, b) in refilled.iter().zip(&recs) {
+        assert_eq!(timeless(a), timeless(b));
+        assert!(a.timings >= 5 && a.overhead_s > 0.0 && a.time_median_s > 0.0, "{a:?}");
+        assert_eq!(a.times[..b.times.len()], b.times[..], "kept samples stay");
+    }
+    let recs = refilled;
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
+    // A rerun with nothing to do renders nothing and keeps every time.
+    t.run_ok(&spec, "out", "ref", &["--timing-repeats", "5"]);
+    assert_eq!(records(&t.path("out")), recs);
+    let again: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
+    assert_eq!(again["session"]["timed_renders"], 0);
+    assert_eq!(again["overhead"], timing["overhead"], "the overhead of the session that made the times");
+}
+
+#[test]
+fn a_run_over_two_scenes_times_each_with_its_own_overhead() {
+    // The kitchen first, then the 30-triangle Cornell box: each worker thread renders both,
+    // interleaved, so nothing it keeps from one scene may be used on the other.
+    let t = Tmp::new("two-scenes");
+    let spec = format!(
+        r#"name = "two"
+scenes = ["{}", "{}"]
+resolution = [24, 18]
+replicates = 2
+[reference]
+rays = 16
+replicates = 2
+[[convergence]]
+name = "c"
+rays = [1, 4, 16]
+distributions = ["sine-cosine"]
+sequences = ["fibonacci"]
+seed_modes = ["shift"]
+"#,
+        scene("kitchen.toml"),
+        scene("cornell-box.toml")
+    );
+    let spec = t.spec("two.toml", &spec);
+    t.run_ok(&spec, "out", "ref", &["--threads", "2"]);
+    let recs = records(&t.path("out"));
+    assert_eq!(recs.len(), 12);
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path("out/timing.json")).unwrap()).unwrap();
+    let over: Vec<(String, f64)> = timing["overhead"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| (o["scene"].as_str().unwrap().to_string(), o["overhead_s"]["median"].as_f64().unwrap()))
+        .collect();
+    assert_eq!(over.iter().map(|o| o.0.as_str()).collect::<Vec<_>>(), ["kitchen", "cornell-box"]);
+    for r in &recs {
+        let own = over.iter().find(|o| o.0 == r.scene).unwrap().1;
+        assert_eq!(r.overhead_s, own, "{} takes its own scene's overhead", r.scene);
+    }
+    // The same images whichever way the renders were spread over threads.
+    t.run_ok(&spec, "one", "ref", &["--threads", "1"]);
+    let a: Vec<JobResult> = recs.iter().map(timeless).collect();
+    assert_eq!(records(&t.path("one")).iter().map(timeless).collect::<Vec<_>>(), a);
 }

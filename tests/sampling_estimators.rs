@@ -47,7 +47,7 @@ fn estimate(d: Distribution, seq: Sequence, mode: SeedMode, c: Cap) -> (f64, f64
     let mut pts = vec![Vec2::ZERO; N as usize];
     let per_pixel: Vec<f64> = (0..PIXELS)
         .map(|pixel| {
-            cfg.fill_pixel(pixel, &mut pts);
+            cfg.fill_pixel((pixel % 128) as u32, (pixel / 128) as u32, pixel, &mut pts);
             let sum: f64 = pts
                 .iter()
                 .map(|&u| d.sample(u))

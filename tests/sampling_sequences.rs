@@ -3,6 +3,7 @@
 
 use glam::Vec2;
 use hemilab::sampling::fibonacci::{fibonacci_point, fibonacci_x_fixed};
+use hemilab::sampling::seed::PixelSeed;
 use hemilab::sampling::stratified::grid;
 use hemilab::sampling::{SamplerConfig, SamplingError, SeedMode, Sequence};
 use std::collections::HashSet;
@@ -10,8 +11,14 @@ use std::collections::HashSet;
 fn points(seq: Sequence, mode: SeedMode, n: u32, seed: u64, pixel: u64) -> Vec<Vec2> {
     let cfg = SamplerConfig::new(seq, mode, n, seed).unwrap();
     let mut out = vec![Vec2::splat(-1.0); n as usize];
-    cfg.fill_pixel(pixel, &mut out);
+    let (x, y) = xy(pixel);
+    cfg.fill_pixel(x, y, pixel, &mut out);
     out
+}
+
+/// Pixel coordinates for a pixel index: low and high 32 bits, so huge indices give huge coordinates.
+fn xy(pixel: u64) -> (u32, u32) {
+    (pixel as u32, (pixel >> 32) as u32)
 }
 
 fn in_unit_square(p: Vec2) -> bool {
@@ -67,10 +74,10 @@ fn fill_pixel_with_other_buffer_lengths_writes_a_prefix_of_the_set() {
         let cfg = SamplerConfig::new(seq, SeedMode::Shift, 16, 3).unwrap();
         let full = points(seq, SeedMode::Shift, 16, 3, 5);
         let mut short = vec![Vec2::ZERO; 5];
-        cfg.fill_pixel(5, &mut short);
+        cfg.fill_pixel(5, 0, 5, &mut short);
         assert_eq!(short[..], full[..5], "{seq}");
         let mut long = vec![Vec2::splat(7.0); 20];
-        cfg.fill_pixel(5, &mut long);
+        cfg.fill_pixel(5, 0, 5, &mut long);
         assert_eq!(long[..16], full[..], "{seq}");
         assert!(long[16..].iter().all(|&p| p == Vec2::splat(7.0)), "{seq} wrote past count");
     }
@@ -258,7 +265,16 @@ fn stratified_one_point_per_stratum() {
         let (rows, cols) = grid(n);
         for mode in SeedMode::ALL {
             for pixel in [0, 17] {
-                let pts = points(Sequence::Stratified, *mode, n, 4, pixel);
+                let mut pts = points(Sequence::Stratified, *mode, n, 4, pixel);
+                if *mode == SeedMode::BlueNoise {
+                    // The static grid shifted by the pixel's mask offsets: shift it back.
+                    let (x, y) = xy(pixel);
+                    let (ox, oy) = PixelSeed::new(4, pixel).offsets(*mode, x, y);
+                    let back =
+                        |v: f32, o: u32| ((v as f64 * 16_777_216.0) as u32).wrapping_sub(o) % (1 << 24);
+                    let unit = |k: u32| k as f32 / 16_777_216.0;
+                    pts.iter_mut().for_each(|p| *p = Vec2::new(unit(back(p.x, ox)), unit(back(p.y, oy))));
+                }
                 let mut cells = HashSet::new();
                 for p in &pts {
                     // Rotation shifts x by one offset mod 1: only the y strata are kept.

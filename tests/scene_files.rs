@@ -134,3 +134,85 @@ fn shipped_validation_scene_matches_the_one_built_in_code() {
     let (a, b) = (render(&file, &job(&file), &|_| {}), render(&code, &job(&code), &|_| {}));
     assert_eq!((a.ao, a.coverage), (b.ao, b.coverage));
 }
+
+#[test]
+fn every_scene_file_loads_with_a_view_of_its_mesh() {
+    // The seven shipped scenes: each loads without dropped triangles (the kitchen's 25 aside) and its
+    // camera sees a surface in most of the image (a scene whose camera misses its mesh is useless).
+    use hemilab::render::{RenderJob, render};
+    use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut names: Vec<String> = std::fs::read_dir(root.join("scenes"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 7, "{names:?}");
+    let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 1, 1).unwrap();
+    for name in names {
+        let scene = load_scene(&root.join("scenes").join(&name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        if name != "kitchen.toml" {
+            assert_eq!(scene.dropped_triangles, 0, "{name}");
+        }
+        let job = RenderJob {
+            distribution: Distribution::SineCosine,
+            sampler,
+            width: 32,
+            height: 24,
+            ao_distance: scene.ao_distance,
+        };
+        let out = render(&scene, &job, &|_| {});
+        let covered = out.coverage.data.iter().filter(|&&c| c > 0.5).count();
+        assert!(covered * 2 > out.coverage.data.len(), "{name}: only {covered} of 768 pixels see the mesh");
+    }
+}
+
+#[test]
+fn committed_procedural_meshes_are_what_the_code_generates() {
+    use hemilab::scene::{generate, mesh};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (name, text) in
+        [("atrium", generate::atrium()), ("slats", generate::slats()), ("terrain", generate::terrain())]
+    {
+        let path = root.join(format!("scenes/{name}.obj.zst"));
+        let stored = mesh::decompress(&std::fs::read(&path).unwrap()).unwrap();
+        let stored = String::from_utf8(stored).unwrap();
+        if let Some((no, (a, b))) = stored.lines().zip(text.lines()).enumerate().find(|(_, (a, b))| a != b) {
+            panic!(
+                "{}: line {} is '{a}' but the generator writes '{b}'; regenerate with \
+                 `cargo run --release --example write_scenes` (see scenes/README.md)",
+                path.display(),
+                no + 1
+            );
+        }
+        assert_eq!(stored.lines().count(), text.lines().count(), "{}", path.display());
+    }
+}
+
+#[test]
+fn rendering_a_small_scene_after_a_large_one_on_the_same_thread() {
+    // The renderer keeps each thread's last occluders (triangle indices) across images; a spec with
+    // several scenes renders a 30-triangle box right after the 57,000-triangle kitchen on the same
+    // threads. That once indexed past the box's triangles and panicked.
+    use hemilab::render::{RenderJob, render};
+    use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 16, 1).unwrap();
+    let job = |s: &hemilab::scene::Scene| RenderJob {
+        distribution: Distribution::SineCosine,
+        sampler,
+        width: 24,
+        height: 16,
+        ao_distance: s.ao_distance,
+    };
+    let big = load_scene(&root.join("scenes/kitchen.toml")).unwrap();
+    let small = load_scene(&root.join("scenes/cornell-box.toml")).unwrap();
+    let alone = pool.install(|| render(&small, &job(&small), &|_| {}));
+    let after = pool.install(|| {
+        render(&big, &job(&big), &|_| {});
+        render(&small, &job(&small), &|_| {})
+    });
+    assert_eq!((after.ao, after.coverage), (alone.ao, alone.coverage), "the cache changed the answer");
+}

@@ -107,7 +107,7 @@ fn unknown_sequence_lists_choices() {
 #[test]
 fn unknown_seed_mode_lists_choices() {
     let e = error(&spec("", "", ", seed_mode = \"per-pixel\" "));
-    assert_has(&e, &["line 9", "rows.seed_mode", "'per-pixel'", "static, rotation, shift"]);
+    assert_has(&e, &["line 9", "rows.seed_mode", "'per-pixel'", "static, rotation, shift, blue-noise"]);
 }
 
 #[test]
@@ -194,10 +194,15 @@ fn bad_ao_distance() {
 
 #[test]
 fn bad_reference_settings() {
-    let e = error(&spec("[reference]\nrays = 0\nreplicates = 1\ndistribution = \"cos\"", "", ""));
+    let e = error(&spec(
+        "[reference]\nrays = 0\nreplicates = 1\ndistribution = \"cos\"\nallocation = \"smart\"",
+        "",
+        "",
+    ));
     assert_has(&e, &["line 4, key `reference.rays`", "\"auto\""]);
     assert_has(&e, &["line 5, key `reference.replicates`", "2..=1000"]);
     assert_has(&e, &["line 6, key `reference.distribution`", "sine-cosine"]);
+    assert_has(&e, &["line 7, key `reference.allocation`", "\"even\" or \"adaptive\""]);
 }
 
 #[test]
@@ -270,4 +275,16 @@ fn figure_file_names_must_not_clash() {
     assert_has(&e, &["table1.png", "point figure"]);
     let ok = format!("{head}{}", t("table1"));
     assert!(parse_spec(&ok, Path::new(FILE)).is_ok(), "table1 is free without point figures");
+}
+
+#[test]
+fn timing_section_defaults_and_ranges() {
+    let s = parse_spec(&spec("seed = 9", "", ""), Path::new(FILE)).unwrap();
+    assert_eq!((s.timing.repeats, s.timing.seed), (3, 9), "defaults: 3 repeats, the base seed");
+    let s = parse_spec(&spec("[timing]\nrepeats = 7\nseed = 2\n", "", ""), Path::new(FILE)).unwrap();
+    assert_eq!((s.timing.repeats, s.timing.seed), (7, 2));
+    let e = error(&spec("[timing]\nrepeats = 0\n", "", ""));
+    assert_has(&e, &["line 4", "key `timing.repeats`", "1..=100"]);
+    let e = error(&spec("[timing]\nrepeat = 5\n", "", ""));
+    assert_has(&e, &["line 4", "repeat", "repeats"]);
 }

@@ -59,6 +59,8 @@ fn paper_spec_has_tables_2_and_3_and_the_sweep() {
         Row::new(D::SineCosine, Q::Fibonacci, M::Shift),
         Row::new(D::SineCosine, Q::Stratified, M::Shift),
         Row::new(D::SineCosine, Q::Sobol, M::Shift),
+        Row::new(D::SineCosine, Q::Fibonacci, M::BlueNoise),
+        Row::new(D::SineCosine, Q::Random, M::BlueNoise),
     ] {
         assert!(c.rows.contains(&extra), "sweep lacks {}", extra.label());
     }
@@ -140,4 +142,47 @@ fn format_example_in_the_module_doc_parses() {
     let s = parse_spec(&block, Path::new("experiments/paper.toml")).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.groups.len(), 2);
     assert_eq!(s.groups[1].rows.len(), 3, "random+shift merged into random+rotation");
+}
+
+#[test]
+fn blue_noise_is_a_seed_mode_in_rows_axes_and_the_reference() {
+    let text = r#"
+scenes = ["s.toml"]
+[reference]
+seed_mode = "blue-noise"
+[[table]]
+name = "t"
+rays = [8]
+rows = [{ distribution = "sine", sequence = "random", seed_mode = "blue-noise" }]
+[[convergence]]
+name = "c"
+rays = [1, 2]
+distributions = ["sine-cosine"]
+sequences = ["fibonacci"]
+seed_modes = ["shift", "blue-noise"]
+"#;
+    let s = parse_spec(text, Path::new("x/c.toml")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.reference.estimator, Row::new(D::SineCosine, Q::Fibonacci, M::BlueNoise));
+    // Not merged into rotation as random + shift is: the static set shifted by the mask.
+    assert_eq!(s.groups[0].rows, vec![Row::new(D::Sine, Q::Random, M::BlueNoise)]);
+    assert_eq!(
+        s.groups[1].rows,
+        vec![
+            Row::new(D::SineCosine, Q::Fibonacci, M::Shift),
+            Row::new(D::SineCosine, Q::Fibonacci, M::BlueNoise)
+        ]
+    );
+}
+
+#[test]
+fn blue_noise_spec_pairs_every_sequence_with_its_per_pixel_seed() {
+    let s = load("blue_noise.toml");
+    let t = s.group("blue_noise").unwrap();
+    assert_eq!(t.rays, vec![8, 16, 32]);
+    assert!(t.replicates >= 4);
+    for &q in Q::ALL {
+        assert!(t.rows.contains(&Row::new(D::SineCosine, q, M::BlueNoise)), "{q} blue-noise");
+        let per_pixel = if q == Q::Random { M::Rotation } else { M::Shift };
+        assert!(t.rows.contains(&Row::new(D::SineCosine, q, per_pixel)), "{q} {per_pixel}");
+    }
 }

@@ -1,19 +1,19 @@
-//! The run's figures: every `[[table]]` as AO images and signed-error grids (the paper's Tables 2
-//! and 3), every `[[convergence]]` as RMSE against rays and against time, the banding metric of the
-//! tables' configurations, the paper's point figures when the spec asks, and one page linking them
-//! all (`page.rs`). Drawing is `report`'s job; this module picks the data and writes the bytes.
+//! The run's figures, one function per figure: every `[[table]]` as AO images and signed-error
+//! grids (the paper's Tables 2 and 3), every `[[convergence]]` as RMSE against rays and against
+//! render time and its efficiency against rays, the banding metric of the tables' configurations,
+//! and the paper's point figures when the spec asks. Drawing is `report`'s job; this module picks
+//! the data from `data::Data` and writes the bytes. The page (`page.rs`) lists what it returns.
 
-use super::page;
+use super::data::{
+    Data, banding_stat, is_config, row_label, sweep_points, sweep_slope, table_configs, whiteness_stat,
+};
 use super::points::figure_rows;
-use super::reference::Reference;
-use super::run::Loaded;
 use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::io;
-use crate::metrics::mean_sd;
-use crate::plan::Plan;
-use crate::report::{self, Figure, Format, GridCell, Series};
-use crate::results::{self, Aggregate, JobResult};
+use crate::metrics::whiteness::STRUCTURED_Z;
+use crate::report::{self, Figure, Format, GridCell, Guide, Series};
+use crate::results;
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use crate::spec::{Group, GroupKind, Row};
 use std::path::Path;
@@ -21,23 +21,9 @@ use std::path::Path;
 /// Point counts of the paper's Table 1 and Figures 2-4.
 const POINT_COUNTS: [u32; 3] = [500, 1000, 5000];
 
-/// Everything the figures and the page are drawn from.
-pub struct Data<'a> {
-    pub loaded: &'a Loaded,
-    pub references: &'a [Reference],
-    pub results: &'a [JobResult],
-    pub aggs: Vec<Aggregate>,
-}
-
-pub fn write_all(
-    loaded: &Loaded,
-    _plan: &Plan,
-    references: &[Reference],
-    results: &[JobResult],
-    out: &Path,
-) -> Result<()> {
-    let data = Data { loaded, references, results, aggs: results::aggregate(results) };
-    let spec = &loaded.spec;
+/// Writes every figure of the run into `out` and returns them in page order.
+pub fn write_all(data: &Data, out: &Path) -> Result<Vec<Figure>> {
+    let spec = &data.loaded.spec;
     let mut figures = Vec::new();
     if spec.point_figures {
         figures.extend(point_figures(spec.seed, out)?);
@@ -50,52 +36,17 @@ pub fn write_all(
                 g.name.clone()
             };
             match g.kind {
-                GroupKind::Table => figures.extend(table_figures(&data, g, si, &stem, out)?),
-                GroupKind::Convergence => figures.extend(convergence_figures(&data, g, si, &stem, out)?),
+                GroupKind::Table => figures.extend(table_figures(data, g, si, &stem, out)?),
+                GroupKind::Convergence => {
+                    figures.extend(convergence_rays(data, g, si, &stem, out)?);
+                    figures.extend(convergence_time(data, g, si, &stem, out)?);
+                    figures.extend(efficiency_figure(data, g, si, &stem, out)?);
+                }
             }
         }
     }
-    figures.extend(banding_figure(&data, out)?);
-    page::write(&data, &figures, out)
-}
-
-/// A readable name of a row, as the paper says it.
-pub fn row_label(row: Row) -> String {
-    let seq = match (row.sequence, row.seed_mode) {
-        (Sequence::Random, SeedMode::Static) => "pseudo-random, static seed".to_string(),
-        (Sequence::Random, _) => "pseudo-random".to_string(),
-        (Sequence::Fibonacci, SeedMode::Rotation) => "Fibonacci, per-pixel seed".to_string(),
-        (Sequence::Fibonacci, SeedMode::Static) => "Fibonacci, static seed".to_string(),
-        (Sequence::Fibonacci, SeedMode::Shift) => "Fibonacci, shift".to_string(),
-        (s, m) => format!("{s}, {m}"),
-    };
-    format!("{}, {seq}", row.distribution)
-}
-
-/// Whether a result belongs to (scene, row, rays).
-fn is_config(r: &JobResult, scene: &str, row: Row, rays: u32) -> bool {
-    let row = row.canonical();
-    r.scene == scene
-        && r.rays == rays
-        && r.distribution == row.distribution.name()
-        && r.sequence == row.sequence.name()
-        && r.seed_mode == row.seed_mode.name()
-}
-
-/// The banding metric of one image: mean of the horizontal and vertical lag-1 error autocorrelation.
-fn banding(r: &JobResult) -> f64 {
-    0.5 * (r.autocorr_x + r.autocorr_y)
-}
-
-/// Mean ± sd of the banding metric over the replicates of a configuration.
-pub fn banding_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Option<(f64, f64)> {
-    let v: Vec<f64> = results
-        .iter()
-        .filter(|r| is_config(r, scene, row, rays))
-        .map(banding)
-        .filter(|b| b.is_finite())
-        .collect();
-    (!v.is_empty()).then(|| mean_sd(&v))
+    figures.extend(banding_figure(data, out)?);
+    Ok(figures)
 }
 
 fn drawn(path: &Path, r: std::result::Result<Vec<u8>, String>) -> Result<Vec<u8>> {
@@ -159,7 +110,7 @@ fn caption(data: &Data, scene: &str, row: Row, rays: u32) -> String {
     match results::lookup(&data.aggs, scene, row, rays) {
         Some(a) => {
             let (b, _) = banding_stat(data.results, scene, row, rays).unwrap_or((f64::NAN, 0.0));
-            format!("RMSE {:.4} ± {:.4}  ρ {:+.2}", a.rmse.mean, a.rmse.sd, b)
+            format!("RMSE {:.4} ± {:.4}  ρ {:+.2}  z {:.1}", a.rmse.mean, a.rmse.sd, b, a.whiteness_z.mean)
         }
         None => "no result".into(),
     }
@@ -187,7 +138,10 @@ fn table_figures(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> R
     let ref_cell = GridCell {
         image: &reference.mean,
         mask: Some(&reference.coverage),
-        caption: format!("{} × {} rays, noise {:.1e}", m.replicates, m.rays, reference.noise_floor()),
+        caption: match m.adaptive {
+            Some(_) => format!("{} × adaptive rays, noise {:.1e}", m.replicates, reference.noise_floor()),
+            None => format!("{} × {} rays, noise {:.1e}", m.replicates, m.rays, reference.noise_floor()),
+        },
     };
     let row_labels: Vec<String> = g.rows.iter().map(|r| row_label(*r)).collect();
     let col_labels: Vec<String> = g.rays.iter().map(|r| format!("{r} rays")).collect();
@@ -200,7 +154,8 @@ fn table_figures(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> R
     );
     let cap = format!(
         "{}: AO images of replicate 0 on '{scene}' (rows × rays), the reference beside; captions: RMSE mean \
-         ± sd over {reps} replicates and ρ, the mean lag-1 error autocorrelation (0 = noise, 1 = bands).",
+         ± sd over {reps} replicates, ρ, the mean lag-1 error autocorrelation (0 = noise, 1 = bands), and z, \
+         the whiteness z-score of the error (0 ± 1 = noise, > {STRUCTURED_Z} = structured).",
         g.name
     );
     let mut figs = vec![write_figure(out, &name, cap, vec![], bytes)?];
@@ -219,122 +174,187 @@ fn table_figures(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> R
     Ok(figs)
 }
 
-/// The aggregates of one sweep row, in ray order.
-fn sweep_points<'a>(data: &'a Data, g: &Group, scene: &str, row: Row) -> Vec<&'a Aggregate> {
-    g.rays.iter().filter_map(|&rays| results::lookup(&data.aggs, scene, row, rays)).collect()
+/// A log-log figure as PNG (on the page) and SVG (linked below it).
+#[allow(clippy::too_many_arguments)]
+fn log_log(
+    out: &Path,
+    base: &str,
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    series: &[Series],
+    guides: &[Guide],
+    caption: String,
+) -> Result<Figure> {
+    let svg = format!("{base}.svg");
+    let bytes = drawn(
+        &out.join(&svg),
+        report::convergence_plot(title, x_label, y_label, series, guides, Format::Svg),
+    );
+    io::write_atomic(&out.join(&svg), &bytes?)?;
+    let png = format!("{base}.png");
+    let bytes = drawn(
+        &out.join(&png),
+        report::convergence_plot(title, x_label, y_label, series, guides, Format::Png),
+    );
+    write_figure(out, &png, caption, vec![svg], bytes)
 }
 
-/// The fitted slopes of one sweep row, over the sweep's own ray counts.
-pub fn sweep_slope(data: &Data, g: &Group, scene: &str, row: Row) -> Option<results::Slope> {
-    let pts: Vec<Aggregate> = sweep_points(data, g, scene, row).into_iter().cloned().collect();
-    results::convergence_slopes(&pts, &g.rays).into_iter().next()
+/// The reference's noise floor as a guide, when it is a positive number.
+fn floor_guide(data: &Data, si: usize) -> Vec<Guide> {
+    let floor = data.references[si].noise_floor();
+    if floor.is_finite() && floor > 0.0 {
+        vec![Guide::Horizontal(floor, "reference noise floor".into())]
+    } else {
+        vec![]
+    }
 }
 
-fn convergence_figures(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+fn size(data: &Data, si: usize) -> String {
+    format!("{}x{} px", data.references[si].mean.width, data.references[si].mean.height)
+}
+
+/// RMSE against rays per pixel, mean ± sd over replicates, slope and its 95 % interval in the legend.
+fn convergence_rays(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
-    let floor = Some(data.references[si].noise_floor()).filter(|f| f.is_finite() && *f > 0.0);
-    let mut by_rays = Vec::new();
-    let mut by_time = Vec::new();
+    let series: Vec<Series> = g
+        .rows
+        .iter()
+        .filter_map(|&row| {
+            let pts = sweep_points(data, g, scene, row);
+            let points = pts.iter().map(|a| (a.rays as f64, a.rmse.mean, a.rmse.sd)).collect::<Vec<_>>();
+            let note = sweep_slope(data, g, scene, row)
+                .and_then(|s| s.vs_rays)
+                .map(|f| format!("slope {}", f.text()));
+            (!points.is_empty()).then(|| Series { note, ..Series::new(row_label(row), points) })
+        })
+        .collect();
+    if series.is_empty() {
+        return Ok(vec![]);
+    }
+    let title = format!("RMSE against rays per pixel ('{scene}', {})", size(data, si));
+    let cap = format!(
+        "{}: {title}; mean ± sd over {} replicates; least-squares log-log slope and its 95 % interval in \
+         the legend; dashed: the reference's noise floor.",
+        g.name, g.replicates
+    );
+    let axes = ("rays per pixel", "RMSE");
+    Ok(vec![log_log(out, &format!("{stem}_rays"), &title, axes, &series, &floor_guide(data, si), cap)?])
+}
+
+/// RMSE against the median render time (min..max of the timed renders as x bars), the
+/// no-AO-ray overhead as a wall; slope against AO time in the legend.
+fn convergence_time(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+    let scene = &data.loaded.spec.scenes[si].name;
+    let mut series = Vec::new();
     for &row in &g.rows {
-        let pts = sweep_points(data, g, scene, row);
+        let mut pts: Vec<_> = sweep_points(data, g, scene, row)
+            .into_iter()
+            .filter_map(|a| a.time.filter(|t| t.min > 0.0).map(|t| (t, a)))
+            .collect();
+        pts.sort_by(|a, b| a.0.median.total_cmp(&b.0.median));
         if pts.is_empty() {
             continue;
         }
-        let slope = sweep_slope(data, g, scene, row);
-        let label = row_label(row);
-        by_rays.push(Series {
-            label: label.clone(),
-            points: pts.iter().map(|a| (a.rays as f64, a.rmse.mean, a.rmse.sd)).collect(),
-            slope: slope.as_ref().and_then(|s| s.vs_rays),
+        let note = sweep_slope(data, g, scene, row)
+            .and_then(|s| s.vs_ao_time)
+            .map(|f| format!("slope vs AO time {}", f.text()));
+        series.push(Series {
+            label: row_label(row),
+            points: pts.iter().map(|(t, a)| (t.median * 1e3, a.rmse.mean, a.rmse.sd)).collect(),
+            x_range: pts.iter().map(|(t, _)| (t.min * 1e3, t.max * 1e3)).collect(),
+            note,
         });
-        let mut timed: Vec<(f64, f64, f64)> = pts
-            .iter()
-            .filter(|a| a.time_s.mean > 0.0 && a.time_s.mean.is_finite())
-            .map(|a| (a.time_s.mean, a.rmse.mean, a.rmse.sd))
-            .collect();
-        timed.sort_by(|a, b| a.0.total_cmp(&b.0));
-        if !timed.is_empty() {
-            by_time.push(Series { label, points: timed, slope: slope.and_then(|s| s.vs_time) });
+    }
+    if series.is_empty() {
+        return Ok(vec![]);
+    }
+    let mut guides = floor_guide(data, si);
+    if let Some(o) = data.overhead[si].filter(|o| o.median > 0.0) {
+        guides.push(Guide::Vertical(o.median * 1e3, "image with no AO rays (overhead)".into()));
+    }
+    let title = format!("RMSE against render time ('{scene}', {})", size(data, si));
+    let cap = format!(
+        "{}: {title}. x: median over every timed render of the configuration (bars: min..max); a time is \
+         {}. y: mean ± sd over {} replicates. Dashed vertical: the overhead, the time of an image with no \
+         AO rays; the legend's slope is fitted against the AO time (render time minus the overhead), \
+         with its 95 % interval.",
+        g.name,
+        crate::timing::TIME_INCLUDES,
+        g.replicates
+    );
+    let axes = ("render time per image (ms, one thread)", "RMSE");
+    Ok(vec![log_log(out, &format!("{stem}_time"), &title, axes, &series, &guides, cap)?])
+}
+
+/// Efficiency 1 / (MSE · AO time) against rays per pixel, ± its spread.
+fn efficiency_figure(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+    let scene = &data.loaded.spec.scenes[si].name;
+    let series: Vec<Series> = g
+        .rows
+        .iter()
+        .filter_map(|&row| {
+            let points: Vec<(f64, f64, f64)> = sweep_points(data, g, scene, row)
+                .iter()
+                .filter(|a| a.efficiency.is_finite() && a.efficiency > 0.0)
+                .map(|a| (a.rays as f64, a.efficiency, a.efficiency_spread.max(0.0)))
+                .collect();
+            (!points.is_empty()).then(|| Series::new(row_label(row), points))
+        })
+        .collect();
+    if series.is_empty() {
+        return Ok(vec![]);
+    }
+    let title = format!("Efficiency against rays per pixel ('{scene}', {})", size(data, si));
+    let cap = format!(
+        "{}: {title}. Efficiency = 1 / (MSE · AO time) in 1/s, with MSE the mean over replicates of the \
+         squared RMSE and AO time the median render time minus the per-image overhead, so the overhead \
+         cannot dominate at low ray counts; higher is better. Bars: ± the spread (the standard error of \
+         the MSE, and half the 95 % interval of the median time with the run-to-run scatter, combined).",
+        g.name
+    );
+    let axes = ("rays per pixel", "efficiency (1/(MSE·s))");
+    Ok(vec![log_log(out, &format!("{stem}_efficiency"), &title, axes, &series, &[], cap)?])
+}
+
+/// The structured-error metric (whiteness z) of every table configuration, so Table 3's banding is
+/// a number: one figure for a single scene (`banding.png`), one per scene otherwise
+/// (`banding_<scene>.png`), so that no figure grows beyond a screen or two.
+fn banding_figure(data: &Data, out: &Path) -> Result<Vec<Figure>> {
+    let configs = table_configs(data);
+    let mut scenes: Vec<String> = Vec::new();
+    for (scene, _, _) in &configs {
+        if !scenes.contains(scene) {
+            scenes.push(scene.clone());
         }
     }
     let mut figs = Vec::new();
-    if by_rays.is_empty() {
-        return Ok(figs);
-    }
-    let reps = g.replicates;
-    let plots = [
-        ("rays", "rays per pixel", "RMSE against rays per pixel", &by_rays),
-        ("time", "render time per image (s)", "RMSE against render time", &by_time),
-    ];
-    for (what, x_label, title, series) in plots {
-        if series.is_empty() {
+    for scene in &scenes {
+        let bars: Vec<(String, f64, f64)> = configs
+            .iter()
+            .filter(|c| &c.0 == scene)
+            .filter_map(|(scene, row, rays)| {
+                let (m, sd) = whiteness_stat(data.results, scene, *row, *rays)?;
+                Some((format!("{}, {rays} rays", row_label(*row)), m, sd))
+            })
+            .collect();
+        if bars.is_empty() {
             continue;
         }
-        let (w, h) = (data.references[si].mean.width, data.references[si].mean.height);
-        let title = format!("{title} ('{scene}', {w}x{h} px)");
-        let base = format!("{stem}_{what}");
-        let svg = format!("{base}.svg");
-        let bytes = drawn(
-            &out.join(&svg),
-            report::convergence_plot(&title, x_label, "RMSE", series, floor, Format::Svg),
-        );
+        let stem = if scenes.len() > 1 { format!("banding_{scene}") } else { "banding".to_string() };
+        let title = format!("Structured error of the tables' configurations ('{scene}')");
+        let x_label = "whiteness z-score of the error (white noise: 0 ± 1)";
+        let svg = format!("{stem}.svg");
+        let bytes = drawn(&out.join(&svg), report::banding_plot(&title, x_label, &bars, Format::Svg));
         io::write_atomic(&out.join(&svg), &bytes?)?;
-        let png = format!("{base}.png");
-        let bytes = drawn(
-            &out.join(&png),
-            report::convergence_plot(&title, x_label, "RMSE", series, floor, Format::Png),
-        );
+        let png = format!("{stem}.png");
+        let bytes = drawn(&out.join(&png), report::banding_plot(&title, x_label, &bars, Format::Png));
         let cap = format!(
-            "{}: {title}; mean ± sd over {reps} replicates, least-squares log-log slope in the legend, \
-             dashed: the reference's noise floor.",
-            g.name
+            "Banding on '{scene}': the whiteness z-score of the error image (2-D Ljung–Box statistic over \
+             every lag up to 4 pixels in every direction, against white noise), mean ± sd over replicates. \
+             Independent per-pixel noise reads about 0 ± 1; bands, stripes and moiré of any orientation \
+             read far above {STRUCTURED_Z}, although their RMSE may be no worse."
         );
         figs.push(write_figure(out, &png, cap, vec![svg], bytes)?);
     }
     Ok(figs)
-}
-
-/// Every (scene, row, rays) of the spec's tables, in file order, without duplicates.
-pub fn table_configs(data: &Data) -> Vec<(String, Row, u32)> {
-    let spec = &data.loaded.spec;
-    let mut out: Vec<(String, Row, u32)> = Vec::new();
-    for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
-        for &si in &g.scenes {
-            for &row in &g.rows {
-                for &rays in &g.rays {
-                    let c = (spec.scenes[si].name.clone(), row.canonical(), rays);
-                    if !out.contains(&c) {
-                        out.push(c);
-                    }
-                }
-            }
-        }
-    }
-    out
-}
-
-/// The structured-error metric of every table configuration, so Table 3's banding is a number.
-fn banding_figure(data: &Data, out: &Path) -> Result<Vec<Figure>> {
-    let many_scenes = data.loaded.spec.scenes.len() > 1;
-    let bars: Vec<(String, f64, f64)> = table_configs(data)
-        .into_iter()
-        .filter_map(|(scene, row, rays)| {
-            let (m, sd) = banding_stat(data.results, &scene, row, rays)?;
-            let prefix = if many_scenes { format!("{scene}: ") } else { String::new() };
-            Some((format!("{prefix}{}, {rays} rays", row_label(row)), m, sd))
-        })
-        .collect();
-    if bars.is_empty() {
-        return Ok(vec![]);
-    }
-    let title = "Structured error of the tables' configurations";
-    let x_label = "lag-1 error autocorrelation, mean of x and y";
-    let svg = "banding.svg";
-    let bytes = drawn(&out.join(svg), report::banding_plot(title, x_label, &bars, Format::Svg));
-    io::write_atomic(&out.join(svg), &bytes?)?;
-    let bytes = drawn(&out.join("banding.png"), report::banding_plot(title, x_label, &bars, Format::Png));
-    let cap = "Banding: the mean of the horizontal and vertical lag-1 autocorrelation of the error image, \
-               mean ± sd over replicates. Independent per-pixel noise reads near 0; the static seed's \
-               stair-steps read far above it, although its RMSE may be no worse.";
-    Ok(vec![write_figure(out, "banding.png", cap.into(), vec![svg.into()], bytes)?])
 }

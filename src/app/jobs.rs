@@ -1,5 +1,5 @@
-//! Turning a planned job into an image: its geometry on its scene, the sampler, the thread pool, and
-//! the time it took (render only: no reference, no IO).
+//! Turning a planned job into an image on all threads (the references; `timed.rs` renders the
+//! measured jobs): its geometry on its scene, the sampler, the thread pool.
 
 use crate::error::{Error, Result};
 use crate::plan::Job;
@@ -9,7 +9,6 @@ use crate::sampling::SamplerConfig;
 use crate::scene::Scene;
 use crate::spec::AoDistance;
 use indicatif::ProgressBar;
-use std::time::Instant;
 
 /// Image size and AO distance of a job: the spec's override, else the scene's own.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,8 +36,6 @@ impl Geometry {
 
 pub struct Rendered {
     pub output: RenderOutput,
-    /// Wall time of the render alone.
-    pub time_s: f64,
 }
 
 /// Renders jobs on one thread pool and advances one progress bar counted in rays
@@ -53,31 +50,38 @@ impl JobRunner {
         Ok(Self { pool: super::render::pool(threads)?, bar: progress::bar(0, "", quiet) })
     }
 
-    /// Restarts the bar for a new stage of `total_rays` rays.
-    pub fn stage(&self, what: &str, total_rays: u64) {
-        self.bar.reset();
-        self.bar.set_length(total_rays);
-        self.bar.set_message(what.to_string());
-    }
-
-    pub fn render(&self, job: &Job, scene: &Scene, label: &str) -> Result<Rendered> {
+    /// What the renderer needs to know of a planned job.
+    fn render_job(job: &Job, scene: &Scene) -> Result<RenderJob> {
         let g = Geometry::of(job.resolution, job.ao_distance, scene);
         let sampler = SamplerConfig::new(job.sequence, job.seed_mode, job.rays, job.seed)
             .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
-        let rj = RenderJob {
+        Ok(RenderJob {
             distribution: job.distribution,
             sampler,
             width: g.width,
             height: g.height,
             ao_distance: g.distance.as_f32(),
-        };
+        })
+    }
+
+    /// `job` with `counts[i]` rays in pixel i instead of `job.rays` (adaptive references); the bar
+    /// advances by the rays cast.
+    pub fn render_counts(&self, job: &Job, scene: &Scene, counts: &[u32], label: &str) -> Result<Rendered> {
+        let rj = Self::render_job(job, scene)?;
+        self.bar.set_message(label.to_string());
+        let output =
+            self.pool.install(|| super::adaptive::render_counts(scene, &rj, counts, &|n| self.bar.inc(n)));
+        Ok(Rendered { output })
+    }
+
+    pub fn render(&self, job: &Job, scene: &Scene, label: &str) -> Result<Rendered> {
+        let g = Geometry::of(job.resolution, job.ao_distance, scene);
+        let rj = Self::render_job(job, scene)?;
         self.bar.set_message(label.to_string());
         let before = self.bar.position();
         let rays = job.rays as u64;
-        let start = Instant::now();
         let output = self.pool.install(|| render::render(scene, &rj, &|px| self.bar.inc(px * rays)));
-        let time_s = start.elapsed().as_secs_f64();
         self.bar.set_position(before + g.pixels() * rays);
-        Ok(Rendered { output, time_s })
+        Ok(Rendered { output })
     }
 }

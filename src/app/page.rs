@@ -1,46 +1,129 @@
-//! `report.md` and `index.html`: one offline page with the run's numbers (references, each table's
-//! RMSE, convergence slopes, every aggregate) and every figure, linked by relative paths.
+//! `report.md` and `index.html`: one offline page with the run's answer first (generated in
+//! `answer.rs`) and the verdict on each claim per scene (`verdicts.rs`), what a time is, then the
+//! numbers (references, each table's RMSE, convergence slopes and costs) and every figure
+//! `figures.rs` wrote, linked by relative paths; the long tables (verdict margins, every aggregate)
+//! folded at the end.
 
-use super::figures::{Data, banding_stat, row_label, sweep_slope};
+use super::answer;
+use super::data::{Data, agg_label, banding_stat, row_label, sweep_slope};
 use crate::error::Result;
 use crate::io;
+use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::report::{self, Figure, Table};
-use crate::results::{self, Stat};
+use crate::results::{self, SlopeFit, Stat};
 use crate::spec::{GroupKind, Row};
+use crate::timing;
 use std::path::Path;
 
 pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
     let spec = &data.loaded.spec;
-    let mut tables = vec![reference_table(data)];
+    let answer = answer::answer(data);
+    let mut tables = Vec::new();
+    let mut collapsed = Vec::new();
+    if let Some((summary, details)) = super::verdicts::tables(data) {
+        tables.push(summary);
+        collapsed.push(details);
+    }
+    tables.extend(answer.tables);
+    tables.push(reference_table(data));
+    // With several scenes the per-scene tables would push the figures pages down: the verdict sums
+    // them up, and they are folded after the figures.
+    let many = spec.scenes.len() > 1;
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
         for &si in &g.scenes {
-            tables.push(rmse_table(data, &g.name, &spec.scenes[si].name, &g.rows, &g.rays, g.replicates));
+            let t = rmse_table(data, &g.name, &spec.scenes[si].name, &g.rows, &g.rays, g.replicates);
+            if many { collapsed.push(t) } else { tables.push(t) }
         }
     }
     let slopes = slope_table(data);
     if !slopes.rows.is_empty() {
-        tables.push(slopes);
+        if many { collapsed.push(slopes) } else { tables.push(slopes) }
     }
-    tables.push(aggregate_table(data));
+    collapsed.push(aggregate_table(data));
     let title = format!("hemilab: {}", spec.name);
-    let intro = format!(
+    let mut intro = answer.text;
+    intro.push(timing_text(data));
+    intro.extend(data.notes.iter().cloned());
+    intro.push(format!(
         "Spec {} ({} jobs). Every number is measured against the reference of its scene over the \
-         pixels that see a surface; mean ± sd over independent replicates (different seeds). \
-         ρ is the lag-1 autocorrelation of the error image (horizontal / vertical): near 0 for \
-         independent per-pixel noise, near 1 for banding. Lowpass RMSE is the RMSE after a small \
-         Gaussian blur of the error: noise averages out under it, bands do not. Efficiency = \
-         1 / (MSE × time).\n\nRaw numbers: results.csv, results.json (one record per image), \
-         aggregates.csv, slopes.json.",
+         pixels that see a surface; mean ± sd over independent replicates (different seeds; replicate r \
+         has the same seed in every configuration, so differences are paired). ρ is the lag-1 \
+         autocorrelation of the error image (horizontal / vertical): near 0 for independent per-pixel \
+         noise, near 1 for banding. The whiteness z-score tests the error image against white noise \
+         over every lag up to 4 pixels in every direction (a 2-D Ljung–Box statistic): about 0 ± 1 for \
+         independent per-pixel noise, above 5 for structure of any orientation or period — diagonal \
+         moiré and checkerboards included, which ρ misses. Lowpass RMSE is the RMSE after a small \
+         Gaussian blur of the error: noise averages out under it, bands do not. Slopes carry 95 % \
+         confidence intervals. A claim that fails on a scene is a result, not a bug: the verdict table \
+         says where the paper's findings carry over and where they do not.",
         spec.path.display(),
         data.results.len()
+    ));
+    intro.push(
+        "Raw numbers: results.csv, results.json (one record per image), aggregates.csv, slopes.json, \
+         timing.json."
+            .into(),
     );
+    let intro = intro.join("\n\n");
     io::write_atomic(
         &out.join("index.html"),
-        report::html_report(&title, &intro, &tables, figures).as_bytes(),
+        report::html_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
     )?;
     io::write_atomic(
         &out.join("report.md"),
-        report::markdown_report(&title, &intro, &tables, figures).as_bytes(),
+        report::markdown_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
+    )
+}
+
+/// What a time is and how it was measured.
+fn timing_text(data: &Data) -> String {
+    let p = &data.protocol;
+    let overhead: Vec<String> = data
+        .loaded
+        .spec
+        .scenes
+        .iter()
+        .zip(&data.overhead)
+        .filter_map(|(s, o)| {
+            let o = o.as_ref()?;
+            Some(format!(
+                "'{}' {:.2} ms [{:.2}–{:.2}] over {} renders",
+                s.name,
+                o.median * 1e3,
+                o.min * 1e3,
+                o.max * 1e3,
+                o.n
+            ))
+        })
+        .collect();
+    let overhead =
+        if overhead.is_empty() { "not measured in this session".into() } else { overhead.join(", ") };
+    format!(
+        "Timing. A time is {}, read from the {}. Every configuration was rendered at least {} times (its \
+         replicates, re-rendered for timing where fewer) in passes: each pass renders every configuration \
+         once, in a seeded random order (seed {}), so drift of the machine lands on all configurations \
+         alike. A second round, interleaved the same way, rendered again every configuration whose \
+         renders added up to less than {} s, up to {} renders in all (cheap renders are timed more \
+         often). {} worker(s) rendered side by side, each on {} thread, after {:.1} s of untimed warm-up \
+         per scene. Times are the median over those renders, with min and max; the spread of a time is half \
+         the width of its median's distribution-free 95 % interval (order statistics; min..max when there \
+         are too few renders for 95 %), combined with a run-to-run scatter of {:.0} % of the median that one \
+         run cannot see (measured between runs of the paper experiment; README, Timing). The per-image overhead \
+         (primary rays and setup: an image with no AO rays) is {overhead}; AO time = median time − \
+         overhead, the marginal cost of a ray = AO time / AO rays, and efficiency = 1 / (MSE · AO time) \
+         in 1/s, which the overhead cannot dominate. The machine may be shared with other work: thread \
+         CPU time does not count the time another process held the core (wall times are in \
+         results.csv, wall_s).",
+        timing::TIME_INCLUDES,
+        timing::clock::NAME,
+        p.repeats,
+        p.seed,
+        p.min_total_s,
+        p.max_repeats,
+        p.workers,
+        p.threads_per_render,
+        p.warmup_s,
+        100.0 * timing::RUN_TO_RUN
     )
 }
 
@@ -69,7 +152,17 @@ fn reference_table(data: &Data) -> Table {
                 name.clone(),
                 format!("{}x{}", r.mean.width, r.mean.height),
                 row_label(data.loaded.spec.reference.estimator),
-                format!("{} × {}", m.replicates, m.rays),
+                match &m.adaptive {
+                    Some(a) => {
+                        let pixels = crate::reference::noise_floor_pixels(&r.coverage).max(1) as f64;
+                        let mean = a.total_rays.unwrap_or(0) as f64 / pixels;
+                        format!(
+                            "{} × adaptive, mean {mean:.0} (pilot {} × {})",
+                            m.replicates, m.replicates, m.rays
+                        )
+                    }
+                    None => format!("{} × {}", m.replicates, m.rays),
+                },
                 format!("{floor:.2e}"),
                 format!("{smallest:.2e}"),
                 format!("{:.3}", floor / smallest),
@@ -90,7 +183,12 @@ fn rmse_table(data: &Data, name: &str, scene: &str, rows: &[Row], rays: &[u32], 
                 cells.push(match results::lookup(&data.aggs, scene, row, n) {
                     Some(a) => {
                         let b = banding_stat(data.results, scene, row, n).map_or(f64::NAN, |b| b.0);
-                        format!("{}  (ρ {b:+.2})", pm(a.rmse, 4))
+                        format!(
+                            "{}  (ρ {b:+.2}, z {:.1}, lowpass {:.4})",
+                            pm(a.rmse, 4),
+                            a.whiteness_z.mean,
+                            a.lowpass_rmse.mean
+                        )
                     }
                     None => "–".into(),
                 });
@@ -98,33 +196,61 @@ fn rmse_table(data: &Data, name: &str, scene: &str, rows: &[Row], rays: &[u32], 
             cells
         })
         .collect();
-    let title = format!("{name} ('{scene}'): RMSE, mean ± sd over {reps} replicates (ρ: banding metric)");
+    let title = format!(
+        "{name} ('{scene}'): RMSE, mean ± sd over {reps} replicates (ρ: lag-1 autocorrelation; z: whiteness \
+         z-score, > {STRUCTURED_Z} = structured; lowpass: RMSE of the blurred error)"
+    );
     Table { title, header, rows }
 }
 
 fn slope_table(data: &Data) -> Table {
-    let spec = &data.loaded.spec;
-    let header = ["sweep", "scene", "configuration", "ray counts", "slope vs rays", "slope vs time"];
+    let header = [
+        "sweep",
+        "scene",
+        "configuration",
+        "ray counts",
+        "slope vs rays",
+        "slope vs AO time",
+        "slope vs render time",
+        "ns per AO ray (fit)",
+        "overhead (fit, ms)",
+    ];
+    let f = |v: Option<SlopeFit>| v.map_or("–".into(), |k| k.text());
+    let interval = |v: f64, i: Option<(f64, f64)>, scale: f64, d: usize| match i {
+        Some((a, b)) => format!("{:.d$} [{:.d$}, {:.d$}]", v * scale, a * scale, b * scale),
+        None if v.is_finite() => format!("{:.d$}", v * scale),
+        None => "–".into(),
+    };
     let mut rows = Vec::new();
-    for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Convergence) {
-        for &si in &g.scenes {
-            let scene = &spec.scenes[si].name;
-            for &row in &g.rows {
-                let Some(s) = sweep_slope(data, g, scene, row) else { continue };
-                let f = |v: Option<f64>| v.map_or("–".into(), |k| format!("{k:+.3}"));
-                rows.push(vec![
-                    g.name.clone(),
-                    scene.clone(),
-                    row_label(row),
-                    s.points.to_string(),
-                    f(s.vs_rays),
-                    f(s.vs_time),
-                ]);
-            }
+    for (g, _, scene) in data.sweeps() {
+        for &row in &g.rows {
+            let Some(s) = sweep_slope(data, g, scene, row) else { continue };
+            let (ns, over) = match s.cost {
+                Some(c) => (
+                    interval(c.ns_per_ray, c.ns_per_ray_interval, 1.0, 1),
+                    interval(c.overhead_s, c.overhead_interval, 1e3, 2),
+                ),
+                None => ("–".into(), "–".into()),
+            };
+            rows.push(vec![
+                g.name.clone(),
+                scene.to_string(),
+                row_label(row),
+                s.points.to_string(),
+                f(s.vs_rays),
+                f(s.vs_ao_time),
+                f(s.vs_time),
+                ns,
+                over,
+            ]);
         }
     }
     Table {
-        title: "Convergence: least-squares slope of log RMSE (−0.5 = plain Monte Carlo)".into(),
+        title:
+            "Convergence: least-squares slope of log RMSE with its 95 % interval (−0.5 = plain Monte Carlo), \
+                against rays, AO time (render time minus the overhead) and render time; and the fit \
+                time = overhead + cost · AO rays through the median times"
+                .into(),
         header: header.map(String::from).to_vec(),
         rows,
     }
@@ -141,19 +267,23 @@ fn aggregate_table(data: &Data) -> Table {
         "ρ x",
         "ρ y",
         "lowpass RMSE",
-        "time (ms)",
-        "M rays/s",
-        "efficiency",
+        "whiteness z",
+        "time (ms): median [min–max], n",
+        "AO time (ms)",
+        "ns per AO ray",
+        "efficiency (1/(MSE·s))",
     ];
     let rows = data
         .aggs
         .iter()
         .map(|a| {
-            let ms = Stat { mean: a.time_s.mean * 1e3, sd: a.time_s.sd * 1e3 };
-            let label = format!("{}, {}, {}", a.distribution, a.sequence, a.seed_mode);
+            let time = a.time.map_or("–".into(), |t| {
+                format!("{:.2} [{:.2}–{:.2}], {}", t.median * 1e3, t.min * 1e3, t.max * 1e3, t.n)
+            });
+            let num = |v: f64, s: String| if v.is_finite() { s } else { "–".into() };
             vec![
                 a.scene.clone(),
-                label,
+                agg_label(a),
                 a.rays.to_string(),
                 a.replicates.to_string(),
                 pm(a.rmse, 4),
@@ -161,18 +291,16 @@ fn aggregate_table(data: &Data) -> Table {
                 pm(a.autocorr_x, 2),
                 pm(a.autocorr_y, 2),
                 pm(a.lowpass_rmse, 4),
-                pm(ms, 1),
-                format!("{:.1}", a.rays_per_s.mean / 1e6),
-                if a.efficiency.mean.is_finite() {
-                    format!("{:.3e}", a.efficiency.mean)
-                } else {
-                    "–".into()
-                },
+                pm(a.whiteness_z, 1),
+                time,
+                num(a.ao_time_s, format!("{:.2}", a.ao_time_s * 1e3)),
+                num(a.ns_per_ray, format!("{:.1}", a.ns_per_ray)),
+                num(a.efficiency, format!("{:.3e} ± {:.1e}", a.efficiency, a.efficiency_spread)),
             ]
         })
         .collect();
     Table {
-        title: "All configurations (mean ± sd over replicates)".into(),
+        title: "All configurations (mean ± sd over replicates; times over every timed render)".into(),
         header: header.map(String::from).to_vec(),
         rows,
     }

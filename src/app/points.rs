@@ -34,7 +34,7 @@ pub fn directions(
     let config =
         SamplerConfig::new(sequence, seed_mode, count, seed).map_err(|e| Error::Usage(e.to_string()))?;
     let mut pts = vec![Vec2::ZERO; count as usize];
-    config.fill_pixel(0, &mut pts);
+    config.fill_pixel(0, 0, 0, &mut pts);
     Ok(pts.into_iter().map(|u| distribution.sample(u).dir).collect())
 }
 

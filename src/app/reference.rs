@@ -7,9 +7,9 @@ use crate::error::{Error, Result};
 use crate::image::{Channel, Image};
 use crate::io;
 use crate::plan;
-use crate::reference::{self, Manifest};
+use crate::reference::{self, Adaptive, Manifest};
 use crate::scene::Scene;
-use crate::spec::{ReferenceRays, Spec};
+use crate::spec::{MAX_REFERENCE_RAYS, ReferenceRays, Spec};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -49,12 +49,31 @@ pub fn auto_rays(spec: &Spec, scene: usize) -> u32 {
     r.next_power_of_two().min(1 << 22) as u32
 }
 
+/// Most rays of a pilot pass under a fixed budget: enough to see each pixel's spread, a small part of
+/// the budget.
+pub const MAX_PILOT_RAYS: u32 = 256;
+
+/// An adaptive reference's pilot rays per pixel: under `rays = "auto"` the largest ray count the spec
+/// measures on the scene (so the pilot's spread is the single-render error the floor is set against),
+/// else the budget, up to `MAX_PILOT_RAYS`.
+pub fn pilot_rays(spec: &Spec, scene: usize) -> u32 {
+    match spec.reference.rays {
+        ReferenceRays::Fixed(r) => r.min(MAX_PILOT_RAYS),
+        ReferenceRays::Auto => {
+            let n =
+                spec.groups.iter().filter(|g| g.scenes.contains(&scene)).flat_map(|g| g.rays.iter()).max();
+            *n.unwrap_or(&64)
+        }
+    }
+}
+
 pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry) -> Manifest {
-    let rays = match spec.reference.rays {
-        ReferenceRays::Fixed(r) => r,
-        ReferenceRays::Auto => auto_rays(spec, si),
+    let rays = match (spec.reference.adaptive, spec.reference.rays) {
+        (true, _) => pilot_rays(spec, si),
+        (false, ReferenceRays::Fixed(r)) => r,
+        (false, ReferenceRays::Auto) => auto_rays(spec, si),
     };
-    Manifest::wanted(
+    let mut m = Manifest::wanted(
         &spec.scenes[si],
         &scene.content_hash,
         &format!("{:?}", scene.view),
@@ -64,7 +83,20 @@ pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry
         rays,
         spec.reference.replicates,
         spec.reference.seed,
-    )
+    );
+    if spec.reference.adaptive {
+        m.adaptive = Some(Adaptive {
+            rule: reference::ADAPTIVE_RULE.into(),
+            min_rays: rays,
+            budget: match spec.reference.rays {
+                ReferenceRays::Fixed(r) => Some(r),
+                ReferenceRays::Auto => None,
+            },
+            total_rays: None,
+            max_rays: None,
+        });
+    }
+    m
 }
 
 fn paths(dir: &Path, manifest: &Manifest) -> (PathBuf, PathBuf) {
@@ -73,6 +105,14 @@ fn paths(dir: &Path, manifest: &Manifest) -> (PathBuf, PathBuf) {
 }
 
 /// The reference of scene `si`, from `dir` or freshly rendered into it.
+///
+/// Shards of one spec may start together on a shared filesystem: each takes the reference's lock
+/// file (`<stem>.lock`, an OS lock released even if the process is killed) before it looks, so one
+/// builds while the others wait and then reuse its result. The image and the manifest are each
+/// written atomically, image first, so no reader ever sees a half-written file or a manifest
+/// without its image. Where the lock cannot be taken (a read-only reference directory, a filesystem
+/// without locks) the run goes on without it: then build the references in a step of their own
+/// (`hemilab reference`) and run the shards with `--no-build-reference`.
 pub fn obtain(
     spec: &Spec,
     si: usize,
@@ -84,6 +124,20 @@ pub fn obtain(
     let geometry = Geometry::of(spec.resolution, spec.ao_distance, scene);
     let wanted = wanted_manifest(spec, si, scene, geometry);
     let (exr, json) = paths(dir, &wanted);
+    let lock_path = dir.join(format!("{}.lock", wanted.file_stem()));
+    if policy != Policy::ReuseOnly && !io::exists(dir) {
+        // Nothing to reuse: it will be built here, and the lock file needs the directory.
+        io::ensure_writable_dir(dir)?;
+        io::create_dir_all(dir)?;
+    }
+    let waiting = |holder: &str| {
+        eprintln!("reference for '{}': waiting for {holder} ({})", scene.name, lock_path.display())
+    };
+    let (_lock, unlocked) = match io::exists(dir).then(|| io::lock(&lock_path, waiting)).transpose()? {
+        Some(Ok(lock)) => (Some(lock), None),
+        Some(Err(why)) => (None, Some(why)),
+        None => (None, None),
+    };
     if policy != Policy::Rebuild {
         match load_if_matching(spec, &wanted, &exr, &json)? {
             Ok(r) => return Ok(r),
@@ -106,7 +160,17 @@ pub fn obtain(
         }
     }
     io::ensure_writable_dir(dir)?;
+    if let Some(why) = unlocked {
+        eprintln!("warning: {why}; another run started now could build this reference at the same time");
+    }
     build(spec, si, scene, wanted, &exr, &json, runner)
+}
+
+/// The reference scene `si` needs, if `dir` holds no usable one (what `obtain` would build).
+pub fn missing(spec: &Spec, si: usize, scene: &Scene, dir: &Path) -> Result<Option<Manifest>> {
+    let wanted = wanted_manifest(spec, si, scene, Geometry::of(spec.resolution, spec.ao_distance, scene));
+    let (exr, json) = paths(dir, &wanted);
+    Ok(load_if_matching(spec, &wanted, &exr, &json)?.err().map(|_| wanted))
 }
 
 /// `Ok(Err((file, why)))` when there is nothing reusable; `Err` only for a stored file that cannot
@@ -125,6 +189,8 @@ fn load_if_matching(
     let stored = Manifest::from_json(&io::read_string(json)?)
         .map_err(|e| Error::input(json, format!("not a reference manifest: {e}")))?;
     let check = match spec.reference.rays {
+        // An adaptive reference's rays follow from its (exactly compared) pilot settings.
+        _ if wanted.adaptive.is_some() => stored.matches(wanted),
         ReferenceRays::Fixed(_) => stored.matches(wanted),
         // The floor the run needs is known only after it; a reference with at least the rays `auto`
         // would spend now is as good as a new one, one with fewer (the spec grew) is not.
@@ -170,11 +236,22 @@ fn build(
     let start = Instant::now();
     let mut images = Vec::with_capacity(jobs.len());
     let mut coverage = None;
+    let counts = match &manifest.adaptive {
+        Some(a) => Some(allocation(spec, si, scene, &manifest, a, runner)?),
+        None => None,
+    };
     for (i, job) in jobs.iter().enumerate() {
         let label = format!("reference {}/{}", i + 1, jobs.len());
-        let done = runner.render(job, scene, &label)?;
+        let done = match &counts {
+            Some(c) => runner.render_counts(job, scene, c, &label)?,
+            None => runner.render(job, scene, &label)?,
+        };
         coverage.get_or_insert(done.output.coverage);
         images.push(done.output.ao);
+    }
+    if let (Some(a), Some(c)) = (manifest.adaptive.as_mut(), &counts) {
+        a.total_rays = Some(c.iter().map(|&n| n as u64).sum());
+        a.max_rays = c.iter().copied().max();
     }
     let coverage =
         coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
@@ -191,14 +268,67 @@ fn build(
         ],
     )?;
     io::write_atomic(json, manifest.to_json().as_bytes())?;
+    let rays = match &manifest.adaptive {
+        Some(a) => {
+            let pixels = reference::noise_floor_pixels(&coverage);
+            let mean = a.total_rays.unwrap_or(0) as f64 / pixels.max(1) as f64;
+            format!("adaptive, {mean:.0} mean (pilot {} x {})", manifest.replicates, manifest.rays)
+        }
+        None => manifest.rays.to_string(),
+    };
     eprintln!(
         "reference for '{}': {} x {} rays, noise floor {:.2e}, {:.1} s → {}",
         scene.name,
         manifest.replicates,
-        manifest.rays,
+        rays,
         manifest.noise_floor.unwrap_or(0.0),
         manifest.time_s.unwrap_or(0.0),
         exr.display()
     );
     Ok(Reference { mean, stderr, coverage, manifest, exr: exr.to_path_buf() })
 }
+
+/// Rays per pixel of an adaptive reference: a pilot pass (the reference estimator at the manifest's
+/// `rays`, replicates with seeds of their own stream, so the allocation is independent of the final
+/// renders) gives each pixel's spread; `reference::allocate` turns it into counts. Under `rays =
+/// "auto"` the target floor is `FLOOR_RATIO` of the pilot's single-render RMS error, the error of the
+/// reference estimator at the largest ray count the spec measures.
+fn allocation(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    manifest: &Manifest,
+    a: &Adaptive,
+    runner: &JobRunner,
+) -> Result<Vec<u32>> {
+    let mut pilots = Vec::new();
+    let mut coverage = None;
+    let mut jobs = plan::reference_jobs(spec, si, manifest.rays);
+    for (i, job) in jobs.iter_mut().enumerate() {
+        job.seed = plan::reference_seed(spec.reference.seed ^ PILOT_STREAM, job.replicate);
+        let done =
+            runner.render(job, scene, &format!("reference pilot {}/{}", i + 1, spec.reference.replicates))?;
+        coverage.get_or_insert(done.output.coverage);
+        pilots.push(done.output.ao);
+    }
+    let coverage =
+        coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
+    let (_, se) = reference::mean_and_stderr(&pilots).map_err(Error::Refused)?;
+    let k = pilots.len() as f32;
+    let sd = Image::from_vec(se.width, se.height, se.data.iter().map(|x| x * k.sqrt()).collect());
+    let sd = reference::neighbourhood_max(&sd, &coverage);
+    let single_render_error = reference::noise_floor(&sd, &coverage);
+    let target = reference::target_floor(single_render_error);
+    let allocation = reference::Allocation {
+        replicates: manifest.replicates,
+        pilot_rays: manifest.rays,
+        budget: a.budget,
+        target_floor: target,
+        min_rays: a.min_rays,
+        max_rays: MAX_REFERENCE_RAYS,
+    };
+    Ok(reference::allocate(&sd, &coverage, &allocation))
+}
+
+/// Pilot seeds are their own stream (the reference's seed xor "pilot").
+const PILOT_STREAM: u64 = 0x0070_696c_6f74;

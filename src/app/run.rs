@@ -2,87 +2,22 @@
 //! Everything is loaded and validated before the first ray; results are rewritten atomically after
 //! every job, so an interrupted run loses nothing and resumes where it stopped.
 
-use super::jobs::{Geometry, JobRunner};
+use super::data::Data;
+use super::jobs::JobRunner;
+use super::load::{Loaded, load};
 use super::reference::{self as refs, Policy, Reference};
-use crate::app::render::{MAX_PIXELS, dropped_warning, load_scene};
-use crate::cli::{PlanArgs, ReferenceArgs, RunArgs};
+use super::shard;
+use super::timed::{self, Session};
+use crate::cli::{ReferenceArgs, RunArgs};
 use crate::error::{Error, Result};
-use crate::image::Channel;
 use crate::io;
-use crate::metrics;
-use crate::plan::{self, Job, Plan};
+use crate::plan::{self, shard::Shard};
 use crate::reference as refmath;
 use crate::results::{self, JobResult};
-use crate::scene::Scene;
-use crate::spec::{self, SceneRef, Spec};
+use crate::spec::{self, Spec};
+use crate::timing::{self, Protocol, Summary};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-
-/// Assumed throughput for `hemilab plan`'s time estimate (measure yours with `hemilab bench`).
-pub const ASSUMED_RAYS_PER_S: f64 = 8.0e6;
-
-/// A spec with every scene it names loaded: all bad input is found here, before any work.
-pub struct Loaded {
-    pub spec: Spec,
-    pub scenes: Vec<Scene>,
-}
-
-impl Loaded {
-    pub fn scene_of(&self, job: &Job) -> (usize, &Scene) {
-        let i =
-            self.spec.scenes.iter().position(|s| s.id == job.scene_id).expect("planned scene is in the spec");
-        (i, &self.scenes[i])
-    }
-}
-
-pub fn load(spec_path: &Path) -> Result<Loaded> {
-    let text = io::read_string(spec_path)?;
-    let spec = spec::parse_spec(&text, spec_path)?;
-    let scenes = spec.scenes.iter().map(|s| load_named_scene(&spec, s)).collect::<Result<Vec<_>>>()?;
-    for w in scenes.iter().filter_map(dropped_warning) {
-        eprintln!("{w}");
-    }
-    Ok(Loaded { spec, scenes })
-}
-
-/// A scene the spec names: a missing file is the spec's mistake, so the message points at its key;
-/// an image too large to hold in memory is refused here rather than by the allocator mid-run.
-fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
-    if !io::exists(&s.path) {
-        return Err(Error::input(
-            &spec.path,
-            format!("key `scenes`: scene file '{}' not found (looked for {})", s.id, s.path.display()),
-        ));
-    }
-    let scene = load_scene(&s.path)?;
-    let g = Geometry::of(spec.resolution, spec.ao_distance, &scene);
-    if g.pixels() > MAX_PIXELS {
-        return Err(Error::input(
-            &spec.path,
-            format!(
-                "key `resolution`: {}x{} for scene '{}' has more than {MAX_PIXELS} pixels; too large to hold \
-                 in memory",
-                g.width, g.height, s.name
-            ),
-        ));
-    }
-    Ok(scene)
-}
-
-pub fn run_plan(args: PlanArgs) -> Result<()> {
-    let loaded = load(&args.spec)?;
-    let plan = plan::plan(&loaded.spec);
-    let est = plan::estimate(
-        &plan,
-        |job| {
-            let (_, s) = loaded.scene_of(job);
-            [s.resolution.0, s.resolution.1]
-        },
-        ASSUMED_RAYS_PER_S,
-    );
-    print!("{}", plan::format_plan(&args.spec, &plan, &est, ASSUMED_RAYS_PER_S));
-    Ok(())
-}
 
 pub fn run_reference(args: ReferenceArgs) -> Result<()> {
     let loaded = load(&args.spec)?;
@@ -102,17 +37,22 @@ pub fn run_reference(args: ReferenceArgs) -> Result<()> {
     Ok(())
 }
 
-/// Output directory: `--out`, else `out/<spec name>/`.
-pub fn out_dir(args: &RunArgs, spec: &Spec) -> PathBuf {
-    args.out.clone().unwrap_or_else(|| Path::new("out").join(&spec.name))
+/// Output directory: `--out`, else `out/<spec name>/`, and a shard's `out/<spec name>/shard-K-of-N/`.
+pub fn out_dir(args: &RunArgs, spec: &Spec, shard: Option<Shard>) -> PathBuf {
+    let default = Path::new("out").join(&spec.name);
+    let default = shard.map_or(default.clone(), |s| default.join(s.dir_name()));
+    args.out.clone().unwrap_or(default)
 }
 
 pub fn run_run(args: RunArgs) -> Result<()> {
     let loaded = load(&args.spec)?;
-    let out = out_dir(&args, &loaded.spec);
+    let env = |name: &str| std::env::var(name).ok();
+    let shard = args.shard.map(|a| shard::resolve(a, args.shards, &env)).transpose().map_err(Error::Usage)?;
+    let out = out_dir(&args, &loaded.spec, shard);
     io::ensure_writable_dir(&out)?;
     io::ensure_writable_dir(&out.join("images"))?;
-    let plan = plan::plan(&loaded.spec);
+    let full = plan::plan(&loaded.spec);
+    let plan = shard.map_or_else(|| full.clone(), |s| shard::select(&loaded, &full, s));
     let previous = if args.force { HashMap::new() } else { previous_results(&out)? };
     let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
 
@@ -121,12 +61,38 @@ pub fn run_run(args: RunArgs) -> Result<()> {
         .map(|si| refs::obtain(&loaded.spec, si, &loaded.scenes[si], &args.reference_dir, policy, &runner))
         .collect::<Result<Vec<_>>>()?;
 
-    let results = run_jobs(&loaded, &plan, &references, &previous, &out, &runner)?;
+    let protocol = protocol(&args, &loaded.spec);
+    if let Some(s) = shard {
+        shard::Manifest::new(&loaded, &full, s, plan.jobs.len(), protocol).write(&out)?;
+    }
+    let write = |r: &[JobResult]| write_results(&out, r);
+    let (results, mut session) =
+        timed::run_jobs(&loaded, &plan, &references, &previous, &out, protocol, &runner.bar, &write)?;
     runner.bar.finish_and_clear();
-    let summary = summarize(&loaded, &references, &results, &out)?;
-    super::figures::write_all(&loaded, &plan, &references, &results, &out)?;
+    if session.renders == 0 {
+        session.overhead = previous_overhead(&out, &loaded.spec);
+    }
+    write_timing(&out, &loaded.spec, protocol, &session)?;
+    if let Some(s) = shard {
+        // A shard's report would be of a part; `merge` writes the whole one.
+        println!("shard {s}: {} of {} jobs → {}", results.len(), full.jobs.len(), out.display());
+        return Ok(());
+    }
+    let summary = summarize(&loaded, &references, &results, &session, &out)?;
+    let data = Data::new(&loaded, &references, &results, protocol, session.overhead.clone());
+    let figures = super::figures::write_all(&data, &out)?;
+    super::page::write(&data, &figures, &out)?;
     print!("{summary}");
     Ok(())
+}
+
+/// The spec's timing settings, `--timing-repeats` over `[timing] repeats`; one worker per thread.
+fn protocol(args: &RunArgs, spec: &Spec) -> Protocol {
+    let workers = match args.common.threads {
+        Some(t) => t as usize,
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+    Protocol::new(args.timing_repeats.unwrap_or(spec.timing.repeats), spec.timing.seed, workers)
 }
 
 /// Finished records of an earlier run, by key. A results file that cannot be read is an error, not
@@ -142,66 +108,49 @@ fn previous_results(out: &Path) -> Result<HashMap<String, JobResult>> {
     Ok(list.into_iter().map(|r| (r.key.clone(), r)).collect())
 }
 
-/// The resume key: the job, and everything outside the job that its numbers depend on (scene
-/// content, reference, hemilab version). The reference's measured fields (its render time, noise
-/// floor) are left out: a rebuilt identical reference must not invalidate finished jobs.
-fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
-    let manifest = refmath::Manifest { noise_floor: None, time_s: None, ..reference.manifest.clone() };
-    let what = format!(
-        "{};{};{};{}",
-        job.canonical(),
-        scene.content_hash,
-        manifest.to_json(),
-        env!("CARGO_PKG_VERSION")
-    );
-    format!("{:016x}", plan::fnv1a64(what.as_bytes()))
-}
-
-fn run_jobs(
-    loaded: &Loaded,
-    plan: &Plan,
-    references: &[Reference],
-    previous: &HashMap<String, JobResult>,
-    out: &Path,
-    runner: &JobRunner,
-) -> Result<Vec<JobResult>> {
-    let total: u64 = plan
-        .jobs
-        .iter()
-        .map(|j| Geometry::of(j.resolution, j.ao_distance, loaded.scene_of(j).1).pixels() * j.rays as u64)
-        .sum();
-    runner.stage("jobs", total);
-    let mut results: Vec<JobResult> = Vec::with_capacity(plan.jobs.len());
-    for (i, job) in plan.jobs.iter().enumerate() {
-        let (si, scene) = loaded.scene_of(job);
-        let reference = &references[si];
-        let key = run_key(job, scene, reference);
-        let image_rel = format!("images/{}.exr", job.file_stem());
-        if let Some(done) = previous.get(&key).filter(|_| io::exists(&out.join(&image_rel))) {
-            runner.bar.inc(Geometry::of(job.resolution, job.ao_distance, scene).pixels() * job.rays as u64);
-            results.push(done.clone());
-            continue;
-        }
-        let label = format!("job {}/{}", i + 1, plan.jobs.len());
-        let r = runner.render(job, scene, &label)?;
-        let stats = metrics::measure(&r.output.ao, &reference.mean, &reference.coverage)
-            .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
-        io::write_exr(
-            &out.join(&image_rel),
-            &[Channel { name: "Y", image: &r.output.ao }, Channel { name: "A", image: &r.output.coverage }],
-        )?;
-        let mut record = JobResult::new(job, &stats, r.time_s, r.output.rays, image_rel);
-        record.key = key;
-        results.push(record);
-        write_results(out, &results)?;
-    }
-    write_results(out, &results)?;
-    Ok(results)
-}
-
-fn write_results(out: &Path, results: &[JobResult]) -> Result<()> {
+pub(super) fn write_results(out: &Path, results: &[JobResult]) -> Result<()> {
     io::write_atomic(&out.join("results.json"), results::to_json(results).as_bytes())?;
     io::write_atomic(&out.join("results.csv"), results::to_csv(results).as_bytes())
+}
+
+/// `timing.json`: how the run was timed, what a time includes, each scene's overhead, and the
+/// session's totals (a resumed run's older records keep the times of the session that made them).
+fn write_timing(out: &Path, spec: &Spec, protocol: Protocol, session: &Session) -> Result<()> {
+    let overhead: Vec<serde_json::Value> = spec
+        .scenes
+        .iter()
+        .zip(&session.overhead)
+        .map(|(s, o)| serde_json::json!({ "scene": s.name, "overhead_s": o }))
+        .collect();
+    let v = serde_json::json!({
+        "clock": timing::clock::NAME,
+        "time_includes": timing::TIME_INCLUDES,
+        "protocol": protocol,
+        "overhead": overhead,
+        "session": {
+            "timed_renders": session.renders,
+            "timed_cpu_s": session.cpu_s,
+            "wall_s": session.wall_s,
+        },
+    });
+    let text = serde_json::to_string_pretty(&v).unwrap_or_default();
+    io::write_atomic(&out.join("timing.json"), text.as_bytes())
+}
+
+/// The overhead an earlier session measured (`timing.json`), for a run that rendered nothing.
+fn previous_overhead(out: &Path, spec: &Spec) -> Vec<Option<Summary>> {
+    let read = || -> Option<serde_json::Value> {
+        serde_json::from_str(&io::read_string(&out.join("timing.json")).ok()?).ok()
+    };
+    let v = read();
+    spec.scenes
+        .iter()
+        .map(|s| {
+            let list = v.as_ref()?.get("overhead")?.as_array()?;
+            let e = list.iter().find(|e| e.get("scene").and_then(|n| n.as_str()) == Some(s.name.as_str()))?;
+            serde_json::from_value(e.get("overhead_s")?.clone()).ok()
+        })
+        .collect()
 }
 
 /// The slopes of one `[[convergence]]` sweep.
@@ -232,7 +181,13 @@ fn sweep_slopes<'a>(spec: &'a Spec, aggs: &[results::Aggregate]) -> Vec<SweepSlo
 }
 
 /// Aggregates and slopes to files, the noise-floor check, and the text printed at the end.
-fn summarize(loaded: &Loaded, references: &[Reference], results: &[JobResult], out: &Path) -> Result<String> {
+pub(super) fn summarize(
+    loaded: &Loaded,
+    references: &[Reference],
+    results: &[JobResult],
+    session: &Session,
+    out: &Path,
+) -> Result<String> {
     use std::fmt::Write;
     let aggs = results::aggregate(results);
     io::write_atomic(&out.join("aggregates.csv"), results::aggregates_to_csv(&aggs).as_bytes())?;
@@ -241,6 +196,11 @@ fn summarize(loaded: &Loaded, references: &[Reference], results: &[JobResult], o
 
     let mut s = String::new();
     let _ = writeln!(s, "{} jobs → {}", results.len(), out.display());
+    let _ = writeln!(
+        s,
+        "timing: {} timed renders, {:.1} s of render CPU time in {:.1} s of wall time",
+        session.renders, session.cpu_s, session.wall_s
+    );
     for (si, r) in references.iter().enumerate() {
         // The spec's scene name (the file stem) is the results' `scene` column; the scene file's own
         // `name` may differ.
@@ -261,7 +221,7 @@ fn summarize(loaded: &Loaded, references: &[Reference], results: &[JobResult], o
     for a in &aggs {
         let _ = writeln!(
             s,
-            "  {:<12} {:<18} {:<10} {:<8} {:>5} rays  RMSE {:.4} ± {:.4}  ρ {:+.2}/{:+.2}  {:.1} Mrays/s",
+            "  {:<12} {:<18} {:<10} {:<8} {:>5} rays  RMSE {:.4} ± {:.4}  ρ {:+.2}/{:+.2}  {:.2} ms  {:.1} ns/ray",
             a.scene,
             a.distribution,
             a.sequence,
@@ -271,7 +231,8 @@ fn summarize(loaded: &Loaded, references: &[Reference], results: &[JobResult], o
             a.rmse.sd,
             a.autocorr_x.mean,
             a.autocorr_y.mean,
-            a.rays_per_s.mean / 1e6
+            a.time.map_or(f64::NAN, |t| t.median * 1e3),
+            a.ns_per_ray
         );
     }
     Ok(s)

@@ -24,6 +24,18 @@ figure{margin:2em 0}img{max-width:100%;border:1px solid #ddd}figcaption{margin-t
 
 /// The HTML page: title, intro paragraph(s) (plain text, blank line = new paragraph), tables, figures.
 pub fn html_report(title: &str, intro: &str, tables: &[Table], figures: &[Figure]) -> String {
+    html_page(title, intro, tables, figures, &[])
+}
+
+/// `html_report`, then `collapsed` tables after the figures, each folded in a `<details>` element
+/// (long reference tables that would otherwise push the figures off the first screens).
+pub fn html_page(
+    title: &str,
+    intro: &str,
+    tables: &[Table],
+    figures: &[Figure],
+    collapsed: &[Table],
+) -> String {
     let mut s = String::new();
     s += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
     s += &format!("<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n", esc(title));
@@ -32,19 +44,8 @@ pub fn html_report(title: &str, intro: &str, tables: &[Table], figures: &[Figure
         s += &format!("<p>{}</p>\n", esc(p));
     }
     for t in tables {
-        s += &format!("<h2>{}</h2>\n<table>\n<tr>", esc(&t.title));
-        for h in &t.header {
-            s += &format!("<th>{}</th>", esc(h));
-        }
-        s += "</tr>\n";
-        for row in &t.rows {
-            s += "<tr>";
-            for c in row {
-                s += &format!("<td>{}</td>", esc(c));
-            }
-            s += "</tr>\n";
-        }
-        s += "</table>\n";
+        s += &format!("<h2>{}</h2>\n", esc(&t.title));
+        s += &html_table(t);
     }
     for f in figures {
         s += &format!(
@@ -57,24 +58,61 @@ pub fn html_report(title: &str, intro: &str, tables: &[Table], figures: &[Figure
         }
         s += "</figcaption>\n</figure>\n";
     }
+    for t in collapsed {
+        s += &format!("<details>\n<summary><h2 style=\"display:inline\">{}</h2></summary>\n", esc(&t.title));
+        s += &html_table(t);
+        s += "</details>\n";
+    }
     s += "</body>\n</html>\n";
+    s
+}
+
+fn html_table(t: &Table) -> String {
+    let mut s = String::from("<table>\n<tr>");
+    for h in &t.header {
+        s += &format!("<th>{}</th>", esc(h));
+    }
+    s += "</tr>\n";
+    for row in &t.rows {
+        s += "<tr>";
+        for c in row {
+            s += &format!("<td>{}</td>", esc(c));
+        }
+        s += "</tr>\n";
+    }
+    s += "</table>\n";
     s
 }
 
 /// The same content as Markdown (renders on GitHub and in any Markdown viewer).
 pub fn markdown_report(title: &str, intro: &str, tables: &[Table], figures: &[Figure]) -> String {
+    markdown_page(title, intro, tables, figures, &[])
+}
+
+/// `markdown_report`, then `collapsed` tables after the figures in `<details>` (GitHub folds them).
+pub fn markdown_page(
+    title: &str,
+    intro: &str,
+    tables: &[Table],
+    figures: &[Figure],
+    collapsed: &[Table],
+) -> String {
     let cell = |c: &str| c.replace('|', "\\|").replace('\n', " ");
+    let md_table = |t: &Table| {
+        let mut s = format!("| {} |\n", t.header.iter().map(|h| cell(h)).collect::<Vec<_>>().join(" | "));
+        s += &format!("|{}\n", "---|".repeat(t.header.len().max(1)));
+        for row in &t.rows {
+            s += &format!("| {} |\n", row.iter().map(|c| cell(c)).collect::<Vec<_>>().join(" | "));
+        }
+        s
+    };
     let mut s = format!("# {title}\n\n");
     for p in intro.split("\n\n").map(str::trim).filter(|p| !p.is_empty()) {
         s += &format!("{p}\n\n");
     }
     for t in tables {
         s += &format!("## {}\n\n", t.title);
-        s += &format!("| {} |\n", t.header.iter().map(|h| cell(h)).collect::<Vec<_>>().join(" | "));
-        s += &format!("|{}\n", "---|".repeat(t.header.len().max(1)));
-        for row in &t.rows {
-            s += &format!("| {} |\n", row.iter().map(|c| cell(c)).collect::<Vec<_>>().join(" | "));
-        }
+        s += &md_table(t);
         s += "\n";
     }
     for f in figures {
@@ -83,6 +121,9 @@ pub fn markdown_report(title: &str, intro: &str, tables: &[Table], figures: &[Fi
             s += &format!(" [{l}]({})", md_path(l));
         }
         s += "\n\n";
+    }
+    for t in collapsed {
+        s += &format!("<details>\n<summary>{}</summary>\n\n{}\n</details>\n\n", t.title, md_table(t));
     }
     s
 }

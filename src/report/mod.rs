@@ -15,10 +15,11 @@ mod grid;
 mod html;
 mod plot;
 mod points;
+pub mod verdict;
 
 pub use grid::{GridCell, error_grid, image_grid};
-pub use html::{Figure, Table, html_report, markdown_report, referenced_files};
-pub use plot::{Series, banding_plot, convergence_plot};
+pub use html::{Figure, Table, html_page, html_report, markdown_page, markdown_report, referenced_files};
+pub use plot::{Guide, Series, banding_plot, convergence_plot};
 pub use points::{PointSet, point_panels};
 
 use std::sync::Once;

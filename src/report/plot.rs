@@ -1,6 +1,7 @@
-//! Plots, one function per figure: error against ray count or run time (log-log, mean ± sd over
-//! replicates, fitted slope in the legend, the reference's own noise as a floor) and the
-//! structured-error (banding) metric per configuration.
+//! Plots, one function per kind of figure: a log-log plot of per-configuration curves with error
+//! bars in y (and optionally x) and guide lines (error against ray count or run time with the
+//! reference's own noise as a floor and the per-image overhead as a wall; efficiency against ray
+//! count), and the structured-error (banding) metric per configuration.
 
 use super::canvas::text_size;
 use super::{FONT, Format, render};
@@ -9,11 +10,50 @@ use plotters::coord::ranged1d::SegmentValue;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-/// One configuration's curve: (x, mean y, sd y) per point, and its fitted log-log slope.
+/// One configuration's curve: (x, y, spread of y) per point, optionally an x range per point
+/// (e.g. min..max of timed renders; empty = none), and a note for the legend (e.g. its slope).
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64, f64)>,
-    pub slope: Option<f64>,
+    pub x_range: Vec<(f64, f64)>,
+    pub note: Option<String>,
+}
+
+impl Series {
+    pub fn new(label: impl Into<String>, points: Vec<(f64, f64, f64)>) -> Self {
+        Self { label: label.into(), points, x_range: Vec::new(), note: None }
+    }
+}
+
+/// A dashed guide line across the plot, named in the legend.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Guide {
+    /// y = value (e.g. the reference's noise floor).
+    Horizontal(f64, String),
+    /// x = value (e.g. the time of an image with no AO rays).
+    Vertical(f64, String),
+}
+
+impl Guide {
+    fn value(&self) -> f64 {
+        match self {
+            Guide::Horizontal(v, _) | Guide::Vertical(v, _) => *v,
+        }
+    }
+
+    /// Horizontal guides black, vertical ones grey, so the legend tells them apart.
+    fn colour(&self) -> RGBColor {
+        match self {
+            Guide::Horizontal(..) => BLACK,
+            Guide::Vertical(..) => RGBColor(130, 130, 130),
+        }
+    }
+
+    fn label(&self) -> &str {
+        match self {
+            Guide::Horizontal(_, l) | Guide::Vertical(_, l) => l,
+        }
+    }
 }
 
 /// Tableau 10: distinguishable, and still distinguishable for the common colour-vision deficiencies
@@ -47,14 +87,15 @@ macro_rules! marker {
     }};
 }
 
-/// Log-log plot of mean ± sd against x for every series; `floor` (e.g. the reference's own RMSE) is
-/// a dashed horizontal line, below which no configuration can be measured.
+/// Log-log plot of y ± spread against x for every series (x error bars where a series has
+/// `x_range`), with dashed guide lines; a horizontal guide such as the reference's noise floor
+/// marks what no configuration can be measured below.
 pub fn convergence_plot(
     title: &str,
     x_label: &str,
     y_label: &str,
     series: &[Series],
-    floor: Option<f64>,
+    guides: &[Guide],
     format: Format,
 ) -> Result<Vec<u8>, String> {
     if series.is_empty() {
@@ -68,41 +109,54 @@ pub fn convergence_plot(
             !(x.is_finite() && *x > 0.0 && m.is_finite() && *m > 0.0 && sd.is_finite() && *sd >= 0.0)
         }) {
             return Err(format!(
-                "series '{}': point {p:?} cannot go on a log-log plot (x and mean must be positive, sd >= 0)",
+                "series '{}': point {p:?} cannot go on a log-log plot (x and y must be positive, spread >= 0)",
                 s.label
             ));
         }
+        if !s.x_range.is_empty() && s.x_range.len() != s.points.len() {
+            return Err(format!(
+                "series '{}': {} x ranges for {} points",
+                s.label,
+                s.x_range.len(),
+                s.points.len()
+            ));
+        }
+        if let Some(r) =
+            s.x_range.iter().find(|(a, b)| !(a.is_finite() && b.is_finite() && *a > 0.0 && a <= b))
+        {
+            return Err(format!("series '{}': x range {r:?} must be positive and ordered", s.label));
+        }
     }
-    if let Some(f) = floor.filter(|f| !(f.is_finite() && *f > 0.0)) {
-        return Err(format!("noise floor {f} must be a positive number"));
+    if let Some(g) = guides.iter().find(|g| !(g.value().is_finite() && g.value() > 0.0)) {
+        return Err(format!("guide '{}' at {} must be a positive number", g.label(), g.value()));
     }
     let pts = || series.iter().flat_map(|s| s.points.iter());
-    let (x0, x1) = bounds(pts().map(|p| p.0));
-    let lows = pts().map(|p| if p.1 - p.2 > 0.0 { p.1 - p.2 } else { p.1 }).chain(floor);
+    let ranges = || series.iter().flat_map(|s| s.x_range.iter());
+    let hs = || guides.iter().filter(|g| matches!(g, Guide::Horizontal(..))).map(Guide::value);
+    let vs = || guides.iter().filter(|g| matches!(g, Guide::Vertical(..))).map(Guide::value);
+    let (x0, _) = bounds(pts().map(|p| p.0).chain(ranges().map(|r| r.0)).chain(vs()));
+    let (_, x1) = bounds(pts().map(|p| p.0).chain(ranges().map(|r| r.1)).chain(vs()));
+    let lows = pts().map(|p| if p.1 - p.2 > 0.0 { p.1 - p.2 } else { p.1 }).chain(hs());
     let (y0, _) = bounds(lows);
-    let (_, y1) = bounds(pts().map(|p| p.1 + p.2).chain(floor));
+    let (_, y1) = bounds(pts().map(|p| p.1 + p.2).chain(hs()));
     let ranges = (x0 / 1.25, x1 * 1.25, y0 / 1.4, y1 * 1.4);
     let entries: Vec<String> = series
         .iter()
-        .map(|s| match s.slope {
-            Some(k) if k.is_finite() => format!("{} (slope {})", s.label, signed(k)),
-            _ => s.label.clone(),
+        .map(|s| match &s.note {
+            Some(n) => format!("{} ({n})", s.label),
+            None => s.label.clone(),
         })
-        .chain(floor.map(|_| "reference noise floor".to_string()))
+        .chain(guides.iter().map(|g| g.label().to_string()))
         .collect();
     let legend_w = entries.iter().map(|e| text_size(e, LEGEND_PX, false).0).max().unwrap_or(0) + 70;
     let h = H.max(80 + 26 * entries.len() as u32);
     render!(format, W + legend_w, h, |root: &DrawingArea<_, Shift>| {
-        draw_convergence(root, title, (x_label, y_label), series, floor, ranges, &entries, legend_w)
+        draw_convergence(root, title, (x_label, y_label), series, guides, ranges, &entries, legend_w)
     })
 }
 
 fn bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
     v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)))
-}
-
-fn signed(k: f64) -> String {
-    format!("{}{:.2}", if k < 0.0 { "−" } else { "+" }, k.abs())
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -111,7 +165,7 @@ fn draw_convergence<DB: DrawingBackend>(
     title: &str,
     (x_label, y_label): (&str, &str),
     series: &[Series],
-    floor: Option<f64>,
+    guides: &[Guide],
     (x0, x1, y0, y1): (f64, f64, f64, f64),
     entries: &[String],
     legend_w: u32,
@@ -150,12 +204,24 @@ fn draw_convergence<DB: DrawingBackend>(
                 |y| EmptyElement::at((x, y)) + PathElement::new(vec![(-5, 0), (5, 0)], c.stroke_width(2));
             chart.draw_series([PathElement::new(vec![(x, lo), (x, hi)], c.stroke_width(2))]).map_err(err)?;
             chart.draw_series([cap(lo), cap(hi)]).map_err(err)?;
+        }
+        for (&(xa, xb), &(_, m, _)) in s.x_range.iter().zip(&s.points) {
+            let (xa, xb) = (xa.max(x0), xb.min(x1));
+            let tick =
+                |x| EmptyElement::at((x, m)) + PathElement::new(vec![(0, -4), (0, 4)], c.stroke_width(1));
+            chart.draw_series([PathElement::new(vec![(xa, m), (xb, m)], c.stroke_width(1))]).map_err(err)?;
+            chart.draw_series([tick(xa), tick(xb)]).map_err(err)?;
+        }
+        for &(x, m, _) in &s.points {
             marker!(chart.plotting_area(), i, (x, m), c).map_err(err)?;
         }
     }
-    if let Some(f) = floor {
-        let style = BLACK.stroke_width(2);
-        chart.draw_series(DashedLineSeries::new([(x0, f), (x1, f)], 10, 6, style)).map_err(err)?;
+    for g in guides {
+        let line = match g {
+            Guide::Horizontal(v, _) => [(x0, *v), (x1, *v)],
+            Guide::Vertical(v, _) => [(*v, y0), (*v, y1)],
+        };
+        chart.draw_series(DashedLineSeries::new(line, 10, 6, g.colour().stroke_width(2))).map_err(err)?;
     }
     let font = (FONT, LEGEND_PX).into_font().color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
     for (i, e) in entries.iter().enumerate() {
@@ -165,8 +231,9 @@ fn draw_convergence<DB: DrawingBackend>(
             legend.draw(&PathElement::new(vec![(8, y), (44, y)], c.stroke_width(2))).map_err(err)?;
             marker!(legend, i, (26, y), c).map_err(err)?;
         } else {
-            legend.draw(&PathElement::new(vec![(8, y), (20, y)], BLACK.stroke_width(2))).map_err(err)?;
-            legend.draw(&PathElement::new(vec![(30, y), (44, y)], BLACK.stroke_width(2))).map_err(err)?;
+            let c = guides[i - series.len()].colour();
+            legend.draw(&PathElement::new(vec![(8, y), (20, y)], c.stroke_width(2))).map_err(err)?;
+            legend.draw(&PathElement::new(vec![(30, y), (44, y)], c.stroke_width(2))).map_err(err)?;
         }
         legend.draw_text(e, &font, (54, y)).map_err(err)?;
     }
@@ -298,20 +365,28 @@ mod tests {
     use super::*;
     use crate::report::decode_png;
 
+    fn signed(k: f64) -> String {
+        format!("{}{:.2}", if k < 0.0 { "−" } else { "+" }, k.abs())
+    }
+
     fn series(slope: f64, label: &str) -> Series {
         let points =
             [1.0, 4.0, 16.0, 64.0].map(|n: f64| (n, 0.3 * n.powf(slope), 0.02 * n.powf(slope))).to_vec();
-        Series { label: label.into(), points, slope: Some(slope) }
+        Series { note: Some(format!("slope {}", signed(slope))), ..Series::new(label, points) }
+    }
+
+    fn floor() -> Vec<Guide> {
+        vec![Guide::Horizontal(1e-3, "reference noise floor".into())]
     }
 
     #[test]
     fn convergence_plot_is_png_and_svg_with_legend() {
         let s = [series(-0.5, "random"), series(-0.75, "fibonacci"), series(-1.0, "sobol")];
-        let png = convergence_plot("RMSE", "rays", "RMSE", &s, Some(1e-3), Format::Png).unwrap();
+        let png = convergence_plot("RMSE", "rays", "RMSE", &s, &floor(), Format::Png).unwrap();
         let (w, h, _) = decode_png(&png);
         assert!(w > W && h == H, "{w}x{h}");
         let svg =
-            convergence_plot("RMSE vs rays", "rays per pixel", "RMSE", &s, Some(1e-3), Format::Svg).unwrap();
+            convergence_plot("RMSE vs rays", "rays per pixel", "RMSE", &s, &floor(), Format::Svg).unwrap();
         let svg = String::from_utf8(svg).unwrap();
         for label in [
             "<svg",
@@ -323,28 +398,38 @@ mod tests {
         ] {
             assert!(svg.contains(label), "SVG lacks {label}");
         }
-        let no_floor = convergence_plot("t", "x", "y", &s[..1], None, Format::Svg).unwrap();
+        let no_floor = convergence_plot("t", "x", "y", &s[..1], &[], Format::Svg).unwrap();
         assert!(!String::from_utf8(no_floor).unwrap().contains("noise floor"));
         // sd larger than the mean: the bar is cut at the axis instead of going to log(0).
-        let wide = Series { label: "w".into(), points: vec![(1.0, 0.1, 0.5), (2.0, 0.05, 0.0)], slope: None };
-        assert!(convergence_plot("t", "x", "y", &[wide], None, Format::Png).is_ok());
+        let wide = Series::new("w", vec![(1.0, 0.1, 0.5), (2.0, 0.05, 0.0)]);
+        assert!(convergence_plot("t", "x", "y", &[wide], &[], Format::Png).is_ok());
+        // x ranges and a vertical guide, e.g. timed renders' min..max and the overhead.
+        let timed = Series {
+            x_range: vec![(0.9, 1.2), (1.8, 2.1)],
+            ..Series::new("t", vec![(1.0, 0.1, 0.01), (2.0, 0.05, 0.0)])
+        };
+        let wall = [Guide::Vertical(0.5, "no AO rays".into())];
+        let svg = String::from_utf8(convergence_plot("t", "x", "y", &[timed], &wall, Format::Svg).unwrap())
+            .unwrap();
+        assert!(svg.contains("no AO rays"));
     }
 
     #[test]
     fn convergence_plot_rejects_what_a_log_axis_cannot_show() {
-        let p = |points| vec![Series { label: "s".into(), points, slope: None }];
+        let p = |points| vec![Series::new("s", points)];
         let f = Format::Png;
-        assert!(convergence_plot("t", "x", "y", &[], None, f).is_err());
-        assert!(convergence_plot("t", "x", "y", &p(vec![]), None, f).is_err());
-        assert!(convergence_plot("t", "x", "y", &p(vec![(0.0, 0.1, 0.0)]), None, f).is_err());
-        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, 0.0, 0.0)]), None, f).is_err());
-        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, f64::NAN, 0.0)]), None, f).is_err());
-        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, 0.1, -0.1)]), None, f).is_err());
-        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, 0.1, 0.0)]), Some(0.0), f).is_err());
-        assert!(
-            convergence_plot("t", "x", "y", &p(vec![(1.0, 0.1, 0.0)]), None, f).is_ok(),
-            "one point is a plot"
-        );
+        assert!(convergence_plot("t", "x", "y", &[], &[], f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![]), &[], f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![(0.0, 0.1, 0.0)]), &[], f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, 0.0, 0.0)]), &[], f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, f64::NAN, 0.0)]), &[], f).is_err());
+        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, 0.1, -0.1)]), &[], f).is_err());
+        let zero = [Guide::Horizontal(0.0, "floor".into())];
+        assert!(convergence_plot("t", "x", "y", &p(vec![(1.0, 0.1, 0.0)]), &zero, f).is_err());
+        let bad_range = Series { x_range: vec![(2.0, 1.0)], ..Series::new("s", vec![(1.0, 0.1, 0.0)]) };
+        assert!(convergence_plot("t", "x", "y", &[bad_range], &[], f).is_err());
+        let short = Series { x_range: vec![], ..Series::new("s", vec![(1.0, 0.1, 0.0)]) };
+        assert!(convergence_plot("t", "x", "y", &[short], &[], f).is_ok(), "one point is a plot");
     }
 
     #[test]

@@ -2,10 +2,12 @@
 //!
 //! A point set is made in three steps, each in its own file:
 //! a sequence of numbers in [0,1)^2 (`random`, `fibonacci`, `stratified`, `sobol`) →
-//! `seed` randomization across pixels (static, rotation, shift) →
+//! `seed` randomization across pixels (static, rotation, shift, blue-noise from `blue_noise`'s
+//! masks) →
 //! `warp` to a direction on the hemisphere (uniform, sine, sine-cosine, concentric-cosine),
 //! which `frame` rotates around the surface normal.
 
+pub mod blue_noise;
 pub mod fibonacci;
 pub mod frame;
 mod names;
@@ -56,6 +58,8 @@ pub enum SeedMode {
     Static,
     Rotation,
     Shift,
+    /// The static set shifted per pixel by a blue-noise mask (Georgiev & Fajardo 2016).
+    BlueNoise,
 }
 
 /// Everything that determines the points of every pixel of one image.
@@ -80,31 +84,38 @@ impl SamplerConfig {
         Ok(Self { sequence, seed_mode, count, seed })
     }
 
-    /// Writes pixel `pixel`'s points into `out`: the first `min(count, out.len())` points of the
-    /// `count`-point set (strata and lattice spacing follow `count`). Depends only on
-    /// (config, pixel), never on which thread or which other pixels ran. No allocation.
+    /// Writes the points of pixel (`x`, `y`), index `pixel` (= y · width + x, which keys its
+    /// fresh numbers), into `out`: the first `min(count, out.len())` points of the `count`-point
+    /// set (strata and lattice spacing follow `count`). Depends only on (config, x, y, pixel), never
+    /// on which thread or which other pixels ran. No allocation. (x, y) matters only for
+    /// `blue-noise`, whose offsets are read from a mask tiled over the image.
     /// What each (sequence, seed mode) pair means: see [`seed`].
-    pub fn fill_pixel(&self, pixel: u64, out: &mut [Vec2]) {
+    pub fn fill_pixel(&self, x: u32, y: u32, pixel: u64, out: &mut [Vec2]) {
         let n = self.count.max(1);
         let len = (self.count as usize).min(out.len());
         let out = &mut out[..len];
         let ps = PixelSeed::new(self.seed, pixel);
-        let (dx, dy) = ps.offsets(self.seed_mode);
+        let (dx, dy) = ps.offsets(self.seed_mode, x, y);
         let fresh = self.seed_mode == SeedMode::Shift;
+        // Shift of a set that is already fresh per pixel (stratified, sobol): no offset on top.
+        let (sx, sy) = if fresh { (0, 0) } else { (dx, dy) };
         match self.sequence {
             // Fresh numbers per pixel for both rotation and shift: the paper's pseudo-random row.
-            Sequence::Random => random::fill(ps.set_key(self.seed_mode != SeedMode::Static), out),
+            Sequence::Random => match self.seed_mode {
+                SeedMode::BlueNoise => random::fill(ps.run_key, dx, dy, out),
+                m => random::fill(ps.set_key(m != SeedMode::Static), 0, 0, out),
+            },
             Sequence::Fibonacci => {
                 // The paper's seed is an index offset: static = one per run, rotation = + one per pixel.
                 let run_offset = ps.run_key >> 24;
                 match self.seed_mode {
                     SeedMode::Static => fibonacci::fill(n, run_offset, 0, 0, out),
                     SeedMode::Rotation => fibonacci::fill(n, run_offset + (ps.pixel_key >> 24), 0, 0, out),
-                    SeedMode::Shift => fibonacci::fill(n, run_offset, dx, dy, out),
+                    SeedMode::Shift | SeedMode::BlueNoise => fibonacci::fill(n, run_offset, dx, dy, out),
                 }
             }
-            Sequence::Stratified => stratified::fill(n, ps.set_key(fresh), if fresh { 0 } else { dx }, out),
-            Sequence::Sobol => sobol::fill(ps.set_key(fresh), if fresh { 0 } else { dx }, out),
+            Sequence::Stratified => stratified::fill(n, ps.set_key(fresh), sx, sy, out),
+            Sequence::Sobol => sobol::fill(ps.set_key(fresh), sx, sy, out),
         }
     }
 }

@@ -57,6 +57,7 @@ named!(SeedMode, "seed mode", [
     Static => "static",
     Rotation => "rotation",
     Shift => "shift",
+    BlueNoise => "blue-noise",
 ]);
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! The paper's pseudo-random pairs, counter-based: point i of a pixel is a hash of
 //! (run seed, pixel, i, dimension), so it never depends on thread scheduling or on other pixels.
 
-use super::seed::{fix_from_bits, fix_to_f32, hash};
+use super::seed::{fix_add, fix_from_bits, fix_to_f32, hash};
 use glam::Vec2;
 
 /// Point `i` of the stream `key` (key = hash of run seed, and of the pixel unless static).
@@ -12,9 +12,12 @@ pub fn random_point(key: u64, i: u64) -> Vec2 {
     Vec2::new(fix_to_f32(fix_from_bits(x)), fix_to_f32(fix_from_bits(y)))
 }
 
-/// Fills `out` with points 0.. of the stream `key`.
-pub fn fill(key: u64, out: &mut [Vec2]) {
+/// Fills `out` with points 0.. of the stream `key`, shifted by the fixed-point offsets (dx, dy)
+/// mod 1 (0 except for `blue-noise`, which shifts the run's static set per pixel).
+pub fn fill(key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
     for (i, p) in out.iter_mut().enumerate() {
-        *p = random_point(key, i as u64);
+        let (x, y) = (hash(key, 2 * i as u64 + 1), hash(key, 2 * i as u64 + 2));
+        let (x, y) = (fix_add(fix_from_bits(x), dx), fix_add(fix_from_bits(y), dy));
+        *p = Vec2::new(fix_to_f32(x), fix_to_f32(y));
     }
 }

@@ -6,6 +6,7 @@
 //! | `static` — the same point set in every pixel, keyed by the run seed only | one set of counter-based pseudo-random numbers per run | the paper's lattice with index offset = hash(run seed) (the paper's "static seed") | one jitter per run | one Owen scramble per run |
 //! | `rotation` — the paper's "random seed per pixel": the static set with x offset per pixel (mod 1) = a rotation about the normal | fresh independent numbers per pixel (bit-identical to `shift`) | a per-pixel random index offset (< 2^40) added to the indices: x moves by frac(offset / phi_g) | static jitter, per-pixel x offset | static scramble, per-pixel x offset |
 //! | `shift` — per-pixel randomization that makes each pixel's estimate unbiased | fresh independent numbers per pixel (bit-identical to `rotation`) | static lattice + Cranley–Patterson shift of x and y (mod 1) | fresh independent jitter per pixel | per-pixel Owen scrambling (Burley 2020) |
+//! | `blue-noise` — the static set + a Cranley–Patterson shift of x and y whose per-pixel offsets come from two blue-noise masks ([`super::blue_noise`]), toroidally shifted per run: unbiased per pixel, error pushed to high frequencies | static numbers, shifted | static lattice, shifted (like `shift`, offsets blue instead of white) | static jitter, shifted | static scramble, shifted |
 //!
 //! `rotation` leaves y (hence theta) as in the static set, so it does not make the per-pixel
 //! estimate unbiased for the lattice sequences (tests/sampling_estimators.rs measures it).
@@ -15,6 +16,7 @@
 //! strata boundaries can be honoured exactly.
 
 use super::SeedMode;
+use super::blue_noise::MaskShift;
 
 /// Fractional bits of the fixed-point coordinates: all an f32 in [0,1) can hold uniformly.
 pub const FIX_BITS: u32 = 24;
@@ -82,13 +84,16 @@ impl PixelSeed {
         if fresh_per_pixel { self.pixel_key } else { self.run_key }
     }
 
-    /// The offsets the mode applies on top of the set (x for rotation, x and y for shift).
+    /// The offsets the mode applies on top of the set (x for rotation, x and y for shift and
+    /// blue-noise) at pixel (x, y): white noise keyed by the pixel for shift, the run's shifted
+    /// blue-noise masks for blue-noise.
     #[inline]
-    pub fn offsets(&self, mode: SeedMode) -> (u32, u32) {
+    pub fn offsets(&self, mode: SeedMode, x: u32, y: u32) -> (u32, u32) {
         match mode {
             SeedMode::Static => (0, 0),
             SeedMode::Rotation => (self.x_offset, 0),
             SeedMode::Shift => (self.x_offset, self.y_offset),
+            SeedMode::BlueNoise => MaskShift::new(self.run_key).offsets(x, y),
         }
     }
 }

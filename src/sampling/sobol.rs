@@ -44,15 +44,15 @@ pub fn owen_scramble(x: u32, seed: u32) -> u32 {
     laine_karras(x.reverse_bits(), seed).reverse_bits()
 }
 
-/// Fills `out` with points 0.. of Sobol', scrambled by seeds from `key`, x shifted by `dx`.
-pub fn fill(key: u64, dx: u32, out: &mut [Vec2]) {
+/// Fills `out` with points 0.. of Sobol', scrambled by seeds from `key`, shifted by (`dx`, `dy`) mod 1.
+pub fn fill(key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
     let sx = hash(key, 1) as u32;
     let sy = hash(key, 2) as u32;
     for (i, p) in out.iter_mut().enumerate() {
         let i = i as u32;
         let x = owen_scramble(sobol_x(i), sx) >> (32 - FIX_BITS);
         let y = owen_scramble(sobol_y(i), sy) >> (32 - FIX_BITS);
-        *p = Vec2::new(fix_to_f32(fix_add(x, dx)), fix_to_f32(y));
+        *p = Vec2::new(fix_to_f32(fix_add(x, dx)), fix_to_f32(fix_add(y, dy)));
     }
 }
 

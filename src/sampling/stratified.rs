@@ -18,8 +18,9 @@ pub fn grid(n: u32) -> (u32, u32) {
     (rows, n / rows)
 }
 
-/// Fills `out` with the jittered grid for n points, jitter keyed by `key`, x shifted by `dx`.
-pub fn fill(n: u32, key: u64, dx: u32, out: &mut [Vec2]) {
+/// Fills `out` with the jittered grid for n points, jitter keyed by `key`, shifted by (`dx`, `dy`)
+/// mod 1.
+pub fn fill(n: u32, key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
     let (_, cols) = grid(n);
     let first_col = StrataWalk::new(cols);
     let (mut xw, mut yw) = (first_col, StrataWalk::new(n / cols));
@@ -27,7 +28,7 @@ pub fn fill(n: u32, key: u64, dx: u32, out: &mut [Vec2]) {
     for (i, p) in out.iter_mut().enumerate() {
         let h = hash(key, i as u64);
         let (x, y) = (xw.at(fix_from_bits(h)), yw.at(fix_from_bits(h << 24)));
-        *p = Vec2::new(fix_to_f32(fix_add(x, dx)), fix_to_f32(y));
+        *p = Vec2::new(fix_to_f32(fix_add(x, dx)), fix_to_f32(fix_add(y, dy)));
         xw.advance();
         c += 1;
         if c == cols {

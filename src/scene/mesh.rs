@@ -23,16 +23,7 @@ const ZSTD_MAGIC: [u8; 4] = [0x28, 0xB5, 0x2F, 0xFD];
 /// Decodes `bytes` (plain OBJ text, or zstd-compressed OBJ) into triangles.
 /// The error text says where (line) and what; the caller prefixes the file name.
 pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
-    let text = if bytes.starts_with(&ZSTD_MAGIC) {
-        let mut out = Vec::new();
-        ruzstd::decoding::StreamingDecoder::new(bytes)
-            .map_err(|e| format!("not a readable zstd stream: {e}"))?
-            .read_to_end(&mut out)
-            .map_err(|e| format!("zstd decoding failed: {e}"))?;
-        out
-    } else {
-        bytes.to_vec()
-    };
+    let text = decompress(bytes)?;
     let text = std::str::from_utf8(&text).map_err(|e| {
         let line = 1 + text[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
         format!("line {line}: not UTF-8 text (is this an OBJ file?)")
@@ -76,6 +67,20 @@ pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
         });
     }
     Ok(mesh)
+}
+
+/// The bytes of a mesh file as text bytes: zstd-decoded if they start with zstd's magic number,
+/// else unchanged.
+pub fn decompress(bytes: &[u8]) -> Result<Vec<u8>, String> {
+    if !bytes.starts_with(&ZSTD_MAGIC) {
+        return Ok(bytes.to_vec());
+    }
+    let mut out = Vec::new();
+    ruzstd::decoding::StreamingDecoder::new(bytes)
+        .map_err(|e| format!("not a readable zstd stream: {e}"))?
+        .read_to_end(&mut out)
+        .map_err(|e| format!("zstd decoding failed: {e}"))?;
+    Ok(out)
 }
 
 /// A triangle is usable if its vertices are finite and it has a normal. `Scene::new` checks again

@@ -4,6 +4,7 @@
 pub mod accel;
 pub mod camera;
 pub mod file;
+pub mod generate;
 pub mod mesh;
 pub mod packet;
 pub mod procedural;

@@ -22,6 +22,7 @@ struct RawSpec {
     seed: Option<S<i64>>,
     point_figures: Option<S<bool>>,
     reference: Option<RawReference>,
+    timing: Option<RawTiming>,
     #[serde(default)]
     table: Vec<S<RawGroup>>,
     #[serde(default)]
@@ -37,6 +38,14 @@ struct RawReference {
     distribution: Option<S<String>>,
     sequence: Option<S<String>>,
     seed_mode: Option<S<String>>,
+    allocation: Option<S<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTiming {
+    repeats: Option<S<i64>>,
+    seed: Option<S<i64>>,
 }
 
 #[derive(Deserialize)]
@@ -144,7 +153,7 @@ pub fn parse_spec(text: &str, path: &Path) -> Result<Spec> {
 fn figure_stems(g: &Group, scenes: &[SceneRef]) -> Vec<String> {
     let suffixes: &[&str] = match g.kind {
         GroupKind::Table => &["", "_error"],
-        GroupKind::Convergence => &["_rays", "_time"],
+        GroupKind::Convergence => &["_rays", "_time", "_efficiency"],
     };
     let bases: Vec<String> = if g.scenes.len() > 1 {
         g.scenes.iter().map(|&si| format!("{}_{}", g.name, scenes[si].name)).collect()
@@ -190,6 +199,16 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         raw.replicates.as_ref().map_or(Some(1), |r| p.int(r, "replicates", 1, MAX_REPLICATES as i64));
     let seed = raw.seed.as_ref().map_or(1, |s| p.seed(s, "seed"));
     let reference = reference(raw.reference.as_ref(), seed, p);
+    let timing = TimingSpec {
+        repeats: raw
+            .timing
+            .as_ref()
+            .and_then(|t| t.repeats.as_ref())
+            .map_or(crate::timing::DEFAULT_REPEATS, |r| {
+                p.int(r, "timing.repeats", 1, MAX_TIMING_REPEATS as i64).unwrap_or(1)
+            }),
+        seed: raw.timing.as_ref().and_then(|t| t.seed.as_ref()).map_or(seed, |s| p.seed(s, "timing.seed")),
+    };
 
     let mut groups = Vec::new();
     let all = raw
@@ -250,6 +269,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         seed,
         point_figures,
         reference,
+        timing,
         groups,
     }
 }
@@ -293,6 +313,7 @@ fn reference(raw: Option<&RawReference>, seed: u64, p: &mut Problems) -> Referen
         replicates: 4,
         seed,
         estimator: Row::new(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Shift),
+        adaptive: false,
     };
     let Some(raw) = raw else { return r };
     if let Some(v) = &raw.rays {
@@ -325,6 +346,17 @@ fn reference(raw: Option<&RawReference>, seed: u64, p: &mut Problems) -> Referen
         e.seed_mode = m;
     }
     *e = e.canonical();
+    if let Some(a) = &raw.allocation {
+        match a.get_ref().as_str() {
+            "even" => r.adaptive = false,
+            "adaptive" => r.adaptive = true,
+            other => p.add(
+                a.span(),
+                "reference.allocation",
+                format!("'{other}' is not allowed; \"even\" or \"adaptive\""),
+            ),
+        }
+    }
     r
 }
 

@@ -134,7 +134,7 @@ pub fn records(out: &Path) -> Vec<JobResult> {
 
 /// A record with its run-time fields blanked: what must be identical between runs.
 pub fn timeless(r: &JobResult) -> JobResult {
-    JobResult { time_s: 0.0, rays_per_s: 0.0, efficiency: None, ..r.clone() }
+    r.without_times()
 }
 
 /// Asserts a failed command: exit status 2, one `error: <what>: ...` line first, no panic.
@@ -147,15 +147,13 @@ pub fn assert_error(o: &Output, what: &str) -> String {
     e
 }
 
-/// `results.csv` without its run-time columns (time_s, rays_per_s, efficiency): as text, so a
-/// value that drifted by one ulp through a read-back would show.
+/// `results.csv` without its run-time columns (`results::TIME_COLUMNS`): as text, so a value that
+/// drifted by one ulp through a read-back would show.
 pub fn timeless_csv(out: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(out.join("results.csv")).unwrap();
     let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-    let drop: Vec<usize> = ["time_s", "rays_per_s", "efficiency"]
-        .iter()
-        .map(|c| header.iter().position(|h| h == c).unwrap())
-        .collect();
+    let drop: Vec<usize> =
+        hemilab::results::TIME_COLUMNS.iter().map(|c| header.iter().position(|h| h == c).unwrap()).collect();
     text.lines()
         .map(|l| {
             let f: Vec<&str> =

@@ -1,0 +1,19 @@
+//! Writes the procedural meshes of `scenes/` (atrium, slats, terrain) as plain OBJ into a directory:
+//! `cargo run --release --example write_scenes -- /tmp/scenes`, then compress each by hand with
+//! `zstd -19 --rm X.obj -o scenes/X.obj.zst` (hemilab only *reads* zstd). `tests/scene_files.rs`
+//! checks that the committed meshes are exactly what `hemilab::scene::generate` writes.
+
+use hemilab::scene::generate;
+use std::path::PathBuf;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "/tmp/scenes".into()));
+    for (name, text) in
+        [("atrium", generate::atrium()), ("slats", generate::slats()), ("terrain", generate::terrain())]
+    {
+        let path = dir.join(format!("{name}.obj"));
+        hemilab::io::write_atomic(&path, text.as_bytes())?;
+        println!("{}: {} bytes", path.display(), text.len());
+    }
+    Ok(())
+}

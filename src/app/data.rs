@@ -1,0 +1,136 @@
+//! What the figures and the page are drawn from, and the small questions both ask of it (a row's
+//! readable name, a configuration's banding, a sweep's points and slopes). `figures` and `page`
+//! depend on this module and never on each other.
+
+use super::load::Loaded;
+use super::reference::Reference;
+use crate::metrics::mean_sd;
+use crate::results::{self, Aggregate, JobResult};
+use crate::sampling::{SeedMode, Sequence};
+use crate::spec::{Group, GroupKind, Row};
+use crate::timing::{Protocol, Summary};
+
+/// Everything the figures and the page are drawn from.
+pub struct Data<'a> {
+    pub loaded: &'a Loaded,
+    pub references: &'a [Reference],
+    pub results: &'a [JobResult],
+    pub aggs: Vec<Aggregate>,
+    /// How the renders were timed, and each scene's no-AO-ray overhead (spec order).
+    pub protocol: Protocol,
+    pub overhead: Vec<Option<Summary>>,
+    /// Paragraphs the page adds after its timing text (e.g. `merge`: which shard ran where).
+    pub notes: Vec<String>,
+}
+
+impl<'a> Data<'a> {
+    pub fn new(
+        loaded: &'a Loaded,
+        references: &'a [Reference],
+        results: &'a [JobResult],
+        protocol: Protocol,
+        overhead: Vec<Option<Summary>>,
+    ) -> Self {
+        let aggs = results::aggregate(results);
+        Self { loaded, references, results, aggs, protocol, overhead, notes: Vec::new() }
+    }
+
+    /// The spec's `[[convergence]]` groups, with each scene they cover (index, name).
+    pub fn sweeps(&self) -> Vec<(&'a Group, usize, &'a str)> {
+        let spec = &self.loaded.spec;
+        spec.groups
+            .iter()
+            .filter(|g| g.kind == GroupKind::Convergence)
+            .flat_map(|g| g.scenes.iter().map(move |&si| (g, si, spec.scenes[si].name.as_str())))
+            .collect()
+    }
+}
+
+/// A readable name of a row, as the paper says it.
+pub fn row_label(row: Row) -> String {
+    let seq = match (row.sequence, row.seed_mode) {
+        (Sequence::Random, SeedMode::Static) => "pseudo-random, static seed".to_string(),
+        (Sequence::Random, SeedMode::BlueNoise) => "pseudo-random, blue-noise".to_string(),
+        (Sequence::Random, _) => "pseudo-random".to_string(),
+        (Sequence::Fibonacci, SeedMode::Rotation) => "Fibonacci, per-pixel seed".to_string(),
+        (Sequence::Fibonacci, SeedMode::Static) => "Fibonacci, static seed".to_string(),
+        (Sequence::Fibonacci, SeedMode::Shift) => "Fibonacci, shift".to_string(),
+        (Sequence::Fibonacci, SeedMode::BlueNoise) => "Fibonacci, blue-noise".to_string(),
+        (s, m) => format!("{s}, {m}"),
+    };
+    format!("{}, {seq}", row.distribution)
+}
+
+/// The readable name of an aggregate's row (its raw names if they no longer parse).
+pub fn agg_label(a: &Aggregate) -> String {
+    crate::compare::row_of(a)
+        .map(row_label)
+        .unwrap_or_else(|| format!("{}, {}, {}", a.distribution, a.sequence, a.seed_mode))
+}
+
+/// Whether a result belongs to (scene, row, rays).
+pub fn is_config(r: &JobResult, scene: &str, row: Row, rays: u32) -> bool {
+    let row = row.canonical();
+    r.scene == scene
+        && r.rays == rays
+        && r.distribution == row.distribution.name()
+        && r.sequence == row.sequence.name()
+        && r.seed_mode == row.seed_mode.name()
+}
+
+/// The banding metric of one image: mean of the horizontal and vertical lag-1 error autocorrelation.
+fn banding(r: &JobResult) -> f64 {
+    0.5 * (r.autocorr_x + r.autocorr_y)
+}
+
+/// Mean ± sd of the banding metric over the replicates of a configuration.
+pub fn banding_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Option<(f64, f64)> {
+    let v: Vec<f64> = results
+        .iter()
+        .filter(|r| is_config(r, scene, row, rays))
+        .map(banding)
+        .filter(|b| b.is_finite())
+        .collect();
+    (!v.is_empty()).then(|| mean_sd(&v))
+}
+
+/// Mean ± sd of the whiteness z-score over the replicates of a configuration.
+pub fn whiteness_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Option<(f64, f64)> {
+    let v: Vec<f64> = results
+        .iter()
+        .filter(|r| is_config(r, scene, row, rays))
+        .map(|r| r.whiteness_z)
+        .filter(|z| z.is_finite())
+        .collect();
+    (!v.is_empty()).then(|| mean_sd(&v))
+}
+
+/// The aggregates of one sweep row, in ray order.
+pub fn sweep_points<'a>(data: &'a Data, g: &Group, scene: &str, row: Row) -> Vec<&'a Aggregate> {
+    g.rays.iter().filter_map(|&rays| results::lookup(&data.aggs, scene, row, rays)).collect()
+}
+
+/// The fitted slopes of one sweep row, over the sweep's own ray counts.
+pub fn sweep_slope(data: &Data, g: &Group, scene: &str, row: Row) -> Option<results::Slope> {
+    let pts: Vec<Aggregate> = sweep_points(data, g, scene, row).into_iter().cloned().collect();
+    results::convergence_slopes(&pts, &g.rays).into_iter().next()
+}
+
+/// Every (scene, row, rays) of the spec's tables, in file order, without duplicates.
+pub fn table_configs(data: &Data) -> Vec<(String, Row, u32)> {
+    let spec = &data.loaded.spec;
+    let mut out: Vec<(String, Row, u32)> = Vec::new();
+    for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
+        for &si in &g.scenes {
+            for &row in &g.rows {
+                for &rays in &g.rays {
+                    let c = (spec.scenes[si].name.clone(), row.canonical(), rays);
+                    if !out.contains(&c) {
+                        out.push(c);
+                    }
+                }
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,445 @@
+//! `hemilab plan`: the plan's size, and how long its run will take *on this machine, now*, from a
+//! short calibration: a fraction of a second of real renders through the timing protocol's own
+//! pieces (one-thread `timing::Worker`s side by side, `timing::Calibration` fitted per estimator),
+//! then the protocol's renders (`plan::cost`) and the references that must be built.
+//!
+//! What the calibration renders, per scene at the spec's resolution: the no-AO-ray overhead render
+//! and a 1-ray render of the first estimator (3 each), and every estimator the plan uses (and the
+//! reference's, if a reference must be built) once at a few rays per pixel. Each estimator's cost
+//! is the line through its render and the 1-ray render (`Calibration::fit`): a render's time
+//! grows linearly with its AO rays (measured on the kitchen from 1 to 1024 rays). Wall time per CPU
+//! second of those renders measures how busy the machine is; the estimate assumes it stays so.
+//! Not estimated: writing files (fsync) and drawing the report, about a second or two.
+
+use super::jobs::Geometry;
+use super::load::{Loaded, load};
+use super::reference as refs;
+use super::shard;
+use super::timed::{overhead_job, render_job};
+use crate::cli::PlanArgs;
+use crate::error::{Error, Result};
+use crate::image::{self, Channel};
+use crate::io;
+use crate::plan::{self, Job, Plan, cost, format_duration};
+use crate::reference::Manifest;
+use crate::render::{self, RenderJob, RenderOutput};
+use crate::results::{self, JobResult};
+use crate::spec::Row;
+use crate::timing::{self, Calibration, Time, clock};
+use std::fmt::Write as _;
+use std::sync::Mutex;
+
+/// AO rays per calibration render, about: enough to dwarf the per-image cost, few enough that a
+/// dozen estimators take a fraction of a second …
+const CALIBRATION_RAYS: u64 = 250_000;
+/// … and all estimator renders of all scenes together no more than this.
+const CALIBRATION_TOTAL_RAYS: u64 = 4_000_000;
+/// Timed samples of the overhead and 1-ray renders per scene.
+const CALIBRATION_SAMPLES: usize = 3;
+/// Untimed CPU seconds each calibration worker renders on a scene first.
+const CALIBRATION_WARMUP_S: f64 = 0.05;
+
+/// What the calibration measured on one scene.
+struct SceneCal {
+    /// Covered pixels (AO rays cast per ray per pixel).
+    covered: f64,
+    /// Median CPU seconds of the no-AO-ray render.
+    overhead_s: f64,
+    /// Per estimator: time = intercept + cost · AO rays.
+    rows: Vec<(Row, Calibration)>,
+    /// Rays per pixel of the estimator renders.
+    rays: u32,
+}
+
+struct Calibrated {
+    scenes: Vec<Option<SceneCal>>,
+    /// Wall seconds per CPU second a worker will see: the geometric mean of `measured` and
+    /// `averaged`. The calibration's own wall/CPU is a direct measurement but of a fraction of a
+    /// second, in which the scheduler favours threads that just started; the load average
+    /// (threads wanting a core, with the run's workers added, per online CPU) is a minute's average
+    /// of the whole machine. On this project's shared 2-core machine the first alone came out
+    /// 1.3–2.3× below what the run then saw, the second 1.2–1.6× above.
+    contention: f64,
+    measured: f64,
+    averaged: Option<f64>,
+    /// CPU seconds per job for metrics and EXR encoding, and per record for rewriting the results.
+    measure_s: f64,
+    serialize_per_record_s: f64,
+    cpu_s: f64,
+    wall_s: f64,
+}
+
+impl Calibrated {
+    fn scene(&self, loaded: &Loaded, job: &Job) -> &SceneCal {
+        self.scenes[loaded.scene_of(job).0].as_ref().expect("every planned scene is calibrated")
+    }
+
+    /// Predicted CPU seconds of one render of `job` (on its own row's line).
+    fn render_s(&self, loaded: &Loaded, job: &Job) -> f64 {
+        let s = self.scene(loaded, job);
+        let row = job.row().canonical();
+        let cal = s.rows.iter().find(|(r, _)| *r == row).map(|(_, c)| c).expect("calibrated row");
+        cal.predict((s.covered * job.rays as f64).round() as u64)
+    }
+
+    fn overhead_s(&self, loaded: &Loaded, scene_id: &str) -> f64 {
+        let si = loaded.spec.scenes.iter().position(|s| s.id == scene_id).expect("planned scene");
+        self.scenes[si].as_ref().map_or(0.0, |s| s.overhead_s)
+    }
+
+    fn model(&self, loaded: &Loaded, jobs: usize, workers: usize) -> cost::Model {
+        let spec = &loaded.spec;
+        cost::Model {
+            protocol: timing::Protocol::new(spec.timing.repeats, spec.timing.seed, workers),
+            overhead_renders: timing::OVERHEAD_REPEATS,
+            // Results are rewritten after every job, on average half full.
+            post_s: self.measure_s + self.serialize_per_record_s * jobs as f64 / 2.0,
+            contention: self.contention,
+        }
+    }
+}
+
+/// A calibration render.
+#[derive(Clone, Copy)]
+struct Probe {
+    scene: usize,
+    /// `None`: the overhead render; `Some(i)`: estimator `i` of the scene.
+    row: Option<usize>,
+    rays: u32,
+}
+
+/// Renders the probes on `workers` one-thread workers and fits each estimator's line.
+fn calibrate(
+    loaded: &Loaded,
+    full: &Plan,
+    builds: &[Option<Manifest>],
+    workers: usize,
+) -> Result<Calibrated> {
+    // Per scene: a job of every estimator it uses (the reference's last, if it must be built).
+    let mut rows: Vec<Vec<Job>> = vec![Vec::new(); loaded.scenes.len()];
+    for job in &full.jobs {
+        let (si, _) = loaded.scene_of(job);
+        if !rows[si].iter().any(|j| j.row().canonical() == job.row().canonical()) {
+            rows[si].push(job.clone());
+        }
+    }
+    for (si, b) in builds.iter().enumerate() {
+        if let Some(m) = b {
+            let r = plan::reference_jobs(&loaded.spec, si, m.rays).remove(0);
+            if !rows[si].iter().any(|j| j.row().canonical() == r.row().canonical()) {
+                rows[si].push(r);
+            }
+        }
+    }
+    let probes_in_all = rows.iter().map(Vec::len).sum::<usize>() as u64;
+    let mut probes = Vec::new();
+    let mut renders: Vec<RenderJob> = Vec::new();
+    let mut warm: Vec<Option<RenderJob>> = vec![None; loaded.scenes.len()];
+    let mut rays_of = vec![1u32; loaded.scenes.len()];
+    for (si, jobs) in rows.iter().enumerate() {
+        let Some(first) = jobs.first() else { continue };
+        let g = Geometry::of(first.resolution, first.ao_distance, &loaded.scenes[si]);
+        let per_probe = CALIBRATION_RAYS.min(CALIBRATION_TOTAL_RAYS / probes_in_all.max(1));
+        let rays = (per_probe / g.pixels().max(1)).clamp(2, 64) as u32;
+        rays_of[si] = rays;
+        warm[si] = Some(render_job(loaded, first, 16)?);
+        for _ in 0..CALIBRATION_SAMPLES {
+            probes.push((Probe { scene: si, row: None, rays: 0 }, renders.len()));
+            renders.push(overhead_job(&render_job(loaded, first, 1)?));
+            probes.push((Probe { scene: si, row: Some(0), rays: 1 }, renders.len()));
+            renders.push(render_job(loaded, first, 1)?);
+        }
+        for (i, job) in jobs.iter().enumerate() {
+            probes.push((Probe { scene: si, row: Some(i), rays }, renders.len()));
+            renders.push(render_job(loaded, job, rays)?);
+        }
+    }
+
+    // Whatever an estimator sets up once per process (the blue-noise masks) is set up here, on a
+    // tiny image, so that no calibration render pays for it; a run's first render does, once.
+    for (si, jobs) in rows.iter().enumerate() {
+        for job in jobs {
+            let tiny = RenderJob { width: 4, height: 4, ..render_job(loaded, job, 1)? };
+            render::render(&loaded.scenes[si], &tiny, &|_| {});
+        }
+    }
+    let results: Mutex<Vec<(Probe, Time, u64)>> = Mutex::new(Vec::new());
+    let sample: Mutex<Option<RenderOutput>> = Mutex::new(None);
+    let work = |w: &timing::Worker, &(p, r): &(Probe, usize)| -> Result<(Probe, Time, RenderOutput)> {
+        let scene = &loaded.scenes[p.scene];
+        if let Some(wj) = &warm[p.scene] {
+            w.warm_up(p.scene, CALIBRATION_WARMUP_S, || {
+                render::render(scene, wj, &|_| {});
+            });
+        }
+        let (out, t) = w.timed(|| render::render(scene, &renders[r], &|_| {}));
+        Ok((p, t, out))
+    };
+    let done = |_: &(Probe, usize), (p, t, out): (Probe, Time, RenderOutput)| -> Result<()> {
+        results.lock().unwrap_or_else(|e| e.into_inner()).push((p, t, out.rays));
+        let mut s = sample.lock().unwrap_or_else(|e| e.into_inner());
+        if s.is_none() && p.rays > 1 {
+            *s = Some(out);
+        }
+        Ok(())
+    };
+    let pool = timing::workers(workers).map_err(Error::Refused)?;
+    timing::run_queue(&probes, pool, work, done)?;
+    let results = results.into_inner().unwrap_or_else(|e| e.into_inner());
+
+    let cpu_s: f64 = results.iter().map(|r| r.1.cpu_s).sum();
+    let wall_s: f64 = results.iter().map(|r| r.1.wall_s).sum();
+    let mut scenes = Vec::new();
+    for (si, jobs) in rows.iter().enumerate() {
+        if jobs.is_empty() {
+            scenes.push(None);
+            continue;
+        }
+        let of = |row: Option<usize>, rays: u32| -> Vec<(u64, f64)> {
+            results
+                .iter()
+                .filter(|(p, ..)| p.scene == si && p.row == row && p.rays == rays)
+                .map(|(_, t, cast)| (*cast, t.cpu_s))
+                .collect()
+        };
+        let median = |v: &[(u64, f64)]| crate::stats::median(&v.iter().map(|x| x.1).collect::<Vec<_>>());
+        let one = of(Some(0), 1);
+        let covered = one.first().map_or(0.0, |x| x.0 as f64);
+        let base = (covered.round() as u64, median(&one));
+        let mut cals = Vec::new();
+        for (i, job) in jobs.iter().enumerate() {
+            let mine = of(Some(i), rays_of[si]);
+            let fit = Calibration::fit(&[base, (mine[0].0, mine[0].1)]).ok_or_else(|| {
+                Error::Refused(format!("calibration of {} on '{}' failed", job.row().label(), job.scene_name))
+            })?;
+            cals.push((job.row().canonical(), fit));
+        }
+        scenes.push(Some(SceneCal {
+            covered,
+            overhead_s: median(&of(None, 0)),
+            rows: cals,
+            rays: rays_of[si],
+        }));
+    }
+
+    // Per recorded job: metrics and the EXR; per record: the results files.
+    let out = sample.into_inner().unwrap_or_else(|e| e.into_inner());
+    let (measure_s, serialize_per_record_s) = match out {
+        Some(out) => {
+            let c0 = clock::thread_cpu_s();
+            let stats = crate::metrics::measure(&out.ao, &out.ao, &out.coverage)
+                .map_err(|e| Error::Refused(format!("calibration: {e}")))?;
+            let _ = image::encode_exr(&[
+                Channel { name: "Y", image: &out.ao },
+                Channel { name: "A", image: &out.coverage },
+            ]);
+            let c1 = clock::thread_cpu_s();
+            let records: Vec<JobResult> =
+                full.jobs.iter().map(|j| JobResult::new(j, &stats, out.rays, "images/x.exr")).collect();
+            let text = (results::to_json(&records), results::to_csv(&records));
+            let c2 = clock::thread_cpu_s();
+            drop(text);
+            (c1 - c0, (c2 - c1) / full.jobs.len().max(1) as f64)
+        }
+        None => (0.0, 0.0),
+    };
+    let measured = if cpu_s > 0.0 { (wall_s / cpu_s).max(1.0) } else { 1.0 };
+    let averaged = io::load_average().map(|(load, cpus)| ((load + workers as f64) / cpus as f64).max(1.0));
+    let contention = averaged.map_or(measured, |a| (measured * a).sqrt());
+    Ok(Calibrated {
+        scenes,
+        contention,
+        measured,
+        averaged,
+        measure_s,
+        serialize_per_record_s,
+        cpu_s,
+        wall_s,
+    })
+}
+
+/// Rays per covered pixel of an adaptive reference's renders after its pilot, on average: its
+/// budget, or for `rays = "auto"` (settled only by the pilot) the rays an even reference would
+/// need, which the adaptive allocation is there to undercut.
+fn adaptive_rays(loaded: &Loaded, si: usize, m: &Manifest) -> Option<u32> {
+    let a = m.adaptive.as_ref()?;
+    Some(a.budget.unwrap_or_else(|| refs::auto_rays(&loaded.spec, si)))
+}
+
+/// Wall seconds to build the references that must be built (on `threads` threads): every
+/// replicate at the manifest's rays (an adaptive reference's pilot), and an adaptive one's renders.
+fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Option<Manifest>], threads: usize) -> f64 {
+    let mut cpu = 0.0;
+    for (si, b) in builds.iter().enumerate() {
+        let Some(m) = b else { continue };
+        let passes = [Some(m.rays), adaptive_rays(loaded, si, m)];
+        for rays in passes.into_iter().flatten() {
+            for job in plan::reference_jobs(&loaded.spec, si, rays) {
+                cpu += cal.render_s(loaded, &job);
+            }
+        }
+    }
+    cpu / threads.max(1) as f64 * cal.contention
+}
+
+pub fn run_plan(args: PlanArgs) -> Result<()> {
+    let t0 = clock::wall_s();
+    let loaded = load(&args.spec)?;
+    let load_s = clock::wall_s() - t0;
+    let spec = &loaded.spec;
+    let full = plan::plan(spec);
+    let count = args.shard.map(|s| s.count).or(args.shards);
+    let selected = args.shard.map_or_else(|| full.clone(), |s| shard::select(&loaded, &full, s));
+    let threads = args
+        .threads
+        .map_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()), |t| t as usize);
+
+    let builds: Vec<Option<Manifest>> = (0..loaded.scenes.len())
+        .map(|si| refs::missing(spec, si, &loaded.scenes[si], &args.reference_dir))
+        .collect::<Result<_>>()?;
+    let builds: Vec<Option<Manifest>> = builds
+        .into_iter()
+        .enumerate()
+        .map(|(si, b)| b.filter(|_| full.jobs.iter().any(|j| loaded.scene_of(j).0 == si)))
+        .collect();
+    let cal = calibrate(&loaded, &full, &builds, threads)?;
+    let refs_s = references_s(&loaded, &cal, &builds, threads);
+    let estimate = |p: &Plan| {
+        cost::jobs(
+            p,
+            |j| cal.render_s(&loaded, j),
+            |id| cal.overhead_s(&loaded, id),
+            &cal.model(&loaded, p.jobs.len(), threads),
+        )
+    };
+
+    let mut s = String::new();
+    let what = args.shard.map_or(String::new(), |k| format!(", shard {k}"));
+    let b = estimate(&selected);
+    let size = plan::estimate(&selected, |j| {
+        let (_, sc) = loaded.scene_of(j);
+        [sc.resolution.0, sc.resolution.1]
+    });
+    let _ = writeln!(
+        s,
+        "plan for {}{what}: {} jobs in {} configurations; at most {} AO rays ({:.3} G) over {} pixels",
+        args.spec.display(),
+        selected.jobs.len(),
+        b.units,
+        size.total_rays,
+        size.total_rays as f64 / 1e9,
+        size.pixels
+    );
+    let _ = writeln!(
+        s,
+        "timing protocol: at least {} timed renders per configuration, {} one-thread workers: {} renders",
+        spec.timing.repeats, threads, b.renders
+    );
+    for (si, sc) in spec.scenes.iter().enumerate() {
+        match &builds[si] {
+            Some(m) => {
+                let how = match adaptive_rays(&loaded, si, m) {
+                    Some(r) => format!(
+                        "adaptive: a pilot of {0} x {1} rays, then {0} x about {r}",
+                        m.replicates, m.rays
+                    ),
+                    None => format!("{} x {} rays", m.replicates, m.rays),
+                };
+                let _ = writeln!(s, "reference '{}': must be built ({how})", sc.name);
+            }
+            None => {
+                let _ = writeln!(
+                    s,
+                    "reference '{}': stored in {}, reused",
+                    sc.name,
+                    args.reference_dir.display()
+                );
+            }
+        }
+    }
+    let _ =
+        write!(s, "calibration on this machine ({:.2} s of rendering in {:.2} s): ", cal.cpu_s, cal.wall_s);
+    let parts: Vec<String> = spec
+        .scenes
+        .iter()
+        .zip(&cal.scenes)
+        .filter_map(|(sc, c)| {
+            let c = c.as_ref()?;
+            let ns: Vec<f64> = c.rows.iter().map(|(_, k)| k.ns_per_ray).collect();
+            let (lo, hi) =
+                ns.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+            let per_image = c.rows.first().map_or(0.0, |(_, k)| k.overhead_s);
+            Some(format!(
+                "'{}' {:.1} ms per image + {:.0}–{:.0} ns per AO ray by estimator ({} estimators at {} rays)",
+                sc.name,
+                per_image * 1e3,
+                lo,
+                hi,
+                c.rows.len(),
+                c.rays
+            ))
+        })
+        .collect();
+    let _ = writeln!(s, "{}", parts.join("; "));
+    if cal.contention > 1.15 {
+        let load = cal.averaged.map_or(String::new(), |a| format!(", the load average says {a:.1}x"));
+        let _ = writeln!(
+            s,
+            "the machine is busy: the calibration renders took {:.1}x their CPU time in wall time{load}; the \
+             estimate assumes {:.1}x for the whole run",
+            cal.measured, cal.contention
+        );
+    }
+    let total = load_s + refs_s + b.wall_s;
+    let _ = writeln!(
+        s,
+        "estimate: ≈ {} (renders {:.1} s CPU, per-job metrics and results {:.1} s, warm-up {:.1} s, on {} workers; \
+         references {}; loading {:.1} s; not counted: writing the report)",
+        format_duration(total),
+        b.render_cpu_s + b.overhead_cpu_s,
+        b.post_cpu_s,
+        b.warmup_cpu_s,
+        threads,
+        if refs_s > 0.0 { format_duration(refs_s) } else { "none to build".into() },
+        load_s
+    );
+    if let Some(n) = count {
+        let of = shard::partition(&loaded, &full, n);
+        let _ = writeln!(
+            s,
+            "\n{:>7}  {:>6}  {:>14}  {:>8}  estimate",
+            "shard", "jobs", "configurations", "renders"
+        );
+        for k in 0..n {
+            let jobs: Vec<Job> =
+                full.jobs.iter().zip(&of).filter(|(_, x)| **x == k).map(|(j, _)| j.clone()).collect();
+            let p = Plan { jobs };
+            let e = estimate(&p);
+            let t = if p.jobs.is_empty() { 0.0 } else { load_s + refs_s + e.wall_s };
+            let _ = writeln!(
+                s,
+                "{:>7}  {:>6}  {:>14}  {:>8}  ≈ {}",
+                format!("{k}/{n}"),
+                p.jobs.len(),
+                e.units,
+                e.renders,
+                format_duration(t)
+            );
+        }
+        if refs_s > 0.0 {
+            let _ = writeln!(
+                s,
+                "(each shard's estimate includes building the references, or waiting for the shard that does; \
+                 build them first with `hemilab reference` to save that)"
+            );
+        }
+    }
+    if args.jobs {
+        let _ = writeln!(s, "\njobs, in run order:");
+        s.push_str(&plan::format_jobs(&selected));
+    } else {
+        let _ = writeln!(s, "(--jobs lists the {} jobs)", selected.jobs.len());
+    }
+    print!("{s}");
+    Ok(())
+}

@@ -1,0 +1,294 @@
+//! `hemilab run`'s jobs under the timing protocol (`crate::timing`): every configuration's
+//! replicates, and re-renders where it has fewer than `repeats`, in seeded interleaved passes
+//! across one-thread workers; each scene's no-AO-ray render timed alongside as the overhead; a
+//! warm-up before a worker's first timed render on a scene. Each job's image and record are
+//! written as soon as it is rendered, so a killed run resumes where it stopped.
+
+use super::load::Loaded;
+use super::reference::Reference;
+use crate::error::{Error, Result};
+use crate::image::Channel;
+use crate::io;
+use crate::metrics;
+use crate::plan::{self, Job, Plan};
+use crate::reference as refmath;
+use crate::render::{self, RenderJob, RenderOutput};
+use crate::results::{self, JobResult};
+use crate::sampling::{SamplerConfig, SeedMode, Sequence};
+use crate::scene::Scene;
+use crate::spec::Row;
+use crate::timing::{self, Need, Protocol, Slot, Summary, Time};
+use indicatif::ProgressBar;
+use std::collections::HashMap;
+use std::path::Path;
+use std::time::Instant;
+
+/// What a session measured besides the records.
+pub struct Session {
+    /// Per spec scene: the no-AO-ray render's times (`None` if the scene had no job).
+    pub overhead: Vec<Option<Summary>>,
+    /// Timed renders done in this session, and their total CPU and the session's wall seconds.
+    pub renders: usize,
+    pub cpu_s: f64,
+    pub wall_s: f64,
+}
+
+/// Rays per pixel of the warm-up render (enough to exercise the AO path, cheap enough to repeat).
+const WARMUP_RAYS: u32 = 16;
+
+/// The resume key: the job, and everything outside the job that its numbers depend on (scene
+/// content, reference, hemilab version). The reference's measured fields (its render time, noise
+/// floor) are left out: a rebuilt identical reference must not invalidate finished jobs.
+pub(super) fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
+    let manifest = refmath::Manifest { noise_floor: None, time_s: None, ..reference.manifest.clone() };
+    let what = format!(
+        "{};{};{};{}",
+        job.canonical(),
+        scene.content_hash,
+        manifest.to_json(),
+        env!("CARGO_PKG_VERSION")
+    );
+    format!("{:016x}", plan::fnv1a64(what.as_bytes()))
+}
+
+fn image_rel(job: &Job) -> String {
+    format!("images/{}.exr", job.file_stem())
+}
+
+pub(super) fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
+    let (_, scene) = loaded.scene_of(job);
+    let g = super::jobs::Geometry::of(job.resolution, job.ao_distance, scene);
+    let sampler = SamplerConfig::new(job.sequence, job.seed_mode, rays, job.seed)
+        .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
+    Ok(RenderJob {
+        distribution: job.distribution,
+        sampler,
+        width: g.width,
+        height: g.height,
+        ao_distance: g.distance.as_f32(),
+    })
+}
+
+/// The overhead render: `job`'s image with no AO rays, i.e. primary rays, hit points, frames and
+/// the image itself. (Built directly: `SamplerConfig::new` refuses zero points, which would
+/// have no estimate; this render's image is never used, only its time.)
+pub(super) fn overhead_job(base: &RenderJob) -> RenderJob {
+    let sampler =
+        SamplerConfig { sequence: Sequence::Random, seed_mode: SeedMode::Rotation, count: 0, seed: 0 };
+    RenderJob { sampler, ..*base }
+}
+
+/// Whatever a worker hands back for one slot.
+struct Done {
+    time: Time,
+    record: Option<JobResult>,
+}
+
+/// What the finished renders have produced so far.
+struct State {
+    /// By plan position: resumed, or filled as jobs finish.
+    records: Vec<Option<JobResult>>,
+    /// Timing-only renders that finished before their job's first render did.
+    pending: HashMap<usize, Vec<Time>>,
+    /// Per scene: the no-AO-ray renders' times.
+    overhead_samples: Vec<Vec<f64>>,
+    renders: usize,
+    cpu_s: f64,
+}
+
+impl State {
+    /// Files one finished render (`n`: the plan's job count; ids from `n` on are overhead renders).
+    /// A new record is written out at once, so a killed run keeps it.
+    fn done(
+        &mut self,
+        n: usize,
+        slot: &Slot,
+        d: Done,
+        write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
+    ) -> Result<()> {
+        self.renders += 1;
+        self.cpu_s += d.time.cpu_s;
+        if slot.job >= n {
+            self.overhead_samples[slot.job - n].push(d.time.cpu_s);
+            return Ok(());
+        }
+        match (d.record, &mut self.records[slot.job]) {
+            (Some(mut rec), r) => {
+                rec.add_time(d.time.cpu_s, d.time.wall_s);
+                for t in self.pending.remove(&slot.job).unwrap_or_default() {
+                    rec.add_time(t.cpu_s, t.wall_s);
+                }
+                *r = Some(rec);
+                write(&self.records.iter().flatten().cloned().collect::<Vec<_>>())?;
+            }
+            (None, Some(rec)) => rec.add_time(d.time.cpu_s, d.time.wall_s),
+            (None, None) => self.pending.entry(slot.job).or_default().push(d.time),
+        }
+        Ok(())
+    }
+
+    /// Every timed render of job `i` so far.
+    fn samples(&self, i: usize) -> Vec<f64> {
+        let mut v: Vec<f64> = self.records[i].as_ref().map(|r| r.times.clone()).unwrap_or_default();
+        v.extend(self.pending.get(&i).into_iter().flatten().map(|t| t.cpu_s));
+        v
+    }
+}
+
+/// Renders and measures every job of `plan` not already in `previous` (by key, with its image),
+/// times everything per the protocol, and returns the records in plan order.
+#[allow(clippy::too_many_arguments)]
+pub fn run_jobs(
+    loaded: &Loaded,
+    plan: &Plan,
+    references: &[Reference],
+    previous: &HashMap<String, JobResult>,
+    out: &Path,
+    protocol: Protocol,
+    bar: &ProgressBar,
+    write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
+) -> Result<(Vec<JobResult>, Session)> {
+    let start = Instant::now();
+    let n = plan.jobs.len();
+    let scenes = loaded.scenes.len();
+    let keys: Vec<String> = plan
+        .jobs
+        .iter()
+        .map(|j| {
+            let (si, s) = loaded.scene_of(j);
+            run_key(j, s, &references[si])
+        })
+        .collect();
+    let records: Vec<Option<JobResult>> = plan
+        .jobs
+        .iter()
+        .zip(&keys)
+        .map(|(j, k)| previous.get(k).filter(|_| io::exists(&out.join(image_rel(j)))).cloned())
+        .collect();
+
+    // One unit per configuration: its replicates cost the same.
+    let mut unit_of: HashMap<(String, Row, u32), usize> = HashMap::new();
+    let mut needs: Vec<Need> = Vec::new();
+    for (i, job) in plan.jobs.iter().enumerate() {
+        let u =
+            *unit_of.entry((job.scene_id.clone(), job.row().canonical(), job.rays)).or_insert_with(|| {
+                needs.push(Need { repeats: protocol.repeats, ..Need::default() });
+                needs.len() - 1
+            });
+        match &records[i] {
+            None => needs[u].fresh.push(i),
+            Some(r) => {
+                needs[u].again.push(i);
+                needs[u].have += r.times.len();
+            }
+        }
+    }
+    // Render jobs (ids < n), then one overhead job per scene (id n + scene), timed when something
+    // else is (the overhead must come from the same session as the times it is taken from) or when
+    // a record was never split (a run killed after its last job, before the end).
+    let mut jobs: Vec<RenderJob> =
+        plan.jobs.iter().map(|j| render_job(loaded, j, j.rays)).collect::<Result<_>>()?;
+    let mut warm: Vec<Option<RenderJob>> = vec![None; scenes];
+    for j in &plan.jobs {
+        let (si, _) = loaded.scene_of(j);
+        if warm[si].is_none() {
+            warm[si] = Some(render_job(loaded, j, j.rays.min(WARMUP_RAYS))?);
+        }
+    }
+    let mut slots = timing::schedule(&needs, protocol.seed);
+    if !slots.is_empty() || records.iter().flatten().any(|r| r.timings == 0) {
+        for (si, w) in warm.iter().enumerate() {
+            jobs.push(overhead_job(w.as_ref().unwrap_or(&jobs[0])));
+            if w.is_some() {
+                needs.push(Need {
+                    again: vec![n + si],
+                    repeats: timing::OVERHEAD_REPEATS,
+                    ..Need::default()
+                });
+            }
+        }
+        slots = timing::schedule(&needs, protocol.seed);
+    }
+    let scene_of_id = |id: usize| if id < n { loaded.scene_of(&plan.jobs[id]).0 } else { id - n };
+    let pixels = |id: usize| jobs[id].width as u64 * jobs[id].height as u64;
+    let cost = |slots: &[Slot]| slots.iter().map(|s| pixels(s.job) * jobs[s.job].sampler.count as u64).sum();
+    bar.reset();
+    bar.set_length(cost(&slots));
+    bar.set_message("jobs");
+
+    let work = |worker: &timing::Worker, slot: &Slot| -> Result<Done> {
+        let si = scene_of_id(slot.job);
+        let scene = &loaded.scenes[si];
+        if let Some(w) = &warm[si] {
+            worker.warm_up(si, protocol.warmup_s, || {
+                render::render(scene, w, &|_| {});
+            });
+        }
+        let rj = &jobs[slot.job];
+        let rays = rj.sampler.count as u64;
+        let (output, time): (RenderOutput, Time) =
+            worker.timed(|| render::render(scene, rj, &|px| bar.inc(px * rays)));
+        if !slot.record {
+            return Ok(Done { time, record: None });
+        }
+        let job = &plan.jobs[slot.job];
+        let reference = &references[si];
+        let stats = metrics::measure(&output.ao, &reference.mean, &reference.coverage)
+            .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
+        let image = image_rel(job);
+        io::write_exr(
+            &out.join(&image),
+            &[Channel { name: "Y", image: &output.ao }, Channel { name: "A", image: &output.coverage }],
+        )?;
+        let mut record = JobResult::new(job, &stats, output.rays, image);
+        record.key = keys[slot.job].clone();
+        record.timing_threads = protocol.threads_per_render as u32;
+        Ok(Done { time, record: Some(record) })
+    };
+
+    let mut state = State {
+        records,
+        pending: HashMap::new(),
+        overhead_samples: vec![Vec::new(); scenes],
+        renders: 0,
+        cpu_s: 0.0,
+    };
+    let workers = timing::workers(protocol.workers).map_err(Error::Refused)?;
+    timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write))?;
+    // Second round: more samples for the units whose samples add up to little time.
+    if state.renders > 0 {
+        let mut members: Vec<Vec<usize>> = vec![Vec::new(); needs.len()];
+        for (i, job) in plan.jobs.iter().enumerate() {
+            members[unit_of[&(job.scene_id.clone(), job.row().canonical(), job.rays)]].push(i);
+        }
+        let units: Vec<(Vec<usize>, Vec<f64>)> = needs
+            .iter()
+            .enumerate()
+            .map(|(u, need)| match members.get(u).filter(|m| !m.is_empty()) {
+                Some(m) => (m.clone(), m.iter().flat_map(|&i| state.samples(i)).collect()),
+                None => (need.again.clone(), state.overhead_samples[need.again[0] - n].clone()),
+            })
+            .collect();
+        let extra = timing::top_up(&units, protocol.min_total_s, protocol.max_repeats);
+        let slots = timing::schedule(&extra, protocol.seed ^ 0x5eed_0002);
+        bar.set_length(bar.length().unwrap_or(0) + cost(&slots));
+        let workers = timing::workers(protocol.workers).map_err(Error::Refused)?;
+        timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write))?;
+    }
+    let State { records, overhead_samples, renders, cpu_s, .. } = state;
+
+    let overhead: Vec<Option<Summary>> = overhead_samples.iter().map(|s| Summary::of(s)).collect();
+    let mut records: Vec<JobResult> =
+        records.into_iter().map(|r| r.expect("every job rendered or resumed")).collect();
+    let by_name = |name: &str| {
+        let si = loaded.spec.scenes.iter().position(|s| s.name == name)?;
+        overhead[si].map(|s| s.median)
+    };
+    // A fully resumed run renders nothing and keeps the overhead its records were split with.
+    if renders > 0 {
+        results::fill_timing(&mut records, &by_name);
+    }
+    write(&records)?;
+    let wall_s = start.elapsed().as_secs_f64();
+    Ok((records, Session { overhead, renders, cpu_s, wall_s }))
+}

@@ -1,0 +1,374 @@
+//! The comparisons the report's answer rests on, computed from the records (pure: no IO).
+//!
+//! - **Best per unit time**: at each ray count of a sweep, the row with the highest efficiency
+//!   (1 / (MSE · AO time), see `results`), overall and among per-pixel-unbiased rows, with its
+//!   margin over the runner-up as a ratio and in combined spreads.
+//! - **Paired differences**: replicate r uses the same seed in every configuration, so two
+//!   configurations' RMSEs are compared replicate by replicate (`stats::paired_difference`).
+//! - **Rank agreement** of two runs: the check behind "two runs rank the rows' efficiency
+//!   identically wherever they differ by more than 3 combined spreads".
+
+use crate::results::{Aggregate, JobResult};
+use crate::sampling::{SeedMode, Sequence};
+use crate::spec::Row;
+use crate::stats::paired_difference;
+
+/// Whether every pixel's estimate is unbiased: fresh pseudo-random numbers per pixel, or a
+/// per-pixel shift (Cranley–Patterson for the lattice, fresh jitter, per-pixel Owen scrambling).
+/// A static seed or a rotation keeps part of the point set fixed, so a pixel's error has a mean.
+pub fn per_pixel_unbiased(row: Row) -> bool {
+    let row = row.canonical();
+    match row.seed_mode {
+        // A blue-noise mask shifts every pixel's set by an offset uniform over runs (README).
+        SeedMode::Shift | SeedMode::BlueNoise => true,
+        SeedMode::Rotation => row.sequence == Sequence::Random,
+        SeedMode::Static => false,
+    }
+}
+
+/// The row of an aggregate, if its names parse.
+pub fn row_of(a: &Aggregate) -> Option<Row> {
+    Some(Row::new(a.distribution.parse().ok()?, a.sequence.parse().ok()?, a.seed_mode.parse().ok()?))
+}
+
+/// Paired RMSE difference of configuration `b` minus `a` (same scene and ray count), over the
+/// replicates both have.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Paired {
+    /// Mean of rmse_b − rmse_a over replicates.
+    pub diff: f64,
+    /// sd of the per-replicate differences / √n.
+    pub se: f64,
+    pub n: usize,
+    /// `diff` relative to a's mean RMSE.
+    pub relative: f64,
+}
+
+impl Paired {
+    /// The difference in paired standard errors (∞ when every replicate differs by the same).
+    pub fn z(&self) -> f64 {
+        if self.se > 0.0 { self.diff / self.se } else { self.diff.signum() * f64::INFINITY }
+    }
+}
+
+fn rmse_by_replicate(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Vec<(u32, f64)> {
+    let row = row.canonical();
+    let mut v: Vec<(u32, f64)> = results
+        .iter()
+        .filter(|r| {
+            r.scene == scene
+                && r.rays == rays
+                && r.distribution == row.distribution.name()
+                && r.sequence == row.sequence.name()
+                && r.seed_mode == row.seed_mode.name()
+        })
+        .map(|r| (r.replicate, r.rmse))
+        .collect();
+    v.sort_by_key(|x| x.0);
+    v
+}
+
+/// `b − a` in RMSE, paired by replicate; `None` when they share fewer than two replicates.
+pub fn paired_rmse(results: &[JobResult], scene: &str, a: Row, b: Row, rays: u32) -> Option<Paired> {
+    let ra = rmse_by_replicate(results, scene, a, rays);
+    let rb = rmse_by_replicate(results, scene, b, rays);
+    let (mut xa, mut xb) = (Vec::new(), Vec::new());
+    for (rep, v) in &ra {
+        if let Some((_, w)) = rb.iter().find(|(r, _)| r == rep) {
+            xa.push(*v);
+            xb.push(*w);
+        }
+    }
+    if xa.len() < 2 {
+        return None;
+    }
+    let (diff, se) = paired_difference(&xa, &xb);
+    let mean_a = xa.iter().sum::<f64>() / xa.len() as f64;
+    Some(Paired { diff, se, n: xa.len(), relative: diff / mean_a })
+}
+
+/// Pairs of rows that differ in exactly one of distribution, sequence and seed mode, in the
+/// order the rows are given: the comparisons that isolate one choice.
+pub fn one_factor_pairs(rows: &[Row]) -> Vec<(Row, Row)> {
+    let mut out = Vec::new();
+    for (i, a) in rows.iter().enumerate() {
+        for b in &rows[i + 1..] {
+            let differ = (a.distribution != b.distribution) as u8
+                + (a.sequence != b.sequence) as u8
+                + (a.seed_mode != b.seed_mode) as u8;
+            if differ == 1 {
+                out.push((*a, *b));
+            }
+        }
+    }
+    out
+}
+
+/// How far apart two efficiencies are, in combined spreads √(s_a² + s_b²).
+pub fn spreads_apart(a: &Aggregate, b: &Aggregate) -> f64 {
+    let s = (a.efficiency_spread.powi(2) + b.efficiency_spread.powi(2)).sqrt();
+    (a.efficiency - b.efficiency).abs() / s
+}
+
+/// The most efficient configuration at one ray count, and its margin.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Best<'a> {
+    pub rays: u32,
+    pub best: &'a Aggregate,
+    pub runner_up: Option<&'a Aggregate>,
+}
+
+impl Best<'_> {
+    /// best / runner-up efficiency.
+    pub fn ratio(&self) -> Option<f64> {
+        self.runner_up.map(|r| self.best.efficiency / r.efficiency)
+    }
+
+    /// The margin in combined spreads.
+    pub fn spreads(&self) -> Option<f64> {
+        self.runner_up.map(|r| spreads_apart(self.best, r))
+    }
+}
+
+/// At each of `rays`, the candidate of highest efficiency among `aggs` of `scene` whose row
+/// passes `keep`; ray counts without two defined efficiencies give a `Best` without runner-up,
+/// or none at all.
+pub fn best_per_ray_count<'a>(
+    aggs: &'a [Aggregate],
+    scene: &str,
+    rows: &[Row],
+    rays: &[u32],
+    keep: impl Fn(Row) -> bool,
+) -> Vec<Best<'a>> {
+    rays.iter()
+        .filter_map(|&n| {
+            let mut c: Vec<&Aggregate> = rows
+                .iter()
+                .filter(|r| keep(**r))
+                .filter_map(|&r| crate::results::lookup(aggs, scene, r, n))
+                .filter(|a| a.efficiency.is_finite())
+                .collect();
+            c.sort_by(|a, b| b.efficiency.total_cmp(&a.efficiency));
+            let best = *c.first()?;
+            Some(Best { rays: n, best, runner_up: c.get(1).copied() })
+        })
+        .collect()
+}
+
+/// A pair of configurations two runs rank differently although at least one run puts them more
+/// than `k` combined spreads apart.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Disagreement {
+    pub scene: String,
+    pub rays: u32,
+    pub a: String,
+    pub b: String,
+    /// Efficiencies of a and b in the first and in the second run.
+    pub first: (f64, f64),
+    pub second: (f64, f64),
+    pub spreads: (f64, f64),
+}
+
+/// Every pair of `rows` at a common (scene, ray count) that `first` and `second` order
+/// differently by efficiency although one of them puts the pair more than `k` combined spreads
+/// apart. Also returns how many pairs were that far apart in either run (the pairs checked).
+pub fn rank_disagreements(
+    first: &[Aggregate],
+    second: &[Aggregate],
+    rows: &[Row],
+    k: f64,
+) -> (Vec<Disagreement>, usize) {
+    let mut out = Vec::new();
+    let mut checked = 0;
+    let scenes: Vec<&str> = {
+        let mut s: Vec<&str> = first.iter().map(|a| a.scene.as_str()).collect();
+        s.dedup();
+        s
+    };
+    let mut rays: Vec<u32> = first.iter().map(|a| a.rays).collect();
+    rays.sort_unstable();
+    rays.dedup();
+    for scene in scenes {
+        for &n in &rays {
+            for (i, ra) in rows.iter().enumerate() {
+                for rb in &rows[i + 1..] {
+                    let get =
+                        |aggs: &'_ [Aggregate], r: Row| crate::results::lookup(aggs, scene, r, n).cloned();
+                    let (Some(a1), Some(b1), Some(a2), Some(b2)) =
+                        (get(first, *ra), get(first, *rb), get(second, *ra), get(second, *rb))
+                    else {
+                        continue;
+                    };
+                    let (s1, s2) = (spreads_apart(&a1, &b1), spreads_apart(&a2, &b2));
+                    if !(s1 > k || s2 > k) {
+                        continue;
+                    }
+                    checked += 1;
+                    if (a1.efficiency > b1.efficiency) != (a2.efficiency > b2.efficiency) {
+                        out.push(Disagreement {
+                            scene: scene.to_string(),
+                            rays: n,
+                            a: ra.label(),
+                            b: rb.label(),
+                            first: (a1.efficiency, b1.efficiency),
+                            second: (a2.efficiency, b2.efficiency),
+                            spreads: (s1, s2),
+                        });
+                    }
+                }
+            }
+        }
+    }
+    (out, checked)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Distribution;
+
+    fn row(d: Distribution, s: Sequence, m: SeedMode) -> Row {
+        Row::new(d, s, m)
+    }
+
+    fn agg(r: Row, rays: u32, efficiency: f64, spread: f64) -> Aggregate {
+        let stat = crate::results::Stat { mean: 0.1, sd: 0.0 };
+        Aggregate {
+            scene: "k".into(),
+            distribution: r.distribution.name().into(),
+            sequence: r.sequence.name().into(),
+            seed_mode: r.seed_mode.name().into(),
+            rays,
+            replicates: 4,
+            rmse: stat,
+            bias: stat,
+            autocorr_x: stat,
+            autocorr_y: stat,
+            lowpass_rmse: stat,
+            whiteness_z: stat,
+            mse: stat,
+            time: None,
+            overhead_s: 0.009,
+            ao_time_s: 0.01,
+            ns_per_ray: 50.0,
+            rays_cast: 1000.0,
+            rays_per_s: 1e7,
+            efficiency,
+            efficiency_spread: spread,
+        }
+    }
+
+    const SC: Distribution = Distribution::SineCosine;
+
+    #[test]
+    fn unbiased_rows_are_random_or_shifted() {
+        assert!(per_pixel_unbiased(row(SC, Sequence::Random, SeedMode::Rotation)));
+        assert!(per_pixel_unbiased(row(SC, Sequence::Random, SeedMode::Shift)));
+        assert!(per_pixel_unbiased(row(SC, Sequence::Fibonacci, SeedMode::Shift)));
+        assert!(per_pixel_unbiased(row(SC, Sequence::Sobol, SeedMode::Shift)));
+        assert!(!per_pixel_unbiased(row(SC, Sequence::Fibonacci, SeedMode::Rotation)));
+        assert!(!per_pixel_unbiased(row(SC, Sequence::Random, SeedMode::Static)));
+        assert!(!per_pixel_unbiased(row(SC, Sequence::Stratified, SeedMode::Rotation)));
+    }
+
+    #[test]
+    fn one_factor_pairs_isolate_one_choice() {
+        let a = row(SC, Sequence::Fibonacci, SeedMode::Rotation);
+        let b = row(SC, Sequence::Fibonacci, SeedMode::Shift);
+        let c = row(Distribution::ConcentricCosine, Sequence::Fibonacci, SeedMode::Shift);
+        let d = row(Distribution::Uniform, Sequence::Random, SeedMode::Rotation);
+        assert_eq!(one_factor_pairs(&[a, b, c, d]), vec![(a, b), (b, c)]);
+    }
+
+    #[test]
+    fn best_per_ray_count_and_margins() {
+        let (a, b, c) = (
+            row(SC, Sequence::Fibonacci, SeedMode::Shift),
+            row(SC, Sequence::Fibonacci, SeedMode::Static),
+            row(SC, Sequence::Random, SeedMode::Rotation),
+        );
+        let aggs =
+            vec![agg(a, 8, 100.0, 3.0), agg(b, 8, 120.0, 4.0), agg(c, 8, 40.0, 1.0), agg(a, 16, 90.0, 1.0)];
+        let all = best_per_ray_count(&aggs, "k", &[a, b, c], &[8, 16, 32], |_| true);
+        assert_eq!(all.len(), 2, "no result at 32 rays: no entry");
+        assert_eq!(
+            (all[0].best.seed_mode.as_str(), all[0].runner_up.unwrap().seed_mode.as_str()),
+            ("static", "shift")
+        );
+        assert!((all[0].ratio().unwrap() - 1.2).abs() < 1e-12);
+        assert!((all[0].spreads().unwrap() - 4.0).abs() < 1e-12, "20 apart, spreads 3 and 4 combine to 5");
+        assert_eq!(all[1].runner_up, None);
+        let unbiased = best_per_ray_count(&aggs, "k", &[a, b, c], &[8], per_pixel_unbiased);
+        assert_eq!(unbiased[0].best.seed_mode, "shift");
+        assert_eq!(unbiased[0].runner_up.unwrap().sequence, "random");
+    }
+
+    #[test]
+    fn rank_agreement_ignores_pairs_within_the_spreads() {
+        let (a, b, c) = (
+            row(SC, Sequence::Fibonacci, SeedMode::Shift),
+            row(SC, Sequence::Fibonacci, SeedMode::Rotation),
+            row(SC, Sequence::Random, SeedMode::Rotation),
+        );
+        let first = vec![agg(a, 8, 100.0, 2.0), agg(b, 8, 101.0, 2.0), agg(c, 8, 40.0, 1.0)];
+        // a and b swap (1 spread apart: fine); c stays far below both.
+        let second = vec![agg(a, 8, 101.0, 2.0), agg(b, 8, 100.0, 2.0), agg(c, 8, 41.0, 1.0)];
+        let (bad, checked) = rank_disagreements(&first, &second, &[a, b, c], 3.0);
+        assert!(bad.is_empty(), "{bad:?}");
+        assert_eq!(checked, 2, "a-c and b-c are far apart");
+        // c overtakes a in the second run although the first put them far apart: a disagreement.
+        let third = vec![agg(a, 8, 100.0, 2.0), agg(b, 8, 101.0, 2.0), agg(c, 8, 100.5, 1.0)];
+        let (bad, _) = rank_disagreements(&first, &third, &[a, b, c], 3.0);
+        assert_eq!(bad.len(), 1);
+        assert_eq!(
+            (bad[0].a.as_str(), bad[0].b.as_str()),
+            ("sine-cosine/fibonacci/shift", "sine-cosine/random/rotation")
+        );
+    }
+
+    #[test]
+    fn paired_rmse_matches_replicates_by_index() {
+        let a = row(SC, Sequence::Fibonacci, SeedMode::Rotation);
+        let b = row(SC, Sequence::Fibonacci, SeedMode::Shift);
+        let mk = |r: Row, rep: u32, rmse: f64| {
+            let job = crate::plan::Job {
+                scene: "k.toml".into(),
+                scene_id: "k.toml".into(),
+                scene_name: "k".into(),
+                distribution: r.distribution,
+                sequence: r.sequence,
+                seed_mode: r.seed_mode,
+                rays: 8,
+                replicate: rep,
+                seed: rep as u64,
+                resolution: None,
+                ao_distance: None,
+            };
+            let stats = crate::metrics::ErrorStats {
+                covered: 1,
+                rmse,
+                bias: 0.0,
+                autocorr_x: 0.0,
+                autocorr_y: 0.0,
+                lowpass_rmse: 0.0,
+                whiteness_z: 0.0,
+            };
+            JobResult::new(&job, &stats, 8, "x.exr")
+        };
+        // Replicate noise ±0.02 shared by both; b is 0.005 above a in every replicate.
+        let results = vec![
+            mk(a, 0, 0.10),
+            mk(a, 1, 0.12),
+            mk(a, 2, 0.08),
+            mk(b, 2, 0.085),
+            mk(b, 0, 0.105),
+            mk(b, 1, 0.125),
+        ];
+        let p = paired_rmse(&results, "k", a, b, 8).unwrap();
+        assert_eq!(p.n, 3);
+        assert!((p.diff - 0.005).abs() < 1e-12 && p.se < 1e-12, "{p:?}");
+        assert!((p.relative - 0.05).abs() < 1e-9);
+        assert!(p.z() > 1e6, "the same difference in every replicate: {}", p.z());
+        assert!(paired_rmse(&results, "k", a, b, 16).is_none());
+    }
+}

@@ -1,0 +1,151 @@
+//! Pure: what a run of a plan costs under the timing protocol (`crate::timing`), given what one
+//! render of each job costs on this machine (the calibration `hemilab plan` measures). The
+//! protocol decides the renders: every configuration (unit) is rendered at least `repeats` times
+//! (its replicates, then timing-only re-renders), each scene's no-AO-ray overhead render
+//! `overhead_renders` times; then cheap units are topped up by the protocol's own rule
+//! (`timing::top_up`); and every worker warms up on each scene before its first timed render.
+
+use super::shard;
+use super::{Job, Plan};
+use crate::timing::{self, Protocol};
+
+/// The protocol and the machine's per-job costs, as the estimate needs them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Model {
+    /// Repeats, workers, warm-up and the second round's rule.
+    pub protocol: Protocol,
+    /// Timed no-AO-ray renders per scene in the first round.
+    pub overhead_renders: u32,
+    /// CPU seconds per recorded job besides its render: metrics, EXR encoding, rewriting results.
+    pub post_s: f64,
+    /// Wall seconds per CPU second of a worker (1 on an idle machine, more when other work shares
+    /// the cores).
+    pub contention: f64,
+}
+
+impl Model {
+    /// Samples of a unit of `jobs` jobs after `n` first-round renders of `t` seconds each and the
+    /// second round.
+    fn samples(&self, jobs: usize, n: usize, t: f64) -> usize {
+        let p = &self.protocol;
+        let need = timing::top_up(&[((0..jobs).collect(), vec![t; n])], p.min_total_s, p.max_repeats);
+        n.max(need.first().map_or(0, |x| x.repeats as usize))
+    }
+}
+
+/// The predicted cost of a plan, in parts.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Breakdown {
+    /// Timed renders (records and timing-only re-renders), without the overhead renders.
+    pub renders: usize,
+    /// Configurations (timing units).
+    pub units: usize,
+    /// CPU seconds of those renders, of the overhead renders, of the per-job work, of warm-up.
+    pub render_cpu_s: f64,
+    pub overhead_cpu_s: f64,
+    pub post_cpu_s: f64,
+    pub warmup_cpu_s: f64,
+    /// Wall seconds with `workers` workers at the measured contention.
+    pub wall_s: f64,
+}
+
+/// `render_s(job)`: CPU seconds of one render of the job; `overhead_s(scene_id)`: of the scene's
+/// no-AO-ray render.
+pub fn jobs(
+    plan: &Plan,
+    render_s: impl Fn(&Job) -> f64,
+    overhead_s: impl Fn(&str) -> f64,
+    m: &Model,
+) -> Breakdown {
+    let units = shard::units(plan);
+    let mut b = Breakdown { units: units.len(), ..Breakdown::default() };
+    for u in &units {
+        let t = render_s(&plan.jobs[u[0]]);
+        let n = m.samples(u.len(), u.len().max(m.protocol.repeats as usize), t);
+        b.renders += n;
+        b.render_cpu_s += n as f64 * t;
+    }
+    let mut scenes: Vec<&str> = plan.jobs.iter().map(|j| j.scene_id.as_str()).collect();
+    scenes.sort_unstable();
+    scenes.dedup();
+    if b.renders == 0 {
+        return b;
+    }
+    let workers = m.protocol.workers.clamp(1, b.renders);
+    for s in &scenes {
+        let t = overhead_s(s);
+        b.overhead_cpu_s += m.samples(1, m.overhead_renders as usize, t) as f64 * t;
+    }
+    b.post_cpu_s = plan.jobs.len() as f64 * m.post_s;
+    b.warmup_cpu_s = (workers * scenes.len()) as f64 * m.protocol.warmup_s;
+    // Workers share the renders; each warms up on every scene itself.
+    let per_worker = (b.render_cpu_s + b.overhead_cpu_s + b.post_cpu_s) / workers as f64;
+    b.wall_s = (per_worker + scenes.len() as f64 * m.protocol.warmup_s) * m.contention.max(1.0);
+    b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spec::parse_spec;
+    use std::path::Path;
+
+    fn plan_of(text: &str) -> Plan {
+        super::super::plan(&parse_spec(text, Path::new("c.toml")).unwrap())
+    }
+
+    #[test]
+    fn renders_follow_the_protocol() {
+        // Unit (8 rays) has 4 replicates, unit (16 rays) 1 from the sweep: re-rendered to 3.
+        let p = plan_of(
+            r#"
+scenes = ["a.toml"]
+resolution = [10, 10]
+replicates = 4
+[[table]]
+name = "t"
+rays = [8]
+rows = [ { distribution = "sine", sequence = "random" } ]
+[[convergence]]
+name = "c"
+rays = [16]
+replicates = 1
+rows = [ { distribution = "sine", sequence = "random" } ]
+"#,
+        );
+        let mut protocol = Protocol::new(3, 1, 2);
+        protocol.warmup_s = 0.5;
+        protocol.min_total_s = 0.25;
+        protocol.max_repeats = 15;
+        let m = Model { protocol, overhead_renders: 7, post_s: 0.01, contention: 1.0 };
+        let b = jobs(&p, |j| j.rays as f64, |_| 0.1, &m);
+        assert_eq!((b.units, b.renders), (2, 7));
+        assert_eq!(b.render_cpu_s, 4.0 * 8.0 + 3.0 * 16.0);
+        assert!((b.overhead_cpu_s - 0.7).abs() < 1e-12);
+        assert!((b.post_cpu_s - 0.05).abs() < 1e-12);
+        assert_eq!(b.warmup_cpu_s, 2.0 * 0.5);
+        let wall = (80.0 + 0.7 + 0.05) / 2.0 + 0.5;
+        assert!((b.wall_s - wall).abs() < 1e-9, "{b:?}");
+        let busy = jobs(&p, |j| j.rays as f64, |_| 0.1, &Model { contention: 2.5, ..m });
+        assert!((busy.wall_s - 2.5 * wall).abs() < 1e-9);
+        let one = jobs(
+            &p,
+            |j| j.rays as f64,
+            |_| 0.1,
+            &Model { protocol: Protocol { workers: 1, ..protocol }, ..m },
+        );
+        assert!((one.wall_s - (80.75 + 0.5)).abs() < 1e-9);
+        assert_eq!(jobs(&Plan::default(), |_| 1.0, |_| 1.0, &m), Breakdown::default());
+
+        // Cheap renders: the second round tops each unit up towards 0.25 s, at most 15 samples, and
+        // the overhead render too: 8 ms needs 32 → 15, 16 ms needs 16 → 15, 10 ms needs 25 → 15.
+        let cheap = jobs(&p, |j| j.rays as f64 * 1e-3, |_| 0.01, &m);
+        assert_eq!(cheap.renders, 30);
+        assert!((cheap.render_cpu_s - 15.0 * (0.008 + 0.016)).abs() < 1e-12, "{cheap:?}");
+        assert!((cheap.overhead_cpu_s - 15.0 * 0.01).abs() < 1e-12, "{cheap:?}");
+        // 50 ms: 4 × 0.1 s and 3 × 0.2 s are past 0.25 s already; the overhead (7 × 0.1 s) too.
+        let dear = jobs(&p, |j| j.rays as f64 * 12.5e-3, |_| 0.1, &m);
+        assert_eq!(dear.renders, 7);
+        assert!((dear.overhead_cpu_s - 0.7).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,379 @@
+//! Does each of the paper's claims hold on each scene? Pure: records in, verdicts out; the page
+//! (`app/page.rs`) prints them as the report's first table and `tests/scene_claims.rs` asserts them.
+//!
+//! Every margin is in standard errors of a *paired* difference: replicate r of every configuration
+//! uses the same seed (`plan::replicate_seed`), so configurations are compared replicate by
+//! replicate, d_r = worse_r − better_r, and the standard error is sd(d) / √n. Pairing removes the
+//! variation the two share (the same random numbers through two warps, the same scene), so it is
+//! both the right error bar and a much tighter one than the unpaired √(sd_a²/n + sd_b²/n).
+//!
+//! A claim *holds* when its margin is at least the two-sided 1 % quantile of Student's t with n − 1
+//! degrees of freedom at every ray count it is checked at, *fails* when the opposite is that
+//! significant at any ray count, and is *not significant* otherwise.
+
+use crate::metrics::loglog_slope;
+use crate::metrics::whiteness::STRUCTURED_Z;
+use crate::results::JobResult;
+
+/// Two-sided significance level of a verdict.
+pub const ALPHA: f64 = 0.01;
+
+/// A configuration as the results name it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    pub distribution: &'static str,
+    pub sequence: &'static str,
+    pub seed_mode: &'static str,
+}
+
+pub const UNIFORM_RANDOM: Config =
+    Config { distribution: "uniform", sequence: "random", seed_mode: "rotation" };
+pub const SINE_RANDOM: Config = Config { distribution: "sine", sequence: "random", seed_mode: "rotation" };
+pub const COSINE_RANDOM: Config =
+    Config { distribution: "sine-cosine", sequence: "random", seed_mode: "rotation" };
+/// The paper's "random seed per pixel": the lattice rotated about the normal per pixel.
+pub const COSINE_FIB_PIXEL: Config =
+    Config { distribution: "sine-cosine", sequence: "fibonacci", seed_mode: "rotation" };
+pub const COSINE_FIB_STATIC: Config =
+    Config { distribution: "sine-cosine", sequence: "fibonacci", seed_mode: "static" };
+
+/// The claims, as the report words them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Claim {
+    /// Table 2: with pseudo-random numbers, sine-cosine has lower RMSE than uniform.
+    CosineBeatsUniform,
+    /// Table 2: … and lower than sine.
+    CosineBeatsSine,
+    /// Table 3: the Fibonacci lattice with a per-pixel seed has lower RMSE than pseudo-random numbers.
+    FibonacciBeatsRandom,
+    /// Table 3: the static seed's error is structured (whiteness z above the per-pixel seed's and
+    /// above `STRUCTURED_Z`).
+    StaticSeedStructured,
+    /// Convergence: pseudo-random RMSE falls as rays^−½ (slope within ±`SLOPE_TOLERANCE` of −0.5).
+    RandomSlopeHalf,
+    /// Convergence: the lattice with a per-pixel seed converges faster (steeper slope) than pseudo-random.
+    FibonacciSteeper,
+}
+
+/// How far a pseudo-random slope may sit from −0.5 and still "hold": the reference's noise floor
+/// (≤ 1/10 of the smallest RMSE) flattens the end of the curve by up to ~0.01.
+pub const SLOPE_TOLERANCE: f64 = 0.05;
+
+impl Claim {
+    pub const ALL: [Claim; 6] = [
+        Claim::CosineBeatsUniform,
+        Claim::CosineBeatsSine,
+        Claim::FibonacciBeatsRandom,
+        Claim::StaticSeedStructured,
+        Claim::RandomSlopeHalf,
+        Claim::FibonacciSteeper,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Claim::CosineBeatsUniform => "sine-cosine < uniform (pseudo-random)",
+            Claim::CosineBeatsSine => "sine-cosine < sine (pseudo-random)",
+            Claim::FibonacciBeatsRandom => "Fibonacci, per-pixel seed < pseudo-random",
+            Claim::StaticSeedStructured => "static seed's error is structured",
+            Claim::RandomSlopeHalf => "pseudo-random slope = −0.5",
+            Claim::FibonacciSteeper => "Fibonacci slope steeper than pseudo-random",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    Holds,
+    Fails,
+    NotSignificant,
+    /// The run did not measure what the claim needs.
+    NotMeasured,
+}
+
+impl Outcome {
+    pub fn label(self) -> &'static str {
+        match self {
+            Outcome::Holds => "holds",
+            Outcome::Fails => "fails",
+            Outcome::NotSignificant => "not significant",
+            Outcome::NotMeasured => "not measured",
+        }
+    }
+}
+
+/// Mean of the paired differences and its standard error.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Margin {
+    pub mean: f64,
+    pub se: f64,
+    pub n: usize,
+}
+
+impl Margin {
+    /// The mean in standard errors (±∞ when every pair differs by the same amount).
+    pub fn in_se(&self) -> f64 {
+        if self.se > 0.0 {
+            self.mean / self.se
+        } else if self.mean == 0.0 {
+            0.0
+        } else {
+            self.mean.signum() * f64::INFINITY
+        }
+    }
+}
+
+/// Paired margin of `b − a`, over the replicates present in both (values keyed by replicate).
+/// `None` with fewer than two pairs.
+pub fn paired(a: &[(u32, f64)], b: &[(u32, f64)]) -> Option<Margin> {
+    let (va, vb): (Vec<f64>, Vec<f64>) = a
+        .iter()
+        .filter_map(|&(r, va)| b.iter().find(|x| x.0 == r).map(|&(_, vb)| (va, vb)))
+        .filter(|(va, vb)| (vb - va).is_finite())
+        .unzip();
+    if va.len() < 2 {
+        return None;
+    }
+    let (mean, se) = crate::stats::paired_difference(&va, &vb);
+    Some(Margin { mean, se, n: va.len() })
+}
+
+/// The margin (in SE) a paired comparison of `n` pairs needs to be significant at `ALPHA`:
+/// Student's t quantile with n − 1 degrees of freedom (statrs).
+pub fn critical_se(n: usize) -> f64 {
+    let t = crate::stats::student_t_quantile(ALPHA, (n.max(2) - 1) as f64);
+    if t.is_nan() { f64::INFINITY } else { t }
+}
+
+/// One cell of the verdict table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Verdict {
+    pub scene: String,
+    pub claim: Claim,
+    pub outcome: Outcome,
+    /// The weakest margin over the ray counts checked, in standard errors (NaN if not measured).
+    pub margin_se: f64,
+    /// The numbers behind it, e.g. "8: +19.1, 16: +25.3, 32: +27.0 SE".
+    pub detail: String,
+}
+
+/// `(replicate, value)` of one configuration at one ray count on one scene.
+fn values(rs: &[JobResult], scene: &str, c: Config, rays: u32, f: fn(&JobResult) -> f64) -> Vec<(u32, f64)> {
+    rs.iter()
+        .filter(|r| {
+            r.scene == scene
+                && r.rays == rays
+                && r.distribution == c.distribution
+                && r.sequence == c.sequence
+                && r.seed_mode == c.seed_mode
+        })
+        .map(|r| (r.replicate, f(r)))
+        .collect()
+}
+
+/// Per replicate: the least-squares log-log slope of RMSE against rays over `rays`.
+pub fn replicate_slopes(rs: &[JobResult], scene: &str, c: Config, rays: &[u32]) -> Vec<(u32, f64)> {
+    let mut reps: Vec<u32> = rs.iter().filter(|r| r.scene == scene).map(|r| r.replicate).collect();
+    reps.sort_unstable();
+    reps.dedup();
+    reps.into_iter()
+        .filter_map(|rep| {
+            let pts: Vec<(f64, f64)> = rays
+                .iter()
+                .filter_map(|&n| {
+                    values(rs, scene, c, n, |r| r.rmse)
+                        .into_iter()
+                        .find(|v| v.0 == rep)
+                        .map(|v| (n as f64, v.1))
+                })
+                .collect();
+            if pts.len() < rays.len() || pts.len() < 2 {
+                return None;
+            }
+            let (x, y): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
+            loglog_slope(&x, &y).map(|s| (rep, s))
+        })
+        .collect()
+}
+
+/// Combines per-ray-count margins: holds if every one is significantly positive (and `extra` holds),
+/// fails if any is significantly negative.
+fn judge(scene: &str, claim: Claim, margins: Vec<(String, Option<Margin>)>, extra: bool) -> Verdict {
+    let measured: Vec<(String, Margin)> =
+        margins.into_iter().filter_map(|(k, m)| m.map(|m| (k, m))).collect();
+    if measured.is_empty() {
+        return Verdict {
+            scene: scene.into(),
+            claim,
+            outcome: Outcome::NotMeasured,
+            margin_se: f64::NAN,
+            detail: "–".into(),
+        };
+    }
+    let sig = |m: &Margin| critical_se(m.n);
+    let weakest = measured.iter().map(|(_, m)| m.in_se()).fold(f64::INFINITY, f64::min);
+    let outcome = if measured.iter().any(|(_, m)| m.in_se() <= -sig(m)) {
+        Outcome::Fails
+    } else if extra && measured.iter().all(|(_, m)| m.in_se() >= sig(m)) {
+        Outcome::Holds
+    } else {
+        Outcome::NotSignificant
+    };
+    let detail =
+        measured.iter().map(|(k, m)| format!("{k}: {}", fmt_se(m.in_se()))).collect::<Vec<_>>().join(", ");
+    Verdict { scene: scene.into(), claim, outcome, margin_se: weakest, detail }
+}
+
+/// "+12.3 SE", "+∞ SE".
+pub fn fmt_se(x: f64) -> String {
+    if x.is_infinite() {
+        format!("{}∞ SE", if x > 0.0 { "+" } else { "−" })
+    } else {
+        format!("{x:+.1} SE")
+    }
+}
+
+/// Every claim on `scene`: the RMSE comparisons at each of `rays`, the slopes over `sweep`.
+pub fn scene_verdicts(rs: &[JobResult], scene: &str, rays: &[u32], sweep: &[u32]) -> Vec<Verdict> {
+    let rmse = |c: Config, n: u32| values(rs, scene, c, n, |r| r.rmse);
+    let z = |c: Config, n: u32| values(rs, scene, c, n, |r| r.whiteness_z);
+    let lower = |better: Config, worse: Config| -> Vec<(String, Option<Margin>)> {
+        rays.iter().map(|&n| (n.to_string(), paired(&rmse(better, n), &rmse(worse, n)))).collect()
+    };
+    let mut out = vec![
+        judge(scene, Claim::CosineBeatsUniform, lower(COSINE_RANDOM, UNIFORM_RANDOM), true),
+        judge(scene, Claim::CosineBeatsSine, lower(COSINE_RANDOM, SINE_RANDOM), true),
+        judge(scene, Claim::FibonacciBeatsRandom, lower(COSINE_FIB_PIXEL, COSINE_RANDOM), true),
+    ];
+    let structured: Vec<(String, Option<Margin>)> = rays
+        .iter()
+        .map(|&n| (n.to_string(), paired(&z(COSINE_FIB_PIXEL, n), &z(COSINE_FIB_STATIC, n))))
+        .collect();
+    let above = rays.iter().all(|&n| {
+        let v = z(COSINE_FIB_STATIC, n);
+        !v.is_empty() && v.iter().map(|x| x.1).sum::<f64>() / v.len() as f64 > STRUCTURED_Z
+    });
+    let mut v = judge(scene, Claim::StaticSeedStructured, structured, above);
+    if v.outcome == Outcome::NotSignificant && !above {
+        v.detail += &format!(" (mean z of the static seed not above {STRUCTURED_Z} at every ray count)");
+    }
+    out.push(v);
+
+    let random = replicate_slopes(rs, scene, COSINE_RANDOM, sweep);
+    // |slope + 0.5| below the tolerance: the margin is tolerance − |deviation|, in SE of the mean slope.
+    let half = paired(&random.iter().map(|&(r, _)| (r, 0.0)).collect::<Vec<_>>(), &random)
+        .map(|m| Margin { mean: SLOPE_TOLERANCE - (m.mean + 0.5).abs(), ..m });
+    let mut v = judge(scene, Claim::RandomSlopeHalf, vec![("slope".into(), half)], true);
+    if let Some(m) = paired(&random.iter().map(|&(r, _)| (r, 0.0)).collect::<Vec<_>>(), &random) {
+        v.detail =
+            format!("slope {:+.3} ± {:.3} (SE); margin to ±{SLOPE_TOLERANCE}: {}", m.mean, m.se, v.detail);
+    }
+    out.push(v);
+    let fib = replicate_slopes(rs, scene, COSINE_FIB_PIXEL, sweep);
+    // Steeper = more negative: the margin is random − fibonacci.
+    let steeper = paired(&fib, &random);
+    let mut v = judge(scene, Claim::FibonacciSteeper, vec![("slopes".into(), steeper)], true);
+    if let (Some(a), Some(b)) = (mean(&random), mean(&fib)) {
+        v.detail = format!("{a:+.3} vs {b:+.3}: {}", v.detail);
+    }
+    out.push(v);
+    out
+}
+
+fn mean(v: &[(u32, f64)]) -> Option<f64> {
+    (!v.is_empty()).then(|| v.iter().map(|x| x.1).sum::<f64>() / v.len() as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rec(scene: &str, c: Config, rays: u32, replicate: u32, rmse: f64, z: f64) -> JobResult {
+        let job = crate::plan::Job {
+            scene: scene.into(),
+            scene_id: scene.into(),
+            scene_name: scene.into(),
+            distribution: c.distribution.parse().unwrap(),
+            sequence: c.sequence.parse().unwrap(),
+            seed_mode: c.seed_mode.parse().unwrap(),
+            rays,
+            replicate,
+            seed: replicate as u64,
+            resolution: None,
+            ao_distance: None,
+        };
+        let stats = crate::metrics::ErrorStats {
+            covered: 1,
+            rmse,
+            bias: 0.0,
+            autocorr_x: 0.0,
+            autocorr_y: 0.0,
+            lowpass_rmse: 0.0,
+            whiteness_z: z,
+        };
+        JobResult::new(&job, &stats, 1, "")
+    }
+
+    #[test]
+    fn paired_margin_uses_the_spread_of_differences() {
+        // Both vary a lot from replicate to replicate, but b is always a + 0.1 ± 0.01.
+        let a = [(0, 1.0), (1, 2.0), (2, 3.0), (3, 4.0)];
+        let b = [(0, 1.11), (1, 2.09), (2, 3.1), (3, 4.1)];
+        let m = paired(&a, &b).unwrap();
+        assert!((m.mean - 0.1).abs() < 1e-12);
+        assert!(m.in_se() > 20.0, "{m:?}");
+        // Replicates are matched by number, not by position.
+        let b_shuffled = [(3, 4.1), (1, 2.09), (0, 1.11), (2, 3.1)];
+        assert_eq!(paired(&a, &b_shuffled), Some(m));
+        assert_eq!(paired(&a[..1], &b[..1]), None);
+        assert_eq!(Margin { mean: 0.5, se: 0.0, n: 3 }.in_se(), f64::INFINITY);
+    }
+
+    #[test]
+    fn critical_values_are_students_t() {
+        assert!((critical_se(4) - 5.840_909).abs() < 1e-4);
+        assert!((critical_se(8) - 3.499_483).abs() < 1e-4);
+    }
+
+    /// Random slope −0.5, lattice −0.75; cosine 20 % below uniform, sine in between; static z high.
+    fn synthetic(static_z: f64, cosine_vs_sine: f64) -> Vec<JobResult> {
+        let mut rs = Vec::new();
+        for rep in 0..6u32 {
+            let wobble = 1.0 + 0.02 * ((rep * 7 % 5) as f64 - 2.0);
+            for n in [1u32, 2, 4, 8, 16, 32, 64] {
+                let base = 0.4 * (n as f64).powf(-0.5) * wobble;
+                let w2 = 1.0 + 0.01 * ((rep * 3 % 4) as f64 - 1.5);
+                rs.push(rec("s", UNIFORM_RANDOM, n, rep, base * 1.25 * w2, 0.1));
+                rs.push(rec("s", SINE_RANDOM, n, rep, base * cosine_vs_sine, -0.2));
+                rs.push(rec("s", COSINE_RANDOM, n, rep, base, 0.0));
+                let fib = 0.4 * (n as f64).powf(-0.75) * wobble * w2;
+                rs.push(rec("s", COSINE_FIB_PIXEL, n, rep, fib, 0.3 * (rep as f64 - 2.5)));
+                rs.push(rec("s", COSINE_FIB_STATIC, n, rep, fib, static_z + rep as f64));
+            }
+        }
+        rs
+    }
+
+    #[test]
+    fn every_claim_holds_on_a_scene_made_to_satisfy_them() {
+        let v = scene_verdicts(&synthetic(20.0, 1.1), "s", &[8, 16, 32], &[1, 2, 4, 8, 16, 32, 64]);
+        assert_eq!(v.len(), Claim::ALL.len());
+        for x in &v {
+            assert_eq!(x.outcome, Outcome::Holds, "{x:?}");
+            assert!(x.margin_se > critical_se(6), "{x:?}");
+        }
+    }
+
+    #[test]
+    fn a_reversed_claim_fails_and_a_weak_one_is_not_significant() {
+        // Sine better than cosine: the claim fails. Static z below the threshold: not significant.
+        let v = scene_verdicts(&synthetic(1.0, 0.9), "s", &[8, 16, 32], &[1, 2, 4, 8, 16, 32, 64]);
+        let get = |c: Claim| v.iter().find(|x| x.claim == c).unwrap();
+        assert_eq!(get(Claim::CosineBeatsSine).outcome, Outcome::Fails);
+        assert!(get(Claim::CosineBeatsSine).margin_se < 0.0);
+        assert_eq!(get(Claim::CosineBeatsUniform).outcome, Outcome::Holds);
+        assert_eq!(get(Claim::StaticSeedStructured).outcome, Outcome::NotSignificant);
+        // Nothing measured on another scene.
+        let none = scene_verdicts(&synthetic(20.0, 1.1), "other", &[8], &[1, 2]);
+        assert!(none.iter().all(|x| x.outcome == Outcome::NotMeasured), "{none:?}");
+    }
+}

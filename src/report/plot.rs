@@ -58,7 +58,7 @@ impl Guide {
 
 /// Tableau 10: distinguishable, and still distinguishable for the common colour-vision deficiencies
 /// when paired with the marker shapes below.
-const PALETTE: [RGBColor; 10] = [
+pub(super) const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -243,7 +243,7 @@ fn draw_convergence<DB: DrawingBackend>(
 /// Tick text on a log axis spanning `ratio` (max / min): over more than a decade plotters puts a
 /// tick at every 1..9 × 10^k, whose labels overlap near each decade's end, so only 1, 2 and 5 ×
 /// 10^k are labelled (the grid lines stay).
-fn log_tick(v: f64, ratio: f64) -> String {
+pub(super) fn log_tick(v: f64, ratio: f64) -> String {
     if ratio > 10.0 && v > 0.0 {
         let m = v / 10f64.powf(v.log10().floor());
         if ![1.0, 2.0, 5.0, 10.0].iter().any(|k| (m - k).abs() < 1e-6 * k) {

@@ -92,6 +92,11 @@ impl Scene {
         })
     }
 
+    /// The camera as reference manifests record it: the world placement, as the scene gives it.
+    pub fn camera_description(&self) -> String {
+        format!("{:?}", self.view)
+    }
+
     /// A scene made in code (tests, validation), in world coordinates: unusable triangles are
     /// dropped and counted, and the hash covers the triangles and every parameter.
     pub fn from_triangles(

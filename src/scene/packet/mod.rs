@@ -265,11 +265,6 @@ impl Accel {
             if blocked & all == all {
                 break;
             }
-            // The cache is per thread, not per scene: after a switch to a scene with fewer triangles
-            // it may name triangles that do not exist here (any that do are merely tried early).
-            if prim as usize >= self.tris.len() {
-                continue;
-            }
             test(prim, all & !blocked, &mut blocked);
         }
         let mut stack = std::mem::take(&mut cache.stack);

@@ -12,9 +12,9 @@
 //! fov_y_deg = 39.3
 //! ```
 
-use super::camera::Camera;
+use super::camera::{Camera, WorldCamera};
 use crate::cli::MAX_SIDE;
-use glam::Vec3;
+use glam::DVec3;
 use serde::{Deserialize, Deserializer, de};
 
 #[derive(Debug, Clone, Deserialize)]
@@ -38,34 +38,36 @@ pub enum CameraFile {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PerspectiveFile {
-    pub eye: [f32; 3],
-    pub target: [f32; 3],
-    pub up: [f32; 3],
+    pub eye: [f64; 3],
+    pub target: [f64; 3],
+    pub up: [f64; 3],
     pub fov_y_deg: FovDeg,
 }
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OrthographicFile {
-    pub eye: [f32; 3],
-    pub target: [f32; 3],
-    pub up: [f32; 3],
+    pub eye: [f64; 3],
+    pub target: [f64; 3],
+    pub up: [f64; 3],
     pub view_width: Positive,
 }
 
 impl CameraFile {
-    pub fn camera(&self) -> Camera {
+    /// The camera in world coordinates, in f64 as written (a scene far from the origin keeps its
+    /// precision until `Scene::new` re-centres it on the eye).
+    pub fn camera(&self) -> WorldCamera {
         match self {
             CameraFile::Perspective(p) => Camera::Perspective {
-                eye: Vec3::from(p.eye),
-                target: Vec3::from(p.target),
-                up: Vec3::from(p.up),
+                eye: DVec3::from(p.eye),
+                target: DVec3::from(p.target),
+                up: DVec3::from(p.up),
                 fov_y_deg: p.fov_y_deg.0,
             },
             CameraFile::Orthographic(o) => Camera::Orthographic {
-                eye: Vec3::from(o.eye),
-                target: Vec3::from(o.target),
-                up: Vec3::from(o.up),
+                eye: DVec3::from(o.eye),
+                target: DVec3::from(o.target),
+                up: DVec3::from(o.up),
                 view_width: o.view_width.0,
             },
         }

@@ -18,7 +18,7 @@ use glam::{Vec3, Vec3A, Vec4};
 pub(super) use simd::child_planes;
 #[cfg(target_arch = "x86_64")]
 use simd::wide;
-use simd::{Packet, groups_of, hit_group, lanes, present_children};
+use simd::{Cull, Packet, groups_of, hit_group, lanes, present_children};
 
 /// Rays per packet.
 pub const PACKET: usize = 32;
@@ -64,6 +64,9 @@ pub struct Occluders {
     /// The traversal stack, kept to spare each packet zeroing its own.
     stack: Vec<(u32, u32)>,
 }
+
+/// At most this many live rays: a node's children are culled by the rays' own slab tests only.
+const FEW: u32 = 4;
 
 /// Triangles remembered from one packet for the next.
 const OCCLUDERS: usize = 32;
@@ -213,16 +216,13 @@ impl Accel {
         let mut p = Packet { d: [[Vec4::ZERO; GROUPS]; 3], inv: [[0.0; PACKET]; 3] };
         p.fill(dirs);
         // Nothing farther than d from the origin can be hit (|dir| = 1 up to rounding; keep slack).
-        let reach2 = Vec4::splat({
+        let reach2 = {
             let r = tmax * (1.0 + 1.0 / 1024.0);
             r * r
-        });
+        };
         // Without a horizon, a zero normal makes the support test below never cull (0 >= 0).
         let (n, slope2) = up.map_or((Vec3A::ZERO, 0.0), |h| (h.n, h.slope2));
-        let (nx, ny, nz) = (Vec4::splat(n.x), Vec4::splat(n.y), Vec4::splat(n.z));
-        let slope2 = Vec4::splat(slope2);
-        let widen = Vec4::splat(1.0 + 8.0 * f32::EPSILON);
-        let tmax4 = Vec4::splat(tmax);
+        let cull = Cull { n: n.to_array(), slope2, reach2 };
         let mut blocked = 0u32;
         let mut found = Found { prims: [0; OCCLUDERS], counts: [0; OCCLUDERS], len: 0 };
         // Test triangle `prim` against the rays in `live`; remember it if it blocks a new one.
@@ -279,70 +279,18 @@ impl Accel {
                 continue;
             }
             let node = &nodes[ni as usize];
-            let pl = child_planes(node, o);
             let present = present_children(&node.child_meta);
-            // Shared by all rays: distance from the origin to each child box, whether the box
-            // reaches above the rays' cone (`Horizon`), whether it holds the origin. Only culling aids (the
-            // slab test alone is exact).
-            let (mut near, mut inside) = (0u32, 0u32);
-            for h in 0..2 {
-                let gap = |k: usize| pl[2 * k][h].max(-pl[2 * k + 1][h]).max(Vec4::ZERO);
-                let (gx, gy, gz) = (gap(0), gap(1), gap(2));
-                let d2 = gx * gx + gy * gy + gz * gz;
-                let support = (pl[0][h] * nx).max(pl[1][h] * nx)
-                    + (pl[2][h] * ny).max(pl[3][h] * ny)
-                    + (pl[4][h] * nz).max(pl[5][h] * nz);
-                let above = support.cmpge(Vec4::ZERO) & (support * support).cmpge(slope2 * d2);
-                near |= (d2.cmple(reach2) & above).bitmask() << (4 * h);
-                inside |= d2.cmpeq(Vec4::ZERO).bitmask() << (4 * h);
-            }
-            let (near, inside) = (near & present, inside & near & present);
-            if near == 0 {
-                continue;
-            }
-            let want = near & !inside;
-            let mut cm = lanes::zero();
+            // With few rays left the shared tests cost more than they spare: their slabs decide.
+            let few = live.count_ones() <= FEW;
             #[cfg(target_arch = "x86_64")]
-            if WIDE && want != 0 {
+            let (cm, hit) = if WIDE {
                 // SAFETY: WIDE is only set by `occluded_packet_avx2`, on CPUs with AVX2.
-                let pl8 = unsafe { wide::planes(&pl) };
-                let mut rays = live;
-                while rays != 0 {
-                    let i = rays.trailing_zeros() as usize;
-                    rays &= rays - 1;
-                    // SAFETY: as above.
-                    let hits = unsafe { wide::ray_hits(&pl8, &p, i, tmax, 1.0 + 8.0 * f32::EPSILON) };
-                    lanes::add_ray(&mut cm, hits & want, i);
-                }
-            }
-            if !WIDE && want != 0 {
-                // Per ray: its slabs against the 8 children, 4 at a time.
-                let mut rays = live;
-                while rays != 0 {
-                    let i = rays.trailing_zeros() as usize;
-                    rays &= rays - 1;
-                    let (ix, iy, iz) =
-                        (Vec4::splat(p.inv[0][i]), Vec4::splat(p.inv[1][i]), Vec4::splat(p.inv[2][i]));
-                    let mut hits = 0u32;
-                    for h in 0..2 {
-                        let (x0, x1) = (pl[0][h] * ix, pl[1][h] * ix);
-                        let (y0, y1) = (pl[2][h] * iy, pl[3][h] * iy);
-                        let (z0, z1) = (pl[4][h] * iz, pl[5][h] * iz);
-                        let tn = x0.min(x1).max(y0.min(y1)).max(z0.min(z1)).max(Vec4::ZERO);
-                        let tf = x0.max(x1).min(y0.max(y1)).min(z0.max(z1)).min(tmax4);
-                        hits |= tn.cmple(tf * widen).bitmask() << (4 * h);
-                    }
-                    lanes::add_ray(&mut cm, hits & want, i);
-                }
-            }
-            let mut cm = lanes::to_array(cm);
-            let mut hit = inside;
-            for (c, m) in cm.iter_mut().enumerate() {
-                if inside & (1 << c) != 0 {
-                    *m = live;
-                }
-                hit |= ((*m != 0) as u32) << c;
-            }
+                unsafe { wide::node(node, o, &p, live, few, &cull, tmax, present) }
+            } else {
+                self.node_sse2(node, o, &p, live, few, &cull, tmax, present)
+            };
+            #[cfg(not(target_arch = "x86_64"))]
+            let (cm, hit) = self.node_sse2(node, o, &p, live, few, &cull, tmax, present);
             // Inner children (imask, as obvhs's `is_leaf`) go on the stack; leaves are tested now.
             let mut kids = hit & node.imask as u32;
             while kids != 0 {
@@ -374,6 +322,78 @@ impl Accel {
         cache.counts[..found.len].copy_from_slice(&found.counts[..found.len]);
         cache.sort();
         blocked & all
+    }
+}
+
+impl Accel {
+    /// `wide::node` with SSE2, 4 children at a time: the same culling, the same answers.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn node_sse2(
+        &self,
+        node: &obvhs::cwbvh::node::CwBvhNode,
+        o: Vec3A,
+        p: &Packet,
+        live: u32,
+        few: bool,
+        cull: &Cull,
+        tmax: f32,
+        present: u32,
+    ) -> ([u32; 8], u32) {
+        let pl = child_planes(node, o);
+        let (nx, ny, nz) = (Vec4::splat(cull.n[0]), Vec4::splat(cull.n[1]), Vec4::splat(cull.n[2]));
+        let (slope2, reach2) = (Vec4::splat(cull.slope2), Vec4::splat(cull.reach2));
+        // Shared by all rays: distance from the origin to each child box, whether the box reaches
+        // above the rays' cone (`Horizon`), whether it holds the origin. Only culling aids (the
+        // slab test alone is exact).
+        let (mut near, mut inside) = (present, 0u32);
+        if !few {
+            near = 0;
+            for h in 0..2 {
+                let gap = |k: usize| pl[2 * k][h].max(-pl[2 * k + 1][h]).max(Vec4::ZERO);
+                let (gx, gy, gz) = (gap(0), gap(1), gap(2));
+                let d2 = gx * gx + gy * gy + gz * gz;
+                let support = (pl[0][h] * nx).max(pl[1][h] * nx)
+                    + (pl[2][h] * ny).max(pl[3][h] * ny)
+                    + (pl[4][h] * nz).max(pl[5][h] * nz);
+                let above = support.cmpge(Vec4::ZERO) & (support * support).cmpge(slope2 * d2);
+                near |= (d2.cmple(reach2) & above).bitmask() << (4 * h);
+                inside |= d2.cmpeq(Vec4::ZERO).bitmask() << (4 * h);
+            }
+            (near, inside) = (near & present, inside & near & present);
+        }
+        let want = near & !inside;
+        let mut cm = lanes::zero();
+        let (widen, tmax4) = (Vec4::splat(1.0 + 8.0 * f32::EPSILON), Vec4::splat(tmax));
+        if want != 0 {
+            // Per ray: its slabs against the 8 children, 4 at a time.
+            let mut rays = live;
+            while rays != 0 {
+                let i = rays.trailing_zeros() as usize;
+                rays &= rays - 1;
+                let (ix, iy, iz) =
+                    (Vec4::splat(p.inv[0][i]), Vec4::splat(p.inv[1][i]), Vec4::splat(p.inv[2][i]));
+                let mut hits = 0u32;
+                for h in 0..2 {
+                    let (x0, x1) = (pl[0][h] * ix, pl[1][h] * ix);
+                    let (y0, y1) = (pl[2][h] * iy, pl[3][h] * iy);
+                    let (z0, z1) = (pl[4][h] * iz, pl[5][h] * iz);
+                    let tn = x0.min(x1).max(y0.min(y1)).max(z0.min(z1)).max(Vec4::ZERO);
+                    let tf = x0.max(x1).min(y0.max(y1)).min(z0.max(z1)).min(tmax4);
+                    hits |= tn.cmple(tf * widen).bitmask() << (4 * h);
+                }
+                lanes::add_ray(&mut cm, hits & want, i);
+            }
+        }
+        let mut cm = lanes::to_array(cm);
+        let mut hit = inside;
+        for (c, m) in cm.iter_mut().enumerate() {
+            if inside & (1 << c) != 0 {
+                *m = live;
+            }
+            hit |= ((*m != 0) as u32) << c;
+        }
+        (cm, hit)
     }
 }
 

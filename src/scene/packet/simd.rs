@@ -7,6 +7,13 @@ use super::{GROUPS, PACKET};
 use glam::{Vec3, Vec3A, Vec4};
 use obvhs::cwbvh::node::CwBvhNode;
 
+/// What a node's shared culling needs (see `Horizon`): the normal, s², and d² (padded).
+pub(super) struct Cull {
+    pub n: [f32; 3],
+    pub slope2: f32,
+    pub reach2: f32,
+}
+
 pub(super) struct Packet {
     /// Directions, 4 rays per `Vec4`, per axis.
     pub d: [[Vec4; GROUPS]; 3],
@@ -170,14 +177,95 @@ pub(super) fn present_children(meta: &[u8; 8]) -> u32 {
 /// bits); the box test is the same as the 4-wide one.
 #[cfg(target_arch = "x86_64")]
 pub(super) mod wide {
-    use super::{Packet, Seen};
-    use glam::Vec4;
+    use super::{Cull, Packet, Seen};
+    use glam::Vec3A;
+    use obvhs::cwbvh::node::CwBvhNode;
     use std::arch::x86_64::*;
 
+    /// One node against the live rays of the packet, all 8 children in one register: the child
+    /// planes (the same values as `child_planes`), the shared culling (unless `few`), and each
+    /// live ray's slab test. Returns, per child, the rays that enter it, and the children entered.
     #[inline]
     #[target_feature(enable = "avx2")]
-    pub fn planes(pl: &[[Vec4; 2]; 6]) -> [__m256; 6] {
-        std::array::from_fn(|k| _mm256_set_m128(pl[k][1].into(), pl[k][0].into()))
+    #[allow(clippy::too_many_arguments)]
+    pub fn node(
+        node: &CwBvhNode,
+        o: Vec3A,
+        p: &Packet,
+        live: u32,
+        few: bool,
+        cull: &Cull,
+        tmax: f32,
+        present: u32,
+    ) -> ([u32; 8], u32) {
+        let e = node.compute_extent();
+        let rel = Vec3A::from(node.p) - o;
+        let pad = (rel.abs() + e * 255.0) * (1.0 / 262144.0);
+        // SAFETY: each load reads exactly the 8 bytes of one array.
+        let q = |v: &[u8; 8]| unsafe {
+            _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(v.as_ptr() as *const __m128i)))
+        };
+        let plane = |v: &[u8; 8], base: f32, e: f32| {
+            _mm256_add_ps(_mm256_set1_ps(base), _mm256_mul_ps(q(v), _mm256_set1_ps(e)))
+        };
+        let pl = [
+            plane(&node.child_min_x, rel.x - pad.x, e.x),
+            plane(&node.child_max_x, rel.x + pad.x, e.x),
+            plane(&node.child_min_y, rel.y - pad.y, e.y),
+            plane(&node.child_max_y, rel.y + pad.y, e.y),
+            plane(&node.child_min_z, rel.z - pad.z, e.z),
+            plane(&node.child_max_z, rel.z + pad.z, e.z),
+        ];
+        let (mut near, mut inside) = (present, 0u32);
+        if !few {
+            let z = _mm256_setzero_ps();
+            let sign = _mm256_set1_ps(-0.0);
+            let gap =
+                |k: usize| _mm256_max_ps(_mm256_max_ps(pl[2 * k], _mm256_xor_ps(pl[2 * k + 1], sign)), z);
+            let (gx, gy, gz) = (gap(0), gap(1), gap(2));
+            let d2 = _mm256_add_ps(
+                _mm256_add_ps(_mm256_mul_ps(gx, gx), _mm256_mul_ps(gy, gy)),
+                _mm256_mul_ps(gz, gz),
+            );
+            let side = |k: usize, n: f32| {
+                let n = _mm256_set1_ps(n);
+                _mm256_max_ps(_mm256_mul_ps(pl[2 * k], n), _mm256_mul_ps(pl[2 * k + 1], n))
+            };
+            let support =
+                _mm256_add_ps(_mm256_add_ps(side(0, cull.n[0]), side(1, cull.n[1])), side(2, cull.n[2]));
+            let above = _mm256_and_ps(
+                _mm256_cmp_ps::<_CMP_GE_OQ>(support, z),
+                _mm256_cmp_ps::<_CMP_GE_OQ>(
+                    _mm256_mul_ps(support, support),
+                    _mm256_mul_ps(_mm256_set1_ps(cull.slope2), d2),
+                ),
+            );
+            let reach = _mm256_cmp_ps::<_CMP_LE_OQ>(d2, _mm256_set1_ps(cull.reach2));
+            near = _mm256_movemask_ps(_mm256_and_ps(reach, above)) as u32 & present;
+            inside = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_EQ_OQ>(d2, z)) as u32 & near;
+        }
+        let want = near & !inside;
+        let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+        let lanes_of = |m: u32| _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(m as i32), bits), bits);
+        let mut cm = _mm256_setzero_si256();
+        if want != 0 {
+            let mut rays = live;
+            while rays != 0 {
+                let i = rays.trailing_zeros() as usize;
+                rays &= rays - 1;
+                let hits = ray_hits(&pl, p, i, tmax, 1.0 + 8.0 * f32::EPSILON) & want;
+                cm = _mm256_or_si256(
+                    cm,
+                    _mm256_and_si256(lanes_of(hits), _mm256_set1_epi32((1u32 << i) as i32)),
+                );
+            }
+        }
+        // Children that hold the origin: every live ray enters them.
+        cm = _mm256_blendv_epi8(cm, _mm256_set1_epi32(live as i32), lanes_of(inside));
+        let empty =
+            _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(cm, _mm256_setzero_si256()))) as u32;
+        // SAFETY: one 32-byte register into 32 bytes.
+        (unsafe { std::mem::transmute::<__m256i, [u32; 8]>(cm) }, !empty & 0xff)
     }
 
     /// Children (bits) whose slabs ray `i` crosses within [0, tmax].

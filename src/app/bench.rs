@@ -1,6 +1,8 @@
 //! `hemilab bench`: the performance figure of record. For each AO distance d and for 1 and all
 //! threads, the same AO rays are traced by plain obvhs (`ray_traverse_miss`, one ray at a time) and
 //! by hemilab's own path, repeated; rays/s of both and their ratio are reported as min / median / max.
+//! `render_vs_query` sets the whole renderer (primary rays, sampling, image) against that AO query
+//! on the render's own rays: how much of a render's time is spent outside AO tracing.
 //! Every run checks that speed never changes a result: repeated answers are bit-identical, hemilab
 //! agrees with its single-ray traversal on every ray, and every ray where obvhs and hemilab disagree
 //! is judged against a test of every triangle (the reason is counted, hemilab must be right).
@@ -32,6 +34,57 @@ fn time_renders(scene: &Scene, job: &RenderJob, threads: usize) -> Result<Value>
     }
     let rate = rays as f64 / secs.max(1e-9);
     Ok(json!({ "threads": threads, "ao_rays": rays, "seconds": secs, "rays_per_s": rate }))
+}
+
+/// `render_vs_query`: the whole render's AO rays/s over hemilab's AO query's rays/s on the same
+/// rays (`set`, the render's own rays at the scene's d), on `threads` threads. Each repeat times
+/// one sample of each, in alternating order; a sample repeats its work until it has run for at
+/// least ~0.2 s of wall time (the same number of times for both), so short renders are not timed
+/// by a single clock reading.
+fn render_vs_query(
+    scene: &Scene,
+    job: &RenderJob,
+    set: &RaySet,
+    threads: usize,
+    repeats: u32,
+) -> Result<Value> {
+    let pool = pool(Some(threads as u32))?;
+    let mut out = vec![false; set.len()];
+    let render_once = || pool.install(|| render::render(scene, job, &|_| {})).rays;
+    let mut query_once = || {
+        pool.install(|| bench::trace_hemilab(scene, set, job.ao_distance, &mut out));
+        set.len() as u64
+    };
+    // Warm-up, and how many times a sample runs.
+    let start = Instant::now();
+    render_once();
+    query_once();
+    let once = start.elapsed().as_secs_f64();
+    let times = ((0.4 / once.max(1e-6)).ceil() as u32).clamp(1, 1000);
+    let (mut renders, mut queries, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    for r in 0..repeats {
+        let mut time = |render: bool| {
+            let start = Instant::now();
+            let rays: u64 = (0..times).map(|_| if render { render_once() } else { query_once() }).sum();
+            rays as f64 / start.elapsed().as_secs_f64().max(1e-9)
+        };
+        let (a, b) = if r % 2 == 0 {
+            let a = time(true);
+            (a, time(false))
+        } else {
+            let b = time(false);
+            (time(true), b)
+        };
+        renders.push(a);
+        queries.push(b);
+        ratio.push(a / b);
+    }
+    Ok(json!({
+        "threads": threads,
+        "render_rays_per_s": spread(&renders),
+        "query_rays_per_s": spread(&queries),
+        "ratio": spread(&ratio),
+    }))
 }
 
 fn spread(v: &[f64]) -> Value {
@@ -139,6 +192,10 @@ pub fn run_bench(args: BenchArgs) -> Result<()> {
     let start = Instant::now();
     let set = bench::ray_set(&scene, &job);
     let set_s = start.elapsed().as_secs_f64();
+    let mut rvq = Vec::new();
+    for &t in &threads {
+        rvq.push(render_vs_query(&scene, &job, &set, t, args.repeats)?);
+    }
     let base = bench::obvhs_baseline(&scene);
     let mut comparisons = Vec::new();
     for &d in &args.distances {
@@ -159,6 +216,7 @@ pub fn run_bench(args: BenchArgs) -> Result<()> {
         "single_thread": one,
         "all_threads": many,
         "speedup": speedup,
+        "render_vs_query": rvq,
         "ray_set": { "pixels": set.origins.len(), "rays": set.len(), "build_s": set_s },
         "repeats": args.repeats,
         "comparison": comparisons,

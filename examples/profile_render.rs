@@ -1,0 +1,48 @@
+//! A fixed amount of render or AO-query work on one thread, for profilers (perf, callgrind):
+//! `cargo run --release --example profile_render -- SCENE.toml MODE D [REPEATS] [RAYS]`, MODE one
+//! of `render` (whole renders), `query` (hemilab's AO query on the render's rays), `obvhs` (plain
+//! obvhs on them), `rays` (only collecting the ray set). Prints the wall time of the timed part.
+//! Timing figures of record come from `hemilab bench`, not from this.
+
+use hemilab::render::{self, RenderJob, bench};
+use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use std::time::Instant;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let scene = hemilab::app::load_scene(std::path::Path::new(&args[1]))?;
+    let mode = args.get(2).map(String::as_str).unwrap_or("render");
+    let d: f32 = match args.get(3).map(String::as_str) {
+        None => scene.ao_distance,
+        Some("inf") => f32::INFINITY,
+        Some(s) => s.parse()?,
+    };
+    let repeats: u32 = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(3);
+    let rays: u32 = args.get(5).map(|s| s.parse()).transpose()?.unwrap_or(32);
+    let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, rays, 1)?;
+    let (width, height) = scene.resolution;
+    let job = RenderJob { distribution: Distribution::SineCosine, sampler, width, height, ao_distance: d };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let set = if mode == "query" || mode == "obvhs" { Some(bench::ray_set(&scene, &job)) } else { None };
+    let base = if mode == "obvhs" { Some(bench::obvhs_baseline(&scene)) } else { None };
+    let start = Instant::now();
+    let mut count = 0u64;
+    for _ in 0..repeats {
+        match mode {
+            "render" => count += pool.install(|| render::render(&scene, &job, &|_| {})).occluded_rays,
+            "rays" => count += bench::ray_set(&scene, &job).len() as u64,
+            "query" | "obvhs" => {
+                let set = set.as_ref().expect("made above");
+                let mut out = vec![false; set.len()];
+                match &base {
+                    Some(b) => pool.install(|| bench::trace_obvhs(b, set, d, &mut out)),
+                    None => pool.install(|| bench::trace_hemilab(&scene, set, d, &mut out)),
+                }
+                count += out.iter().filter(|&&b| b).count() as u64;
+            }
+            other => return Err(format!("unknown mode {other}").into()),
+        }
+    }
+    println!("{mode} d={d}: {:.3} s for {repeats} repeats ({count})", start.elapsed().as_secs_f64());
+    Ok(())
+}

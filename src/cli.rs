@@ -58,9 +58,10 @@ pub struct RunArgs {
     /// Stop with an error instead of rendering a missing or mismatched reference.
     #[arg(long)]
     pub no_build_reference: bool,
-    /// Where reference images and their manifests live.
-    #[arg(long, default_value = "reference")]
-    pub reference_dir: PathBuf,
+    /// Where reference images and their manifests live (default: the spec's `[reference] dir`,
+    /// relative to the spec file, else `reference/` beside the spec).
+    #[arg(long, value_name = "DIR")]
+    pub reference_dir: Option<PathBuf>,
     /// Timed renders per configuration at least (default: the spec's `[timing] repeats`, else 3);
     /// a configuration with fewer replicates is re-rendered, for its time only.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100))]
@@ -105,9 +106,10 @@ pub struct PlanArgs {
     /// Also list every job, in run order, after the summary.
     #[arg(long)]
     pub jobs: bool,
-    /// Where reference images live (whether they must be built counts in the estimate).
-    #[arg(long, default_value = "reference")]
-    pub reference_dir: PathBuf,
+    /// Where reference images live (whether they must be built counts in the estimate; default:
+    /// the spec's `[reference] dir`, else `reference/` beside the spec).
+    #[arg(long, value_name = "DIR")]
+    pub reference_dir: Option<PathBuf>,
     /// Threads the run will use (default: all cores), as `run --threads`.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -123,9 +125,10 @@ pub struct MergeArgs {
     /// Output directory of the merged results and report (default: out/<spec name>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Where reference images live (the report measures against them).
-    #[arg(long, default_value = "reference")]
-    pub reference_dir: PathBuf,
+    /// Where reference images live (the report measures against them; default: the spec's
+    /// `[reference] dir`, else `reference/` beside the spec).
+    #[arg(long, value_name = "DIR")]
+    pub reference_dir: Option<PathBuf>,
     /// No progress bars.
     #[arg(long, short)]
     pub quiet: bool,
@@ -135,9 +138,10 @@ pub struct MergeArgs {
 pub struct ReferenceArgs {
     /// Experiment spec (TOML).
     pub spec: PathBuf,
-    /// Where reference images and their manifests live.
-    #[arg(long, default_value = "reference")]
-    pub reference_dir: PathBuf,
+    /// Where reference images and their manifests live (default: the spec's `[reference] dir`,
+    /// relative to the spec file, else `reference/` beside the spec).
+    #[arg(long, value_name = "DIR")]
+    pub reference_dir: Option<PathBuf>,
     #[command(flatten)]
     pub common: Common,
 }

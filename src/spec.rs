@@ -10,6 +10,7 @@
 //! point_figures = true                  # optional: also draw Table 1 and Figures 2-4; default false
 //!
 //! [reference]                           # optional section; defaults shown
+//! dir = "reference"                     # where reference images live, relative to this file
 //! rays = "auto"                         # or 1..=4194304 rays per pixel per replicate
 //! replicates = 4                        # 2..=1000 (their spread gives the standard error)
 //! seed = 1                              # default: the base seed (its own stream)
@@ -195,6 +196,11 @@ pub struct Spec {
     /// only the spec that reproduces the paper asks for them.
     pub point_figures: bool,
     pub reference: ReferenceSpec,
+    /// Where the references live: `[reference] dir`, relative to the spec file, by default
+    /// `reference/` beside it. Relative to the spec and not to the current directory, so a committed
+    /// reference is found from anywhere and a user's own spec never writes into another project's
+    /// folder. (Not part of `ReferenceSpec`: where a reference is stored does not change it.)
+    pub reference_dir: PathBuf,
     pub timing: TimingSpec,
     /// Tables and sweeps in file order.
     pub groups: Vec<Group>,

@@ -294,8 +294,9 @@ pub fn run_plan(args: PlanArgs) -> Result<()> {
         .threads
         .map_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()), |t| t as usize);
 
+    let ref_dir = refs::dir(args.reference_dir.as_deref(), spec);
     let builds: Vec<Option<Manifest>> = (0..loaded.scenes.len())
-        .map(|si| refs::missing(spec, si, &loaded.scenes[si], &args.reference_dir))
+        .map(|si| refs::missing(spec, si, &loaded.scenes[si], &ref_dir))
         .collect::<Result<_>>()?;
     let builds: Vec<Option<Manifest>> = builds
         .into_iter()
@@ -352,7 +353,7 @@ pub fn run_plan(args: PlanArgs) -> Result<()> {
                     s,
                     "reference '{}': stored in {}, reused",
                     sc.name,
-                    args.reference_dir.display()
+                    ref_dir.display()
                 );
             }
         }

@@ -27,6 +27,13 @@ impl Reference {
     }
 }
 
+/// Where a command finds the spec's references: `--reference-dir`, else the spec's own
+/// (`[reference] dir` relative to the spec file, or `reference/` beside it), never the current
+/// directory's.
+pub fn dir(flag: Option<&Path>, spec: &Spec) -> PathBuf {
+    flag.map_or_else(|| spec.reference_dir.clone(), Path::to_path_buf)
+}
+
 /// What to do when the stored reference is missing or does not match.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Policy {
@@ -142,12 +149,19 @@ pub fn obtain(
         match load_if_matching(spec, &wanted, &exr, &json)? {
             Ok(r) => return Ok(r),
             Err((file, why)) if policy == Policy::ReuseOnly => {
+                let flag = if dir == spec.reference_dir {
+                    String::new()
+                } else {
+                    format!(" --reference-dir {}", dir.display())
+                };
                 return Err(Error::input(
                     &file,
                     format!(
-                        "{why}: no usable reference for scene '{}'; run `hemilab reference {}` or drop \
+                        "{why}: no usable reference for scene '{}' in {}; build it with `hemilab reference \
+                         {}{flag}`, pass --reference-dir DIR if it is stored elsewhere, or drop \
                          --no-build-reference",
                         scene.name,
+                        dir.display(),
                         spec.path.display()
                     ),
                 ));

@@ -32,6 +32,7 @@ struct RawSpec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawReference {
+    dir: Option<S<String>>,
     rays: Option<S<toml::Value>>,
     replicates: Option<S<i64>>,
     seed: Option<S<i64>>,
@@ -199,6 +200,14 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         raw.replicates.as_ref().map_or(Some(1), |r| p.int(r, "replicates", 1, MAX_REPLICATES as i64));
     let seed = raw.seed.as_ref().map_or(1, |s| p.seed(s, "seed"));
     let reference = reference(raw.reference.as_ref(), seed, p);
+    let reference_dir = match raw.reference.as_ref().and_then(|r| r.dir.as_ref()) {
+        Some(d) if d.get_ref().trim().is_empty() => {
+            p.add(d.span(), "reference.dir", "is empty; a directory relative to the spec file, e.g. \"reference\"");
+            dir.join("reference")
+        }
+        Some(d) => dir.join(d.get_ref()),
+        None => dir.join("reference"),
+    };
     let timing = TimingSpec {
         repeats: raw
             .timing
@@ -269,6 +278,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         seed,
         point_figures,
         reference,
+        reference_dir,
         timing,
         groups,
     }

@@ -206,12 +206,12 @@ pub struct BenchArgs {
 /// A positive AO distance, or `inf` / `infinite`.
 pub fn parse_distance(s: &str) -> Result<f32, String> {
     let t = s.trim();
-    if t.eq_ignore_ascii_case("inf") || t.eq_ignore_ascii_case("infinite") {
+    if crate::spec::is_infinite(t) {
         return Ok(f32::INFINITY);
     }
     match t.parse::<f32>() {
         Ok(d) if d > 0.0 && d.is_finite() => Ok(d),
-        _ => Err(format!("distance '{s}' must be a positive number or 'inf'")),
+        _ => Err(format!("distance '{s}' must be a positive number or 'inf' (or 'infinite')")),
     }
 }
 

@@ -4,7 +4,7 @@
 //! name = "paper"                        # optional; output dir out/<name>/; default: file stem
 //! scenes = ["../scenes/kitchen.toml"]   # relative to the spec file; stems must differ
 //! resolution = [160, 120]               # optional override of the scenes' own; sides 1..=16384
-//! ao_distance = 1.0                     # optional override: a number > 0 or "infinite"
+//! ao_distance = 1.0                     # optional override: a number > 0 or "infinite" ("inf")
 //! replicates = 4                        # independent seeds per (row, rays); 1..=1000; default 1
 //! seed = 1                              # base seed, 0..=4294967295; default 1
 //! point_figures = true                  # optional: also draw Table 1 and Figures 2-4; default false
@@ -54,7 +54,7 @@
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use std::path::{Component, Path, PathBuf};
 
-mod position;
+pub(crate) mod position;
 mod validate;
 
 pub use validate::parse_spec;
@@ -73,6 +73,12 @@ pub const MAX_TIMING_REPEATS: u32 = 100;
 pub enum AoDistance {
     Finite(f64),
     Infinite,
+}
+
+/// The words for an unbounded AO distance, in a scene file, a spec and on the command line alike.
+pub fn is_infinite(s: &str) -> bool {
+    let t = s.trim();
+    t.eq_ignore_ascii_case("infinite") || t.eq_ignore_ascii_case("inf")
 }
 
 impl AoDistance {
@@ -128,6 +134,8 @@ pub struct SceneRef {
     pub id: String,
     /// File stem: the `scene` column of the results.
     pub name: String,
+    /// Line of the spec that names it, for messages.
+    pub line: usize,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -47,7 +47,10 @@ fn own_spec_writes_references_beside_itself() {
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
     let refs = files(&t.path("exp/reference"));
-    assert!(refs.iter().any(|f| f.ends_with(".exr")) && refs.iter().any(|f| f.ends_with(".json")), "{refs:?}");
+    assert!(
+        refs.iter().any(|f| f.ends_with(".exr")) && refs.iter().any(|f| f.ends_with(".json")),
+        "{refs:?}"
+    );
     assert!(!t.path("elsewhere/reference").exists());
     assert!(t.path("elsewhere/out/tiny/index.html").is_file());
 }

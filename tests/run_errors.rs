@@ -11,10 +11,13 @@ fn bad_specs_exit_2_name_file_line_and_key_and_create_nothing() {
     let t = Tmp::new("bad-spec");
     let good = tiny_spec(16, "");
     let cases: [(String, &[&str]); 4] = [
-        (good.replace("rays = [2, 4]", "rays = [0]"), &["line 14", "key `table.t.rays`", "1..=65536"]),
+        (
+            good.replace("rays = [2, 4]", "rays = [0]"),
+            &["line 14", "key `table.rays` (table 't')", "1..=65536"],
+        ),
         (
             good.replace("\"uniform\"", "\"unifrm\""),
-            &["line 16", "key `table.t.rows.distribution`", "valid: uniform, sine, sine-cosine"],
+            &["line 16", "key `table.rows.distribution` (table 't')", "valid: uniform, sine, sine-cosine"],
         ),
         (
             good.replace("seed = 3", "seed = 3\nraplicates = 2"),

@@ -349,12 +349,7 @@ pub fn run_plan(args: PlanArgs) -> Result<()> {
                 let _ = writeln!(s, "reference '{}': must be built ({how})", sc.name);
             }
             None => {
-                let _ = writeln!(
-                    s,
-                    "reference '{}': stored in {}, reused",
-                    sc.name,
-                    ref_dir.display()
-                );
+                let _ = writeln!(s, "reference '{}': stored in {}, reused", sc.name, ref_dir.display());
             }
         }
     }

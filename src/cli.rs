@@ -248,16 +248,15 @@ fn parse_seed_mode(s: &str) -> Result<SeedMode, String> {
     s.parse()
 }
 
-/// Largest image side accepted: beyond this, a float image no longer fits a sane memory budget.
-pub const MAX_SIDE: u32 = 16_384;
+pub use crate::spec::MAX_SIDE;
 
-/// Parses `WxH` with both sides in 1..=MAX_SIDE.
+/// Parses `WxH` within `spec::RESOLUTION_RULE` (the limits of scene files and specs).
 pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
-    let bad = || format!("resolution '{s}' must be WxH with each side in 1..={MAX_SIDE}, e.g. 320x240");
+    let bad = || format!("resolution '{s}' must be WxH, {}; e.g. 320x240", crate::spec::RESOLUTION_RULE);
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+    if !crate::spec::resolution_ok(w as u64, h as u64) {
         return Err(bad());
     }
     Ok((w, h))

@@ -3,7 +3,8 @@
 //! ```toml
 //! name = "paper"                        # optional; output dir out/<name>/; default: file stem
 //! scenes = ["../scenes/kitchen.toml"]   # relative to the spec file; stems must differ
-//! resolution = [160, 120]               # optional override of the scenes' own; sides 1..=16384
+//! resolution = [160, 120]               # optional override of the scenes' own; sides 1..=16384,
+//!                                       # at most 67108864 pixels (8192x8192)
 //! ao_distance = 1.0                     # optional override: a number > 0 or "infinite" ("inf")
 //! replicates = 4                        # independent seeds per (row, rays); 1..=1000; default 1
 //! seed = 1                              # base seed, 0..=4294967295; default 1
@@ -64,7 +65,18 @@ pub const MAX_RAYS: u32 = 65_536;
 /// References may go higher: they are rendered once and committed.
 pub const MAX_REFERENCE_RAYS: u32 = 1 << 22;
 pub const MAX_REPLICATES: u32 = 1000;
+/// Image sides are 1..=MAX_SIDE, and an image holds at most MAX_PIXELS pixels (8192x8192, or
+/// e.g. 16384x4096): beyond that its AO and coverage channels and their EXR encoding need several
+/// GB. Command line, scene files and specs all check both, with `RESOLUTION_RULE` as the text.
 pub const MAX_SIDE: u32 = 16_384;
+pub const MAX_PIXELS: u64 = 1 << 26;
+pub const RESOLUTION_RULE: &str =
+    "each side 1..=16384 and at most 67108864 pixels in all (8192x8192, or e.g. 16384x4096)";
+
+/// Whether `w` x `h` is an image size hemilab accepts (`RESOLUTION_RULE`).
+pub fn resolution_ok(w: u64, h: u64) -> bool {
+    (1..=MAX_SIDE as u64).contains(&w) && (1..=MAX_SIDE as u64).contains(&h) && w * h <= MAX_PIXELS
+}
 /// Timed renders per configuration: beyond this a run is a benchmark, not an experiment.
 pub const MAX_TIMING_REPEATS: u32 = 100;
 

@@ -81,7 +81,10 @@ fn bad_arguments_exit_2_and_create_nothing() {
         (with(good("scenes/cornell-box.toml", "cosine", "4"), &[]), "cosine"),
         (with(good("scenes/cornell-box.toml", "sine", "0"), &[]), "--rays"),
         (with(good("scenes/cornell-box.toml", "sine", "4"), &["--resolution", "0x8"]), "resolution"),
-        (with(good("scenes/cornell-box.toml", "sine", "4"), &["--resolution", "16384x16384"]), "memory"),
+        (
+            with(good("scenes/cornell-box.toml", "sine", "4"), &["--resolution", "16384x16384"]),
+            "at most 67108864 pixels",
+        ),
         (with(good("scenes/no-such-scene.toml", "sine", "4"), &[]), "no-such-scene.toml"),
     ];
     for (mut args, want) in cases {

@@ -127,6 +127,11 @@ fn bad_scene_files_name_the_line_and_key() {
             vec!["line 5, key `camera.perspective.fov_y_deg`: missing; add `fov_y_deg"],
         ),
         (
+            "too-many-pixels",
+            TOML.replace("[8, 8]", "[16384, 16384]"),
+            vec!["line 2", "at most 67108864 pixels"],
+        ),
+        (
             "three-sides",
             TOML.replace("[8, 8]", "[8, 8, 8]"),
             vec!["line 2, key `resolution`", "[width, height]"],

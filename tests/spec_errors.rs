@@ -136,6 +136,16 @@ fn resolution_zero() {
     assert_has(&e, &["line 3", "key `resolution`", "1..=16384"]);
 }
 
+/// The documented limit is the enforced one: sides up to 16384, at most 67108864 pixels in all.
+#[test]
+fn resolution_limit_is_the_documented_one() {
+    let e = error(&spec("resolution = [16384, 16384]", "", ""));
+    assert_has(&e, &["line 3", "key `resolution`", "16384x16384 is too large", "at most 67108864 pixels"]);
+    let ok = |r: &str| parse_spec(&spec(r, "", ""), Path::new(FILE)).is_ok();
+    assert!(ok("resolution = [8192, 8192]") && ok("resolution = [16384, 4096]"));
+    assert!(!ok("resolution = [16385, 1]"));
+}
+
 #[test]
 fn resolution_needs_two_sides() {
     let e = error(&spec("resolution = [160]", "", ""));

@@ -282,6 +282,59 @@ fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Option<Manifest>], 
     cpu / threads.max(1) as f64 * cal.contention
 }
 
+/// AO-ray equivalents per CPU second of one thread, typical of this project's scenes (20 M AO rays
+/// per second per thread on the kitchen; a pixel costs about 10 AO rays besides its own, as in the
+/// shard balance): for `run`'s warning, which must not cost a calibration (at 8000x8000 pixels
+/// `plan`'s takes minutes).
+const TYPICAL_RAYS_PER_S: f64 = 20e6;
+
+/// A rough wall time of a run, without rendering anything: the protocol's renders of `selected`
+/// (`plan::cost`) and the references it would build, at `TYPICAL_RAYS_PER_S` on every worker.
+/// Below `threshold_s` it may count references that are in fact stored (not worth reading them).
+pub(super) fn rough_run_s(
+    loaded: &Loaded,
+    selected: &Plan,
+    reference_dir: &std::path::Path,
+    protocol: timing::Protocol,
+    threshold_s: f64,
+) -> Result<f64> {
+    let pixels = |j: &Job| {
+        let (_, scene) = loaded.scene_of(j);
+        Geometry::of(j.resolution, j.ao_distance, scene).pixels() as f64
+    };
+    let overhead = |id: &str| {
+        let j = selected.jobs.iter().find(|j| j.scene_id == id).expect("a planned scene");
+        pixels(j) * 10.0 / TYPICAL_RAYS_PER_S
+    };
+    let model =
+        cost::Model { protocol, overhead_renders: timing::OVERHEAD_REPEATS, post_s: 0.0, contention: 1.0 };
+    let render_s = |j: &Job| pixels(j) * (j.rays as f64 + 10.0) / TYPICAL_RAYS_PER_S;
+    let jobs_s = cost::jobs(selected, render_s, overhead, &model).wall_s;
+    // The references, if they must be built: looked up (reading each image) only if they matter.
+    let spec = &loaded.spec;
+    let used = |si: usize| selected.jobs.iter().any(|j| loaded.scene_of(j).0 == si);
+    let reference_s = |si: usize, rays: u32| {
+        let jobs = plan::reference_jobs(spec, si, rays);
+        jobs.iter().map(render_s).sum::<f64>() / protocol.workers.max(1) as f64
+    };
+    let wanted = |si: usize| {
+        let g = Geometry::of(spec.resolution, spec.ao_distance, &loaded.scenes[si]);
+        refs::wanted_manifest(spec, si, &loaded.scenes[si], g).rays
+    };
+    let at_most: f64 =
+        (0..loaded.scenes.len()).filter(|&si| used(si)).map(|si| reference_s(si, wanted(si))).sum();
+    if jobs_s + at_most <= threshold_s {
+        return Ok(jobs_s + at_most);
+    }
+    let mut wall = jobs_s;
+    for si in (0..loaded.scenes.len()).filter(|&si| used(si)) {
+        if let Some(m) = refs::missing(spec, si, &loaded.scenes[si], reference_dir)? {
+            wall += reference_s(si, m.rays);
+        }
+    }
+    Ok(wall)
+}
+
 pub fn run_plan(args: PlanArgs) -> Result<()> {
     let t0 = clock::wall_s();
     let loaded = load(&args.spec)?;

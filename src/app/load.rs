@@ -57,9 +57,11 @@ fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
         return Err(Error::input(
             &spec.path,
             format!(
-                "key `resolution`: {}x{} for scene '{}' has more than {MAX_PIXELS} pixels; too large to hold \
-                 in memory",
-                g.width, g.height, s.name
+                "key `resolution`: {}x{} for scene '{}' is too large to hold in memory; {}",
+                g.width,
+                g.height,
+                s.name,
+                crate::spec::RESOLUTION_RULE
             ),
         ));
     }

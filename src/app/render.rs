@@ -11,9 +11,7 @@ use crate::scene::{self, Scene, file, mesh};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Images above this many pixels are refused: the AO and coverage channels and their EXR encoding
-/// would need several GB.
-pub const MAX_PIXELS: u64 = 1 << 26;
+pub use crate::spec::MAX_PIXELS;
 
 /// Reads, parses and validates a scene file and its mesh, and builds the BVH. Every error names the
 /// scene file (and its line/key) or the mesh file (and its line).
@@ -53,7 +51,8 @@ pub fn dropped_warning(scene: &Scene) -> Option<String> {
 pub(super) fn check_pixels(w: u32, h: u32) -> Result<()> {
     if w as u64 * h as u64 > MAX_PIXELS {
         return Err(Error::Usage(format!(
-            "resolution {w}x{h} has more than {MAX_PIXELS} pixels; too large to hold in memory"
+            "resolution {w}x{h} is too large to hold in memory; {}",
+            crate::spec::RESOLUTION_RULE
         )));
     }
     Ok(())

@@ -13,8 +13,8 @@
 //! ```
 
 use super::camera::Camera;
-use crate::cli::MAX_SIDE;
 use crate::spec::position::describe;
+use crate::spec::{RESOLUTION_RULE, resolution_ok};
 use glam::Vec3;
 use serde::{Deserialize, Deserializer, de};
 
@@ -116,7 +116,7 @@ impl<'de> Deserialize<'de> for Positive {
     }
 }
 
-/// `[width, height]`, each in 1..=MAX_SIDE.
+/// `[width, height]`, within `spec::RESOLUTION_RULE`.
 #[derive(Debug, Clone, Copy)]
 pub struct Resolution(pub u32, pub u32);
 
@@ -129,12 +129,11 @@ impl<'de> Deserialize<'de> for Resolution {
                 v.len()
             )));
         };
-        let ok = |s: i64| (1..=MAX_SIDE as i64).contains(&s);
-        if ok(w) && ok(h) {
+        if w > 0 && h > 0 && resolution_ok(w as u64, h as u64) {
             Ok(Resolution(w as u32, h as u32))
         } else {
             Err(de::Error::custom(format!(
-                "resolution must be [width, height] with each side in 1..={MAX_SIDE}, got [{w}, {h}]"
+                "resolution must be [width, height], {RESOLUTION_RULE}; got [{w}, {h}]"
             )))
         }
     }
@@ -202,7 +201,7 @@ fn hint(key: &str, message: &str) -> Option<String> {
     Some(match field {
         "camera" => format!("add a camera: {CAMERA}"),
         "mesh" => "add `mesh = \"file.obj\"` (.obj or .obj.zst, relative to this file)".into(),
-        "resolution" => format!("add `resolution = [width, height]`, each side 1..={MAX_SIDE}"),
+        "resolution" => format!("add `resolution = [width, height]`, {RESOLUTION_RULE}"),
         "ao_distance" => "add `ao_distance = d`, a positive number or \"infinite\"".into(),
         "eye" | "target" | "up" => format!("add `{field} = [x, y, z]`"),
         "fov_y_deg" => "add `fov_y_deg = ..`, the vertical field of view in (0, 180) degrees".into(),

@@ -223,7 +223,12 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         }
         let w = p.int(&r.get_ref()[0], "resolution", 1, MAX_SIDE as i64);
         let h = p.int(&r.get_ref()[1], "resolution", 1, MAX_SIDE as i64);
-        Some([w?, h?])
+        let (w, h) = (w?, h?);
+        if !resolution_ok(w as u64, h as u64) {
+            p.add(r.span(), "resolution", format!("{w}x{h} is too large; {RESOLUTION_RULE}"));
+            return None;
+        }
+        Some([w, h])
     });
     let ao_distance = raw.ao_distance.as_ref().and_then(|v| distance(v, p));
     let replicates =

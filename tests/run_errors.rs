@@ -160,3 +160,19 @@ fn auto_reference_is_reused_only_with_enough_rays() {
     t.run_ok(&more, "out2", "ref", &[]);
     t.run_ok(&spec, "out", "ref", &["--no-build-reference"]);
 }
+
+/// A run that would take hours says so before it starts (here it then stops: no reference and
+/// `--no-build-reference`); a small one does not.
+#[test]
+fn long_run_is_announced_before_it_starts() {
+    let t = Tmp::new("long-run");
+    let big = tiny_spec(16, "").replace("resolution = [24, 18]", "resolution = [8192, 8192]");
+    let spec = t.spec("big.toml", &big.replace("rays = [2, 4]", "rays = [1024]"));
+    let o = t.run(&spec, "out", "ref", &["--no-build-reference"]);
+    let e = stderr(&o);
+    assert!(e.starts_with("warning: this run may take hours: roughly "), "{e}");
+    assert!(e.contains("hemilab plan") && e.contains("resumes"), "{e}");
+    let spec = t.spec("small.toml", &tiny_spec(16, ""));
+    let o = t.run(&spec, "out", "ref", &["--no-build-reference"]);
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+}

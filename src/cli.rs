@@ -194,10 +194,10 @@ pub struct BenchArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// AO distances d to compare at, in scene units, comma-separated; `inf` = unbounded
-    /// (default: 0.3,1,inf, i.e. metres for the kitchen).
-    #[arg(long, value_parser = parse_distance, value_delimiter = ',', default_value = "0.3,1,inf")]
-    pub distances: Vec<f32>,
+    /// AO distances d to compare at, in scene units, comma-separated; `inf` (or `infinite`) =
+    /// unbounded (default: the scene's own d, 0.3 × d and inf; inf alone for a scene with d = inf).
+    #[arg(long, value_parser = parse_distance, value_delimiter = ',', value_name = "LIST")]
+    pub distances: Option<Vec<f32>>,
     /// Timed repeats per configuration (min / median / max are reported).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=100))]
     pub repeats: u32,

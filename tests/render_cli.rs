@@ -151,6 +151,30 @@ fn bench_reports_json() {
     }
 }
 
+/// Without `--distances` the table compares at the scene's own d (the Cornell box's 150 mm), 0.3 d
+/// and ∞, prints ∞ as ∞ and the disagreements as counts, not as JSON; "infinite" = "inf".
+#[test]
+fn bench_table_defaults_to_the_scene_distance_and_reads_plainly() {
+    let args = ["bench", "scenes/cornell-box.toml", "--rays", "2", "--resolution", "8x8", "--repeats", "1"];
+    let out = hemilab(&args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let ds: Vec<&str> = text
+        .lines()
+        .filter(|l| l.trim_start().split_whitespace().nth(1) == Some("1"))
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    assert_eq!(ds, ["45", "150", "∞"], "{text}");
+    assert!(text.contains("whole render, d = 150,"), "{text}");
+    assert!(!text.contains('"') && !text.contains('{'), "{text}");
+    assert_eq!(text.matches("mismatching rays: ").count(), 3, "{text}");
+    let mut json = args.to_vec();
+    json.extend(["--json", "--distances", "infinite,inf"]);
+    let v: serde_json::Value = serde_json::from_slice(&hemilab(&json).stdout).unwrap();
+    let cmp = v["comparison"].as_array().unwrap();
+    assert!(cmp.len() == 2 && cmp.iter().all(|c| c["ao_distance"] == "infinite"), "{v}");
+}
+
 #[test]
 fn bench_rejects_a_bad_distance() {
     let out = hemilab(&["bench", "scenes/cornell-box.toml", "--distances", "1,-2"]);

@@ -27,7 +27,8 @@ pub enum Command {
     Reference(ReferenceArgs),
     /// Merge the output directories of `run --shard K/N` into one set of results and one report.
     Merge(MergeArgs),
-    /// Render one AO image of a scene.
+    /// Render one AO image of a scene (default: sine-cosine, Fibonacci lattice, per-pixel seed, the
+    /// configuration the README recommends).
     Render(RenderArgs),
     /// Measure AO rays per second on a scene (the performance figure of record).
     Bench(BenchArgs),
@@ -146,16 +147,19 @@ pub struct ReferenceArgs {
     pub common: Common,
 }
 
+/// `render`'s estimator: by default the one the README's answer recommends, sine-cosine through
+/// the Fibonacci lattice with a per-pixel seed (the paper's "random seed per pixel").
 #[derive(Debug, Args)]
-pub struct SamplingArgs {
+pub struct RenderSampling {
     /// Hemisphere distribution: uniform, sine, sine-cosine, concentric-cosine.
-    #[arg(long, value_parser = parse_distribution, value_name = "D")]
+    #[arg(long, value_parser = parse_distribution, value_name = "D", default_value = "sine-cosine")]
     pub distribution: Distribution,
     /// Point sequence: random, fibonacci, stratified, sobol.
-    #[arg(long, value_parser = parse_sequence, value_name = "S")]
+    #[arg(long, value_parser = parse_sequence, value_name = "S", default_value = "fibonacci")]
     pub sequence: Sequence,
-    /// Randomization across pixels: static, rotation, shift, blue-noise.
-    #[arg(long, value_parser = parse_seed_mode, value_name = "M")]
+    /// Randomization across pixels: static, rotation (the paper's per-pixel seed), shift (unbiased
+    /// per pixel), blue-noise.
+    #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "rotation")]
     pub seed_mode: SeedMode,
     /// Run seed: different seeds give independent images.
     #[arg(long, default_value_t = 1)]
@@ -167,7 +171,7 @@ pub struct RenderArgs {
     /// Scene file (TOML).
     pub scene: PathBuf,
     #[command(flatten)]
-    pub sampling: SamplingArgs,
+    pub sampling: RenderSampling,
     /// AO rays per pixel.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
     pub rays: u32,

@@ -135,6 +135,30 @@ impl Row {
     pub fn label(&self) -> String {
         format!("{}/{}/{}", self.distribution, self.sequence, self.seed_mode)
     }
+
+    /// The configuration as every person-facing text names it (report, figures, tables, the
+    /// terminal), in the paper's words: "sine-cosine, Fibonacci, per-pixel seed". The README's
+    /// "Configuration names" maps these words to the `results.csv` values (`Row::label`'s).
+    pub fn name(&self) -> String {
+        let seq = match self.sequence {
+            Sequence::Random => "pseudo-random",
+            Sequence::Fibonacci => "Fibonacci",
+            Sequence::Stratified => "stratified",
+            Sequence::Sobol => "Sobol'",
+        };
+        let mode = match self.seed_mode {
+            // Fresh numbers per pixel: the paper's plain pseudo-random row needs no seed words.
+            SeedMode::Rotation | SeedMode::Shift if self.sequence == Sequence::Random => None,
+            SeedMode::Rotation => Some("per-pixel seed"),
+            SeedMode::Static => Some("static seed"),
+            SeedMode::Shift => Some("shift"),
+            SeedMode::BlueNoise => Some("blue-noise"),
+        };
+        match mode {
+            Some(m) => format!("{}, {seq}, {m}", self.distribution),
+            None => format!("{}, {seq}", self.distribution),
+        }
+    }
 }
 
 /// A scene as the spec names it.
@@ -258,6 +282,19 @@ mod tests {
         assert_eq!(normalize("../scenes/kitchen.toml"), "../scenes/kitchen.toml");
         assert_eq!(normalize("../../x"), "../../x");
         assert_eq!(normalize("/work/./a/../scenes/k.toml"), "/work/scenes/k.toml");
+    }
+
+    #[test]
+    fn names_are_the_papers_words() {
+        use {Distribution as D, SeedMode as M, Sequence as S};
+        let name = |d, s, m| Row::new(d, s, m).name();
+        assert_eq!(name(D::SineCosine, S::Fibonacci, M::Rotation), "sine-cosine, Fibonacci, per-pixel seed");
+        assert_eq!(name(D::SineCosine, S::Fibonacci, M::Static), "sine-cosine, Fibonacci, static seed");
+        assert_eq!(name(D::Uniform, S::Random, M::Rotation), "uniform, pseudo-random");
+        assert_eq!(name(D::Uniform, S::Random, M::Shift), "uniform, pseudo-random");
+        assert_eq!(name(D::Sine, S::Random, M::Static), "sine, pseudo-random, static seed");
+        assert_eq!(name(D::ConcentricCosine, S::Sobol, M::Shift), "concentric-cosine, Sobol', shift");
+        assert_eq!(name(D::Sine, S::Stratified, M::BlueNoise), "sine, stratified, blue-noise");
     }
 
     #[test]

@@ -103,6 +103,21 @@ fn bad_arguments_exit_2_and_create_nothing() {
     assert!(entries(&dir).is_empty());
 }
 
+/// `render SCENE --rays N --output F` alone renders the recommended estimator: the same bytes as
+/// sine-cosine, Fibonacci, per-pixel seed (rotation) given explicitly.
+#[test]
+fn render_defaults_to_the_recommended_estimator() {
+    let dir = temp_dir("render-default");
+    let (a, b) = (dir.join("a.exr"), dir.join("b.exr"));
+    let base = ["render", "scenes/cornell-box.toml", "--rays", "4", "--resolution", "16x12", "--quiet"];
+    let out = hemilab(&[&base[..], &["--output", a.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let explicit = ["--distribution", "sine-cosine", "--sequence", "fibonacci", "--seed-mode", "rotation"];
+    let out = hemilab(&[&base[..], &explicit, &["--output", b.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+}
+
 #[test]
 fn bench_reports_json() {
     let out = hemilab(&[

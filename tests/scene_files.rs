@@ -83,7 +83,7 @@ fn bad_meshes_name_the_mesh_file_and_line() {
         ("zero-index", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 0 1 2\n", "line 4"),
         ("two-vertex-face", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2\n", "line 4"),
         ("bad-vertex", "v 0 0 0\nv 1 zero 0\n", "line 2"),
-        ("all-degenerate", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "zero area"),
+        ("all-degenerate", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "its one triangle has zero area"),
         ("binary", "\u{0}\u{1}\u{2}", "empty mesh"),
     ] {
         let (dir, e) = load_error(name, TOML, Some(obj));

@@ -34,6 +34,9 @@ pub enum Command {
     Bench(BenchArgs),
     /// Draw one point set on the hemisphere (a panel of the paper's Table 1 / Figures 2-4).
     Points(PointsArgs),
+    /// Which sampler to ship for a scene at a time budget: every configuration at equal time, and
+    /// where in the image each one wins.
+    Advise(AdviseArgs),
 }
 
 #[derive(Debug, Args)]
@@ -238,6 +241,56 @@ pub struct PointsArgs {
     /// Output image (.png or .svg).
     #[arg(long)]
     pub output: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct AdviseArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    /// Time budgets per image in ms, comma-separated: thread CPU time of a one-thread render of the
+    /// whole image at the resolution (default: three spread over the paper default's measured times).
+    #[arg(long, value_parser = parse_budget, value_delimiter = ',', value_name = "LIST")]
+    pub budget_ms: Vec<f64>,
+    /// Ray counts per pixel to measure, comma-separated, at least two different.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        default_value = "1,2,4,8,16,32,64",
+        value_parser = clap::value_parser!(u32).range(1..=65_536)
+    )]
+    pub rays: Vec<u32>,
+    /// Image size, WxH (default: the largest stored reference of the scene with at most 3072
+    /// pixels, else the scene's own scaled down to that).
+    #[arg(long, value_parser = parse_resolution)]
+    pub resolution: Option<(u32, u32)>,
+    /// Independent replicates (seeds) per configuration and ray count, 2..=1000.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(2..=1000))]
+    pub replicates: u32,
+    /// Only these configurations, comma-separated distribution/sequence/seed_mode, each part a
+    /// name or * (e.g. sine-cosine/fibonacci/*); the paper's default is always run.
+    #[arg(long, value_parser = parse_pattern, value_delimiter = ',', value_name = "LIST")]
+    pub only: Vec<crate::advice::Pattern>,
+    /// Output directory (default: out/advise-<scene>/).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Where reference images and their manifests live.
+    #[arg(long, default_value = "reference")]
+    pub reference_dir: PathBuf,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+/// A time budget in ms: positive and finite.
+pub fn parse_budget(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(b) if b > 0.0 && b.is_finite() && b <= 1e7 => Ok(b),
+        _ => Err(format!("budget '{s}' must be a time per image in ms, a number > 0 (e.g. 2.5)")),
+    }
+}
+
+fn parse_pattern(s: &str) -> Result<crate::advice::Pattern, String> {
+    crate::advice::Pattern::parse(s)
 }
 
 fn parse_distribution(s: &str) -> Result<Distribution, String> {

@@ -107,6 +107,21 @@ pub fn read_exr(path: &Path) -> Result<Vec<(String, Image)>> {
     image::decode_exr(&bytes).map_err(|e| Error::input(path, format!("not a readable EXR: {e}")))
 }
 
+/// The entries of `dir`, sorted by name; empty when `dir` does not exist.
+pub fn list_dir(dir: &Path) -> Result<Vec<PathBuf>> {
+    let entries = match fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(Error::io(dir, e)),
+    };
+    let mut out = entries
+        .map(|e| e.map(|e| e.path()))
+        .collect::<std::io::Result<Vec<_>>>()
+        .map_err(|e| Error::io(dir, e))?;
+    out.sort();
+    Ok(out)
+}
+
 pub fn remove_file_if_exists(path: &Path) -> Result<()> {
     match fs::remove_file(path) {
         Ok(()) => Ok(()),

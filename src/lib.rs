@@ -12,7 +12,7 @@
 //!
 //! `timing` is how a render's cost is measured (thread CPU time, interleaved repeats, per-image
 //! overhead apart from per-ray cost); `compare` turns the records into the answer (best per unit
-//! time, paired differences). `app` is the one orchestrator; `io` is the only module that touches
+//! time, paired differences), and `advice` ranks configurations at equal time for `hemilab advise`. `app` is the one orchestrator; `io` is the only module that touches
 //! the filesystem.
 
 // Declared in pipeline order (blank lines keep rustfmt from sorting them).
@@ -39,6 +39,8 @@ pub mod reference;
 pub mod results;
 
 pub mod compare;
+
+pub mod advice;
 
 pub mod report;
 

@@ -2,6 +2,10 @@
 //! Only this module (through `io`) touches the filesystem.
 
 mod adaptive;
+mod advise;
+mod advise_json;
+mod advise_page;
+mod advise_report;
 mod answer;
 mod bench;
 mod data;
@@ -33,5 +37,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render::run_render(args),
         Command::Bench(args) => bench::run_bench(args),
         Command::Points(args) => points::run(&args),
+        Command::Advise(args) => advise::run_advise(args),
     }
 }

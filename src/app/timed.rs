@@ -135,8 +135,13 @@ impl State {
     }
 }
 
+/// What becomes of a measured job's image (plan index, job, the render): `run` writes it as EXR
+/// under `images/`; `advise` keeps its error in memory. Returns the record's `image` column.
+pub type Keep<'a> = dyn Fn(usize, &Job, &RenderOutput) -> Result<String> + Sync + 'a;
+
 /// Renders and measures every job of `plan` not already in `previous` (by key, with its image),
-/// times everything per the protocol, and returns the records in plan order.
+/// times everything per the protocol, and returns the records in plan order; each image is written
+/// as EXR under `out`.
 #[allow(clippy::too_many_arguments)]
 pub fn run_jobs(
     loaded: &Loaded,
@@ -147,6 +152,30 @@ pub fn run_jobs(
     protocol: Protocol,
     bar: &ProgressBar,
     write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
+) -> Result<(Vec<JobResult>, Session)> {
+    let keep = |_: usize, job: &Job, output: &RenderOutput| -> Result<String> {
+        let image = image_rel(job);
+        io::write_exr(
+            &out.join(&image),
+            &[Channel { name: "Y", image: &output.ao }, Channel { name: "A", image: &output.coverage }],
+        )?;
+        Ok(image)
+    };
+    run_jobs_keeping(loaded, plan, references, previous, out, protocol, bar, write, &keep)
+}
+
+/// `run_jobs` with the image handed to `keep` instead of written.
+#[allow(clippy::too_many_arguments)]
+pub fn run_jobs_keeping(
+    loaded: &Loaded,
+    plan: &Plan,
+    references: &[Reference],
+    previous: &HashMap<String, JobResult>,
+    out: &Path,
+    protocol: Protocol,
+    bar: &ProgressBar,
+    write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
+    keep: &Keep,
 ) -> Result<(Vec<JobResult>, Session)> {
     let start = Instant::now();
     let n = plan.jobs.len();
@@ -235,11 +264,7 @@ pub fn run_jobs(
         let reference = &references[si];
         let stats = metrics::measure(&output.ao, &reference.mean, &reference.coverage)
             .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
-        let image = image_rel(job);
-        io::write_exr(
-            &out.join(&image),
-            &[Channel { name: "Y", image: &output.ao }, Channel { name: "A", image: &output.coverage }],
-        )?;
+        let image = keep(slot.job, job, &output)?;
         let mut record = JobResult::new(job, &stats, output.rays, image);
         record.key = keys[slot.job].clone();
         record.timing_threads = protocol.threads_per_render as u32;

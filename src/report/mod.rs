@@ -9,6 +9,7 @@
 //! Text is drawn with plotters' `ab_glyph` rasterizer and the DejaVu Sans font shipped inside the
 //! `dejavu` crate, so no system font library is needed (see NOTES.md).
 
+pub mod advice;
 mod canvas;
 pub mod colormap;
 mod grid;

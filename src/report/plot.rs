@@ -59,10 +59,11 @@ impl Guide {
     }
 }
 
-/// Tableau 10, then six darker colours unlike any of them and unlike the guides' black and grey (a sweep may have a dozen rows, e.g. the
-/// paper's 12): distinguishable, and still distinguishable for the common colour-vision deficiencies
-/// when paired with the marker shapes below. Series from the eleventh on are also dashed.
-const PALETTE: [RGBColor; 16] = [
+/// Tableau 10, then six darker colours unlike any of them and unlike the guides' black and grey
+/// (a sweep may have a dozen rows, e.g. the paper's 12): distinguishable, and still
+/// distinguishable for the common colour-vision deficiencies when paired with the marker shapes
+/// below. Series from the eleventh on are also dashed.
+pub(super) const PALETTE: [RGBColor; 16] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -325,6 +326,18 @@ fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
         }
     }
     (bold, light)
+}
+
+/// Tick text on a log axis spanning `ratio` (max / min): over more than a decade only 1, 2 and 5 ×
+/// 10^k are labelled (for plots that keep plotters' own ticks, e.g. `advice`).
+pub(super) fn log_tick(v: f64, ratio: f64) -> String {
+    if ratio > 10.0 && v > 0.0 {
+        let m = v / 10f64.powf(v.log10().floor());
+        if ![1.0, 2.0, 5.0, 10.0].iter().any(|k| (m - k).abs() < 1e-6 * k) {
+            return String::new();
+        }
+    }
+    tick(v)
 }
 
 /// Tick text for log axes: plain numbers for the usual range, exponent form outside it.

@@ -1,6 +1,6 @@
 //! The timing protocol: how hemilab measures what a render costs, so that error can be reported
 //! against run time on a shared machine without the machine's drift turning into a configuration
-//! effect. `hemilab run` times every job with it; a later `advise` and `plan`'s estimate reuse the
+//! effect. `hemilab run` and `hemilab advise` time every job with it; `plan`'s estimate reuses the
 //! same pieces (the schedule, the workers, [`Calibration`]).
 //!
 //! - **What a time is**: the CPU time of the one thread that renders the whole image (primary

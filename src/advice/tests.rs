@@ -1,0 +1,184 @@
+use super::*;
+
+const SC: Distribution = Distribution::SineCosine;
+
+fn row(s: Sequence, m: SeedMode) -> Row {
+    Row::new(SC, s, m)
+}
+
+/// A ladder with time = 1 ms + 0.1 ms per ray and MSE = c / rays, replicate r scaled by `noise[r]`.
+fn curve(r: Row, c: f64, noise: &[f64]) -> Curve {
+    let points = [1u32, 2, 4, 8, 16]
+        .iter()
+        .map(|&n| Point {
+            rays: n,
+            time_s: 1e-3 + 1e-4 * n as f64,
+            time_spread_s: 3e-5 * (1.0 + 0.1 * n as f64),
+            replicates: (0..noise.len() as u32).collect(),
+            mse: noise.iter().map(|k| k * c / n as f64).collect(),
+            lowpass_mse: noise.iter().map(|k| k * c / (4.0 * n as f64)).collect(),
+            whiteness_z: noise.iter().map(|_| n as f64).collect(),
+        })
+        .collect();
+    Curve { row: r, points }
+}
+
+#[test]
+fn the_default_set_is_every_distinct_sensible_estimator() {
+    let rows = sensible_rows();
+    // 4 × 4 × 4, less random × shift (= random × rotation), random × static, and concentric ×
+    // rotation for the three non-random sequences.
+    assert_eq!(rows.len(), 64 - 4 - 4 - 3);
+    assert!(rows.contains(&PAPER_DEFAULT));
+    assert!(rows.contains(&Row::new(Distribution::ConcentricCosine, Sequence::Random, SeedMode::Rotation)));
+    assert!(rows.contains(&row(Sequence::Random, SeedMode::BlueNoise)));
+    for r in &rows {
+        assert_eq!(*r, r.canonical());
+        assert!(not_sensible(*r).is_none(), "{r:?}");
+    }
+    assert!(!rows.contains(&row(Sequence::Random, SeedMode::Static)));
+    let odd = Row::new(Distribution::ConcentricCosine, Sequence::Fibonacci, SeedMode::Rotation);
+    assert!(!rows.contains(&odd) && not_sensible(odd).is_some());
+}
+
+#[test]
+fn only_patterns_select_and_explain() {
+    let p = |s: &str| Pattern::parse(s).unwrap();
+    assert_eq!(
+        p("sine-cosine/*/shift"),
+        Pattern { distribution: Some(SC), sequence: None, seed_mode: Some(SeedMode::Shift) }
+    );
+    for bad in ["sine-cosine/fibonacci", "a/b/c/d", "cosine/*/*", "*/halton/*", "*/*/jitter", ""] {
+        let e = Pattern::parse(bad).unwrap_err();
+        assert!(e.contains(bad) || bad.is_empty(), "{bad}: {e}");
+    }
+    assert!(Pattern::parse("cosine/*/*").unwrap_err().contains("sine-cosine"), "lists the valid names");
+
+    let all = select(&[]).unwrap();
+    assert_eq!(all[0], PAPER_DEFAULT, "the baseline comes first");
+    assert_eq!(all.len(), sensible_rows().len());
+    let lattice = select(&[p("*/fibonacci/*")]).unwrap();
+    assert_eq!(lattice[0], PAPER_DEFAULT, "always run: every gain is against it");
+    assert_eq!(lattice.len(), 1 + 4 * 4 - 1);
+    // Duplicates merge; random × shift is random × rotation, i.e. the default itself.
+    assert_eq!(select(&[p("sine-cosine/random/shift"), p("sine-cosine/random/rotation")]).unwrap().len(), 1);
+    // A fully named odd estimator is taken as asked.
+    let odd = select(&[p("concentric-cosine/fibonacci/rotation")]).unwrap();
+    assert_eq!(odd.len(), 2);
+    let e = select(&[p("*/random/static")]).unwrap_err();
+    assert!(e.contains("*/random/static") && e.contains("matches no configuration"), "{e}");
+}
+
+#[test]
+fn times_are_made_monotone_by_pooling() {
+    let mut c = curve(PAPER_DEFAULT, 1.0, &[1.0]);
+    let t: Vec<f64> = c.points.iter().map(|p| p.time_s).collect();
+    assert_eq!(monotone_log_times(&c.points), t.iter().map(|x| x.ln()).collect::<Vec<_>>());
+    // 2 rays measured slower than 4: the two pool to their mean log time.
+    c.points[1].time_s = 2e-3;
+    c.points[2].time_s = 1.2e-3;
+    let lt = monotone_log_times(&c.points);
+    assert!(lt.windows(2).all(|w| w[0] <= w[1]), "{lt:?}");
+    let pooled = 0.5 * (2e-3f64.ln() + 1.2e-3f64.ln());
+    assert!((lt[1] - pooled).abs() < 1e-12 && (lt[2] - pooled).abs() < 1e-12);
+    // A budget at the pooled time takes the point with more rays.
+    assert_eq!(locate(&c, pooled.exp()), Place::Inside { lo: 2, w: 0.0 });
+}
+
+#[test]
+fn budgets_are_located_inside_or_reported_outside() {
+    let c = curve(PAPER_DEFAULT, 1.0, &[1.0]);
+    assert_eq!(locate(&c, 0.5e-3), Place::Below { fastest_s: c.points[0].time_s });
+    match locate(&c, 5e-3) {
+        Place::Above { slowest_s } => assert!((slowest_s - 2.6e-3).abs() < 1e-12),
+        p => panic!("{p:?}"),
+    }
+    assert_eq!(locate(&c, c.points[0].time_s), Place::Inside { lo: 0, w: 0.0 });
+    assert_eq!(locate(&c, c.points[4].time_s), Place::Inside { lo: 3, w: 1.0 });
+    let mid = (c.points[1].time_s * c.points[2].time_s).sqrt();
+    match locate(&c, mid) {
+        Place::Inside { lo, w } => assert!(lo == 1 && (w - 0.5).abs() < 1e-12),
+        p => panic!("{p:?}"),
+    }
+    assert!(matches!(locate(&c, f64::NAN), Place::Below { .. }));
+    assert!(at_budget(&c, 1e-4).is_err());
+}
+
+#[test]
+fn interpolation_is_exact_for_a_power_law_in_time() {
+    // MSE = 2e-6 / t exactly (time ∝ rays): the log-log line through any two points is the law.
+    let mut c = curve(PAPER_DEFAULT, 1.0, &[1.0, 1.2]);
+    for p in &mut c.points {
+        p.time_s = 1e-4 * p.rays as f64;
+        p.mse = vec![2e-6 / p.time_s, 2.4e-6 / p.time_s];
+    }
+    let a = at_budget(&c, 0.55e-3).unwrap();
+    assert_eq!(a.lo, 2);
+    assert!((a.rays - 5.5).abs() < 1e-9, "{}", a.rays);
+    assert!((a.mse[0] - 2e-6 / 0.55e-3).abs() < 1e-9 && (a.mse[1] - 2.4e-6 / 0.55e-3).abs() < 1e-9);
+    assert!((a.slope + 1.0).abs() < 1e-12);
+    let z = 4.0 + 4.0 * (5.5f64 / 4.0).ln() / 2f64.ln();
+    assert!((a.whiteness_z - z).abs() < 1e-9, "z 4 and 8 at rays 4 and 8, linear in w: {}", a.whiteness_z);
+    let m = a.mean_mse(Metric::Rmse);
+    assert!((m.value - 2.2e-6 / 0.55e-3).abs() < 1e-9);
+    assert!((m.se - 0.2e-6 / 0.55e-3).abs() < 1e-9, "sd 0.28e-6/t over two replicates: se 0.2e-6/t");
+    let r = a.rmse(Metric::Rmse);
+    assert!((r.value - m.value.sqrt()).abs() < 1e-12 && (r.se - m.se / (2.0 * r.value)).abs() < 1e-12);
+}
+
+#[test]
+fn ranking_gain_and_paired_margins() {
+    // Replicate noise shared by every configuration (same seeds): pairing cancels it.
+    let noise = [0.9, 1.0, 1.1, 1.05];
+    let base = curve(PAPER_DEFAULT, 1.0, &noise);
+    let lattice = curve(row(Sequence::Fibonacci, SeedMode::Shift), 0.25, &noise);
+    let mut close = curve(row(Sequence::Fibonacci, SeedMode::BlueNoise), 0.26, &noise);
+    close.points[4].time_s = 10.0; // its last point is far dearer: above range only past that
+    let mut slow = curve(row(Sequence::Sobol, SeedMode::Shift), 0.2, &noise);
+    for p in &mut slow.points {
+        p.time_s *= 3.0;
+    }
+    let curves = vec![base.clone(), lattice.clone(), close, slow];
+    let budget = 1.8e-3;
+    let r = rank(&curves, budget, Metric::Rmse);
+    assert_eq!(r.ranked.len(), 3);
+    assert_eq!(r.outside.len(), 1);
+    match r.outside[0] {
+        (o, Place::Below { fastest_s }) => {
+            assert!(o == row(Sequence::Sobol, SeedMode::Shift) && (fastest_s - 3.3e-3).abs() < 1e-12)
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(r.ranked[0].row, lattice.row);
+    assert_eq!(r.ranked.last().unwrap().row, PAPER_DEFAULT);
+    let values: Vec<f64> = r.ranked.iter().map(|a| a.mean_mse(Metric::Rmse).value).collect();
+    assert!(values.windows(2).all(|w| w[0] <= w[1]), "{values:?}");
+
+    let own = gain(&r.ranked[2], &r.ranked[2], Metric::Rmse);
+    assert_eq!((own.value, own.se), (1.0, 0.0), "the default against itself");
+    let g = gain(&r.ranked[2], &r.ranked[0], Metric::Rmse);
+    assert!((g.value - 4.0).abs() < 1e-9, "{g:?}");
+    assert!(g.se_replicates < 1e-9, "the same noise in both: the ratio is exact per replicate: {g:?}");
+    assert!(g.se_timing > 0.0 && (g.se - g.se_timing).abs() < 1e-12);
+    let z = paired_z(&r.ranked[0], &r.ranked[1], Metric::Rmse);
+    assert!(z > 10.0, "a 4 % difference in every replicate is resolved when paired: {z}");
+    let low = rank(&curves, budget, Metric::Lowpass);
+    assert_eq!(low.ranked[0].row, lattice.row);
+}
+
+#[test]
+fn default_budgets_lie_inside_the_baseline_range() {
+    let c = curve(PAPER_DEFAULT, 1.0, &[1.0]);
+    let b = default_budgets(&c);
+    assert_eq!(b.len(), 3);
+    assert!(b.windows(2).all(|w| w[0] < w[1]), "{b:?}");
+    for t in &b {
+        assert!(matches!(locate(&c, *t), Place::Inside { .. }), "{t}");
+        assert_eq!(*t, round_significant(*t, 2));
+    }
+    assert_eq!(round_significant(0.012345, 2), 0.012);
+    assert_eq!(round_significant(987.0, 2), 990.0);
+    assert_eq!(round_significant(0.0, 2), 0.0);
+    assert_eq!(round_significant(5.0999, 2), 5.1);
+    assert_eq!(round_significant(0.0051, 1).to_string(), "0.005");
+}

@@ -1,0 +1,355 @@
+//! advice.md and index.html from advise's analysis (advice.json is `advise_json`), and the lines
+//! it prints: the answer per budget first, then what a time is, the rankings, and every measured point.
+
+use super::advise_report::{Analysis, Measured, label, winner_note};
+use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking};
+use crate::error::Result;
+use crate::io;
+use crate::report::{self, Figure, Table};
+use crate::timing;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Rows of a budget's ranking table shown in the page (all are in advice.json).
+const SHOWN: usize = 10;
+
+pub(super) fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) -> Result<String> {
+    let json = super::advise_json::advice_json(m, a);
+    let mut text = serde_json::to_string_pretty(&json).unwrap_or_default();
+    text.push('\n');
+    let lines: Vec<String> = a.rankings.iter().map(|(r, l)| advice_line(r, l)).collect();
+    let [w, h] = m.setup.loaded.spec.resolution.unwrap_or([0, 0]);
+    let title = format!("hemilab advise: {} at {w}x{h}", m.setup.stem);
+    let mut intro = lines.clone();
+    intro.push(time_text(m));
+    intro.push(format!(
+        "Configurations: {} (every distribution × sequence × seed mode that is a distinct, sensible \
+         estimator, or the --only subset), each at {} rays per pixel, {} replicates (seeds; replicate r \
+         has the same seed in every configuration, so comparisons are paired). At a budget each \
+         configuration's RMSE is interpolated along its log-error against log-time line between the two \
+         measured ray counts around it; a budget outside a configuration's measured times leaves it \
+         unranked there (never extrapolated). ± are standard errors over the replicates; a gain is the \
+         paper default's MSE over the configuration's at the same time, its ± also counting both \
+         times' spread. {}. Reference noise floor {:.2e} ({}).",
+        a.curves.len(),
+        m.setup.rays.iter().map(u32::to_string).collect::<Vec<_>>().join(", "),
+        m.setup.loaded.spec.replicates,
+        m.setup.choice,
+        m.reference.noise_floor(),
+        m.reference.exr.display()
+    ));
+    if !a.maps.is_empty() {
+        intro.push(winner_note(m, a));
+    }
+    intro.push(
+        "Raw numbers: advice.json (every ranking), results.csv / results.json (one record per image).".into(),
+    );
+    let intro = intro.join("\n\n");
+    let mut tables = vec![summary_table(a)];
+    tables.extend(a.rankings.iter().filter(|(r, _)| !r.ranked.is_empty()).map(|(r, _)| ranking_table(r)));
+    let collapsed = vec![ladder_table(a)];
+    io::write_atomic(&out.join("advice.json"), text.as_bytes())?;
+    io::write_atomic(
+        &out.join("advice.md"),
+        report::markdown_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
+    )?;
+    io::write_atomic(
+        &out.join("index.html"),
+        report::html_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
+    )?;
+    let mut s = String::new();
+    for l in &lines {
+        let _ = writeln!(s, "{l}");
+    }
+    let floor = m.reference.noise_floor();
+    let smallest =
+        a.curves.iter().flat_map(|c| &c.points).map(|p| mean(&p.mse).sqrt()).fold(f64::INFINITY, f64::min);
+    if smallest.is_finite() && floor > crate::reference::target_floor(smallest) {
+        eprintln!(
+            "warning: reference noise floor {floor:.2e} is above a tenth of the smallest RMSE measured \
+             ({smallest:.2e}); errors near it are not resolved"
+        );
+    }
+    let _ = writeln!(
+        s,
+        "timing: {} timed renders, {:.1} s of render CPU time in {:.1} s of wall time → {}",
+        m.session.renders,
+        m.session.cpu_s,
+        m.session.wall_s,
+        out.join("index.html").display()
+    );
+    Ok(s)
+}
+
+pub(super) fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+pub(super) fn ms(s: f64) -> String {
+    format!("{}", advice::round_significant(s * 1e3, 3))
+}
+
+/// One sentence per budget: what to ship and what it gains, or why there is no answer.
+pub(super) fn advice_line(r: &Ranking, low: &Ranking) -> String {
+    let b = ms(r.budget_s);
+    let Some(best) = advice::recommended(r) else {
+        return format!("At {b} ms per image: {}.", outside_note(r));
+    };
+    let e = best.rmse(Metric::Rmse);
+    let mut s = format!(
+        "At {b} ms per image: ship {} with {} rays per pixel (RMSE {:.4} ± {:.4})",
+        label(best.row),
+        shipped_rays(best),
+        e.value,
+        e.se
+    );
+    if best.structured() {
+        let _ = write!(
+            s,
+            " — its error is structured (whiteness z {:.0}: bands or moiré that RMSE does not show), as is \
+             every configuration measured here",
+            best.whiteness_z
+        );
+    }
+    match default_at(r) {
+        Some(d) if d.row == best.row => s += ": the paper's default is the best here",
+        Some(d) => {
+            let g = advice::gain(d, best, Metric::Rmse);
+            let _ = write!(
+                s,
+                ": {:.2} ± {:.2} × less MSE than the paper's default at the same time",
+                g.value, g.se
+            );
+        }
+        None => s += "; the paper's default is outside its measured times here",
+    }
+    if let Some(second) = r.ranked.iter().find(|a| a.row != best.row && !a.structured()) {
+        let z = advice::paired_z(best, second, Metric::Rmse);
+        let _ = write!(s, "; runner-up {} ({:+.1} paired SE)", label(second.row), z);
+    }
+    if let Some(top) = r.ranked.first().filter(|t| t.row != best.row) {
+        let _ = write!(
+            s,
+            "; {} has {:.0} % less RMSE but its error is structured (whiteness z {:.0}), so it is not advised",
+            label(top.row),
+            100.0 * (1.0 - top.rmse(Metric::Rmse).value / e.value),
+            top.whiteness_z
+        );
+    }
+    if let Some(lb) = low.ranked.first().filter(|l| l.row != best.row) {
+        let _ = write!(s, "; least low-pass RMSE: {}", label(lb.row));
+    }
+    if !r.outside.is_empty() {
+        let _ =
+            write!(s, " ({} configurations outside their measured times here, unranked)", r.outside.len());
+    }
+    s + "."
+}
+
+/// The rays to ship: the interpolated count, rounded down (at least 1).
+pub(super) fn shipped_rays(a: &AtBudget) -> u32 {
+    (a.rays.floor() as u32).max(1)
+}
+
+pub(super) fn default_at(r: &Ranking) -> Option<&AtBudget> {
+    r.ranked.iter().find(|a| a.row == PAPER_DEFAULT)
+}
+
+/// Why a budget has no ranked configuration.
+pub(super) fn outside_note(r: &Ranking) -> String {
+    let below: Vec<f64> = r
+        .outside
+        .iter()
+        .filter_map(|(_, p)| if let Place::Below { fastest_s } = p { Some(*fastest_s) } else { None })
+        .collect();
+    let above: Vec<f64> = r
+        .outside
+        .iter()
+        .filter_map(|(_, p)| if let Place::Above { slowest_s } = p { Some(*slowest_s) } else { None })
+        .collect();
+    if above.is_empty() {
+        let t = below.iter().copied().fold(f64::INFINITY, f64::min);
+        format!(
+            "below the measured range: no configuration renders an image this fast (the cheapest measured render takes {} ms)",
+            ms(t)
+        )
+    } else if below.is_empty() {
+        let t = above.iter().copied().fold(0.0, f64::max);
+        format!(
+            "above the measured range: every configuration's dearest measured render is faster (the dearest takes {} ms); add larger ray counts with --rays",
+            ms(t)
+        )
+    } else {
+        "outside every configuration's measured times".into()
+    }
+}
+
+pub(super) fn status(r: &Ranking) -> &'static str {
+    if !r.ranked.is_empty() {
+        return "inside";
+    }
+    let all = |f: fn(&Place) -> bool| r.outside.iter().all(|(_, p)| f(p));
+    if all(|p| matches!(p, Place::Below { .. })) {
+        "below"
+    } else if all(|p| matches!(p, Place::Above { .. })) {
+        "above"
+    } else {
+        "outside"
+    }
+}
+
+fn pm(e: advice::Estimate, digits: usize) -> String {
+    format!("{:.digits$} ± {:.digits$}", e.value, e.se)
+}
+
+fn summary_table(a: &Analysis) -> Table {
+    let rows = a
+        .rankings
+        .iter()
+        .map(|(r, l)| {
+            let b = ms(r.budget_s);
+            let Some(best) = advice::recommended(r) else {
+                return vec![b, status(r).into(), String::new(), String::new(), String::new(), String::new()];
+            };
+            let gain = default_at(r)
+                .map_or("—".into(), |d| pm(advice::gain(d, best, Metric::Rmse).into_estimate(), 2));
+            let low = l.ranked.first().map_or(String::new(), |x| {
+                let g = default_at(l).map_or(String::new(), |d| {
+                    format!(" (×{:.2})", advice::gain(d, x, Metric::Lowpass).value)
+                });
+                format!("{}{g}", label(x.row))
+            });
+            vec![
+                b,
+                label(best.row),
+                shipped_rays(best).to_string(),
+                pm(best.rmse(Metric::Rmse), 4),
+                gain,
+                low,
+            ]
+        })
+        .collect();
+    Table {
+        title: "Advice per budget".into(),
+        header: [
+            "budget (ms)",
+            "ship",
+            "rays",
+            "RMSE",
+            "MSE gain vs paper default",
+            "least low-pass RMSE (gain)",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+    }
+}
+
+trait IntoEstimate {
+    fn into_estimate(self) -> advice::Estimate;
+}
+
+impl IntoEstimate for advice::Gain {
+    fn into_estimate(self) -> advice::Estimate {
+        advice::Estimate { value: self.value, se: self.se }
+    }
+}
+
+fn ranking_table(r: &Ranking) -> Table {
+    let mut shown: Vec<(usize, &AtBudget)> = r.ranked.iter().enumerate().take(SHOWN).collect();
+    if let Some(i) = r.ranked.iter().position(|a| a.row == PAPER_DEFAULT).filter(|&i| i >= SHOWN) {
+        shown.push((i, &r.ranked[i]));
+    }
+    let best = &r.ranked[0];
+    let rows = shown
+        .into_iter()
+        .map(|(i, a)| {
+            let gain = default_at(r)
+                .map_or("—".into(), |d| pm(advice::gain(d, a, Metric::Rmse).into_estimate(), 2));
+            let z = if i == 0 {
+                String::new()
+            } else {
+                format!("{:+.1}", advice::paired_z(best, a, Metric::Rmse))
+            };
+            vec![
+                (i + 1).to_string(),
+                label(a.row),
+                format!("{:.1}", a.rays),
+                pm(a.rmse(Metric::Rmse), 4),
+                pm(a.rmse(Metric::Lowpass), 4),
+                gain,
+                z,
+            ]
+        })
+        .collect();
+    Table {
+        title: format!(
+            "At {} ms per image: {} configurations ranked by RMSE{}",
+            ms(r.budget_s),
+            r.ranked.len(),
+            if r.outside.is_empty() {
+                String::new()
+            } else {
+                format!(" ({} outside their measured times)", r.outside.len())
+            }
+        ),
+        header: [
+            "#",
+            "configuration",
+            "rays",
+            "RMSE",
+            "low-pass RMSE",
+            "MSE gain vs paper default",
+            "paired z vs #1",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+    }
+}
+
+fn ladder_table(a: &Analysis) -> Table {
+    let mut rows = Vec::new();
+    for c in &a.curves {
+        for p in &c.points {
+            let sd = |v: &[f64]| crate::metrics::mean_sd(&v.iter().map(|x| x.sqrt()).collect::<Vec<_>>());
+            let (e, esd) = sd(&p.mse);
+            let (l, lsd) = sd(&p.lowpass_mse);
+            rows.push(vec![
+                label(c.row),
+                p.rays.to_string(),
+                format!("{:.3} ± {:.3}", p.time_s * 1e3, p.time_spread_s * 1e3),
+                format!("{e:.4} ± {esd:.4}"),
+                format!("{l:.4} ± {lsd:.4}"),
+            ]);
+        }
+    }
+    Table {
+        title: "Every measured point (time: median ± spread; errors: mean ± sd over replicates)".into(),
+        header: ["configuration", "rays", "time per image (ms)", "RMSE", "low-pass RMSE"]
+            .map(String::from)
+            .to_vec(),
+        rows,
+    }
+}
+
+/// What a time is, once.
+fn time_text(m: &Measured) -> String {
+    let [w, h] = m.setup.loaded.spec.resolution.unwrap_or([0, 0]);
+    let p = &m.protocol;
+    let overhead = m.session.overhead.first().copied().flatten().map_or(String::new(), |s| {
+        format!(" An image with no AO rays takes {} ms (primary rays and per-image setup).", ms(s.median))
+    });
+    format!(
+        "A budget is a time per image at {w}x{h}: the {} of one thread rendering the whole image ({}). \
+         Each configuration and ray count is the median of at least {} timed renders, interleaved in seeded \
+         passes across {} one-thread workers after a {} s warm-up; cheap ones are timed up to {} times. \
+         A frame on your renderer and machine differs by a factor; the ranking at equal time is what carries over.{overhead}",
+        timing::clock::NAME,
+        timing::TIME_INCLUDES,
+        p.repeats,
+        p.workers,
+        p.warmup_s,
+        p.max_repeats
+    )
+}

@@ -72,6 +72,7 @@ fn missing_scene_and_missing_mesh_name_the_files() {
     let (dir, e) = load_error("missing-mesh", TOML, None);
     assert!(e.contains(&dir.join("s.toml").display().to_string()) && e.contains("`mesh`"), "{e}");
     assert!(e.contains(&dir.join("m.obj").display().to_string()), "{e}");
+    assert!(e.contains("'m.obj' not found") && e.contains("relative to the scene file"), "{e}");
 }
 
 #[test]
@@ -108,6 +109,11 @@ fn bad_scene_files_name_the_line_and_key() {
         ("missing-key", TOML.replace("resolution = [8, 8]\n", ""), vec!["resolution"]),
         ("eye-is-target", TOML.replace("[0.0, 0.0, 5.0]", "[0.0, 0.0, 0.0]"), vec!["camera", "eye"]),
         ("not-obj", TOML.replace("m.obj", "m.ply"), vec!["`mesh`", ".obj"]),
+        (
+            "a-spec",
+            "# my spec\nscenes = [\"s.toml\"]\n[[table]]\nname = \"t\"\n".to_string(),
+            vec!["line 2, key `scenes`", "this is an experiment spec, not a scene file"],
+        ),
         // `[camera]` with the keys under it: the fix, not serde's "wanted exactly 1 element".
         (
             "camera-without-projection",

@@ -346,3 +346,19 @@ fn ao_distance_inf_is_infinite() {
     let s = parse_spec(&spec("ao_distance = \"inf\"", "", ""), Path::new(FILE)).unwrap();
     assert_eq!(s.ao_distance, Some(hemilab::spec::AoDistance::Infinite));
 }
+
+/// A scene file given where a spec belongs: said so, at the camera's header.
+#[test]
+fn a_scene_file_is_not_a_spec() {
+    let scene =
+        "mesh = \"m.obj\"\nresolution = [8, 8]\nao_distance = 1.0\n\n[camera.perspective]\neye = [0, 0, 5]\n";
+    let e = error(scene);
+    assert_has(&e, &["line 5, key `camera.perspective`", "this is a scene file, not a spec"]);
+}
+
+/// The report's words for a value name the value to write.
+#[test]
+fn the_reports_words_point_at_the_value() {
+    let e = error(&spec("", "", ", seed_mode = \"per-pixel seed\" "));
+    assert_has(&e, &["key `table.rows.seed_mode`", "('per-pixel seed' is written `rotation`)"]);
+}

@@ -26,6 +26,18 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
         ));
     }
     let mesh_path = path.parent().unwrap_or(Path::new("")).join(&spec.mesh);
+    if !io::exists(&mesh_path) {
+        let looked = std::path::absolute(&mesh_path)
+            .map_or(spec.mesh.clone(), |p| crate::spec::normalize(&p.to_string_lossy()));
+        return Err(Error::input(
+            path,
+            format!(
+                "key `mesh`: mesh file '{}' not found (looked for {looked}); mesh paths are relative to the \
+                 scene file",
+                spec.mesh
+            ),
+        ));
+    }
     let bytes = io::read_bytes(&mesh_path).map_err(|e| Error::input(path, format!("key `mesh`: {e}")))?;
     let mesh = mesh::parse_obj(&bytes).map_err(|e| Error::input(&mesh_path, e))?;
     let name = spec.name.clone().unwrap_or_else(|| {

@@ -194,6 +194,14 @@ fn hint(key: &str, message: &str) -> Option<String> {
         // An externally tagged enum: `[camera]` with the keys directly under it, or both kinds.
         return Some(format!("`[camera]` needs its projection in the header: {CAMERA}"));
     }
+    let spec_keys = ["`scenes`", "`table`", "`convergence`", "`replicates`", "`reference`"];
+    if spec_keys.iter().any(|k| message.starts_with(&format!("unknown field {k}"))) {
+        return Some(
+            "this is an experiment spec, not a scene file: `render`, `bench` and `advise` take a scene file \
+             (like scenes/cornell-box.toml); run a spec with `hemilab run`"
+                .into(),
+        );
+    }
     if !message.starts_with("missing field") {
         return None;
     }

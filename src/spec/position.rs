@@ -14,8 +14,12 @@ pub(crate) fn key_at(text: &str, offset: usize) -> Option<String> {
     // An error at a table header (e.g. `[convergence]` where `[[convergence]]` belongs) is about
     // that table, not about the last key before it.
     let line_start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
-    if rest.starts_with('[') && text[line_start..offset].trim().is_empty() {
-        let line = rest.lines().next().unwrap_or_default();
+    let before = text[line_start..offset].trim();
+    // At or inside a header (toml points at `[`, or at a key within `[camera.perspective]`).
+    if (rest.starts_with('[') && before.is_empty())
+        || (before.starts_with('[') && !before.contains(['=', '"']))
+    {
+        let line = text[line_start..].lines().next().unwrap_or_default();
         let header = line.split('#').next().unwrap_or_default().trim();
         let name = header.trim_matches(|c| c == '[' || c == ']').trim();
         if header.ends_with(']') && !name.is_empty() && !name.contains([',', '=', '"']) {
@@ -119,6 +123,8 @@ mod tests {
         assert_eq!(key_at(t, t.find("\"sine\"").unwrap()).as_deref(), Some("table.distribution"));
         let t = "a = 1\n[convergence]  # one sweep\nname = \"c\"\n";
         assert_eq!(key_at(t, t.find('[').unwrap()).as_deref(), Some("convergence"));
+        let t = "mesh = \"m.obj\"\n[camera.perspective]\n";
+        assert_eq!(key_at(t, t.find("camera").unwrap()).as_deref(), Some("camera.perspective"));
         let t = "[[table]]\nrays = [8]\n";
         assert_eq!(key_at(t, t.find("[8]").unwrap()).as_deref(), Some("table.rays"), "a value, not a header");
         let t = "a = 1\nraplicates = 2\n";

@@ -159,6 +159,14 @@ fn shape_hint(key: &str, message: &str) -> Option<String> {
             if key == "table" { "table" } else { "sweep" }
         ));
     }
+    if ["`mesh`", "`camera`"].iter().any(|k| message.starts_with(&format!("unknown field {k}"))) {
+        return Some(
+            "this is a scene file, not a spec: `hemilab run` and `plan` take a spec (like \
+             experiments/smoke.toml), which names its scene files in `scenes = [..]`; `render` and `bench` \
+             take a scene file"
+                .into(),
+        );
+    }
     if !message.starts_with("missing field") {
         return None;
     }

@@ -299,7 +299,36 @@ fn build(
         manifest.time_s.unwrap_or(0.0),
         exr.display()
     );
+    let others = others_of_scene(exr.parent().unwrap_or(Path::new(".")), &manifest)?;
+    if !others.is_empty() {
+        eprintln!(
+            "note: {} also holds {} other reference(s) of '{}' (another view, size or d; never deleted, another \
+             spec may use them): {}",
+            exr.parent().map_or(String::new(), |d| d.display().to_string()),
+            others.len(),
+            manifest.scene,
+            others.join(", ")
+        );
+    }
     Ok(Reference { mean, stderr, coverage, manifest, exr: exr.to_path_buf() })
+}
+
+/// The stems of the other references of `m`'s scene file in `dir` (older views, other sizes): a
+/// camera edit builds a new reference beside the old one, which is kept, so say what piles up.
+fn others_of_scene(dir: &Path, m: &Manifest) -> Result<Vec<String>> {
+    let mine = m.file_stem();
+    let mut out = Vec::new();
+    for p in io::list_dir(dir)? {
+        let stem = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        if p.extension().is_none_or(|e| e != "json") || stem == mine {
+            continue;
+        }
+        let Ok(text) = io::read_string(&p) else { continue };
+        if Manifest::from_json(&text).is_ok_and(|o| o.scene == m.scene) {
+            out.push(stem);
+        }
+    }
+    Ok(out)
 }
 
 /// Rays per pixel of an adaptive reference: a pilot pass (the reference estimator at the manifest's

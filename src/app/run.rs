@@ -282,6 +282,11 @@ pub(super) fn summarize(
         return Ok(s);
     }
     let width = aggs.iter().map(|a| agg_label(a).chars().count()).max().unwrap_or(0);
+    let _ = writeln!(
+        s,
+        "per configuration: RMSE mean ± sd over replicates, lag-1 error autocorrelation ρ x/y, median render \
+         time, ns per AO ray"
+    );
     for a in &aggs {
         let _ = writeln!(
             s,

@@ -176,7 +176,7 @@ fn bench_table_defaults_to_the_scene_distance_and_reads_plainly() {
     let text = String::from_utf8_lossy(&out.stdout);
     let ds: Vec<&str> = text
         .lines()
-        .filter(|l| l.trim_start().split_whitespace().nth(1) == Some("1"))
+        .filter(|l| l.split_whitespace().nth(1) == Some("1"))
         .filter_map(|l| l.split_whitespace().next())
         .collect();
     assert_eq!(ds, ["45", "150", "∞"], "{text}");

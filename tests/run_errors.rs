@@ -170,7 +170,7 @@ fn long_run_is_announced_before_it_starts() {
     let spec = t.spec("big.toml", &big.replace("rays = [2, 4]", "rays = [1024]"));
     let o = t.run(&spec, "out", "ref", &["--no-build-reference"]);
     let e = stderr(&o);
-    assert!(e.starts_with("warning: this run may take hours: roughly "), "{e}");
+    assert!(e.starts_with("warning: this run will take about "), "{e}");
     assert!(e.contains("hemilab plan") && e.contains("resumes"), "{e}");
     let spec = t.spec("small.toml", &tiny_spec(16, ""));
     let o = t.run(&spec, "out", "ref", &["--no-build-reference"]);

@@ -59,21 +59,7 @@ pub fn run_run(args: RunArgs) -> Result<()> {
 
     let policy = if args.no_build_reference { Policy::ReuseOnly } else { Policy::ReuseOrBuild };
     let ref_dir = refs::dir(args.reference_dir.as_deref(), &loaded.spec);
-    // What is left to render (by image: the keys need the references, which may take hours).
-    let done: std::collections::HashSet<&str> = previous.values().map(|r| r.image.as_str()).collect();
-    let left = plan.jobs.iter().filter(|j| !done.contains(format!("images/{}.exr", j.file_stem()).as_str()));
-    let todo = plan::Plan { jobs: left.cloned().collect() };
-    let rough =
-        super::estimate::rough_run_s(&loaded, &todo, &ref_dir, protocol(&args, &loaded.spec), LONG_RUN_S)?;
-    if rough > LONG_RUN_S {
-        eprintln!(
-            "warning: this run may take hours: roughly {} at a typical speed (`hemilab plan {}` measures it on \
-             this machine); it can be stopped at any time and resumes where it stopped, and `--shard K/N` \
-             splits it over machines",
-            plan::format_duration(rough),
-            args.spec.display()
-        );
-    }
+    super::long_run::warn_if_long(&args, &loaded, &full, &plan, &previous, &ref_dir)?;
     let references = (0..loaded.scenes.len())
         .map(|si| refs::obtain(&loaded.spec, si, &loaded.scenes[si], &ref_dir, policy, &runner))
         .collect::<Result<Vec<_>>>()?;
@@ -136,11 +122,8 @@ fn reused_jobs(
         .count()
 }
 
-/// Runs estimated to take longer than this (in wall seconds) are announced before they start.
-const LONG_RUN_S: f64 = 3600.0;
-
 /// The spec's timing settings, `--timing-repeats` over `[timing] repeats`; one worker per thread.
-fn protocol(args: &RunArgs, spec: &Spec) -> Protocol {
+pub(super) fn protocol(args: &RunArgs, spec: &Spec) -> Protocol {
     let workers = match args.common.threads {
         Some(t) => t as usize,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),

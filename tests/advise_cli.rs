@@ -261,7 +261,7 @@ fn the_committed_kitchen_reference_is_reused_by_default() {
     let a = json(&t.path("out/advice.json"));
     assert_eq!(a["resolution"], serde_json::json!([64, 48]));
     let setup = a["setup"].as_str().unwrap();
-    assert!(setup.contains("stored reference") && setup.contains("kitchen-64x48-1dfbdfc7.exr"), "{setup}");
+    assert!(setup.contains("stored reference") && setup.contains("kitchen-64x48-fb00a993.exr"), "{setup}");
     assert_eq!(a["recommendations"][0]["status"], "above", "1 s is beyond 4 rays at 64x48");
     assert_eq!(files(), before, "nothing added to reference/");
 }

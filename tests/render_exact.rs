@@ -1,8 +1,9 @@
 //! Scenes whose AO is known exactly: the open floor (no ray is ever blocked, so AO is exactly 1 on
 //! every covered pixel) and the closed box (every ray is blocked), for every distribution, sequence,
-//! seed mode and ray count, at unit size, scaled by 1e-3 and 1e3, and translated by 1e4.
+//! seed mode and ray count, at unit size, scaled by 1e-3 (also moved a few units away) and 1e3, and
+//! translated by 1e3 and 1e4.
 
-use glam::Vec3;
+use glam::DVec3;
 use hemilab::render::{RenderJob, render};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::Scene;
@@ -11,12 +12,14 @@ use hemilab::scene::procedural::{Placement, closed_box, open_floor};
 const RAYS: [u32; 4] = [1, 8, 32, 1024];
 const RES: (u32, u32) = (8, 6);
 
-fn placements() -> [(&'static str, Placement); 4] {
+fn placements() -> [(&'static str, Placement); 6] {
     [
         ("unit", Placement::UNIT),
-        ("scaled 1e-3", Placement { scale: 1e-3, offset: Vec3::ZERO }),
-        ("scaled 1e3", Placement { scale: 1e3, offset: Vec3::ZERO }),
-        ("translated 1e4", Placement { scale: 1.0, offset: Vec3::new(1e4, -1e4, 1e4) }),
+        ("scaled 1e-3", Placement { scale: 1e-3, offset: DVec3::ZERO }),
+        ("scaled 1e-3, moved 3 units", Placement { scale: 1e-3, offset: DVec3::new(3.0, -2.0, 1.5) }),
+        ("scaled 1e3", Placement { scale: 1e3, offset: DVec3::ZERO }),
+        ("translated 1e3", Placement { scale: 1.0, offset: DVec3::new(1e3, 1e3, -1e3) }),
+        ("translated 1e4", Placement { scale: 1.0, offset: DVec3::new(1e4, -1e4, 1e4) }),
     ]
 }
 

@@ -5,7 +5,7 @@
 
 use glam::Vec2;
 use hemilab::app::load_scene;
-use hemilab::render::offset_origin;
+use hemilab::render::ao_origin;
 use hemilab::sampling::{Distribution, Frame, frame};
 use hemilab::scene::accel::Ray;
 use std::path::Path;
@@ -33,13 +33,7 @@ fn kitchen_traversal_matches_brute_force() {
                 assert_eq!(hit.map(|h| h.t.to_bits()), brute.map(|h| h.t.to_bits()), "primary ({x}, {y})");
             }
             let Some(hit) = hit else { continue };
-            let [a, b, c] = acc.triangle(hit.prim);
-            let p = a + hit.bary_b * (b - a) + hit.bary_c * (c - a);
-            let mut n = (b - a).cross(c - a).normalize();
-            if n.dot(pr.dir) > 0.0 {
-                n = -n;
-            }
-            let origin = offset_origin(p, n, acc.scale(hit.prim));
+            let (origin, n) = ao_origin(acc.triangle(hit.prim), hit.bary_b, hit.bary_c, pr.dir);
             // One direction anywhere, one near the horizon (where hits in crevices are short).
             for v in [unit(), 0.95 + 0.05 * unit()] {
                 let s = Distribution::SineCosine.sample(Vec2::new(unit(), v));
@@ -110,69 +104,121 @@ fn kitchen_packets_match_single_rays() {
 /// CWBVH's 8-bit box quantization (boxes grow by up to 1/255 of the node).
 #[test]
 fn grazing_packets_keep_fences_just_above_the_tangent_plane() {
+    for (label, placement) in placements() {
+        let (checked, blocked, culled) =
+            fence_ring(placement, |i| 2e-6 + 1.8e-5 * i as f32 / 31.0, |_| 1e-5, None);
+        assert!(culled >= FENCES - 2, "{label}: the cull was on for only {culled} of {FENCES} packets");
+        eprintln!(
+            "{label}: {blocked} of {checked} grazing rays blocked, cull on in {culled} of {FENCES} packets"
+        );
+        assert!(
+            blocked > checked / 5 && blocked < 3 * checked / 4,
+            "{label}: {blocked} of {checked} blocked"
+        );
+    }
+}
+
+/// The cone cull (boxes below the packet's least slope × their distance): packets rising at slopes
+/// 0.2 .. 0.5, fences topping out at r (0.2 ± 2e-5), alternately just above and just below the
+/// least slope. The ray at slope 0.2 must be stopped by exactly the fences that reach above it (at
+/// unit placement, where rounding is far below r 2e-5), and packets must agree with single rays
+/// and brute force everywhere. The boxes' 8-bit quantization (1/255 of a node) hides a cone that
+/// is too steep by less than about 3e-3; one too steep by 1e-2 fails here.
+#[test]
+fn cone_cull_keeps_fences_just_above_the_least_slope() {
+    let top = |k: usize| if k % 2 == 1 { 0.2 + 2e-5 } else { 0.2 - 2e-5 };
+    for (label, placement) in placements() {
+        let unit = label == "unit";
+        let (checked, blocked, culled) = fence_ring(
+            placement,
+            |i| 0.2 + 0.3 * i as f32 / 31.0,
+            top,
+            unit.then_some(&|k: usize| k % 2 == 1),
+        );
+        assert_eq!(culled, FENCES, "{label}: the cull was off");
+        eprintln!("{label}: {blocked} of {checked} rays blocked");
+        assert!(blocked >= FENCES / 4, "{label}: only {blocked} of {checked} rays blocked");
+    }
+}
+
+const FENCES: usize = 32;
+
+fn placements() -> [(&'static str, (glam::Mat3, glam::Vec3)); 2] {
     use glam::{EulerRot, Mat3, Vec3};
+    [
+        ("unit", (Mat3::IDENTITY, Vec3::ZERO)),
+        (
+            "rotated, at 100 m",
+            (Mat3::from_euler(EulerRot::XYZ, 0.3, -0.7, 1.1), Vec3::new(100.0, -50.0, 30.0)),
+        ),
+    ]
+}
+
+/// A floor with `FENCES` fences in a ring around an AO origin on it (the renderer's, for the floor
+/// point (0.3, 0.2, 0)), fence k at distance r topping out r * `top(k)` above the origin's tangent
+/// plane, and one packet of 32 rays toward each, ray i rising at `slope(i)`. Checks packets (cull
+/// on and off) against single rays and brute force on every ray, at tmax 0.5 and infinite; with
+/// `truth`, also that the first ray is blocked (within tmax) exactly by the fences it names.
+/// Returns (rays checked, rays blocked, packets with the cull on).
+fn fence_ring(
+    (rot, shift): (glam::Mat3, glam::Vec3),
+    slope: impl Fn(usize) -> f32,
+    top: impl Fn(usize) -> f32,
+    truth: Option<&dyn Fn(usize) -> bool>,
+) -> (usize, usize, usize) {
+    use glam::Vec3;
     use hemilab::scene::accel::Accel;
     use hemilab::scene::packet::Occluders;
-    let placements = [
-        (Mat3::IDENTITY, Vec3::ZERO),
-        (Mat3::from_euler(EulerRot::XYZ, 0.3, -0.7, 1.1), Vec3::new(100.0, -50.0, 30.0)),
+    let at = |v: Vec3| rot * v + shift;
+    let f = 4.0;
+    let mut local = vec![
+        [Vec3::new(-f, -f, 0.0), Vec3::new(f, -f, 0.0), Vec3::new(f, f, 0.0)],
+        [Vec3::new(-f, -f, 0.0), Vec3::new(f, f, 0.0), Vec3::new(-f, f, 0.0)],
     ];
-    for (rot, shift) in placements {
-        let at = |v: Vec3| rot * v + shift;
-        let f = 4.0;
-        let mut local = vec![
-            [Vec3::new(-f, -f, 0.0), Vec3::new(f, -f, 0.0), Vec3::new(f, f, 0.0)],
-            [Vec3::new(-f, -f, 0.0), Vec3::new(f, f, 0.0), Vec3::new(-f, f, 0.0)],
-        ];
-        let p = Vec3::new(0.3, 0.2, 0.0);
-        // The renderer's origin (offset along the floor's geometric normal; ~2 mm at 100 m), then the
-        // fences relative to its height in the floor's frame.
-        let floor: Vec<[Vec3; 3]> = local.iter().map(|t| [at(t[0]), at(t[1]), at(t[2])]).collect();
-        let n = (floor[0][1] - floor[0][0]).cross(floor[0][2] - floor[0][0]).normalize();
-        let origin = offset_origin(at(p), n, Accel::build(&floor).0.scale(0));
-        let o_local = rot.transpose() * (origin - shift);
-        let fences = 32;
-        let radius = |k: usize| 0.05 + 1.95 * (k as f32 / (fences - 1) as f32);
-        let azimuth = |k: usize| k as f32 * std::f32::consts::TAU / fences as f32;
-        for k in 0..fences {
-            let (r, (s, c)) = (radius(k), azimuth(k).sin_cos());
-            let (centre, side) = (o_local + r * Vec3::new(c, s, 0.0), 0.02 * Vec3::new(-s, c, 0.0));
-            let top = o_local.z + r * 1e-5;
-            local.push([centre - side - 0.01 * Vec3::Z, centre + side - 0.01 * Vec3::Z, centre.with_z(top)]);
-        }
-        let tris: Vec<[Vec3; 3]> = local.iter().map(|t| [at(t[0]), at(t[1]), at(t[2])]).collect();
-        let (acc, _) = Accel::build(&tris);
-        let (mut cache, mut checked, mut blocked, mut culled) = (Occluders::new(), 0, 0, 0);
-        for k in 0..fences {
-            let (s, c) = azimuth(k).sin_cos();
-            let dirs: Vec<Vec3> = (0..32)
-                .map(|i| {
-                    let slope = 2e-6 + 1.8e-5 * i as f32 / 31.0;
-                    frame::canonical((rot * Vec3::new(c, s, slope).normalize()).normalize())
-                })
-                .collect();
-            culled += dirs.iter().all(|d| d.dot(n) > 1e-6) as u32;
-            for tmax in [0.5, f32::INFINITY] {
-                let (mut with, mut without) = (vec![false; 32], vec![false; 32]);
-                acc.occluded_from(origin, Some(n), &dirs, tmax, &mut with, &mut cache);
-                acc.occluded_from(origin, None, &dirs, tmax, &mut without, &mut cache);
-                for (i, d) in dirs.iter().enumerate() {
-                    let ray = Ray::new(origin, *d, tmax);
-                    let want = acc.occluded(&ray);
-                    assert_eq!(
-                        acc.closest_brute_force(&ray).is_some(),
-                        want,
-                        "fence {k} ray {i} brute force"
-                    );
-                    assert_eq!(with[i], want, "fence {k} ray {i} tmax {tmax}: cull dropped or added a hit");
-                    assert_eq!(without[i], want, "fence {k} ray {i} tmax {tmax}: packet without cull");
-                    checked += 1;
-                    blocked += want as u32;
+    // The renderer's origin for the floor point (0.3, 0.2, 0) (barycentrics in the first floor
+    // triangle, seen from above), then the fences relative to its height in the floor's frame.
+    let floor: Vec<[Vec3; 3]> = local.iter().map(|t| [at(t[0]), at(t[1]), at(t[2])]).collect();
+    let (origin, n) = ao_origin(floor[0], 0.0125, 0.525, -(rot * Vec3::Z));
+    assert!((rot.transpose() * (origin - shift) - Vec3::new(0.3, 0.2, 0.0)).length() < 1e-4);
+    let o_local = rot.transpose() * (origin - shift);
+    let radius = |k: usize| 0.05 + 1.95 * (k as f32 / (FENCES - 1) as f32);
+    let azimuth = |k: usize| k as f32 * std::f32::consts::TAU / FENCES as f32;
+    for k in 0..FENCES {
+        let (r, (s, c)) = (radius(k), azimuth(k).sin_cos());
+        let (centre, side) = (o_local + r * Vec3::new(c, s, 0.0), 0.02 * Vec3::new(-s, c, 0.0));
+        let top = o_local.z + r * top(k);
+        local.push([centre - side - 0.01 * Vec3::Z, centre + side - 0.01 * Vec3::Z, centre.with_z(top)]);
+    }
+    let tris: Vec<[Vec3; 3]> = local.iter().map(|t| [at(t[0]), at(t[1]), at(t[2])]).collect();
+    let (acc, _) = Accel::build(&tris);
+    let (mut cache, mut checked, mut blocked, mut culled) = (Occluders::new(), 0, 0, 0);
+    for k in 0..FENCES {
+        let (s, c) = azimuth(k).sin_cos();
+        let dirs: Vec<Vec3> = (0..32)
+            .map(|i| frame::canonical((rot * Vec3::new(c, s, slope(i)).normalize()).normalize()))
+            .collect();
+        culled += dirs.iter().all(|d| d.dot(n) > 1e-6) as usize;
+        for tmax in [0.5, f32::INFINITY] {
+            let (mut with, mut without) = (vec![false; 32], vec![false; 32]);
+            acc.occluded_from(origin, Some(n), &dirs, tmax, &mut with, &mut cache);
+            acc.occluded_from(origin, None, &dirs, tmax, &mut without, &mut cache);
+            for (i, d) in dirs.iter().enumerate() {
+                let ray = Ray::new(origin, *d, tmax);
+                let want = acc.occluded(&ray);
+                assert_eq!(acc.closest_brute_force(&ray).is_some(), want, "fence {k} ray {i} brute force");
+                assert_eq!(with[i], want, "fence {k} ray {i} tmax {tmax}: cull dropped or added a hit");
+                assert_eq!(without[i], want, "fence {k} ray {i} tmax {tmax}: packet without cull");
+                checked += 1;
+                blocked += want as usize;
+            }
+            if let Some(truth) = truth {
+                // Where the lowest ray meets the fence's plane (skipped within 0.1 % of tmax).
+                let t = radius(k) * (1.0 + slope(0) * slope(0)).sqrt();
+                if (t - tmax).abs() > 1e-3 * t {
+                    assert_eq!(with[0], truth(k) && t < tmax, "fence {k}, tmax {tmax}: the lowest ray");
                 }
             }
         }
-        assert!(culled as usize >= fences - 2, "the cull was on for only {culled} of {fences} packets");
-        eprintln!("{blocked} of {checked} grazing rays blocked, cull on in {culled} of {fences} packets");
-        assert!(blocked > checked / 5 && blocked < 3 * checked / 4, "{blocked} of {checked} blocked");
     }
+    (checked, blocked, culled)
 }

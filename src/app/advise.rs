@@ -301,7 +301,7 @@ fn stored_references(dir: &Path, scene: &Scene) -> Result<Vec<(Manifest, PathBuf
         };
         let exr = json.with_extension("exr");
         if m.scene_hash == scene.content_hash
-            && m.camera == format!("{:?}", scene.camera)
+            && m.camera == scene.camera_description()
             && m.hemilab_version == env!("CARGO_PKG_VERSION")
             && io::exists(&exr)
         {

@@ -83,7 +83,7 @@ pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry
     let mut m = Manifest::wanted(
         &spec.scenes[si],
         &scene.content_hash,
-        &format!("{:?}", scene.camera),
+        &scene.camera_description(),
         [geometry.width, geometry.height],
         geometry.distance,
         spec.reference.estimator,

@@ -5,7 +5,7 @@
 pub mod bench;
 mod offset;
 
-pub use offset::offset_origin;
+pub use offset::ao_origin;
 
 use crate::image::Image;
 use crate::sampling::{Distribution, Frame, SamplerConfig, frame};
@@ -156,14 +156,8 @@ pub fn pixel_rays(
     let Some(hit) = scene.accel.closest(&Ray::new(primary.origin, primary.dir, f32::INFINITY)) else {
         return false;
     };
-    let [a, b, c] = scene.accel.triangle(hit.prim);
-    // From barycentrics and edges: exact on axis-aligned planes, error ~ulps of the vertices elsewhere.
-    let p = a + hit.bary_b * (b - a) + hit.bary_c * (c - a);
-    let mut n = (b - a).cross(c - a).normalize();
-    if n.dot(primary.dir) > 0.0 {
-        n = -n;
-    }
-    out.origin = offset_origin(p, n, scene.accel.scale(hit.prim));
+    let (origin, n) = ao_origin(scene.accel.triangle(hit.prim), hit.bary_b, hit.bary_c, primary.dir);
+    out.origin = origin;
     out.normal = n;
     let basis = Frame::from_normal(n);
     job.sampler.fill_pixel(x, y, pixel, points);
@@ -181,8 +175,8 @@ pub fn pixel_rays(
 /// `normal`: the surface normal the directions were drawn around. `blocked`: as long as `dirs`.
 /// Each thread keeps the occluders of the last pixel it traced (speed only: the answers do not
 /// depend on them), across rayon jobs, so that it is not emptied every tile. They are triangle
-/// ids of the scene they came from, so the cache starts afresh when the thread traces another
-/// scene (one thread may render the kitchen, then the Cornell box's 30 triangles).
+/// ids of the BVH they came from; `Occluders` starts afresh when the thread traces another one
+/// (one thread may render the kitchen, then the Cornell box's 30 triangles).
 pub fn trace_pixel(
     scene: &Scene,
     origin: Vec3,
@@ -192,13 +186,9 @@ pub fn trace_pixel(
     blocked: &mut [bool],
 ) {
     thread_local! {
-        static CACHE: RefCell<(String, Occluders)> = RefCell::new((String::new(), Occluders::new()));
+        static CACHE: RefCell<Occluders> = RefCell::new(Occluders::new());
     }
     CACHE.with(|c| {
-        let mut c = c.borrow_mut();
-        if c.0 != scene.content_hash {
-            *c = (scene.content_hash.clone(), Occluders::new());
-        }
-        scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked, &mut c.1);
+        scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked, &mut c.borrow_mut());
     });
 }

@@ -1,43 +1,110 @@
-//! Where an AO ray starts so that it never hits the surface it leaves.
+//! Where a pixel's AO rays start: the primary hit point, lifted off its triangle by a bound on the
+//! point's own floating-point error, never by the size of the coordinates.
+//!
+//! The approach is pbrt-v4's (Pharr, Jakob, Humphreys, "Physically Based Rendering", 4th ed., 6.8:
+//! error bounds carried from the intersection, then `OffsetRayOrigin`: move along the normal by
+//! dot(|n|, error) and round away from the surface). Here the hit point is interpolated from the
+//! barycentrics in f64 (once per pixel), so its error is essentially the final rounding to f32, and
+//! the lift is a few ulps of the point's coordinates. That is enough because the triangle test
+//! never reports a hit it cannot prove to be in front of the origin (`scene::accel::Seen`): an
+//! origin that is on the right side of its triangle, by any margin, cannot hit it, however large it
+//! is. (The scale-aware offset this replaces lifted every origin on a 10 km ground quad by 0.125.)
 
-use glam::Vec3;
+use glam::{DVec3, Vec3, Vec3Swizzles};
 
-/// Wächter & Binder 2019, "A Fast and Robust Method for Avoiding Self-Intersection" (Ray Tracing
-/// Gems, ch. 6): move each coordinate a fixed number of ulps along the normal, or by a small fixed
-/// amount near zero where ulps vanish. Their constants (1/32, 1/65536) assume unit-sized scenes; here
-/// they are multiplied by `scale`, a power of two >= the triangle's largest |coordinate|, so scaling a
-/// scene by 2^k scales every offset by exactly 2^k and a 1e-3-sized scene is treated like a unit one.
-pub fn offset_origin(p: Vec3, n: Vec3, scale: f32) -> Vec3 {
-    const ORIGIN: f32 = 1.0 / 32.0;
-    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
-    const INT_SCALE: f32 = 256.0;
-    let one = |p: f32, n: f32| {
-        if p.abs() < ORIGIN * scale {
-            p + FLOAT_SCALE * scale * n
+/// f64 unit roundoff.
+const U64: f64 = f64::EPSILON / 2.0;
+
+/// Higham's γ_n = n u / (1 - n u): the relative error bound of n roundings.
+fn gamma(n: f64) -> f64 {
+    n * U64 / (1.0 - n * U64)
+}
+
+/// The AO origin and the unit normal for a primary hit at barycentrics (`bary_b`, `bary_c`) of
+/// triangle `tri` = [a, b, c] (the f32 vertices as traced), facing against `incoming` (the primary
+/// ray's direction). The origin is on the normal's side of the triangle's exact plane (or on it);
+/// the normal is the exact plane's, rounded to f32.
+pub fn ao_origin(tri: [Vec3; 3], bary_b: f32, bary_c: f32, incoming: Vec3) -> (Vec3, Vec3) {
+    let [a, b, c] = tri.map(Vec3::as_dvec3);
+    let (e1, e2) = (b - a, c - a);
+    let (wb, wc) = (e1 * bary_b as f64, e2 * bary_c as f64);
+    // On the plane for any barycentrics (their error moves the point along the surface, not off it);
+    // off by at most γ5 (|a| + |wb| + |wc|): the edges, the products, two sums.
+    let p = a + wb + wc;
+    let err = (a.abs() + wb.abs() + wc.abs()) * gamma(5.0);
+
+    let normal = e1.cross(e2);
+    // The f64 normal's direction is off by about γ4 |M| / |N| (M: the magnitudes N is made of);
+    // rounding it to f32 adds 2^-24 per component. Degenerate in f64 (f32 rounding made the area):
+    // no plane to speak of, so any direction, with the largest possible direction error.
+    let m = (e1.yzx() * e2.zxy()).abs() + (e1.zxy() * e2.yzx()).abs();
+    let (mut n64, dir_err) = match normal.try_normalize() {
+        Some(n) => (n, gamma(8.0) * m.length() / normal.length() + 1.0 / 16_777_216.0),
+        None => (DVec3::Z, 2.0),
+    };
+    if n64.dot(incoming.as_dvec3()) > 0.0 {
+        n64 = -n64;
+    }
+    let n = n64.as_vec3();
+
+    // Distance of the rounded origin o from the exact plane (unit normal ν, |ν - n| <= dir_err):
+    // ν·(o - p_exact) >= h (1 - dir_err) - [dot(|n|, err) + dir_err (|err|_1 + Σ ulp(o_i))] - the
+    // f64 rounding of p + h n; rounding each o_i away from the surface (towards sign n_i) only adds.
+    // So h = 2 × the bracket plus that rounding keeps o on the normal's side.
+    let ulps = p.abs().element_sum() * (4.0 / 8_388_608.0) + 3.0 * f32::from_bits(1) as f64;
+    let h = 2.0
+        * (n.abs().as_dvec3().dot(err)
+            + dir_err * (err.element_sum() + ulps)
+            + gamma(3.0) * p.abs().element_sum());
+    let o = p + n.as_dvec3() * h;
+    let away = |x: f64, dir: f32| {
+        let r = x as f32;
+        if dir > 0.0 && (r as f64) < x {
+            r.next_up()
+        } else if dir < 0.0 && (r as f64) > x {
+            r.next_down()
         } else {
-            let of = (INT_SCALE * n) as i32;
-            let of = if p < 0.0 { -of } else { of };
-            f32::from_bits((p.to_bits() as i32).wrapping_add(of) as u32)
+            r
         }
     };
-    Vec3::new(one(p.x, n.x), one(p.y, n.y), one(p.z, n.z))
+    (Vec3::new(away(o.x, n.x), away(o.y, n.y), away(o.z, n.z)), n)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// The origin is on the normal's side of the plane, by at most a few ulps of its coordinates,
+    /// at every size and distance from the origin; the normal faces the incoming ray.
     #[test]
-    fn moves_along_the_normal_at_every_scale() {
-        for (p, n, s) in [
-            (Vec3::new(0.3, 0.0, 0.0), Vec3::Z, 1.0),
-            (Vec3::new(1e4, 1e4, 1e4), Vec3::Z, 16384.0),
-            (Vec3::new(-1e4, 2.0, -1e4), -Vec3::Z, 16384.0),
-            (Vec3::new(1e-3, 5e-4, 0.0), Vec3::Z, 1.0 / 512.0),
-        ] {
-            let o = offset_origin(p, n, s);
-            assert!((o - p).dot(n) > 0.0, "{p} {n} {o}");
-            assert_eq!((o.x, o.y), (p.x, p.y), "only the normal's components move");
+    fn lifts_by_ulps_of_the_point_not_of_the_triangle() {
+        for (scale, at) in [(1.0f32, 0.0f32), (5000.0, 0.0), (1e-3, 3.0), (1.0, 1000.0), (1e3, -1e4)] {
+            // A tilted triangle, and a point well inside it.
+            let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z) * scale + Vec3::splat(at);
+            let tri = [v(-1.0, -1.0, 0.1), v(1.0, -0.8, -0.2), v(0.1, 1.0, 0.3)];
+            for (bb, bc) in [(0.3f32, 0.3f32), (0.01, 0.98), (0.5, 0.0)] {
+                let (o, n) = ao_origin(tri, bb, bc, -Vec3::Z);
+                assert!(n.z > 0.0 && (n.length() - 1.0).abs() < 1e-6, "{n}");
+                let [a, b, c] = tri.map(Vec3::as_dvec3);
+                let nu = (b - a).cross(c - a).normalize();
+                let nu = if nu.z < 0.0 { -nu } else { nu };
+                let height = nu.dot(o.as_dvec3() - a);
+                assert!(height >= 0.0, "scale {scale} at {at}: origin {height} below the plane");
+                let p = a + (b - a) * bb as f64 + (c - a) * bc as f64;
+                let ulp = p.abs().max_element() * f32::EPSILON as f64;
+                assert!(height <= 8.0 * ulp, "scale {scale} at {at}: lifted {height} ({ulp} ulp)");
+            }
         }
+    }
+
+    /// A hit on the plane z = 0 of a 10 km triangle (axis-aligned: the point's z is exact) is lifted
+    /// by almost nothing (the scale-aware offset lifted it by 0.125).
+    #[test]
+    fn exact_on_an_axis_aligned_plane() {
+        let tri =
+            [Vec3::new(-5000.0, -5000.0, 0.0), Vec3::new(5000.0, -5000.0, 0.0), Vec3::new(0.0, 5000.0, 0.0)];
+        let (o, n) = ao_origin(tri, 0.25, 0.5, Vec3::new(0.2, 0.1, -1.0).normalize());
+        assert_eq!(n, Vec3::Z);
+        assert!(o.z >= 0.0 && o.z < 1e-9, "{o}");
     }
 }

@@ -1,11 +1,43 @@
 //! Pinhole and orthographic cameras: one primary ray per pixel, through the pixel centre.
+//!
+//! A scene file places its camera in world coordinates (`WorldCamera`, f64, as written); the renderer
+//! works relative to the eye (`Camera`, f32, eye at the origin), so the scene's distance from the
+//! world origin costs no precision (see `Scene::new`).
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
+/// `V`: `Vec3` for the renderer's camera-relative camera, `DVec3` for the world placement.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Camera {
-    Perspective { eye: Vec3, target: Vec3, up: Vec3, fov_y_deg: f32 },
-    Orthographic { eye: Vec3, target: Vec3, up: Vec3, view_width: f32 },
+pub enum Camera<V = Vec3> {
+    Perspective { eye: V, target: V, up: V, fov_y_deg: f32 },
+    Orthographic { eye: V, target: V, up: V, view_width: f32 },
+}
+
+/// A camera as a scene file places it (world coordinates, f64).
+pub type WorldCamera = Camera<DVec3>;
+
+impl<V: Copy> Camera<V> {
+    pub fn eye(&self) -> V {
+        match *self {
+            Camera::Perspective { eye, .. } | Camera::Orthographic { eye, .. } => eye,
+        }
+    }
+}
+
+impl WorldCamera {
+    /// The same camera relative to `origin` (its positions minus `origin`, subtracted in f64 and then
+    /// rounded once to f32).
+    pub fn relative_to(&self, origin: DVec3) -> Camera {
+        let rel = |p: DVec3| (p - origin).as_vec3();
+        match *self {
+            Camera::Perspective { eye, target, up, fov_y_deg } => {
+                Camera::Perspective { eye: rel(eye), target: rel(target), up: up.as_vec3(), fov_y_deg }
+            }
+            Camera::Orthographic { eye, target, up, view_width } => {
+                Camera::Orthographic { eye: rel(eye), target: rel(target), up: up.as_vec3(), view_width }
+            }
+        }
+    }
 }
 
 /// A primary ray; `dir` is a unit vector.

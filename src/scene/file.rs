@@ -12,10 +12,10 @@
 //! fov_y_deg = 39.3
 //! ```
 
-use super::camera::Camera;
+use super::camera::{Camera, WorldCamera};
 use crate::spec::position::describe;
 use crate::spec::{RESOLUTION_RULE, resolution_ok};
-use glam::Vec3;
+use glam::DVec3;
 use serde::{Deserialize, Deserializer, de};
 
 #[derive(Debug, Clone, Deserialize)]
@@ -55,7 +55,9 @@ pub struct OrthographicFile {
 }
 
 impl CameraFile {
-    pub fn camera(&self) -> Camera {
+    /// The camera in world coordinates, in f64 as written (a scene far from the origin keeps its
+    /// precision until `Scene::new` re-centres it on the eye).
+    pub fn camera(&self) -> WorldCamera {
         match self {
             CameraFile::Perspective(p) => {
                 Camera::Perspective { eye: p.eye.0, target: p.target.0, up: p.up.0, fov_y_deg: p.fov_y_deg.0 }
@@ -70,17 +72,16 @@ impl CameraFile {
     }
 }
 
-/// `[x, y, z]`: exactly three finite numbers (toml would drop a fourth silently into an array).
+/// `[x, y, z]`: exactly three finite numbers, in f64 as written (toml would drop a fourth silently
+/// into an array).
 #[derive(Debug, Clone, Copy)]
-pub struct Point(pub Vec3);
+pub struct Point(pub DVec3);
 
 impl<'de> Deserialize<'de> for Point {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let v = Vec::<f64>::deserialize(d)?;
         match v[..] {
-            [x, y, z] if v.iter().all(|c| (*c as f32).is_finite()) => {
-                Ok(Point(Vec3::new(x as f32, y as f32, z as f32)))
-            }
+            [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Point(DVec3::new(x, y, z))),
             _ => Err(de::Error::custom(format!("must be [x, y, z], three finite numbers, got {v:?}"))),
         }
     }

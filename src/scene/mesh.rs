@@ -1,14 +1,19 @@
 //! Wavefront OBJ (optionally zstd-compressed) to a triangle soup: positions and indices only, because
 //! AO needs nothing else. tobj does the parsing; a light line scan first finds the faults tobj would
 //! report without a line number (index out of range, faces of fewer than three vertices).
+//!
+//! Positions are read as f64 (tobj's `use_f64`): a scene 1 km from the origin written with
+//! millimetre digits keeps them until `Scene::new` has moved it next to the camera; only then are
+//! they rounded to the renderer's f32.
 
-use glam::Vec3;
+use glam::DVec3;
 use std::io::Read;
 
-/// Triangles kept and the count of those dropped (zero area or non-finite), for one warning.
+/// Triangles kept (world coordinates, f64) and the count of those dropped (zero area or non-finite),
+/// for one warning.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
-    pub triangles: Vec<[Vec3; 3]>,
+    pub triangles: Vec<[DVec3; 3]>,
     pub dropped: usize,
 }
 
@@ -35,10 +40,10 @@ pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
     let mut mesh = Mesh::default();
     for model in &models {
         let m = &model.mesh;
-        let vertex = |i: u32| -> Result<Vec3, String> {
+        let vertex = |i: u32| -> Result<DVec3, String> {
             let i = i as usize * 3;
             match m.positions.get(i..i + 3) {
-                Some(p) => Ok(Vec3::new(p[0], p[1], p[2])),
+                Some(p) => Ok(DVec3::new(p[0], p[1], p[2])),
                 None => Err(format!("object '{}': face index out of range", model.name)),
             }
         };
@@ -80,9 +85,9 @@ pub fn decompress(bytes: &[u8]) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
-/// A triangle is usable if its vertices are finite and its f32 normal exists: then the renderer's
-/// geometric normal is always a unit vector.
-pub fn usable(t: &[Vec3; 3]) -> bool {
+/// A triangle is usable if its vertices are finite and it has a normal. `Scene::new` checks again
+/// after rounding to f32, where more triangles can collapse.
+pub fn usable(t: &[DVec3; 3]) -> bool {
     t.iter().all(|v| v.is_finite()) && {
         let n = (t[1] - t[0]).cross(t[2] - t[0]);
         n.is_finite() && n.length_squared() > 0.0 && n.normalize().is_finite()

@@ -10,13 +10,22 @@ pub mod packet;
 pub mod procedural;
 
 pub use accel::Accel;
-pub use camera::Camera;
+pub use camera::{Camera, WorldCamera};
 pub use mesh::Mesh;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
+/// A scene ready to render. Everything the renderer sees is relative to `origin`, the camera's eye:
+/// the world coordinates (f64) have the eye subtracted before they are rounded to f32, as large-world
+/// game engines do. A scene 1 km (or 10 km) from the world origin then renders exactly like the same
+/// scene at the origin, and every f32 coordinate is as fine as the scene is near the camera.
 pub struct Scene {
     pub name: String,
+    /// The camera as the scene places it (world coordinates).
+    pub view: WorldCamera,
+    /// World position of the renderer's origin: the eye.
+    pub origin: DVec3,
+    /// The camera relative to `origin` (its eye is at 0).
     pub camera: Camera,
     pub resolution: (u32, u32),
     /// The paper's d; `f32::INFINITY` means unbounded.
@@ -32,48 +41,72 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Checks camera and d, then builds the BVH. The error says which value is wrong.
+    /// Re-centres camera and mesh on the eye (in f64, then rounded to f32), checks camera and d,
+    /// then builds the BVH. Triangles that lose their area in f32 are dropped and counted. The
+    /// error says which value is wrong.
     pub fn new(
         name: String,
-        camera: Camera,
+        view: WorldCamera,
         resolution: (u32, u32),
         ao_distance: f32,
         content_hash: String,
         mesh: Mesh,
     ) -> Result<Scene, String> {
+        let origin = view.eye();
+        let camera = view.relative_to(origin);
+        if !origin.is_finite() {
+            return Err("camera: eye, target and up must be finite".into());
+        }
         if let Some(p) = camera.problem() {
             return Err(format!("camera: {p}"));
         }
         if ao_distance.is_nan() || ao_distance <= 0.0 {
             return Err(format!("ao_distance must be positive or \"infinite\", got {ao_distance}"));
         }
-        if mesh.triangles.is_empty() {
+        let local = |v: DVec3| (v - origin).as_vec3();
+        let (mut triangles, mut dropped) = (Vec::with_capacity(mesh.triangles.len()), mesh.dropped);
+        for t in &mesh.triangles {
+            let t = [local(t[0]), local(t[1]), local(t[2])];
+            if usable(&t) {
+                triangles.push(t);
+            } else {
+                dropped += 1;
+            }
+        }
+        if triangles.is_empty() {
             return Err("empty mesh: no usable triangles".into());
         }
-        let (accel, bvh_build_s) = Accel::build(&mesh.triangles);
+        let (accel, bvh_build_s) = Accel::build(&triangles);
         Ok(Scene {
             name,
+            view,
+            origin,
             camera,
             resolution,
             ao_distance,
             content_hash,
-            triangle_count: mesh.triangles.len(),
-            dropped_triangles: mesh.dropped,
+            triangle_count: triangles.len(),
+            dropped_triangles: dropped,
             bvh_build_s,
             accel,
         })
     }
 
-    /// A scene made in code (tests, validation): unusable triangles are dropped and counted, and the
-    /// hash covers the triangles and every parameter.
+    /// The camera as reference manifests record it: the world placement, as the scene gives it.
+    pub fn camera_description(&self) -> String {
+        format!("{:?}", self.view)
+    }
+
+    /// A scene made in code (tests, validation), in world coordinates: unusable triangles are
+    /// dropped and counted, and the hash covers the triangles and every parameter.
     pub fn from_triangles(
         name: &str,
-        camera: Camera,
+        view: WorldCamera,
         resolution: (u32, u32),
         ao_distance: f32,
-        triangles: Vec<[Vec3; 3]>,
+        triangles: Vec<[DVec3; 3]>,
     ) -> Result<Scene, String> {
-        let mut bytes = format!("{name} {camera:?} {resolution:?} {ao_distance}").into_bytes();
+        let mut bytes = format!("{name} {view:?} {resolution:?} {ao_distance}").into_bytes();
         for v in triangles.iter().flatten() {
             for c in v.to_array() {
                 bytes.extend_from_slice(&c.to_le_bytes());
@@ -82,7 +115,16 @@ impl Scene {
         let hash = content_hash(&[&bytes]);
         let (keep, drop): (Vec<_>, Vec<_>) = triangles.into_iter().partition(mesh::usable);
         let mesh = Mesh { triangles: keep, dropped: drop.len() };
-        Scene::new(name.to_string(), camera, resolution, ao_distance, hash, mesh)
+        Scene::new(name.to_string(), view, resolution, ao_distance, hash, mesh)
+    }
+}
+
+/// A triangle the renderer can use: finite f32 vertices and a normal that normalizes (then the
+/// geometric normal is always a unit vector).
+pub fn usable(t: &[Vec3; 3]) -> bool {
+    t.iter().all(|v| v.is_finite()) && {
+        let n = (t[1] - t[0]).cross(t[2] - t[0]);
+        n.is_finite() && n.length_squared() > 0.0 && n.normalize().is_finite()
     }
 }
 

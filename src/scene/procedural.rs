@@ -2,29 +2,30 @@
 //! a closed box (every ray is blocked), and a floor under a floating rectangle (Lambert's form factor).
 //! Each takes a uniform `scale` and an `offset` so the tests can move them far from unit size and origin.
 
-use super::{Camera, Scene};
-use glam::Vec3;
+use super::{Camera, Scene, WorldCamera};
+use glam::DVec3;
 
-/// Where to put a validation scene: p → p * scale + offset (d scales too).
+/// Where to put a validation scene: p → p * scale + offset, in f64 (world coordinates; `Scene::new`
+/// re-centres on the camera).
 #[derive(Debug, Clone, Copy)]
 pub struct Placement {
-    pub scale: f32,
-    pub offset: Vec3,
+    pub scale: f64,
+    pub offset: DVec3,
 }
 
 impl Placement {
-    pub const UNIT: Placement = Placement { scale: 1.0, offset: Vec3::ZERO };
+    pub const UNIT: Placement = Placement { scale: 1.0, offset: DVec3::ZERO };
 
-    fn p(&self, v: Vec3) -> Vec3 {
+    pub fn p(&self, v: DVec3) -> DVec3 {
         v * self.scale + self.offset
     }
 
-    fn quad(&self, a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> [[Vec3; 3]; 2] {
+    pub fn quad(&self, a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> [[DVec3; 3]; 2] {
         let (a, b, c, d) = (self.p(a), self.p(b), self.p(c), self.p(d));
         [[a, b, c], [a, c, d]]
     }
 
-    fn perspective(&self, eye: Vec3, target: Vec3, up: Vec3, fov_y_deg: f32) -> Camera {
+    fn perspective(&self, eye: DVec3, target: DVec3, up: DVec3, fov_y_deg: f32) -> WorldCamera {
         Camera::Perspective { eye: self.p(eye), target: self.p(target), up, fov_y_deg }
     }
 }
@@ -33,19 +34,19 @@ impl Placement {
 pub fn open_floor(at: Placement, resolution: (u32, u32)) -> Scene {
     let tris = at
         .quad(
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(1.0, -1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(-1.0, 1.0, 0.0),
+            DVec3::new(-1.0, -1.0, 0.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(-1.0, 1.0, 0.0),
         )
         .to_vec();
-    let cam = at.perspective(Vec3::new(0.3, -2.0, 1.2), Vec3::new(0.0, 0.0, 0.0), Vec3::Z, 60.0);
+    let cam = at.perspective(DVec3::new(0.3, -2.0, 1.2), DVec3::new(0.0, 0.0, 0.0), DVec3::Z, 60.0);
     Scene::from_triangles("open-floor", cam, resolution, f32::INFINITY, tris).expect("valid scene")
 }
 
 /// The unit cube seen from inside (eye at its centre): every pixel covered, every AO ray blocked.
 pub fn closed_box(at: Placement, resolution: (u32, u32)) -> Scene {
-    let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    let v = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
     let faces = [
         [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)],
         [v(0., 0., 1.), v(0., 1., 1.), v(1., 1., 1.), v(1., 0., 1.)],
@@ -55,17 +56,17 @@ pub fn closed_box(at: Placement, resolution: (u32, u32)) -> Scene {
         [v(1., 0., 0.), v(1., 0., 1.), v(1., 1., 1.), v(1., 1., 0.)],
     ];
     let tris = faces.iter().flat_map(|f| at.quad(f[0], f[1], f[2], f[3])).collect();
-    let cam = at.perspective(v(0.5, 0.5, 0.5), v(0.2, 0.9, 0.1), Vec3::Z, 120.0);
+    let cam = at.perspective(v(0.5, 0.5, 0.5), v(0.2, 0.9, 0.1), DVec3::Z, 120.0);
     Scene::from_triangles("closed-box", cam, resolution, f32::INFINITY, tris).expect("valid scene")
 }
 
 /// The occluder of `floating_rectangle`: corners of an axis-aligned rectangle at height `RECT_Z`.
-pub const RECT_MIN: [f32; 2] = [-0.4, -0.3];
-pub const RECT_MAX: [f32; 2] = [0.6, 0.5];
-pub const RECT_Z: f32 = 0.8;
+pub const RECT_MIN: [f64; 2] = [-0.4, -0.3];
+pub const RECT_MAX: [f64; 2] = [0.6, 0.5];
+pub const RECT_Z: f64 = 0.8;
 /// Half-size of the floor and of the orthographic view of `floating_rectangle`.
-pub const FLOOR_HALF: f32 = 4.0;
-pub const VIEW_HALF: f32 = 2.0;
+pub const FLOOR_HALF: f64 = 4.0;
+pub const VIEW_HALF: f64 = 2.0;
 
 /// A large floor at z = 0 under a floating rectangle, seen top-down by an orthographic camera
 /// covering [-VIEW_HALF, VIEW_HALF]^2; d infinite, so the whole rectangle counts from every floor point.
@@ -74,19 +75,19 @@ pub fn floating_rectangle(resolution: (u32, u32)) -> Scene {
     let f = FLOOR_HALF;
     let (lo, hi, z) = (RECT_MIN, RECT_MAX, RECT_Z);
     let mut tris = at
-        .quad(Vec3::new(-f, -f, 0.0), Vec3::new(f, -f, 0.0), Vec3::new(f, f, 0.0), Vec3::new(-f, f, 0.0))
+        .quad(DVec3::new(-f, -f, 0.0), DVec3::new(f, -f, 0.0), DVec3::new(f, f, 0.0), DVec3::new(-f, f, 0.0))
         .to_vec();
     tris.extend(at.quad(
-        Vec3::new(lo[0], lo[1], z),
-        Vec3::new(hi[0], lo[1], z),
-        Vec3::new(hi[0], hi[1], z),
-        Vec3::new(lo[0], hi[1], z),
+        DVec3::new(lo[0], lo[1], z),
+        DVec3::new(hi[0], lo[1], z),
+        DVec3::new(hi[0], hi[1], z),
+        DVec3::new(lo[0], hi[1], z),
     ));
     let cam = Camera::Orthographic {
-        eye: Vec3::new(0.0, 0.0, 10.0),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        view_width: 2.0 * VIEW_HALF,
+        eye: DVec3::new(0.0, 0.0, 10.0),
+        target: DVec3::ZERO,
+        up: DVec3::Y,
+        view_width: 2.0 * VIEW_HALF as f32,
     };
     Scene::from_triangles("floating-rectangle", cam, resolution, f32::INFINITY, tris).expect("valid scene")
 }

@@ -1,8 +1,9 @@
 //! A pixel's AO rays traced together over obvhs's CWBVH nodes: they share their origin, so one
 //! walk of the 8-wide tree serves up to 32 of them. Per node, what depends only on the origin is
 //! done once (child planes relative to the origin; the distance from the origin to each child box,
-//! culling boxes beyond d; boxes wholly below the surface's tangent plane; boxes holding the
-//! origin, which every ray enters); only the slab test is per ray, one ray against all 8 children.
+//! culling boxes beyond d; boxes below the cone the packet's rays rise in above the surface's
+//! tangent plane; boxes holding the origin, which every ray enters); only the slab test is per ray,
+//! one ray against all 8 children.
 //! Per triangle, `Seen` is done once and each ray costs 4 dot products, 4 or 8 rays at a time. The
 //! previous pixel's occluders are tried first (`Occluders`).
 //!
@@ -14,9 +15,10 @@ mod simd;
 
 use super::accel::Accel;
 use glam::{Vec3, Vec3A, Vec4};
+pub(super) use simd::child_planes;
 #[cfg(target_arch = "x86_64")]
 use simd::wide;
-use simd::{Packet, child_planes, groups_of, hit_group, lanes, present_children};
+use simd::{Packet, groups_of, hit_group, lanes, present_children};
 
 /// Rays per packet.
 pub const PACKET: usize = 32;
@@ -25,13 +27,26 @@ pub(super) const GROUPS: usize = PACKET / 4;
 /// 7 siblings per level over obvhs's maximum depth of 32, plus the 8 children of the last node.
 const STACK: usize = 256;
 
-/// A plane through the origin that no ray of the packet goes below: boxes entirely below it
-/// are culled for all rays at once.
+/// A plane through the origin that no ray of the packet goes below, and the least slope `s` at
+/// which they rise above it: a ray reaches height s·r only at distance r, so a box whose top is
+/// below s × its distance from the origin cannot be reached (the plane alone culls only boxes
+/// wholly below it). The cone matters next to the surface the origin lies on: the origin is
+/// lifted off it by a few ulps only, less than the boxes' padding, so without the cone every
+/// box of that surface near the pixel would be entered.
+#[derive(Debug, Clone, Copy)]
+struct Horizon {
+    n: Vec3A,
+    /// s², s the least d·n of the packet less 2e-6 (computed d·n is within a few ulps of the true
+    /// value, and the support and distance of a box within a few ulps of theirs).
+    slope2: f32,
+}
+
 #[inline(always)]
-fn horizon(dirs: &[Vec3], normal: Option<Vec3>) -> Option<Vec3A> {
+fn horizon(dirs: &[Vec3], normal: Option<Vec3>) -> Option<Horizon> {
     let n = normal?;
-    // Computed d·n within a few ulps of the true value: a margin of 1e-6 keeps every ray above.
-    dirs.iter().all(|d| d.dot(n) > 1e-6).then_some(n.into())
+    let least = dirs.iter().map(|d| d.dot(n)).fold(f32::INFINITY, f32::min);
+    let s = (least - 2e-6).max(0.0);
+    (least > 1e-6).then_some(Horizon { n: n.into(), slope2: s * s })
 }
 
 /// Triangles that blocked rays of the previous packet (the neighbouring pixel, on the same
@@ -43,6 +58,9 @@ pub struct Occluders {
     /// How many rays each blocked first (the next packet tries the best blockers first).
     counts: [u32; OCCLUDERS],
     len: usize,
+    /// The `Accel::id` the triangles belong to: a thread's cache outlives a scene (a thread-local in
+    /// the renderer), and another scene's triangle numbers may not even exist in this one.
+    owner: u64,
     /// The traversal stack, kept to spare each packet zeroing its own.
     stack: Vec<(u32, u32)>,
 }
@@ -144,7 +162,7 @@ impl Accel {
         &self,
         wide: bool,
         o: Vec3A,
-        up: Option<Vec3A>,
+        up: Option<Horizon>,
         dirs: &[Vec3],
         tmax: f32,
         cache: &mut Occluders,
@@ -165,7 +183,7 @@ impl Accel {
     unsafe fn occluded_packet_avx2(
         &self,
         o: Vec3A,
-        up: Option<Vec3A>,
+        up: Option<Horizon>,
         dirs: &[Vec3],
         tmax: f32,
         cache: &mut Occluders,
@@ -179,7 +197,7 @@ impl Accel {
     fn occluded_packet<const WIDE: bool>(
         &self,
         o: Vec3A,
-        up: Option<Vec3A>,
+        up: Option<Horizon>,
         dirs: &[Vec3],
         tmax: f32,
         cache: &mut Occluders,
@@ -187,6 +205,9 @@ impl Accel {
         let nodes = &self.bvh.nodes;
         if dirs.is_empty() || nodes.is_empty() {
             return 0;
+        }
+        if cache.owner != self.id {
+            (cache.owner, cache.len) = (self.id, 0);
         }
         let all = if dirs.len() >= 32 { u32::MAX } else { (1u32 << dirs.len()) - 1 };
         let mut p = Packet { d: [[Vec4::ZERO; GROUPS]; 3], inv: [[0.0; PACKET]; 3] };
@@ -197,8 +218,9 @@ impl Accel {
             r * r
         });
         // Without a horizon, a zero normal makes the support test below never cull (0 >= 0).
-        let n = up.unwrap_or(Vec3A::ZERO);
+        let (n, slope2) = up.map_or((Vec3A::ZERO, 0.0), |h| (h.n, h.slope2));
         let (nx, ny, nz) = (Vec4::splat(n.x), Vec4::splat(n.y), Vec4::splat(n.z));
+        let slope2 = Vec4::splat(slope2);
         let widen = Vec4::splat(1.0 + 8.0 * f32::EPSILON);
         let tmax4 = Vec4::splat(tmax);
         let mut blocked = 0u32;
@@ -209,6 +231,9 @@ impl Accel {
                 return;
             }
             let s = self.tris[prim as usize].seen_from(o);
+            if s.g == f32::INFINITY {
+                return; // the origin is within the rounding of its plane: no ray can hit it
+            }
             let mut new = 0u32;
             #[cfg(target_arch = "x86_64")]
             if WIDE {
@@ -240,11 +265,6 @@ impl Accel {
             if blocked & all == all {
                 break;
             }
-            // The cache is per thread, not per scene: after a switch to a scene with fewer triangles
-            // it may name triangles that do not exist here (any that do are merely tried early).
-            if prim as usize >= self.tris.len() {
-                continue;
-            }
             test(prim, all & !blocked, &mut blocked);
         }
         let mut stack = std::mem::take(&mut cache.stack);
@@ -262,7 +282,7 @@ impl Accel {
             let pl = child_planes(node, o);
             let present = present_children(&node.child_meta);
             // Shared by all rays: distance from the origin to each child box, whether the box
-            // reaches above the horizon plane, whether it holds the origin. Only culling aids (the
+            // reaches above the rays' cone (`Horizon`), whether it holds the origin. Only culling aids (the
             // slab test alone is exact).
             let (mut near, mut inside) = (0u32, 0u32);
             for h in 0..2 {
@@ -272,7 +292,8 @@ impl Accel {
                 let support = (pl[0][h] * nx).max(pl[1][h] * nx)
                     + (pl[2][h] * ny).max(pl[3][h] * ny)
                     + (pl[4][h] * nz).max(pl[5][h] * nz);
-                near |= (d2.cmple(reach2) & support.cmpge(Vec4::ZERO)).bitmask() << (4 * h);
+                let above = support.cmpge(Vec4::ZERO) & (support * support).cmpge(slope2 * d2);
+                near |= (d2.cmple(reach2) & above).bitmask() << (4 * h);
                 inside |= d2.cmpeq(Vec4::ZERO).bitmask() << (4 * h);
             }
             let (near, inside) = (near & present, inside & near & present);

@@ -67,7 +67,7 @@ pub(super) fn q8(v: &[u8; 8]) -> [Vec4; 2] {
 /// padded outwards by 2^-18 of their extent from `o` (far more than the rounding of the planes
 /// and of the triangle test's edge values).
 #[inline(always)]
-pub(super) fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 6] {
+pub(in crate::scene) fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 6] {
     let e = node.compute_extent();
     let rel = Vec3A::from(node.p) - o;
     let pad = (rel.abs() + e * 255.0) * (1.0 / 262144.0);
@@ -83,19 +83,21 @@ pub(super) fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 6] {
     [lx, hx, ly, hy, lz, hz]
 }
 
-/// Which lanes of group `g` hit `s` within (0, tmax): the vector form of `accel::hit_seen`.
+/// Which lanes of group `g` hit `s` within [0, tmax): the vector form of `accel::hit_seen`.
 #[inline(always)]
 pub(super) fn hit_group(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
     let (dx, dy, dz) = (p.d[0][g], p.d[1][g], p.d[2][g]);
     let dotv = |q: [f32; 3]| (dx * Vec4::splat(q[0]) + dy * Vec4::splat(q[1])) + dz * Vec4::splat(q[2]);
     let (u, v, w) = (dotv(s.x), dotv(s.y), dotv(s.z));
     let z = Vec4::ZERO;
-    let neg = u.cmplt(z) | v.cmplt(z) | w.cmplt(z);
-    let pos = u.cmpgt(z) | v.cmpgt(z) | w.cmpgt(z);
+    // min/max as SSE does them (the second operand where either is NaN), as `accel::hit_seen`.
+    let neg = u.min(v).min(w).cmplt(z);
+    let pos = u.max(v).max(w).cmpgt(z);
     let dn = dotv(s.n);
-    let t = Vec4::splat(s.t) / dn;
+    let near = Vec4::splat(s.t).cmplt(Vec4::splat(tmax) * dn);
     let sum = (u + v) + w;
-    let hit = !(neg & pos) & dn.cmpne(z) & t.cmpgt(z) & t.cmplt(Vec4::splat(tmax)) & sum.cmpne(z);
+    let sure = dn.cmpgt(Vec4::splat(s.g));
+    let hit = !(neg & pos) & sure & near & sum.cmpne(z);
     hit.bitmask()
 }
 
@@ -214,16 +216,14 @@ pub(super) mod wide {
         };
         let (u, v, w) = (dotv(s.x), dotv(s.y), dotv(s.z));
         let z = _mm256_setzero_ps();
-        let lt = |a| _mm256_cmp_ps::<_CMP_LT_OQ>(a, z);
-        let gt = |a| _mm256_cmp_ps::<_CMP_GT_OQ>(a, z);
-        let neg = _mm256_or_ps(_mm256_or_ps(lt(u), lt(v)), lt(w));
-        let pos = _mm256_or_ps(_mm256_or_ps(gt(u), gt(v)), gt(w));
+        let neg = _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_min_ps(_mm256_min_ps(u, v), w), z);
+        let pos = _mm256_cmp_ps::<_CMP_GT_OQ>(_mm256_max_ps(_mm256_max_ps(u, v), w), z);
         let dn = dotv(s.n);
-        let t = _mm256_div_ps(_mm256_set1_ps(s.t), dn);
+        let near = _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_set1_ps(s.t), _mm256_mul_ps(_mm256_set1_ps(tmax), dn));
         let sum = _mm256_add_ps(_mm256_add_ps(u, v), w);
-        let ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), _mm256_cmp_ps::<_CMP_NEQ_UQ>(dn, z));
-        let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_GT_OQ>(t, z));
-        let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(t, _mm256_set1_ps(tmax)));
+        let sure = _mm256_cmp_ps::<_CMP_GT_OQ>(dn, _mm256_set1_ps(s.g));
+        let ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), sure);
+        let ok = _mm256_and_ps(ok, near);
         let ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_NEQ_UQ>(sum, z));
         _mm256_movemask_ps(ok) as u32
     }

@@ -234,6 +234,7 @@ impl Sketch<'_> {
                 path: self.path.to_path_buf(),
                 id: id.to_string(),
                 name: self.stem.to_string(),
+                line: 0,
             }],
             resolution: Some(resolution),
             ao_distance: None,
@@ -241,6 +242,8 @@ impl Sketch<'_> {
             seed: 1,
             point_figures: false,
             reference,
+            // Unused: advise passes its --reference-dir to every reference lookup.
+            reference_dir: Path::new("reference").to_path_buf(),
             timing: TimingSpec { repeats: timing::DEFAULT_REPEATS, seed: 1 },
             groups: vec![group],
         }

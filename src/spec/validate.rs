@@ -1,7 +1,7 @@
 //! Phase 1 (serde: shape, unknown keys, types) and phase 2 (ranges, names, duplicates; all problems
 //! gathered with their lines) of reading a spec.
 
-use super::position::{key_at, line_of};
+use super::position::{describe, line_of};
 use super::*;
 use crate::error::{Error, Result};
 use serde::Deserialize;
@@ -32,6 +32,7 @@ struct RawSpec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawReference {
+    dir: Option<S<String>>,
     rays: Option<S<toml::Value>>,
     replicates: Option<S<i64>>,
     seed: Option<S<i64>>,
@@ -75,11 +76,21 @@ struct RawRow {
 struct Problems<'a> {
     text: &'a str,
     list: Vec<(usize, String)>,
+    /// The group being checked (`table 't2'`), said after its keys: the key path is TOML's
+    /// (`table.rays`), and the line and the name say which of several groups it is.
+    group: Option<String>,
 }
 
 impl Problems<'_> {
     fn add(&mut self, span: std::ops::Range<usize>, key: &str, what: impl std::fmt::Display) {
-        self.list.push((line_of(self.text, span.start), format!("key `{key}`: {what}")));
+        let of =
+            self.group.as_ref().filter(|_| key.contains('.')).map_or(String::new(), |g| format!(" ({g})"));
+        self.list.push((line_of(self.text, span.start), format!("key `{key}`{of}: {what}")));
+    }
+
+    /// A problem of the whole file (something missing), with no line to point at.
+    fn add_file(&mut self, key: &str, what: impl std::fmt::Display) {
+        self.list.push((0, format!("key `{key}`: {what}")));
     }
 
     fn int(&mut self, v: &S<i64>, key: &str, min: i64, max: i64) -> Option<u32> {
@@ -123,30 +134,55 @@ impl Problems<'_> {
 
 /// Parses and validates a spec. No IO: `path` is for messages and for resolving scene paths.
 pub fn parse_spec(text: &str, path: &Path) -> Result<Spec> {
-    let raw: RawSpec = toml::from_str(text).map_err(|e| {
-        let what = match e.span() {
-            Some(span) => {
-                let key = key_at(text, span.start).map(|k| format!(", key `{k}`")).unwrap_or_default();
-                format!(
-                    "line {}{key}: {}",
-                    line_of(text, span.start),
-                    e.message().trim_end().replace("expected i64", "expected an integer")
-                )
-            }
-            None => e.message().trim_end().to_string(),
-        };
-        Error::input(path, what)
-    })?;
-    let mut p = Problems { text, list: Vec::new() };
+    let raw: RawSpec =
+        toml::from_str(text).map_err(|e| Error::input(path, describe(text, &e, &shape_hint)))?;
+    let mut p = Problems { text, list: Vec::new(), group: None };
     let spec = validate(raw, path, &mut p);
     if p.list.is_empty() {
         Ok(spec)
     } else {
         p.list.sort_by_key(|(line, _)| *line);
         // One line per problem, each naming the file, so every line alone says where to look.
-        let lines: Vec<String> = p.list.iter().map(|(l, m)| format!("line {l}, {m}")).collect();
+        let lines: Vec<String> =
+            p.list.iter().map(|(l, m)| if *l == 0 { m.clone() } else { format!("line {l}, {m}") }).collect();
         Err(Error::input(path, lines.join(&format!("\n{}: ", path.display()))))
     }
+}
+
+/// What to write instead, for the shape errors a person makes (serde's words name types, not fixes).
+fn shape_hint(key: &str, message: &str) -> Option<String> {
+    let group = matches!(key, "table" | "convergence");
+    if group && message.contains("invalid type: map, expected a sequence") {
+        return Some(format!(
+            "write `[[{key}]]` with double brackets, not `[{key}]`: each `[[{key}]]` is one {}, and a spec \
+             may have several",
+            if key == "table" { "table" } else { "sweep" }
+        ));
+    }
+    if ["`mesh`", "`camera`"].iter().any(|k| message.starts_with(&format!("unknown field {k}"))) {
+        return Some(
+            "this is a scene file, not a spec: `hemilab run` and `plan` take a spec (like \
+             experiments/smoke.toml), which names its scene files in `scenes = [..]`; `render` and `bench` \
+             take a scene file"
+                .into(),
+        );
+    }
+    if !message.starts_with("missing field") {
+        return None;
+    }
+    let field = key.rsplit('.').next().unwrap_or(key);
+    Some(match field {
+        "scenes" => "add `scenes = [\"../scenes/kitchen.toml\"]`, paths relative to the spec file".into(),
+        "name" => "give it a `name = \"...\"` (letters, digits, '-', '_')".into(),
+        "rays" => "add `rays = [8, 16, 32]`, the ray counts per pixel".into(),
+        "distribution" => format!("add `distribution = ..`, one of {}", names(Distribution::ALL)),
+        "sequence" => format!("add `sequence = ..`, one of {}", names(Sequence::ALL)),
+        _ => return None,
+    })
+}
+
+fn names<T: std::fmt::Display>(all: &[T]) -> String {
+    all.iter().map(|x| format!("\"{x}\"")).collect::<Vec<_>>().join(", ")
 }
 
 /// The figure files (stems, `.png`) a group's report writes: `app::figures` names them so.
@@ -181,7 +217,10 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
                     "scenes",
                     format!("a second scene named '{stem}'; scene file names must differ"),
                 ),
-                Some(stem) => scenes.push(SceneRef { path: dir.join(&id), id, name: stem }),
+                Some(stem) => {
+                    let line = line_of(p.text, s.span().start);
+                    scenes.push(SceneRef { path: dir.join(&id), id, name: stem, line })
+                }
             }
         }
     }
@@ -192,13 +231,30 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         }
         let w = p.int(&r.get_ref()[0], "resolution", 1, MAX_SIDE as i64);
         let h = p.int(&r.get_ref()[1], "resolution", 1, MAX_SIDE as i64);
-        Some([w?, h?])
+        let (w, h) = (w?, h?);
+        if !resolution_ok(w as u64, h as u64) {
+            p.add(r.span(), "resolution", format!("{w}x{h} is too large; {RESOLUTION_RULE}"));
+            return None;
+        }
+        Some([w, h])
     });
     let ao_distance = raw.ao_distance.as_ref().and_then(|v| distance(v, p));
     let replicates =
         raw.replicates.as_ref().map_or(Some(1), |r| p.int(r, "replicates", 1, MAX_REPLICATES as i64));
     let seed = raw.seed.as_ref().map_or(1, |s| p.seed(s, "seed"));
     let reference = reference(raw.reference.as_ref(), seed, p);
+    let reference_dir = match raw.reference.as_ref().and_then(|r| r.dir.as_ref()) {
+        Some(d) if d.get_ref().trim().is_empty() => {
+            p.add(
+                d.span(),
+                "reference.dir",
+                "is empty; a directory relative to the spec file, e.g. \"reference\"",
+            );
+            dir.join("reference")
+        }
+        Some(d) => dir.join(d.get_ref()),
+        None => dir.join("reference"),
+    };
     let timing = TimingSpec {
         repeats: raw
             .timing
@@ -219,7 +275,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
     let mut all: Vec<_> = all.collect();
     all.sort_by_key(|(_, g)| g.span().start);
     if all.is_empty() {
-        p.add(0..0, "table", "the spec has no [[table]] and no [[convergence]]; add at least one");
+        p.add_file("table", "the spec has no [[table]] and no [[convergence]]; add at least one");
     }
     let point_figures = raw.point_figures.as_ref().is_some_and(|b| *b.get_ref());
     // Figure files already taken: the banding plot, and the point figures when drawn.
@@ -269,6 +325,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         seed,
         point_figures,
         reference,
+        reference_dir,
         timing,
         groups,
     }
@@ -283,7 +340,7 @@ fn kind_key(kind: GroupKind) -> &'static str {
 
 fn distance(v: &S<toml::Value>, p: &mut Problems) -> Option<AoDistance> {
     let d = match v.get_ref() {
-        toml::Value::String(s) if s == "infinite" => return Some(AoDistance::Infinite),
+        toml::Value::String(s) if is_infinite(s) => return Some(AoDistance::Infinite),
         toml::Value::Float(f) => *f,
         toml::Value::Integer(i) => *i as f64,
         _ => f64::NAN,
@@ -297,7 +354,7 @@ fn distance(v: &S<toml::Value>, p: &mut Problems) -> Option<AoDistance> {
             v.span(),
             "ao_distance",
             format!(
-                "{} is not allowed; a number in [{:e}, {:e}] or \"infinite\"",
+                "{} is not allowed; a number in [{:e}, {:e}] or \"infinite\" (or \"inf\")",
                 v.get_ref(),
                 f32::MIN_POSITIVE,
                 f32::MAX
@@ -370,7 +427,9 @@ fn group(
     let k = kind_key(kind);
     let raw = g.get_ref();
     let name = p.ident(&raw.name, &format!("{k}.name"));
-    let at = |key: &str| format!("{k}.{}.{key}", raw.name.get_ref());
+    let word = if kind == GroupKind::Table { "table" } else { "sweep" };
+    p.group = Some(format!("{word} '{}'", raw.name.get_ref()));
+    let at = |key: &str| format!("{k}.{key}");
     let mut rays = Vec::new();
     if p.non_empty(&raw.rays, &at("rays")) {
         for r in raw.rays.get_ref() {
@@ -409,6 +468,7 @@ fn group(
         }
     };
     let rows = rows(raw, &at(""), g.span(), p);
+    p.group = None;
     Some(Group {
         kind,
         name: name?,

@@ -274,9 +274,11 @@ pub struct AdviseArgs {
     /// Output directory (default: out/advise-<scene>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Where reference images and their manifests live.
-    #[arg(long, default_value = "reference")]
-    pub reference_dir: PathBuf,
+    /// Where reference images and their manifests live (default: `reference/` beside the scene
+    /// file, or its parent folder's `reference/` when that holds one of this scene, as in this
+    /// repository's layout of scenes/ beside reference/; never the current directory).
+    #[arg(long)]
+    pub reference_dir: Option<PathBuf>,
     #[command(flatten)]
     pub common: Common,
 }

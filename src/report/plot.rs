@@ -3,11 +3,10 @@
 //! reference's own noise as a floor and the per-image overhead as a wall; efficiency against ray
 //! count), and the structured-error (banding) metric per configuration.
 
+use super::axis::{log_axis, tick};
 use super::canvas::text_size;
 use super::{FONT, Format, render};
 use plotters::coord::Shift;
-use plotters::coord::combinators::{LogCoord, WithKeyPoints};
-use plotters::coord::ranged1d::SegmentValue;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -87,10 +86,10 @@ pub(super) const PALETTE: [RGBColor; 16] = [
 const GUIDE_REACH: f64 = 4.0;
 
 /// Series `i`'s colour and whether its line is dashed (beyond Tableau's ten).
-fn series_style(i: usize) -> (RGBColor, bool) {
+pub(super) fn series_style(i: usize) -> (RGBColor, bool) {
     (PALETTE[i % PALETTE.len()], i >= 10)
 }
-const W: u32 = 960;
+pub(super) const W: u32 = 960;
 const H: u32 = 620;
 const LEGEND_PX: f64 = 18.0;
 
@@ -194,7 +193,7 @@ pub fn convergence_plot(
     })
 }
 
-fn bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
+pub(super) fn bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
     v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)))
 }
 
@@ -293,157 +292,6 @@ fn draw_convergence<DB: DrawingBackend>(
         }
         legend.draw_text(e, &font, (54, y)).map_err(err)?;
     }
-    Ok(())
-}
-
-/// A log axis from `lo` to `hi` with its ticks chosen here: plotters ticks a log axis only from the
-/// first power of ten inside it, so a 1.7–50 ms axis got 10, 20 and 50 alone. Labelled: 1, 2 and
-/// 5 × 10^k (every 1..9 × 10^k on an axis within a decade, and more decades than fit: powers of
-/// ten only); grid lines at every 1..9 × 10^k.
-fn log_axis(lo: f64, hi: f64) -> WithKeyPoints<LogCoord<f64>> {
-    let (bold, light) = log_ticks(lo, hi);
-    (lo..hi).log_scale().with_key_points(bold).with_light_points(light)
-}
-
-/// (labelled, grid-only) tick values of a log axis over [lo, hi].
-fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
-    let decades = (hi / lo).log10();
-    let labelled: &[f64] = if decades <= 1.0 {
-        &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
-    } else if decades <= 5.0 {
-        &[1.0, 2.0, 5.0]
-    } else {
-        &[1.0]
-    };
-    let (mut bold, mut light) = (Vec::new(), Vec::new());
-    for k in lo.log10().floor() as i32..=hi.log10().ceil() as i32 {
-        for m in 1..=9 {
-            // Through the decimal text, so 0.3 is 0.3 and not 0.30000000000000004.
-            let v: f64 = format!("{m}e{k}").parse().unwrap_or(f64::NAN);
-            if v >= lo && v <= hi {
-                if labelled.contains(&(m as f64)) { bold.push(v) } else { light.push(v) }
-            }
-        }
-    }
-    (bold, light)
-}
-
-/// Tick text on a log axis spanning `ratio` (max / min): over more than a decade only 1, 2 and 5 ×
-/// 10^k are labelled (for plots that keep plotters' own ticks, e.g. `advice`).
-pub(super) fn log_tick(v: f64, ratio: f64) -> String {
-    if ratio > 10.0 && v > 0.0 {
-        let m = v / 10f64.powf(v.log10().floor());
-        if ![1.0, 2.0, 5.0, 10.0].iter().any(|k| (m - k).abs() < 1e-6 * k) {
-            return String::new();
-        }
-    }
-    tick(v)
-}
-
-/// Tick text for log axes: plain numbers for the usual range, exponent form outside it.
-fn tick(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if (1e-3..1e5).contains(&a) {
-        let digits = (3 - a.log10().floor() as i32 - 1).clamp(0, 4) as usize;
-        let s = format!("{v:.digits$}");
-        if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
-    } else {
-        format!("{v:.0e}")
-    }
-}
-
-/// Horizontal bars of a structured-error metric (e.g. lag-1 error autocorrelation: near 0 for
-/// independent per-pixel noise, near 1 for banding) per configuration, mean ± sd over replicates.
-pub fn banding_plot(
-    title: &str,
-    x_label: &str,
-    bars: &[(String, f64, f64)],
-    format: Format,
-) -> Result<Vec<u8>, String> {
-    if bars.is_empty() {
-        return Err("a banding plot needs at least one bar".into());
-    }
-    if let Some(b) = bars.iter().find(|b| !(b.1.is_finite() && b.2.is_finite() && b.2 >= 0.0)) {
-        return Err(format!("bar '{}': mean {} ± sd {} must be finite with sd >= 0", b.0, b.1, b.2));
-    }
-    let (lo, _) = bounds(bars.iter().map(|b| b.1 - b.2).chain([0.0]));
-    let (_, hi) = bounds(bars.iter().map(|b| b.1 + b.2).chain([0.0]));
-    let span = if hi - lo > 0.0 { hi - lo } else { 1.0 };
-    let range = (lo - 0.05 * span * (lo < 0.0) as u8 as f64, hi + 0.25 * span);
-    let label_w = bars.iter().map(|b| text_size(&b.0, 18.0, false).0).max().unwrap_or(0) + 24;
-    let h = 140 + 44 * bars.len() as u32;
-    render!(format, W, h, |root: &DrawingArea<_, Shift>| draw_banding(
-        root, title, x_label, bars, range, label_w
-    ))
-}
-
-fn draw_banding<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    title: &str,
-    x_label: &str,
-    bars: &[(String, f64, f64)],
-    (x0, x1): (f64, f64),
-    label_w: u32,
-) -> Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-    let n = bars.len();
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, (FONT, 28.0, FontStyle::Bold).into_font())
-        .margin(16)
-        .x_label_area_size(56)
-        .y_label_area_size(label_w)
-        .build_cartesian_2d(x0..x1, (0..n - 1).into_segmented())
-        .map_err(err)?;
-    // Bars are listed top to bottom in the order given.
-    let slot = |i: usize| n - 1 - i;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .axis_desc_style((FONT, 21.0))
-        .label_style((FONT, 18.0))
-        .y_labels(n)
-        .y_label_formatter(&|v| match v {
-            SegmentValue::CenterOf(j) if *j < n => bars[n - 1 - j].0.clone(),
-            _ => String::new(),
-        })
-        .disable_y_mesh()
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(200, 200, 200))
-        .draw()
-        .map_err(err)?;
-    let font = (FONT, 17.0).into_font().color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
-    for (i, (_, m, sd)) in bars.iter().enumerate() {
-        let j = slot(i);
-        let (c, _) = series_style(i);
-        let mut rect = Rectangle::new(
-            [(0.0, SegmentValue::Exact(j)), (*m, SegmentValue::Exact(j + 1))],
-            c.mix(0.8).filled(),
-        );
-        rect.set_margin(7, 7, 0, 0);
-        chart.draw_series([rect]).map_err(err)?;
-        let y = SegmentValue::CenterOf(j);
-        let (a, b) = (m - sd, m + sd);
-        chart
-            .draw_series([PathElement::new(vec![(a, y.clone()), (b, y.clone())], BLACK.stroke_width(2))])
-            .map_err(err)?;
-        for x in [a, b] {
-            let cap = EmptyElement::at((x, y.clone()))
-                + PathElement::new(vec![(0, -7), (0, 7)], BLACK.stroke_width(2));
-            chart.draw_series([cap]).map_err(err)?;
-        }
-        let text = format!("{m:.3} ± {sd:.3}");
-        let at = EmptyElement::at((b.max(0.0), y.clone())) + Text::new(text, (10, 0), font.clone());
-        chart.draw_series([at]).map_err(err)?;
-    }
-    // The zero line, so negative (anti-correlated) values read as such.
-    chart
-        .draw_series([PathElement::new(
-            vec![(0.0, SegmentValue::Exact(0)), (0.0, SegmentValue::Last)],
-            BLACK.stroke_width(1),
-        )])
-        .map_err(err)?;
     Ok(())
 }
 
@@ -564,47 +412,5 @@ mod tests {
         assert!(convergence_plot("t", "x", "y", &[bad_range], &[], f).is_err());
         let short = Series { x_range: vec![], ..Series::new("s", vec![(1.0, 0.1, 0.0)]) };
         assert!(convergence_plot("t", "x", "y", &[short], &[], f).is_ok(), "one point is a plot");
-    }
-
-    #[test]
-    fn banding_plot_lists_every_configuration() {
-        let bars = vec![("random".to_string(), -0.02, 0.01), ("fibonacci static".to_string(), 0.95, 0.02)];
-        let svg =
-            String::from_utf8(banding_plot("Banding", "lag-1 autocorrelation", &bars, Format::Svg).unwrap())
-                .unwrap();
-        for label in
-            ["<svg", "Banding", "lag-1 autocorrelation", "random", "fibonacci static", "0.950 ± 0.020"]
-        {
-            assert!(svg.contains(label), "SVG lacks {label}");
-        }
-        let (w, _, _) = decode_png(&banding_plot("b", "x", &bars, Format::Png).unwrap());
-        assert_eq!(w, W);
-        let one = vec![("only".to_string(), 0.0, 0.0)];
-        assert!(banding_plot("b", "x", &one, Format::Png).is_ok());
-        assert!(banding_plot("b", "x", &[], Format::Png).is_err());
-        assert!(banding_plot("b", "x", &[("n".into(), f64::NAN, 0.0)], Format::Png).is_err());
-        assert!(banding_plot("b", "x", &[("n".into(), 0.1, -1.0)], Format::Svg).is_err());
-    }
-
-    #[test]
-    fn ticks_read_as_plain_numbers() {
-        assert_eq!(tick(1.0), "1");
-        assert_eq!(tick(1000.0), "1000");
-        assert_eq!(tick(0.001), "0.001");
-        assert_eq!(tick(0.05), "0.05");
-        assert_eq!(tick(1e-5), "1e-5");
-        let (bold, light) = log_ticks(0.004, 0.3);
-        assert_eq!(bold, [0.005, 0.01, 0.02, 0.05, 0.1, 0.2], "crowded ticks of a wide axis go unlabelled");
-        assert!(light.contains(&0.07) && light.contains(&0.3) && !light.contains(&0.05));
-        assert_eq!(
-            log_ticks(1.7, 9.0).0,
-            [2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
-            "a narrow axis keeps them"
-        );
-        assert_eq!(
-            log_ticks(0.5, 2e6).0,
-            [1.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6],
-            "many decades: powers of ten"
-        );
     }
 }

@@ -55,6 +55,7 @@
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use std::path::{Component, Path, PathBuf};
 
+mod group;
 pub(crate) mod position;
 mod validate;
 

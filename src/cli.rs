@@ -27,7 +27,8 @@ pub enum Command {
     Reference(ReferenceArgs),
     /// Merge the output directories of `run --shard K/N` into one set of results and one report.
     Merge(MergeArgs),
-    /// Render one AO image of a scene.
+    /// Render one AO image of a scene (default: sine-cosine, Fibonacci lattice, per-pixel seed, the
+    /// configuration the README recommends).
     Render(RenderArgs),
     /// Measure AO rays per second on a scene (the performance figure of record).
     Bench(BenchArgs),
@@ -61,9 +62,10 @@ pub struct RunArgs {
     /// Stop with an error instead of rendering a missing or mismatched reference.
     #[arg(long)]
     pub no_build_reference: bool,
-    /// Where reference images and their manifests live.
-    #[arg(long, default_value = "reference")]
-    pub reference_dir: PathBuf,
+    /// Where reference images and their manifests live (default: the spec's `[reference] dir`,
+    /// relative to the spec file, else `reference/` beside the spec).
+    #[arg(long, value_name = "DIR")]
+    pub reference_dir: Option<PathBuf>,
     /// Timed renders per configuration at least (default: the spec's `[timing] repeats`, else 3);
     /// a configuration with fewer replicates is re-rendered, for its time only.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100))]
@@ -108,9 +110,10 @@ pub struct PlanArgs {
     /// Also list every job, in run order, after the summary.
     #[arg(long)]
     pub jobs: bool,
-    /// Where reference images live (whether they must be built counts in the estimate).
-    #[arg(long, default_value = "reference")]
-    pub reference_dir: PathBuf,
+    /// Where reference images live (whether they must be built counts in the estimate; default:
+    /// the spec's `[reference] dir`, else `reference/` beside the spec).
+    #[arg(long, value_name = "DIR")]
+    pub reference_dir: Option<PathBuf>,
     /// Threads the run will use (default: all cores), as `run --threads`.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -126,9 +129,10 @@ pub struct MergeArgs {
     /// Output directory of the merged results and report (default: out/<spec name>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Where reference images live (the report measures against them).
-    #[arg(long, default_value = "reference")]
-    pub reference_dir: PathBuf,
+    /// Where reference images live (the report measures against them; default: the spec's
+    /// `[reference] dir`, else `reference/` beside the spec).
+    #[arg(long, value_name = "DIR")]
+    pub reference_dir: Option<PathBuf>,
     /// No progress bars.
     #[arg(long, short)]
     pub quiet: bool,
@@ -138,23 +142,27 @@ pub struct MergeArgs {
 pub struct ReferenceArgs {
     /// Experiment spec (TOML).
     pub spec: PathBuf,
-    /// Where reference images and their manifests live.
-    #[arg(long, default_value = "reference")]
-    pub reference_dir: PathBuf,
+    /// Where reference images and their manifests live (default: the spec's `[reference] dir`,
+    /// relative to the spec file, else `reference/` beside the spec).
+    #[arg(long, value_name = "DIR")]
+    pub reference_dir: Option<PathBuf>,
     #[command(flatten)]
     pub common: Common,
 }
 
+/// `render`'s estimator: by default the one the README's answer recommends, sine-cosine through
+/// the Fibonacci lattice with a per-pixel seed (the paper's "random seed per pixel").
 #[derive(Debug, Args)]
-pub struct SamplingArgs {
+pub struct RenderSampling {
     /// Hemisphere distribution: uniform, sine, sine-cosine, concentric-cosine.
-    #[arg(long, value_parser = parse_distribution, value_name = "D")]
+    #[arg(long, value_parser = parse_distribution, value_name = "D", default_value = "sine-cosine")]
     pub distribution: Distribution,
     /// Point sequence: random, fibonacci, stratified, sobol.
-    #[arg(long, value_parser = parse_sequence, value_name = "S")]
+    #[arg(long, value_parser = parse_sequence, value_name = "S", default_value = "fibonacci")]
     pub sequence: Sequence,
-    /// Randomization across pixels: static, rotation, shift, blue-noise.
-    #[arg(long, value_parser = parse_seed_mode, value_name = "M")]
+    /// Randomization across pixels: static, rotation (the paper's per-pixel seed), shift (unbiased
+    /// per pixel), blue-noise.
+    #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "rotation")]
     pub seed_mode: SeedMode,
     /// Run seed: different seeds give independent images.
     #[arg(long, default_value_t = 1)]
@@ -166,7 +174,7 @@ pub struct RenderArgs {
     /// Scene file (TOML).
     pub scene: PathBuf,
     #[command(flatten)]
-    pub sampling: SamplingArgs,
+    pub sampling: RenderSampling,
     /// AO rays per pixel.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
     pub rays: u32,
@@ -193,10 +201,10 @@ pub struct BenchArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// AO distances d to compare at, in scene units, comma-separated; `inf` = unbounded
-    /// (default: 0.3,1,inf, i.e. metres for the kitchen).
-    #[arg(long, value_parser = parse_distance, value_delimiter = ',', default_value = "0.3,1,inf")]
-    pub distances: Vec<f32>,
+    /// AO distances d to compare at, in scene units, comma-separated; `inf` (or `infinite`) =
+    /// unbounded (default: the scene's own d, 0.3 × d and inf; inf alone for a scene with d = inf).
+    #[arg(long, value_parser = parse_distance, value_delimiter = ',', value_name = "LIST")]
+    pub distances: Option<Vec<f32>>,
     /// Timed repeats per configuration (min / median / max are reported).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=100))]
     pub repeats: u32,
@@ -205,12 +213,12 @@ pub struct BenchArgs {
 /// A positive AO distance, or `inf` / `infinite`.
 pub fn parse_distance(s: &str) -> Result<f32, String> {
     let t = s.trim();
-    if t.eq_ignore_ascii_case("inf") || t.eq_ignore_ascii_case("infinite") {
+    if crate::spec::is_infinite(t) {
         return Ok(f32::INFINITY);
     }
     match t.parse::<f32>() {
         Ok(d) if d > 0.0 && d.is_finite() => Ok(d),
-        _ => Err(format!("distance '{s}' must be a positive number or 'inf'")),
+        _ => Err(format!("distance '{s}' must be a positive number or 'inf' (or 'infinite')")),
     }
 }
 
@@ -266,9 +274,11 @@ pub struct AdviseArgs {
     /// Output directory (default: out/advise-<scene>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Where reference images and their manifests live.
-    #[arg(long, default_value = "reference")]
-    pub reference_dir: PathBuf,
+    /// Where reference images and their manifests live (default: `reference/` beside the scene
+    /// file, or its parent folder's `reference/` when that holds one of this scene, as in this
+    /// repository's layout of scenes/ beside reference/; never the current directory).
+    #[arg(long)]
+    pub reference_dir: Option<PathBuf>,
     #[command(flatten)]
     pub common: Common,
 }
@@ -297,16 +307,15 @@ fn parse_seed_mode(s: &str) -> Result<SeedMode, String> {
     s.parse()
 }
 
-/// Largest image side accepted: beyond this, a float image no longer fits a sane memory budget.
-pub const MAX_SIDE: u32 = 16_384;
+pub use crate::spec::MAX_SIDE;
 
-/// Parses `WxH` with both sides in 1..=MAX_SIDE.
+/// Parses `WxH` within `spec::RESOLUTION_RULE` (the limits of scene files and specs).
 pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
-    let bad = || format!("resolution '{s}' must be WxH with each side in 1..={MAX_SIDE}, e.g. 320x240");
+    let bad = || format!("resolution '{s}' must be WxH, {}; e.g. 320x240", crate::spec::RESOLUTION_RULE);
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+    if !crate::spec::resolution_ok(w as u64, h as u64) {
         return Err(bad());
     }
     Ok((w, h))

@@ -387,6 +387,7 @@ mod manifest_tests {
             path: "experiments/../scenes/kitchen.toml".into(),
             id: "../scenes/kitchen.toml".into(),
             name: "kitchen".into(),
+            line: 1,
         };
         let est = Row::new(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Shift);
         Manifest::wanted(

@@ -3,13 +3,15 @@
 //! ```toml
 //! name = "paper"                        # optional; output dir out/<name>/; default: file stem
 //! scenes = ["../scenes/kitchen.toml"]   # relative to the spec file; stems must differ
-//! resolution = [160, 120]               # optional override of the scenes' own; sides 1..=16384
-//! ao_distance = 1.0                     # optional override: a number > 0 or "infinite"
+//! resolution = [160, 120]               # optional override of the scenes' own; sides 1..=16384,
+//!                                       # at most 67108864 pixels (8192x8192)
+//! ao_distance = 1.0                     # optional override: a number > 0 or "infinite" ("inf")
 //! replicates = 4                        # independent seeds per (row, rays); 1..=1000; default 1
 //! seed = 1                              # base seed, 0..=4294967295; default 1
 //! point_figures = true                  # optional: also draw Table 1 and Figures 2-4; default false
 //!
 //! [reference]                           # optional section; defaults shown
+//! dir = "reference"                     # where reference images live, relative to this file
 //! rays = "auto"                         # or 1..=4194304 rays per pixel per replicate
 //! replicates = 4                        # 2..=1000 (their spread gives the standard error)
 //! seed = 1                              # default: the base seed (its own stream)
@@ -53,7 +55,8 @@
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use std::path::{Component, Path, PathBuf};
 
-mod position;
+mod group;
+pub(crate) mod position;
 mod validate;
 
 pub use validate::parse_spec;
@@ -63,7 +66,18 @@ pub const MAX_RAYS: u32 = 65_536;
 /// References may go higher: they are rendered once and committed.
 pub const MAX_REFERENCE_RAYS: u32 = 1 << 22;
 pub const MAX_REPLICATES: u32 = 1000;
+/// Image sides are 1..=MAX_SIDE, and an image holds at most MAX_PIXELS pixels (8192x8192, or
+/// e.g. 16384x4096): beyond that its AO and coverage channels and their EXR encoding need several
+/// GB. Command line, scene files and specs all check both, with `RESOLUTION_RULE` as the text.
 pub const MAX_SIDE: u32 = 16_384;
+pub const MAX_PIXELS: u64 = 1 << 26;
+pub const RESOLUTION_RULE: &str =
+    "each side 1..=16384 and at most 67108864 pixels in all (8192x8192, or e.g. 16384x4096)";
+
+/// Whether `w` x `h` is an image size hemilab accepts (`RESOLUTION_RULE`).
+pub fn resolution_ok(w: u64, h: u64) -> bool {
+    (1..=MAX_SIDE as u64).contains(&w) && (1..=MAX_SIDE as u64).contains(&h) && w * h <= MAX_PIXELS
+}
 /// Timed renders per configuration: beyond this a run is a benchmark, not an experiment.
 pub const MAX_TIMING_REPEATS: u32 = 100;
 
@@ -72,6 +86,12 @@ pub const MAX_TIMING_REPEATS: u32 = 100;
 pub enum AoDistance {
     Finite(f64),
     Infinite,
+}
+
+/// The words for an unbounded AO distance, in a scene file, a spec and on the command line alike.
+pub fn is_infinite(s: &str) -> bool {
+    let t = s.trim();
+    t.eq_ignore_ascii_case("infinite") || t.eq_ignore_ascii_case("inf")
 }
 
 impl AoDistance {
@@ -116,6 +136,30 @@ impl Row {
     pub fn label(&self) -> String {
         format!("{}/{}/{}", self.distribution, self.sequence, self.seed_mode)
     }
+
+    /// The configuration as every person-facing text names it (report, figures, tables, the
+    /// terminal), in the paper's words: "sine-cosine, Fibonacci, per-pixel seed". The README's
+    /// "Configuration names" maps these words to the `results.csv` values (`Row::label`'s).
+    pub fn name(&self) -> String {
+        let seq = match self.sequence {
+            Sequence::Random => "pseudo-random",
+            Sequence::Fibonacci => "Fibonacci",
+            Sequence::Stratified => "stratified",
+            Sequence::Sobol => "Sobol'",
+        };
+        let mode = match self.seed_mode {
+            // Fresh numbers per pixel: the paper's plain pseudo-random row needs no seed words.
+            SeedMode::Rotation | SeedMode::Shift if self.sequence == Sequence::Random => None,
+            SeedMode::Rotation => Some("per-pixel seed"),
+            SeedMode::Static => Some("static seed"),
+            SeedMode::Shift => Some("shift"),
+            SeedMode::BlueNoise => Some("blue-noise"),
+        };
+        match mode {
+            Some(m) => format!("{}, {seq}, {m}", self.distribution),
+            None => format!("{}, {seq}", self.distribution),
+        }
+    }
 }
 
 /// A scene as the spec names it.
@@ -127,6 +171,8 @@ pub struct SceneRef {
     pub id: String,
     /// File stem: the `scene` column of the results.
     pub name: String,
+    /// Line of the spec that names it, for messages.
+    pub line: usize,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -195,6 +241,11 @@ pub struct Spec {
     /// only the spec that reproduces the paper asks for them.
     pub point_figures: bool,
     pub reference: ReferenceSpec,
+    /// Where the references live: `[reference] dir`, relative to the spec file, by default
+    /// `reference/` beside it. Relative to the spec and not to the current directory, so a committed
+    /// reference is found from anywhere and a user's own spec never writes into another project's
+    /// folder. (Not part of `ReferenceSpec`: where a reference is stored does not change it.)
+    pub reference_dir: PathBuf,
     pub timing: TimingSpec,
     /// Tables and sweeps in file order.
     pub groups: Vec<Group>,
@@ -232,6 +283,19 @@ mod tests {
         assert_eq!(normalize("../scenes/kitchen.toml"), "../scenes/kitchen.toml");
         assert_eq!(normalize("../../x"), "../../x");
         assert_eq!(normalize("/work/./a/../scenes/k.toml"), "/work/scenes/k.toml");
+    }
+
+    #[test]
+    fn names_are_the_papers_words() {
+        use {Distribution as D, SeedMode as M, Sequence as S};
+        let name = |d, s, m| Row::new(d, s, m).name();
+        assert_eq!(name(D::SineCosine, S::Fibonacci, M::Rotation), "sine-cosine, Fibonacci, per-pixel seed");
+        assert_eq!(name(D::SineCosine, S::Fibonacci, M::Static), "sine-cosine, Fibonacci, static seed");
+        assert_eq!(name(D::Uniform, S::Random, M::Rotation), "uniform, pseudo-random");
+        assert_eq!(name(D::Uniform, S::Random, M::Shift), "uniform, pseudo-random");
+        assert_eq!(name(D::Sine, S::Random, M::Static), "sine, pseudo-random, static seed");
+        assert_eq!(name(D::ConcentricCosine, S::Sobol, M::Shift), "concentric-cosine, Sobol', shift");
+        assert_eq!(name(D::Sine, S::Stratified, M::BlueNoise), "sine, stratified, blue-noise");
     }
 
     #[test]

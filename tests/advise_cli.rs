@@ -265,3 +265,31 @@ fn the_committed_kitchen_reference_is_reused_by_default() {
     assert_eq!(a["recommendations"][0]["status"], "above", "1 s is beyond 4 rays at 64x48");
     assert_eq!(files(), before, "nothing added to reference/");
 }
+
+/// Without --reference-dir, from another directory, the shipped kitchen's committed reference is
+/// found (the repository's reference/ beside scenes/), and nothing is written beside the scene.
+#[test]
+fn committed_reference_is_found_from_anywhere() {
+    let t = Tmp::new("advise-anywhere");
+    let o = t.hemilab(&[
+        "advise",
+        &scene("kitchen.toml"),
+        "--only",
+        "sine-cosine/fibonacci/shift",
+        "--rays",
+        "1,2",
+        "--replicates",
+        "2",
+        "--out",
+        "x",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let a = json(&t.path("x/advice.json"));
+    let file = a["reference"]["file"].as_str().unwrap();
+    assert!(file.contains("reference/kitchen-64x48-"), "{file}");
+    assert!(a["setup"].as_str().unwrap().contains("stored reference"), "{}", a["setup"]);
+    let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/reference");
+    assert!(!scenes.exists(), "advise wrote {}", scenes.display());
+    assert!(!t.path("reference").exists(), "advise wrote into the current directory");
+}

@@ -5,10 +5,10 @@
 //! replicate by replicate (sd of the per-replicate differences / √n), and a pass is not luck of the
 //! seeds.
 
-use hemilab::results::{Aggregate, JobResult, Slope, aggregate, convergence_slopes, from_json};
+mod common;
+
+use hemilab::results::{Aggregate, JobResult, Slope, aggregate, convergence_slopes};
 use hemilab::stats::paired_difference;
-use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::sync::OnceLock;
 
 const RAYS: [u32; 3] = [8, 16, 32];
@@ -26,33 +26,9 @@ struct Run {
 fn run() -> &'static Run {
     static RUN: OnceLock<Run> = OnceLock::new();
     RUN.get_or_init(|| {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let out: PathBuf = std::env::temp_dir().join(format!("hemilab-claims-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&out);
-        let status = Command::new(env!("CARGO_BIN_EXE_hemilab"))
-            .arg("run")
-            .arg(root.join("experiments/claims.toml"))
-            .arg("--out")
-            .arg(&out)
-            .arg("--reference-dir")
-            .arg(root.join("reference"))
-            .arg("--no-build-reference")
-            .arg("--quiet")
-            .output()
-            .expect("hemilab runs");
-        assert!(
-            status.status.success(),
-            "hemilab run experiments/claims.toml failed (is the claims reference committed? \
-             `hemilab reference experiments/claims.toml` rebuilds it):\n{}",
-            String::from_utf8_lossy(&status.stderr)
-        );
-        let text = std::fs::read_to_string(out.join("results.json")).expect("results.json");
-        let results = from_json(&text).expect("results.json parses");
-        let _ = std::fs::remove_dir_all(&out);
+        let (results, o) = common::run_shipped_spec("claims");
         let aggs = aggregate(&results);
-        let stdout = String::from_utf8_lossy(&status.stdout).into_owned();
-        let stderr = String::from_utf8_lossy(&status.stderr).into_owned();
-        Run { stdout, stderr, results, aggs }
+        Run { stdout: common::stdout(&o), stderr: common::stderr(&o), results, aggs }
     })
 }
 

@@ -26,6 +26,12 @@ fn points_writes_a_png_and_an_svg_panel() {
         png.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // A summary, as `render` prints one.
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        said.trim_end(),
+        format!("500 points, sine-cosine, Fibonacci, static seed, run seed 1 (pixel 0) -> {}", png.display())
+    );
     let bytes = std::fs::read(&png).unwrap();
     let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png).unwrap();
     assert!(img.width() >= 280 && img.height() >= 280, "{}x{}", img.width(), img.height());

@@ -81,7 +81,10 @@ fn bad_arguments_exit_2_and_create_nothing() {
         (with(good("scenes/cornell-box.toml", "cosine", "4"), &[]), "cosine"),
         (with(good("scenes/cornell-box.toml", "sine", "0"), &[]), "--rays"),
         (with(good("scenes/cornell-box.toml", "sine", "4"), &["--resolution", "0x8"]), "resolution"),
-        (with(good("scenes/cornell-box.toml", "sine", "4"), &["--resolution", "16384x16384"]), "memory"),
+        (
+            with(good("scenes/cornell-box.toml", "sine", "4"), &["--resolution", "16384x16384"]),
+            "at most 67108864 pixels",
+        ),
         (with(good("scenes/no-such-scene.toml", "sine", "4"), &[]), "no-such-scene.toml"),
     ];
     for (mut args, want) in cases {
@@ -98,6 +101,21 @@ fn bad_arguments_exit_2_and_create_nothing() {
     assert_eq!(out.status.code(), Some(2), "an output that is not .exr");
     assert!(String::from_utf8_lossy(&out.stderr).contains(".exr"));
     assert!(entries(&dir).is_empty());
+}
+
+/// `render SCENE --rays N --output F` alone renders the recommended estimator: the same bytes as
+/// sine-cosine, Fibonacci, per-pixel seed (rotation) given explicitly.
+#[test]
+fn render_defaults_to_the_recommended_estimator() {
+    let dir = temp_dir("render-default");
+    let (a, b) = (dir.join("a.exr"), dir.join("b.exr"));
+    let base = ["render", "scenes/cornell-box.toml", "--rays", "4", "--resolution", "16x12", "--quiet"];
+    let out = hemilab(&[&base[..], &["--output", a.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let explicit = ["--distribution", "sine-cosine", "--sequence", "fibonacci", "--seed-mode", "rotation"];
+    let out = hemilab(&[&base[..], &explicit, &["--output", b.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
 }
 
 #[test]
@@ -146,6 +164,30 @@ fn bench_reports_json() {
             }
         }
     }
+}
+
+/// Without `--distances` the table compares at the scene's own d (the Cornell box's 150 mm), 0.3 d
+/// and ∞, prints ∞ as ∞ and the disagreements as counts, not as JSON; "infinite" = "inf".
+#[test]
+fn bench_table_defaults_to_the_scene_distance_and_reads_plainly() {
+    let args = ["bench", "scenes/cornell-box.toml", "--rays", "2", "--resolution", "8x8", "--repeats", "1"];
+    let out = hemilab(&args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let ds: Vec<&str> = text
+        .lines()
+        .filter(|l| l.split_whitespace().nth(1) == Some("1"))
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    assert_eq!(ds, ["45", "150", "∞"], "{text}");
+    assert!(text.contains("whole render, d = 150,"), "{text}");
+    assert!(!text.contains('"') && !text.contains('{'), "{text}");
+    assert_eq!(text.matches("mismatching rays: ").count(), 3, "{text}");
+    let mut json = args.to_vec();
+    json.extend(["--json", "--distances", "infinite,inf"]);
+    let v: serde_json::Value = serde_json::from_slice(&hemilab(&json).stdout).unwrap();
+    let cmp = v["comparison"].as_array().unwrap();
+    assert!(cmp.len() == 2 && cmp.iter().all(|c| c["ao_distance"] == "infinite"), "{v}");
 }
 
 #[test]

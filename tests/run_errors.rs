@@ -11,10 +11,13 @@ fn bad_specs_exit_2_name_file_line_and_key_and_create_nothing() {
     let t = Tmp::new("bad-spec");
     let good = tiny_spec(16, "");
     let cases: [(String, &[&str]); 4] = [
-        (good.replace("rays = [2, 4]", "rays = [0]"), &["line 14", "key `table.t.rays`", "1..=65536"]),
+        (
+            good.replace("rays = [2, 4]", "rays = [0]"),
+            &["line 14", "key `table.rays` (table 't')", "1..=65536"],
+        ),
         (
             good.replace("\"uniform\"", "\"unifrm\""),
-            &["line 16", "key `table.t.rows.distribution`", "valid: uniform, sine, sine-cosine"],
+            &["line 16", "key `table.rows.distribution` (table 't')", "valid: uniform, sine, sine-cosine"],
         ),
         (
             good.replace("seed = 3", "seed = 3\nraplicates = 2"),
@@ -156,4 +159,20 @@ fn auto_reference_is_reused_only_with_enough_rays() {
     assert!(e.contains("rays: stored 2 x 256, wanted at least 2 x 1024"), "{e}");
     t.run_ok(&more, "out2", "ref", &[]);
     t.run_ok(&spec, "out", "ref", &["--no-build-reference"]);
+}
+
+/// A run that would take hours says so before it starts (here it then stops: no reference and
+/// `--no-build-reference`); a small one does not.
+#[test]
+fn long_run_is_announced_before_it_starts() {
+    let t = Tmp::new("long-run");
+    let big = tiny_spec(16, "").replace("resolution = [24, 18]", "resolution = [8192, 8192]");
+    let spec = t.spec("big.toml", &big.replace("rays = [2, 4]", "rays = [1024]"));
+    let o = t.run(&spec, "out", "ref", &["--no-build-reference"]);
+    let e = stderr(&o);
+    assert!(e.starts_with("warning: this run will take about "), "{e}");
+    assert!(e.contains("hemilab plan") && e.contains("resumes"), "{e}");
+    let spec = t.spec("small.toml", &tiny_spec(16, ""));
+    let o = t.run(&spec, "out", "ref", &["--no-build-reference"]);
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
 }

@@ -224,7 +224,12 @@ fn default_output_directory_is_out_slash_spec_name() {
     let o = t.hemilab(&["run", "tiny.toml", "--reference-dir", "ref", "--quiet"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(records(&t.path("out/tiny")).len(), 6);
-    assert!(stdout(&o).contains("6 jobs → out/tiny"), "{}", stdout(&o));
+    let closing = |o: &std::process::Output| stdout(o).lines().last().unwrap_or_default().to_string();
+    assert_eq!(closing(&o), "6 jobs: 6 rendered, 0 reused; report: out/tiny/index.html", "{}", stdout(&o));
+    // A rerun reuses every result and says so, last.
+    let o = t.hemilab(&["run", "tiny.toml", "--reference-dir", "ref", "--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(closing(&o), "6 jobs: 0 rendered, 6 reused; report: out/tiny/index.html", "{}", stdout(&o));
 }
 
 #[test]

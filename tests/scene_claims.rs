@@ -6,14 +6,14 @@
 //! the whiteness z-score must separate the static seed from the per-pixel seed by many replicate
 //! spreads at 8, 16 and 32 rays.
 
+mod common;
+
 use hemilab::metrics::whiteness::STRUCTURED_Z;
 use hemilab::report::verdict::{
     self, COSINE_FIB_PIXEL, COSINE_FIB_STATIC, COSINE_RANDOM, Config, Margin, SINE_RANDOM, SLOPE_TOLERANCE,
     UNIFORM_RANDOM,
 };
-use hemilab::results::{JobResult, from_json};
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use hemilab::results::JobResult;
 use std::sync::OnceLock;
 
 const RAYS: [u32; 3] = [8, 16, 32];
@@ -41,30 +41,9 @@ const SCENES: [(&str, bool); 7] = [
 fn results() -> &'static [JobResult] {
     static RUN: OnceLock<Vec<JobResult>> = OnceLock::new();
     RUN.get_or_init(|| {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let out: PathBuf = std::env::temp_dir().join(format!("hemilab-scene-claims-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&out);
-        let o = Command::new(env!("CARGO_BIN_EXE_hemilab"))
-            .arg("run")
-            .arg(root.join("experiments/scene-claims.toml"))
-            .arg("--out")
-            .arg(&out)
-            .arg("--reference-dir")
-            .arg(root.join("reference"))
-            .arg("--no-build-reference")
-            .arg("--quiet")
-            .output()
-            .expect("hemilab runs");
-        assert!(
-            o.status.success(),
-            "hemilab run experiments/scene-claims.toml failed (are its references committed? \
-             `hemilab reference experiments/scene-claims.toml` rebuilds them):\n{}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-        assert!(!String::from_utf8_lossy(&o.stderr).contains("warning: reference noise floor"));
-        let text = std::fs::read_to_string(out.join("results.json")).expect("results.json");
-        let _ = std::fs::remove_dir_all(&out);
-        from_json(&text).expect("results.json parses")
+        let (records, o) = common::run_shipped_spec("scene-claims");
+        assert!(!common::stderr(&o).contains("warning: reference noise floor"));
+        records
     })
 }
 

@@ -61,6 +61,9 @@ fn good_scene_with_degenerate_triangles_drops_and_counts_them() {
     assert_eq!((scene.triangle_count, scene.dropped_triangles), (2, 2));
     assert_eq!(scene.ao_distance, f32::INFINITY);
     assert!(dropped_warning(&scene).unwrap().contains("dropped 2 triangles"));
+    // "inf" is the same as "infinite", as on the command line (`bench --distances inf`).
+    std::fs::write(dir.join("s.toml"), TOML.replace("ao_distance = 1.0", "ao_distance = \"inf\"")).unwrap();
+    assert_eq!(load_scene(&dir.join("s.toml")).unwrap().ao_distance, f32::INFINITY);
 }
 
 #[test]
@@ -70,6 +73,7 @@ fn missing_scene_and_missing_mesh_name_the_files() {
     let (dir, e) = load_error("missing-mesh", TOML, None);
     assert!(e.contains(&dir.join("s.toml").display().to_string()) && e.contains("`mesh`"), "{e}");
     assert!(e.contains(&dir.join("m.obj").display().to_string()), "{e}");
+    assert!(e.contains("'m.obj' not found") && e.contains("relative to the scene file"), "{e}");
 }
 
 #[test]
@@ -81,7 +85,7 @@ fn bad_meshes_name_the_mesh_file_and_line() {
         ("zero-index", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 0 1 2\n", "line 4"),
         ("two-vertex-face", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2\n", "line 4"),
         ("bad-vertex", "v 0 0 0\nv 1 zero 0\n", "line 2"),
-        ("all-degenerate", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "zero area"),
+        ("all-degenerate", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "its one triangle has zero area"),
         ("binary", "\u{0}\u{1}\u{2}", "empty mesh"),
     ] {
         let (dir, e) = load_error(name, TOML, Some(obj));
@@ -106,9 +110,49 @@ fn bad_scene_files_name_the_line_and_key() {
         ("missing-key", TOML.replace("resolution = [8, 8]\n", ""), vec!["resolution"]),
         ("eye-is-target", TOML.replace("[0.0, 0.0, 5.0]", "[0.0, 0.0, 0.0]"), vec!["camera", "eye"]),
         ("not-obj", TOML.replace("m.obj", "m.ply"), vec!["`mesh`", ".obj"]),
+        (
+            "a-spec",
+            "# my spec\nscenes = [\"s.toml\"]\n[[table]]\nname = \"t\"\n".to_string(),
+            vec!["line 2, key `scenes`", "this is an experiment spec, not a scene file"],
+        ),
+        // `[camera]` with the keys under it: the fix, not serde's "wanted exactly 1 element".
+        (
+            "camera-without-projection",
+            TOML.replace("[camera.perspective]", "[camera]"),
+            vec!["line 5, key `camera`: ", "[camera.perspective]", "[camera.orthographic]"],
+        ),
+        // No camera at all: the missing key and the fix, and no line (toml points at the first
+        // character of the file, here a comment).
+        (
+            "missing-camera",
+            format!("# my scene\n{}", &TOML[..TOML.find("[camera").unwrap()]),
+            vec!["s.toml: key `camera`: missing; add a camera: write `[camera.perspective]`", "orthographic"],
+        ),
+        (
+            "missing-camera-key",
+            TOML.replace("fov_y_deg = 45.0\n", ""),
+            vec!["line 5, key `camera.perspective.fov_y_deg`: missing; add `fov_y_deg"],
+        ),
+        (
+            "too-many-pixels",
+            TOML.replace("[8, 8]", "[16384, 16384]"),
+            vec!["line 2", "at most 67108864 pixels"],
+        ),
+        (
+            "three-sides",
+            TOML.replace("[8, 8]", "[8, 8, 8]"),
+            vec!["line 2, key `resolution`", "[width, height]"],
+        ),
+        (
+            "four-coordinates",
+            TOML.replace("[0.0, 0.0, 5.0]", "[0.0, 0.0, 5.0, 1.0]"),
+            vec!["line 6", "[x, y, z]"],
+        ),
     ] {
         let (dir, e) = load_error(name, &toml, Some(QUAD));
         assert!(e.contains(&dir.join("s.toml").display().to_string()), "{name}: {e}");
+        assert_eq!(e.lines().count(), 1, "{name}: one line, as a spec's errors: {e}");
+        assert!(!e.contains("line 1,"), "{name}: {e}");
         for w in want {
             assert!(e.contains(w), "{name}: want '{w}' in: {e}");
         }

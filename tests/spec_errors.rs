@@ -69,19 +69,19 @@ fn wrong_type_of_replicates() {
 #[test]
 fn ray_count_zero() {
     let e = error(&spec("", "", "").replace("rays = [8, 16]", "rays = [8, 0]"));
-    assert_has(&e, &["line 6", "table.t2.rays", "0 is out of range", "1..=65536"]);
+    assert_has(&e, &["line 6", "table.rays", "0 is out of range", "1..=65536"]);
 }
 
 #[test]
 fn ray_count_too_large() {
     let e = error(&spec("", "", "").replace("rays = [8, 16]", "rays = [100000]"));
-    assert_has(&e, &["line 6", "table.t2.rays", "1..=65536"]);
+    assert_has(&e, &["line 6", "table.rays", "1..=65536"]);
 }
 
 #[test]
 fn empty_ray_list() {
     let e = error(&spec("", "", "").replace("rays = [8, 16]", "rays = []"));
-    assert_has(&e, &["line 6", "table.t2.rays", "empty"]);
+    assert_has(&e, &["line 6", "table.rays", "empty"]);
 }
 
 #[test]
@@ -89,13 +89,13 @@ fn empty_axis() {
     let text = spec("", "distributions = []\nsequences = [\"random\"]", "")
         .replace("rows = [\n  { distribution = \"sine\", sequence = \"random\" },\n]\n", "");
     let e = error(&text);
-    assert_has(&e, &["line 7", "table.t2.distributions", "empty"]);
+    assert_has(&e, &["line 7", "table.distributions", "empty"]);
 }
 
 #[test]
 fn unknown_distribution_lists_choices() {
     let e = error(&spec("", "", "").replace("\"sine\"", "\"cosine\""));
-    assert_has(&e, &["line 9", "table.t2.rows.distribution", "'cosine'", "uniform, sine, sine-cosine"]);
+    assert_has(&e, &["line 9", "table.rows.distribution", "'cosine'", "uniform, sine, sine-cosine"]);
 }
 
 #[test]
@@ -115,7 +115,7 @@ fn unknown_name_in_an_axis_lists_choices() {
     let text = spec("", "distributions = [\"sine\"]\nsequences = [\"random\", \"sobel\"]", "")
         .replace("rows = [\n  { distribution = \"sine\", sequence = \"random\" },\n]\n", "");
     let e = error(&text);
-    assert_has(&e, &["line 8", "table.t2.sequences", "'sobel'", "sobol"]);
+    assert_has(&e, &["line 8", "table.sequences", "'sobel'", "sobol"]);
 }
 
 #[test]
@@ -127,13 +127,23 @@ fn replicates_zero() {
 #[test]
 fn table_replicates_zero() {
     let e = error(&spec("", "replicates = 0", ""));
-    assert_has(&e, &["line 7", "table.t2.replicates", "1..=1000"]);
+    assert_has(&e, &["line 7", "table.replicates", "1..=1000"]);
 }
 
 #[test]
 fn resolution_zero() {
     let e = error(&spec("resolution = [0, 120]", "", ""));
     assert_has(&e, &["line 3", "key `resolution`", "1..=16384"]);
+}
+
+/// The documented limit is the enforced one: sides up to 16384, at most 67108864 pixels in all.
+#[test]
+fn resolution_limit_is_the_documented_one() {
+    let e = error(&spec("resolution = [16384, 16384]", "", ""));
+    assert_has(&e, &["line 3", "key `resolution`", "16384x16384 is too large", "at most 67108864 pixels"]);
+    let ok = |r: &str| parse_spec(&spec(r, "", ""), Path::new(FILE)).is_ok();
+    assert!(ok("resolution = [8192, 8192]") && ok("resolution = [16384, 4096]"));
+    assert!(!ok("resolution = [16385, 1]"));
 }
 
 #[test]
@@ -156,13 +166,13 @@ fn missing_rows() {
     let text =
         spec("", "", "").replace("rows = [\n  { distribution = \"sine\", sequence = \"random\" },\n]\n", "");
     let e = error(&text);
-    assert_has(&e, &["line 4", "table.t2.rows", "missing"]);
+    assert_has(&e, &["line 4", "table.rows", "missing"]);
 }
 
 #[test]
 fn rows_and_axes_together() {
     let e = error(&spec("", "distributions = [\"sine\"]\nsequences = [\"random\"]", ""));
-    assert_has(&e, &["table.t2.rows", "not both"]);
+    assert_has(&e, &["table.rows", "not both"]);
 }
 
 #[test]
@@ -170,7 +180,7 @@ fn empty_rows() {
     let text = spec("", "", "")
         .replace("rows = [\n  { distribution = \"sine\", sequence = \"random\" },\n]", "rows = []");
     let e = error(&text);
-    assert_has(&e, &["line 8", "table.t2.rows", "empty"]);
+    assert_has(&e, &["line 8", "table.rows", "empty"]);
 }
 
 #[test]
@@ -220,7 +230,7 @@ fn no_scenes() {
 #[test]
 fn unknown_scene_in_a_table() {
     let e = error(&spec("", "scenes = [\"kitchen\"]", ""));
-    assert_has(&e, &["line 7", "table.t2.scenes", "unknown scene 'kitchen'", "valid: cornell-box"]);
+    assert_has(&e, &["line 7", "table.scenes", "unknown scene 'kitchen'", "valid: cornell-box"]);
 }
 
 #[test]
@@ -249,11 +259,7 @@ fn all_problems_are_reported_at_once() {
     let e = error(&text);
     assert_has(
         &e,
-        &[
-            "line 3, key `replicates`",
-            "line 6, key `table.t2.rays`",
-            "line 9, key `table.t2.rows.distribution`",
-        ],
+        &["line 3, key `replicates`", "line 6, key `table.rays`", "line 9, key `table.rows.distribution`"],
     );
 }
 
@@ -287,4 +293,72 @@ fn timing_section_defaults_and_ranges() {
     assert_has(&e, &["line 4", "key `timing.repeats`", "1..=100"]);
     let e = error(&spec("[timing]\nrepeat = 5\n", "", ""));
     assert_has(&e, &["line 4", "repeat", "repeats"]);
+}
+
+/// `[convergence]` (one table) where `[[convergence]]` (an array of tables) belongs: the message
+/// says so at the header's line, instead of serde's "invalid type: map" at the key before it.
+#[test]
+fn single_bracket_group_says_double_brackets() {
+    for kind in ["convergence", "table"] {
+        let text = spec("", "", "").replace("[[table]]", &format!("[reference]\nrays = 64\n\n[{kind}]"));
+        let e = error(&text);
+        assert_eq!(e.lines().count(), 1, "{e}");
+        assert_has(&e, &["line 7", &format!("key `{kind}`"), &format!("`[[{kind}]]` with double brackets")]);
+        assert!(!e.contains("reference") && !e.contains("sequence"), "{e}");
+    }
+}
+
+/// Key paths are TOML's: a group named like its kind is not repeated in the path; the name follows.
+#[test]
+fn key_paths_do_not_repeat_the_group_name() {
+    let text =
+        spec("", "", "").replace("[[table]]\nname = \"t2\"", "[[convergence]]\nname = \"convergence\"");
+    let e = error(&text.replace("\"random\"", "\"fibonaci\""));
+    assert_has(
+        &e,
+        &["line 9, key `convergence.rows.sequence` (sweep 'convergence'): unknown sequence 'fibonaci'"],
+    );
+    assert!(!e.contains("convergence.convergence"), "{e}");
+}
+
+/// A missing required key: no line 1 (toml points there, whatever it holds), the key and the fix.
+#[test]
+fn missing_keys_name_the_key_and_the_fix() {
+    let e = error(&format!(
+        "# my spec\n{}",
+        spec("", "", "").replace("scenes = [\"../scenes/cornell-box.toml\"]\n", "")
+    ));
+    assert_eq!(
+        e,
+        format!(
+            "{FILE}: key `scenes`: missing; add `scenes = [\"../scenes/kitchen.toml\"]`, paths relative to the spec file"
+        )
+    );
+    let e = error(&spec("", "", "").replace("name = \"t2\"\n", ""));
+    assert_has(&e, &["line 4, key `table.name`: missing; give it a `name"]);
+    let e = error(&spec("", "", "").replace("distribution = \"sine\", ", ""));
+    assert_has(&e, &["key `table.rows.distribution`: missing", "\"sine-cosine\""]);
+}
+
+/// `ao_distance` takes "inf" as well as "infinite", as the scene files and `bench --distances` do.
+#[test]
+fn ao_distance_inf_is_infinite() {
+    let s = parse_spec(&spec("ao_distance = \"inf\"", "", ""), Path::new(FILE)).unwrap();
+    assert_eq!(s.ao_distance, Some(hemilab::spec::AoDistance::Infinite));
+}
+
+/// A scene file given where a spec belongs: said so, at the camera's header.
+#[test]
+fn a_scene_file_is_not_a_spec() {
+    let scene =
+        "mesh = \"m.obj\"\nresolution = [8, 8]\nao_distance = 1.0\n\n[camera.perspective]\neye = [0, 0, 5]\n";
+    let e = error(scene);
+    assert_has(&e, &["line 5, key `camera.perspective`", "this is a scene file, not a spec"]);
+}
+
+/// The report's words for a value name the value to write.
+#[test]
+fn the_reports_words_point_at_the_value() {
+    let e = error(&spec("", "", ", seed_mode = \"per-pixel seed\" "));
+    assert_has(&e, &["key `table.rows.seed_mode`", "('per-pixel seed' is written `rotation`)"]);
 }

@@ -45,6 +45,8 @@ pub(super) struct Setup {
     pub stem: String,
     /// How the resolution and reference were chosen, for the report.
     pub choice: String,
+    /// Where the reference is found or built.
+    pub reference_dir: PathBuf,
 }
 
 pub fn run_advise(args: AdviseArgs) -> Result<()> {
@@ -53,7 +55,7 @@ pub fn run_advise(args: AdviseArgs) -> Result<()> {
     io::ensure_writable_dir(&out)?;
     let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
     let (spec, scene) = (&setup.loaded.spec, &setup.loaded.scenes[0]);
-    let reference = refs::obtain(spec, 0, scene, &args.reference_dir, Policy::ReuseOrBuild, &runner)?;
+    let reference = refs::obtain(spec, 0, scene, &setup.reference_dir, Policy::ReuseOrBuild, &runner)?;
     let workers = match args.common.threads {
         Some(t) => t as usize,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -172,7 +174,8 @@ fn setup(args: &AdviseArgs) -> Result<Setup> {
     let given_id = spec::normalize(&args.scene.to_string_lossy());
     let sketch =
         Sketch { path: &args.scene, stem: &stem, rows: &rows, rays: &rays, replicates: args.replicates };
-    let stored = stored_references(&args.reference_dir, &scene)?;
+    let reference_dir = reference_dir(args, &scene)?;
+    let stored = stored_references(&reference_dir, &scene)?;
     let usable = |m: &Manifest| sketch.reuses(m, &scene);
     let (resolution, how) = match args.resolution {
         Some((w, h)) => {
@@ -202,7 +205,7 @@ fn setup(args: &AdviseArgs) -> Result<Setup> {
     };
     let choice = format!("resolution {}x{} ({how}); {which}", resolution[0], resolution[1]);
     let plan = plan::plan(&spec);
-    Ok(Setup { loaded: Loaded { spec, scenes: vec![scene] }, plan, rows, rays, stem, choice })
+    Ok(Setup { loaded: Loaded { spec, scenes: vec![scene] }, plan, rows, rays, stem, choice, reference_dir })
 }
 
 /// The parts of advise's spec that do not depend on the reference.
@@ -234,6 +237,7 @@ impl Sketch<'_> {
                 path: self.path.to_path_buf(),
                 id: id.to_string(),
                 name: self.stem.to_string(),
+                line: 0,
             }],
             resolution: Some(resolution),
             ao_distance: None,
@@ -241,6 +245,8 @@ impl Sketch<'_> {
             seed: 1,
             point_figures: false,
             reference,
+            // Unused: advise passes its --reference-dir to every reference lookup.
+            reference_dir: Path::new("reference").to_path_buf(),
             timing: TimingSpec { repeats: timing::DEFAULT_REPEATS, seed: 1 },
             groups: vec![group],
         }
@@ -284,6 +290,24 @@ fn default_reference() -> ReferenceSpec {
         ),
         adaptive: false,
     }
+}
+
+/// `--reference-dir`, else `reference/` beside the scene file, or the scene folder's parent's
+/// `reference/` when that one holds a reference of this scene (this repository's layout: the
+/// committed references of `scenes/*.toml` are in `reference/`). Like a spec's references, never
+/// relative to the current directory, so the committed ones are found from anywhere and a user's
+/// own scene keeps its references beside it.
+fn reference_dir(args: &AdviseArgs, scene: &Scene) -> Result<PathBuf> {
+    if let Some(dir) = &args.reference_dir {
+        return Ok(dir.clone());
+    }
+    let folder = args.scene.parent().unwrap_or(Path::new(""));
+    let beside = folder.join("reference");
+    let parent = folder.join("..").join("reference");
+    if stored_references(&beside, scene)?.is_empty() && !stored_references(&parent, scene)?.is_empty() {
+        return Ok(parent);
+    }
+    Ok(beside)
 }
 
 /// Manifests in `dir` of this scene's content (scene and mesh hash), camera and hemilab version

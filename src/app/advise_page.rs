@@ -97,9 +97,12 @@ pub(super) fn advice_line(r: &Ranking, low: &Ranking) -> String {
     };
     let e = best.rmse(Metric::Rmse);
     let mut s = format!(
-        "At {b} ms per image: ship {} with {} rays per pixel (RMSE {:.4} ± {:.4})",
+        "At {b} ms per image: ship {} with {} per pixel (RMSE {:.4} ± {:.4})",
         label(best.row),
-        shipped_rays(best),
+        match shipped_rays(best) {
+            1 => "1 ray".to_string(),
+            n => format!("{n} rays"),
+        },
         e.value,
         e.se
     );

@@ -227,7 +227,7 @@ fn colours(maps: &[Map]) -> Vec<(Row, [u8; 3])> {
 
 /// A configuration's name in tables and legends.
 pub(super) fn label(row: Row) -> String {
-    let l = row.label();
+    let l = row.name();
     if row == PAPER_DEFAULT { format!("{l} (paper default)") } else { l }
 }
 

@@ -175,6 +175,34 @@ fn compare(
     }))
 }
 
+/// Where to compare without `--distances`: the scene's own d (what its renders use), a short one
+/// (0.3 d, where culling by d matters most) and unbounded.
+fn default_distances(d: f32) -> Vec<f32> {
+    if d.is_finite() { vec![0.3 * d, d, f32::INFINITY] } else { vec![f32::INFINITY] }
+}
+
+/// A distance as the table prints it: the JSON number, or ∞ (the JSON says "infinite").
+fn d_text(d: &Value) -> String {
+    match d.as_f64() {
+        Some(x) => x.to_string(),
+        None => "∞".into(),
+    }
+}
+
+/// `mismatching rays: 12 (obvhs_node_test_short 5, triangle_test 7)`: the categories that occurred
+/// (`render::bench::Mismatches`), by their names.
+fn mismatch_text(m: &Value) -> String {
+    let total = m["total"].as_u64().unwrap_or(0);
+    let parts: Vec<String> = m
+        .as_object()
+        .into_iter()
+        .flatten()
+        .filter(|(k, v)| *k != "total" && v.as_u64().is_some_and(|n| n > 0))
+        .map(|(k, v)| format!("{k} {v}"))
+        .collect();
+    if parts.is_empty() { format!("{total}") } else { format!("{total} ({})", parts.join(", ")) }
+}
+
 pub fn run_bench(args: BenchArgs) -> Result<()> {
     let (scene, width, height) = scene_at(&args.scene, args.resolution)?;
     let (distribution, sequence, seed_mode) =
@@ -198,7 +226,7 @@ pub fn run_bench(args: BenchArgs) -> Result<()> {
     }
     let base = bench::obvhs_baseline(&scene);
     let mut comparisons = Vec::new();
-    for &d in &args.distances {
+    for &d in &args.distances.clone().unwrap_or_else(|| default_distances(scene.ao_distance)) {
         comparisons.push(compare(&scene, &set, &base, d, &threads, args.repeats)?);
     }
     let v = json!({
@@ -252,7 +280,7 @@ fn print_table(v: &Value) {
         let r = &v[key];
         println!(
             "whole render, d = {}, {} thread(s): {:.2} M AO rays/s",
-            v["ao_distance"],
+            d_text(&v["ao_distance"]),
             r["threads"],
             m(&r["rays_per_s"])
         );
@@ -271,13 +299,13 @@ fn print_table(v: &Value) {
             };
             println!(
                 "{:>10} {:>7} {:>22} {:>22} {:>20}",
-                c["ao_distance"].to_string(),
-                r["threads"],
+                d_text(&c["ao_distance"]),
+                r["threads"].to_string(),
                 f(&r["obvhs_rays_per_s"], 1.0),
                 f(&r["hemilab_rays_per_s"], 1.0),
                 f(&r["ratio"], 1e6)
             );
         }
-        println!("{:>10} mismatching rays: {}", "", c["mismatches"]);
+        println!("{:>10} mismatching rays: {}", "", mismatch_text(&c["mismatches"]));
     }
 }

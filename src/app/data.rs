@@ -6,7 +6,6 @@ use super::load::Loaded;
 use super::reference::Reference;
 use crate::metrics::mean_sd;
 use crate::results::{self, Aggregate, JobResult};
-use crate::sampling::{SeedMode, Sequence};
 use crate::spec::{Group, GroupKind, Row};
 use crate::timing::{Protocol, Summary};
 
@@ -46,19 +45,9 @@ impl<'a> Data<'a> {
     }
 }
 
-/// A readable name of a row, as the paper says it.
+/// A readable name of a row, as the paper says it (`Row::name`: one vocabulary everywhere).
 pub fn row_label(row: Row) -> String {
-    let seq = match (row.sequence, row.seed_mode) {
-        (Sequence::Random, SeedMode::Static) => "pseudo-random, static seed".to_string(),
-        (Sequence::Random, SeedMode::BlueNoise) => "pseudo-random, blue-noise".to_string(),
-        (Sequence::Random, _) => "pseudo-random".to_string(),
-        (Sequence::Fibonacci, SeedMode::Rotation) => "Fibonacci, per-pixel seed".to_string(),
-        (Sequence::Fibonacci, SeedMode::Static) => "Fibonacci, static seed".to_string(),
-        (Sequence::Fibonacci, SeedMode::Shift) => "Fibonacci, shift".to_string(),
-        (Sequence::Fibonacci, SeedMode::BlueNoise) => "Fibonacci, blue-noise".to_string(),
-        (s, m) => format!("{s}, {m}"),
-    };
-    format!("{}, {seq}", row.distribution)
+    row.name()
 }
 
 /// The readable name of an aggregate's row (its raw names if they no longer parse).

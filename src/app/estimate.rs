@@ -3,7 +3,10 @@
 //! pieces (one-thread `timing::Worker`s side by side, `timing::Calibration` fitted per estimator),
 //! then the protocol's renders (`plan::cost`) and the references that must be built.
 //!
-//! What the calibration renders, per scene at the spec's resolution: the no-AO-ray overhead render
+//! What the calibration renders, per scene at the spec's resolution (or, for a larger image, at
+//! `cost::CALIBRATION_PIXELS` with the same aspect, the per-image costs scaled back up by the pixel ratio:
+//! at 8000x8000 a full-size calibration took minutes, and its 2 rays per pixel measured a negative
+//! cost per ray): the no-AO-ray overhead render
 //! and a 1-ray render of the first estimator (3 each), and every estimator the plan uses (and the
 //! reference's, if a reference must be built) once at a few rays per pixel. Each estimator's cost
 //! is the line through its render and the 1-ray render (`Calibration::fit`): a render's time
@@ -136,22 +139,27 @@ fn calibrate(
     let mut renders: Vec<RenderJob> = Vec::new();
     let mut warm: Vec<Option<RenderJob>> = vec![None; loaded.scenes.len()];
     let mut rays_of = vec![1u32; loaded.scenes.len()];
+    let mut ratio_of = vec![1.0f64; loaded.scenes.len()];
     for (si, jobs) in rows.iter().enumerate() {
         let Some(first) = jobs.first() else { continue };
         let g = Geometry::of(first.resolution, first.ao_distance, &loaded.scenes[si]);
+        let (width, height, ratio) = cost::calibration_size(g.width, g.height);
+        ratio_of[si] = ratio;
+        let at =
+            |job: &Job, rays: u32| render_job(loaded, job, rays).map(|r| RenderJob { width, height, ..r });
         let per_probe = CALIBRATION_RAYS.min(CALIBRATION_TOTAL_RAYS / probes_in_all.max(1));
-        let rays = (per_probe / g.pixels().max(1)).clamp(2, 64) as u32;
+        let rays = (per_probe / (width as u64 * height as u64).max(1)).clamp(2, 64) as u32;
         rays_of[si] = rays;
-        warm[si] = Some(render_job(loaded, first, 16)?);
+        warm[si] = Some(at(first, 16)?);
         for _ in 0..CALIBRATION_SAMPLES {
             probes.push((Probe { scene: si, row: None, rays: 0 }, renders.len()));
-            renders.push(overhead_job(&render_job(loaded, first, 1)?));
+            renders.push(overhead_job(&at(first, 1)?));
             probes.push((Probe { scene: si, row: Some(0), rays: 1 }, renders.len()));
-            renders.push(render_job(loaded, first, 1)?);
+            renders.push(at(first, 1)?);
         }
         for (i, job) in jobs.iter().enumerate() {
             probes.push((Probe { scene: si, row: Some(i), rays }, renders.len()));
-            renders.push(render_job(loaded, job, rays)?);
+            renders.push(at(job, rays)?);
         }
     }
 
@@ -164,7 +172,7 @@ fn calibrate(
         }
     }
     let results: Mutex<Vec<(Probe, Time, u64)>> = Mutex::new(Vec::new());
-    let sample: Mutex<Option<RenderOutput>> = Mutex::new(None);
+    let sample: Mutex<Option<(usize, RenderOutput)>> = Mutex::new(None);
     let work = |w: &timing::Worker, &(p, r): &(Probe, usize)| -> Result<(Probe, Time, RenderOutput)> {
         let scene = &loaded.scenes[p.scene];
         if let Some(wj) = &warm[p.scene] {
@@ -179,7 +187,7 @@ fn calibrate(
         results.lock().unwrap_or_else(|e| e.into_inner()).push((p, t, out.rays));
         let mut s = sample.lock().unwrap_or_else(|e| e.into_inner());
         if s.is_none() && p.rays > 1 {
-            *s = Some(out);
+            *s = Some((p.scene, out));
         }
         Ok(())
     };
@@ -206,17 +214,20 @@ fn calibrate(
         let one = of(Some(0), 1);
         let covered = one.first().map_or(0.0, |x| x.0 as f64);
         let base = (covered.round() as u64, median(&one));
+        let ratio = ratio_of[si];
         let mut cals = Vec::new();
         for (i, job) in jobs.iter().enumerate() {
             let mine = of(Some(i), rays_of[si]);
             let fit = Calibration::fit(&[base, (mine[0].0, mine[0].1)]).ok_or_else(|| {
                 Error::Refused(format!("calibration of {} on '{}' failed", job.row().label(), job.scene_name))
             })?;
+            // Per image: as many times more as the real image has pixels; per AO ray: the same.
+            let fit = Calibration { overhead_s: fit.overhead_s * ratio, overhead_interval: None, ..fit };
             cals.push((job.row().canonical(), fit));
         }
         scenes.push(Some(SceneCal {
-            covered,
-            overhead_s: median(&of(None, 0)),
+            covered: covered * ratio,
+            overhead_s: median(&of(None, 0)) * ratio,
             rows: cals,
             rays: rays_of[si],
         }));
@@ -225,7 +236,7 @@ fn calibrate(
     // Per recorded job: metrics and the EXR; per record: the results files.
     let out = sample.into_inner().unwrap_or_else(|e| e.into_inner());
     let (measure_s, serialize_per_record_s) = match out {
-        Some(out) => {
+        Some((si, out)) => {
             let c0 = clock::thread_cpu_s();
             let stats = crate::metrics::measure(&out.ao, &out.ao, &out.coverage)
                 .map_err(|e| Error::Refused(format!("calibration: {e}")))?;
@@ -239,7 +250,7 @@ fn calibrate(
             let text = (results::to_json(&records), results::to_csv(&records));
             let c2 = clock::thread_cpu_s();
             drop(text);
-            (c1 - c0, (c2 - c1) / full.jobs.len().max(1) as f64)
+            ((c1 - c0) * ratio_of[si], (c2 - c1) / full.jobs.len().max(1) as f64)
         }
         None => (0.0, 0.0),
     };
@@ -282,6 +293,31 @@ fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Option<Manifest>], 
     cpu / threads.max(1) as f64 * cal.contention
 }
 
+/// `plan`'s estimate of the wall time of running `selected` (of `full`), references included: for
+/// `run`'s warning before a long run (a fraction of a second of calibration renders).
+pub(super) fn estimate_s(
+    loaded: &Loaded,
+    full: &Plan,
+    selected: &Plan,
+    reference_dir: &std::path::Path,
+    threads: usize,
+) -> Result<f64> {
+    let builds: Vec<Option<Manifest>> = (0..loaded.scenes.len())
+        .map(|si| {
+            let used = selected.jobs.iter().any(|j| loaded.scene_of(j).0 == si);
+            Ok(if used { refs::missing(&loaded.spec, si, &loaded.scenes[si], reference_dir)? } else { None })
+        })
+        .collect::<Result<_>>()?;
+    let cal = calibrate(loaded, full, &builds, threads)?;
+    let b = cost::jobs(
+        selected,
+        |j| cal.render_s(loaded, j),
+        |id| cal.overhead_s(loaded, id),
+        &cal.model(loaded, selected.jobs.len(), threads),
+    );
+    Ok(references_s(loaded, &cal, &builds, threads) + b.wall_s)
+}
+
 pub fn run_plan(args: PlanArgs) -> Result<()> {
     let t0 = clock::wall_s();
     let loaded = load(&args.spec)?;
@@ -294,8 +330,9 @@ pub fn run_plan(args: PlanArgs) -> Result<()> {
         .threads
         .map_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()), |t| t as usize);
 
+    let ref_dir = refs::dir(args.reference_dir.as_deref(), spec);
     let builds: Vec<Option<Manifest>> = (0..loaded.scenes.len())
-        .map(|si| refs::missing(spec, si, &loaded.scenes[si], &args.reference_dir))
+        .map(|si| refs::missing(spec, si, &loaded.scenes[si], &ref_dir))
         .collect::<Result<_>>()?;
     let builds: Vec<Option<Manifest>> = builds
         .into_iter()
@@ -348,12 +385,7 @@ pub fn run_plan(args: PlanArgs) -> Result<()> {
                 let _ = writeln!(s, "reference '{}': must be built ({how})", sc.name);
             }
             None => {
-                let _ = writeln!(
-                    s,
-                    "reference '{}': stored in {}, reused",
-                    sc.name,
-                    args.reference_dir.display()
-                );
+                let _ = writeln!(s, "reference '{}': stored in {}, reused", sc.name, ref_dir.display());
             }
         }
     }

@@ -50,24 +50,10 @@ impl JobRunner {
         Ok(Self { pool: super::render::pool(threads)?, bar: progress::bar(0, "", quiet) })
     }
 
-    /// What the renderer needs to know of a planned job.
-    fn render_job(job: &Job, scene: &Scene) -> Result<RenderJob> {
-        let g = Geometry::of(job.resolution, job.ao_distance, scene);
-        let sampler = SamplerConfig::new(job.sequence, job.seed_mode, job.rays, job.seed)
-            .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
-        Ok(RenderJob {
-            distribution: job.distribution,
-            sampler,
-            width: g.width,
-            height: g.height,
-            ao_distance: g.distance.as_f32(),
-        })
-    }
-
     /// `job` with `counts[i]` rays in pixel i instead of `job.rays` (adaptive references); the bar
     /// advances by the rays cast.
     pub fn render_counts(&self, job: &Job, scene: &Scene, counts: &[u32], label: &str) -> Result<Rendered> {
-        let rj = Self::render_job(job, scene)?;
+        let rj = render_job(job, scene, job.rays)?;
         self.bar.set_message(label.to_string());
         let output =
             self.pool.install(|| super::adaptive::render_counts(scene, &rj, counts, &|n| self.bar.inc(n)));
@@ -76,7 +62,7 @@ impl JobRunner {
 
     pub fn render(&self, job: &Job, scene: &Scene, label: &str) -> Result<Rendered> {
         let g = Geometry::of(job.resolution, job.ao_distance, scene);
-        let rj = Self::render_job(job, scene)?;
+        let rj = render_job(job, scene, job.rays)?;
         self.bar.set_message(label.to_string());
         let before = self.bar.position();
         let rays = job.rays as u64;
@@ -84,4 +70,19 @@ impl JobRunner {
         self.bar.set_position(before + g.pixels() * rays);
         Ok(Rendered { output })
     }
+}
+
+/// What the renderer needs to know of a planned job, with `rays` AO rays per pixel (the job's own,
+/// or fewer for warm-up and overhead renders).
+pub(super) fn render_job(job: &Job, scene: &Scene, rays: u32) -> Result<RenderJob> {
+    let g = Geometry::of(job.resolution, job.ao_distance, scene);
+    let sampler = SamplerConfig::new(job.sequence, job.seed_mode, rays, job.seed)
+        .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
+    Ok(RenderJob {
+        distribution: job.distribution,
+        sampler,
+        width: g.width,
+        height: g.height,
+        ao_distance: g.distance.as_f32(),
+    })
 }

@@ -38,9 +38,17 @@ pub fn load(spec_path: &Path) -> Result<Loaded> {
 /// an image too large to hold in memory is refused here rather than by the allocator mid-run.
 fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
     if !io::exists(&s.path) {
+        // The full path: the scene is looked for relative to the spec, which may not be where the
+        // user is.
+        let looked =
+            std::path::absolute(&s.path).map_or(s.id.clone(), |p| spec::normalize(&p.to_string_lossy()));
         return Err(Error::input(
             &spec.path,
-            format!("key `scenes`: scene file '{}' not found (looked for {})", s.id, s.path.display()),
+            format!(
+                "line {}, key `scenes`: scene file '{}' not found (looked for {looked}); scene paths are \
+                 relative to the spec file",
+                s.line, s.id
+            ),
         ));
     }
     let scene = load_scene(&s.path)?;
@@ -49,9 +57,11 @@ fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
         return Err(Error::input(
             &spec.path,
             format!(
-                "key `resolution`: {}x{} for scene '{}' has more than {MAX_PIXELS} pixels; too large to hold \
-                 in memory",
-                g.width, g.height, s.name
+                "key `resolution`: {}x{} for scene '{}' is too large to hold in memory; {}",
+                g.width,
+                g.height,
+                s.name,
+                crate::spec::RESOLUTION_RULE
             ),
         ));
     }

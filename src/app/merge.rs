@@ -58,13 +58,14 @@ pub fn run_merge(args: MergeArgs) -> Result<()> {
         }
     }
 
+    let ref_dir = refs::dir(args.reference_dir.as_deref(), spec);
     for (si, scene) in loaded.scenes.iter().enumerate() {
-        if let Some(m) = refs::missing(spec, si, scene, &args.reference_dir)? {
+        if let Some(m) = refs::missing(spec, si, scene, &ref_dir)? {
             return Err(Error::Refused(format!(
                 "no usable reference for scene '{}' in {}: {} x {} rays wanted; pass the --reference-dir \
                  the shards used",
                 spec.scenes[si].name,
-                args.reference_dir.display(),
+                ref_dir.display(),
                 m.replicates,
                 m.rays
             )));
@@ -72,7 +73,7 @@ pub fn run_merge(args: MergeArgs) -> Result<()> {
     }
     let runner = JobRunner::new(None, args.quiet)?;
     let references = (0..loaded.scenes.len())
-        .map(|si| refs::obtain(spec, si, &loaded.scenes[si], &args.reference_dir, Policy::ReuseOnly, &runner))
+        .map(|si| refs::obtain(spec, si, &loaded.scenes[si], &ref_dir, Policy::ReuseOnly, &runner))
         .collect::<Result<Vec<_>>>()?;
     let keys: Vec<String> = plan
         .jobs
@@ -96,7 +97,7 @@ pub fn run_merge(args: MergeArgs) -> Result<()> {
                          reference, scene file or hemilab version?)",
                         r.image,
                         args.spec.display(),
-                        args.reference_dir.display()
+                        ref_dir.display()
                     ),
                 ));
             };
@@ -152,13 +153,14 @@ pub fn run_merge(args: MergeArgs) -> Result<()> {
     data.notes.push(note.clone());
     let figures = super::figures::write_all(&data, &out)?;
     super::page::write(&data, &figures, &out)?;
-    println!(
-        "merged {} shard directories ({} jobs); times summed over the shards",
-        shards.len(),
-        merged.len()
-    );
     println!("{note}");
     print!("{summary}");
+    println!(
+        "merged {} shard directories ({} jobs; times summed over the shards); report: {}",
+        shards.len(),
+        merged.len(),
+        out.join("index.html").display()
+    );
     Ok(())
 }
 

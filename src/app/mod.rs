@@ -13,6 +13,7 @@ mod estimate;
 mod figures;
 mod jobs;
 mod load;
+mod long_run;
 mod merge;
 mod page;
 pub mod points;

@@ -6,6 +6,7 @@ use crate::error::{Error, Result};
 use crate::io;
 use crate::report::{self, Format, PointSet};
 use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use crate::spec::Row;
 use glam::{Vec2, Vec3};
 
 pub fn run(args: &PointsArgs) -> Result<()> {
@@ -15,11 +16,15 @@ pub fn run(args: &PointsArgs) -> Result<()> {
             Error::Usage(format!("{}: the output must end in .png or .svg", path.display()))
         })?;
     let dirs = directions(args.distribution, args.sequence, args.seed_mode, args.count, args.seed)?;
-    let title = format!("{} · {} · {} seed", args.distribution, args.sequence, args.seed_mode);
+    let row = Row::new(args.distribution, args.sequence, args.seed_mode);
+    let title = format!("{} (run seed {})", row.name(), args.seed);
     let set = PointSet { title: format!("{} points", args.count), dirs };
     let bytes = report::point_panels(&title, &[(String::new(), vec![set])], true, format)
         .map_err(|e| Error::Refused(format!("{}: cannot draw the points: {e}", path.display())))?;
-    io::write_atomic(path, &bytes)
+    io::write_atomic(path, &bytes)?;
+    // As `render` does: what was drawn, and where.
+    println!("{} points, {}, run seed {} (pixel 0) -> {}", args.count, row.name(), args.seed, path.display());
+    Ok(())
 }
 
 /// The `count` directions (local frame, z = normal) of pixel 0 of an image sampled with these

@@ -27,6 +27,13 @@ impl Reference {
     }
 }
 
+/// Where a command finds the spec's references: `--reference-dir`, else the spec's own
+/// (`[reference] dir` relative to the spec file, or `reference/` beside it), never the current
+/// directory's.
+pub fn dir(flag: Option<&Path>, spec: &Spec) -> PathBuf {
+    flag.map_or_else(|| spec.reference_dir.clone(), Path::to_path_buf)
+}
+
 /// What to do when the stored reference is missing or does not match.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Policy {
@@ -142,12 +149,19 @@ pub fn obtain(
         match load_if_matching(spec, &wanted, &exr, &json)? {
             Ok(r) => return Ok(r),
             Err((file, why)) if policy == Policy::ReuseOnly => {
+                let flag = if dir == spec.reference_dir {
+                    String::new()
+                } else {
+                    format!(" --reference-dir {}", dir.display())
+                };
                 return Err(Error::input(
                     &file,
                     format!(
-                        "{why}: no usable reference for scene '{}'; run `hemilab reference {}` or drop \
+                        "{why}: no usable reference for scene '{}' in {}; build it with `hemilab reference \
+                         {}{flag}`, pass --reference-dir DIR if it is stored elsewhere, or drop \
                          --no-build-reference",
                         scene.name,
+                        dir.display(),
                         spec.path.display()
                     ),
                 ));
@@ -285,7 +299,36 @@ fn build(
         manifest.time_s.unwrap_or(0.0),
         exr.display()
     );
+    let others = others_of_scene(exr.parent().unwrap_or(Path::new(".")), &manifest)?;
+    if !others.is_empty() {
+        eprintln!(
+            "note: {} also holds {} other reference(s) of '{}' (another view, size or d; never deleted, another \
+             spec may use them): {}",
+            exr.parent().map_or(String::new(), |d| d.display().to_string()),
+            others.len(),
+            manifest.scene,
+            others.join(", ")
+        );
+    }
     Ok(Reference { mean, stderr, coverage, manifest, exr: exr.to_path_buf() })
+}
+
+/// The stems of the other references of `m`'s scene file in `dir` (older views, other sizes): a
+/// camera edit builds a new reference beside the old one, which is kept, so say what piles up.
+fn others_of_scene(dir: &Path, m: &Manifest) -> Result<Vec<String>> {
+    let mine = m.file_stem();
+    let mut out = Vec::new();
+    for p in io::list_dir(dir)? {
+        let stem = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        if p.extension().is_none_or(|e| e != "json") || stem == mine {
+            continue;
+        }
+        let Ok(text) = io::read_string(&p) else { continue };
+        if Manifest::from_json(&text).is_ok_and(|o| o.scene == m.scene) {
+            out.push(stem);
+        }
+    }
+    Ok(out)
 }
 
 /// Rays per pixel of an adaptive reference: a pilot pass (the reference estimator at the manifest's

@@ -11,9 +11,7 @@ use crate::scene::{self, Scene, file, mesh};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Images above this many pixels are refused: the AO and coverage channels and their EXR encoding
-/// would need several GB.
-pub const MAX_PIXELS: u64 = 1 << 26;
+pub use crate::spec::MAX_PIXELS;
 
 /// Reads, parses and validates a scene file and its mesh, and builds the BVH. Every error names the
 /// scene file (and its line/key) or the mesh file (and its line).
@@ -28,6 +26,18 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
         ));
     }
     let mesh_path = path.parent().unwrap_or(Path::new("")).join(&spec.mesh);
+    if !io::exists(&mesh_path) {
+        let looked = std::path::absolute(&mesh_path)
+            .map_or(spec.mesh.clone(), |p| crate::spec::normalize(&p.to_string_lossy()));
+        return Err(Error::input(
+            path,
+            format!(
+                "key `mesh`: mesh file '{}' not found (looked for {looked}); mesh paths are relative to the \
+                 scene file",
+                spec.mesh
+            ),
+        ));
+    }
     let bytes = io::read_bytes(&mesh_path).map_err(|e| Error::input(path, format!("key `mesh`: {e}")))?;
     let mesh = mesh::parse_obj(&bytes).map_err(|e| Error::input(&mesh_path, e))?;
     let name = spec.name.clone().unwrap_or_else(|| {
@@ -53,7 +63,8 @@ pub fn dropped_warning(scene: &Scene) -> Option<String> {
 pub(super) fn check_pixels(w: u32, h: u32) -> Result<()> {
     if w as u64 * h as u64 > MAX_PIXELS {
         return Err(Error::Usage(format!(
-            "resolution {w}x{h} has more than {MAX_PIXELS} pixels; too large to hold in memory"
+            "resolution {w}x{h} is too large to hold in memory; {}",
+            crate::spec::RESOLUTION_RULE
         )));
     }
     Ok(())

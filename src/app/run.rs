@@ -2,7 +2,7 @@
 //! Everything is loaded and validated before the first ray; results are rewritten atomically after
 //! every job, so an interrupted run loses nothing and resumes where it stopped.
 
-use super::data::Data;
+use super::data::{Data, agg_label};
 use super::jobs::JobRunner;
 use super::load::{Loaded, load};
 use super::reference::{self as refs, Policy, Reference};
@@ -21,10 +21,11 @@ use std::path::{Path, PathBuf};
 
 pub fn run_reference(args: ReferenceArgs) -> Result<()> {
     let loaded = load(&args.spec)?;
-    io::ensure_writable_dir(&args.reference_dir)?;
+    let dir = refs::dir(args.reference_dir.as_deref(), &loaded.spec);
+    io::ensure_writable_dir(&dir)?;
     let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
     for (si, scene) in loaded.scenes.iter().enumerate() {
-        let r = refs::obtain(&loaded.spec, si, scene, &args.reference_dir, Policy::Rebuild, &runner)?;
+        let r = refs::obtain(&loaded.spec, si, scene, &dir, Policy::Rebuild, &runner)?;
         println!(
             "{}: noise floor {:.3e} ({} x {} rays)",
             r.exr.display(),
@@ -57,11 +58,14 @@ pub fn run_run(args: RunArgs) -> Result<()> {
     let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
 
     let policy = if args.no_build_reference { Policy::ReuseOnly } else { Policy::ReuseOrBuild };
+    let ref_dir = refs::dir(args.reference_dir.as_deref(), &loaded.spec);
+    super::long_run::warn_if_long(&args, &loaded, &full, &plan, &previous, &ref_dir)?;
     let references = (0..loaded.scenes.len())
-        .map(|si| refs::obtain(&loaded.spec, si, &loaded.scenes[si], &args.reference_dir, policy, &runner))
+        .map(|si| refs::obtain(&loaded.spec, si, &loaded.scenes[si], &ref_dir, policy, &runner))
         .collect::<Result<Vec<_>>>()?;
 
     let protocol = protocol(&args, &loaded.spec);
+    let reused = reused_jobs(&loaded, &plan, &references, &previous, &out);
     if let Some(s) = shard {
         shard::Manifest::new(&loaded, &full, s, plan.jobs.len(), protocol).write(&out)?;
     }
@@ -75,7 +79,13 @@ pub fn run_run(args: RunArgs) -> Result<()> {
     write_timing(&out, &loaded.spec, protocol, &session)?;
     if let Some(s) = shard {
         // A shard's report would be of a part; `merge` writes the whole one.
-        println!("shard {s}: {} of {} jobs → {}", results.len(), full.jobs.len(), out.display());
+        println!(
+            "shard {s}: {} of {} jobs: {}; results: {}",
+            results.len(),
+            full.jobs.len(),
+            counts(results.len(), reused),
+            out.display()
+        );
         return Ok(());
     }
     let summary = summarize(&loaded, &references, &results, &session, &out)?;
@@ -83,11 +93,37 @@ pub fn run_run(args: RunArgs) -> Result<()> {
     let figures = super::figures::write_all(&data, &out)?;
     super::page::write(&data, &figures, &out)?;
     print!("{summary}");
+    let index = out.join("index.html");
+    println!("{} jobs: {}; report: {}", results.len(), counts(results.len(), reused), index.display());
     Ok(())
 }
 
+/// "12 rendered, 428 reused": what a run did, for its closing line.
+pub(super) fn counts(jobs: usize, reused: usize) -> String {
+    format!("{} rendered, {reused} reused", jobs.saturating_sub(reused))
+}
+
+/// Jobs whose finished record (same key, image on disk) an earlier run left: `timed::run_jobs`
+/// reuses exactly these.
+fn reused_jobs(
+    loaded: &Loaded,
+    plan: &plan::Plan,
+    references: &[Reference],
+    previous: &HashMap<String, JobResult>,
+    out: &Path,
+) -> usize {
+    plan.jobs
+        .iter()
+        .filter(|j| {
+            let (si, scene) = loaded.scene_of(j);
+            let key = timed::run_key(j, scene, &references[si]);
+            previous.get(&key).is_some_and(|r| io::exists(&out.join(&r.image)))
+        })
+        .count()
+}
+
 /// The spec's timing settings, `--timing-repeats` over `[timing] repeats`; one worker per thread.
-fn protocol(args: &RunArgs, spec: &Spec) -> Protocol {
+pub(super) fn protocol(args: &RunArgs, spec: &Spec) -> Protocol {
     let workers = match args.common.threads {
         Some(t) => t as usize,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -180,6 +216,9 @@ fn sweep_slopes<'a>(spec: &'a Spec, aggs: &[results::Aggregate]) -> Vec<SweepSlo
         .collect()
 }
 
+/// More configurations than this are not listed at the end of a run: the report has them all.
+const MAX_PRINTED_CONFIGURATIONS: usize = 24;
+
 /// Aggregates and slopes to files, the noise-floor check, and the text printed at the end.
 pub(super) fn summarize(
     loaded: &Loaded,
@@ -195,7 +234,6 @@ pub(super) fn summarize(
     io::write_atomic(&out.join("slopes.json"), slopes_json.as_bytes())?;
 
     let mut s = String::new();
-    let _ = writeln!(s, "{} jobs → {}", results.len(), out.display());
     let _ = writeln!(
         s,
         "timing: {} timed renders, {:.1} s of render CPU time in {:.1} s of wall time",
@@ -218,14 +256,26 @@ pub(super) fn summarize(
             );
         }
     }
+    if aggs.len() > MAX_PRINTED_CONFIGURATIONS {
+        let _ = writeln!(
+            s,
+            "{} configurations: RMSE, times and efficiency of each in aggregates.csv and the report",
+            aggs.len()
+        );
+        return Ok(s);
+    }
+    let width = aggs.iter().map(|a| agg_label(a).chars().count()).max().unwrap_or(0);
+    let _ = writeln!(
+        s,
+        "per configuration: RMSE mean ± sd over replicates, lag-1 error autocorrelation ρ x/y, median render \
+         time, ns per AO ray"
+    );
     for a in &aggs {
         let _ = writeln!(
             s,
-            "  {:<12} {:<18} {:<10} {:<8} {:>5} rays  RMSE {:.4} ± {:.4}  ρ {:+.2}/{:+.2}  {:.2} ms  {:.1} ns/ray",
+            "  {:<12} {:<width$} {:>5} rays  RMSE {:.4} ± {:.4}  ρ {:+.2}/{:+.2}  {:.2} ms  {:.1} ns/ray",
             a.scene,
-            a.distribution,
-            a.sequence,
-            a.seed_mode,
+            agg_label(a),
             a.rays,
             a.rmse.mean,
             a.rmse.sd,

@@ -56,17 +56,7 @@ fn image_rel(job: &Job) -> String {
 }
 
 pub(super) fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
-    let (_, scene) = loaded.scene_of(job);
-    let g = super::jobs::Geometry::of(job.resolution, job.ao_distance, scene);
-    let sampler = SamplerConfig::new(job.sequence, job.seed_mode, rays, job.seed)
-        .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
-    Ok(RenderJob {
-        distribution: job.distribution,
-        sampler,
-        width: g.width,
-        height: g.height,
-        ao_distance: g.distance.as_f32(),
-    })
+    super::jobs::render_job(job, loaded.scene_of(job).1, rays)
 }
 
 /// The overhead render: `job`'s image with no AO rays, i.e. primary rays, hit points, frames and

@@ -84,6 +84,20 @@ pub fn jobs(
     b
 }
 
+/// Largest calibration image: the paper's 160x120 is calibrated as it is run.
+pub const CALIBRATION_PIXELS: u64 = 20_000;
+
+/// The calibration image of a `w` x `h` image, and how many times more pixels the real one has.
+pub fn calibration_size(w: u32, h: u32) -> (u32, u32, f64) {
+    let pixels = w as u64 * h as u64;
+    if pixels <= CALIBRATION_PIXELS {
+        return (w, h, 1.0);
+    }
+    let s = (CALIBRATION_PIXELS as f64 / pixels as f64).sqrt();
+    let (cw, ch) = (((w as f64 * s).floor() as u32).max(1), ((h as f64 * s).floor() as u32).max(1));
+    (cw, ch, pixels as f64 / (cw as u64 * ch as u64) as f64)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,6 +106,19 @@ mod tests {
 
     fn plan_of(text: &str) -> Plan {
         super::super::plan(&parse_spec(text, Path::new("c.toml")).unwrap())
+    }
+
+    #[test]
+    fn calibration_images_are_small_with_the_same_aspect() {
+        assert_eq!(calibration_size(160, 120), (160, 120, 1.0));
+        let (w, h, ratio) = calibration_size(8000, 8000);
+        assert_eq!((w, h), (141, 141));
+        assert!((ratio - 64e6 / (141.0 * 141.0)).abs() < 1e-9);
+        let (w, h, _) = calibration_size(16384, 4096);
+        assert!(
+            w as u64 * h as u64 <= CALIBRATION_PIXELS && (w as f64 / h as f64 - 4.0).abs() < 0.1,
+            "{w}x{h}"
+        );
     }
 
     #[test]

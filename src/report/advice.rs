@@ -2,8 +2,9 @@
 //! configuration with the budgets marked, and the winner map (per pixel, which configuration has
 //! the least error at a budget).
 
+use super::axis::{log_axis, tick};
 use super::canvas::{Align, Canvas, text_size};
-use super::plot::{PALETTE, log_tick};
+use super::plot::PALETTE;
 use super::{FONT, Format, render};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -76,10 +77,7 @@ fn draw<DB: DrawingBackend>(
         .margin(16)
         .x_label_area_size(56)
         .y_label_area_size(84)
-        .build_cartesian_2d(
-            (x0..x1).log_scale().with_key_points(ticks(x0, x1, false)).with_light_points(ticks(x0, x1, true)),
-            (y0..y1).log_scale().with_key_points(ticks(y0, y1, false)).with_light_points(ticks(y0, y1, true)),
-        )
+        .build_cartesian_2d(log_axis(x0, x1), log_axis(y0, y1))
         .map_err(err)?;
     chart
         .configure_mesh()
@@ -87,8 +85,8 @@ fn draw<DB: DrawingBackend>(
         .y_desc(y_label)
         .axis_desc_style((FONT, 20.0))
         .label_style((FONT, 17.0))
-        .x_label_formatter(&|v| log_tick(*v, 1.0))
-        .y_label_formatter(&|v| log_tick(*v, 1.0))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .light_line_style(RGBColor(238, 238, 238))
         .bold_line_style(RGBColor(205, 205, 205))
         .draw()
@@ -101,7 +99,7 @@ fn draw<DB: DrawingBackend>(
     for &b in budgets_ms {
         let line = DashedLineSeries::new([(b, y0), (b, y1)], 8, 6, BUDGET.stroke_width(2));
         chart.draw_series(line).map_err(err)?;
-        let text = format!("{} ms", log_tick(b, 1.0));
+        let text = format!("{} ms", tick(b));
         chart.draw_series([Text::new(text, (b * 1.02, y1 / 1.05), label_font.clone())]).map_err(err)?;
     }
     for (i, c) in curves.iter().filter(|c| c.highlight).enumerate() {
@@ -137,26 +135,6 @@ fn draw<DB: DrawingBackend>(
         legend.draw_text(e, &font, (54, y)).map_err(err)?;
     }
     Ok(())
-}
-
-/// Log-axis ticks in [lo, hi]: 1, 2 and 5 × 10^k (every 1 … 9 × 10^k when fewer than three of
-/// those fall inside, or for the light grid).
-fn ticks(lo: f64, hi: f64, light: bool) -> Vec<f64> {
-    let pick = |m: &[f64]| -> Vec<f64> {
-        let mut v = Vec::new();
-        for k in lo.log10().floor() as i32..=hi.log10().ceil() as i32 {
-            for &a in m {
-                let t = a * 10f64.powi(k);
-                if (lo..=hi).contains(&t) {
-                    v.push(t);
-                }
-            }
-        }
-        v
-    };
-    let all = pick(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]);
-    let main = pick(&[1.0, 2.0, 5.0]);
-    if light || main.len() < 3 { all } else { main }
 }
 
 /// Categorical colours of the winner map (Tableau 10 without its grey, which means "no

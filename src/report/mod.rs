@@ -10,6 +10,8 @@
 //! `dejavu` crate, so no system font library is needed (see NOTES.md).
 
 pub mod advice;
+mod axis;
+mod banding;
 mod canvas;
 pub mod colormap;
 mod grid;
@@ -18,9 +20,10 @@ mod plot;
 mod points;
 pub mod verdict;
 
+pub use banding::banding_plot;
 pub use grid::{GridCell, error_grid, image_grid};
 pub use html::{Figure, Table, html_page, html_report, markdown_page, markdown_report, referenced_files};
-pub use plot::{Guide, Series, banding_plot, convergence_plot};
+pub use plot::{Guide, Series, convergence_plot};
 pub use points::{PointSet, point_panels};
 
 use std::sync::Once;

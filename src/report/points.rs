@@ -19,6 +19,8 @@ const R: i32 = 140;
 const PAD: i32 = 18;
 const TITLE_H: i32 = 54;
 const HEAD_H: i32 = 36;
+/// Room under the top view for its label.
+const TOP_LABEL_H: i32 = 26;
 const POINT: RGBColor = RGBColor(20, 50, 140);
 const EDGE: RGBColor = RGBColor(150, 150, 150);
 
@@ -34,10 +36,13 @@ pub fn point_panels(
     let left = rows.iter().map(|(l, _)| text_size(l, 21.0, true).0 as i32).max().unwrap_or(0) + 2 * PAD;
     let left = if rows.len() == 1 && rows[0].0.is_empty() { PAD } else { left };
     let panel_w = 2 * R + 2 * PAD;
-    let panel_h = HEAD_H + 2 * R + PAD + if side_view { R + PAD + 30 } else { 0 };
+    let panel_h = HEAD_H + 2 * R + TOP_LABEL_H + PAD + if side_view { R + PAD + 30 } else { 0 };
     let w = (left + ncols * panel_w + PAD) as u32;
     let h = (TITLE_H + rows.len() as i32 * panel_h + PAD) as u32;
-    let w = w.max(text_size(title, 28.0, true).0 + 2 * PAD as u32);
+    let title_w = text_size(title, 28.0, true).0 + 2 * PAD as u32;
+    // A title wider than the panels: the panels go in the middle, under it.
+    let left = left + (title_w.saturating_sub(w) / 2) as i32;
+    let w = w.max(title_w);
     render!(format, w, h, |root: &DrawingArea<_, Shift>| draw(
         root, title, rows, side_view, left, panel_w, panel_h
     ))
@@ -105,8 +110,10 @@ fn draw<DB: DrawingBackend>(
             for d in &set.dirs {
                 root.draw(&Circle::new(to_px(d.x, d.y), radius, POINT.filled())).map_err(err)?;
             }
+            root.draw_text("top view (x, y)", &centred(18.0), (cx, cy + R + TOP_LABEL_H / 2 + 2))
+                .map_err(err)?;
             if side_view {
-                let by = cy + R + PAD + R;
+                let by = cy + R + TOP_LABEL_H + PAD + R;
                 let arc: Vec<(i32, i32)> = (0..=64)
                     .map(|k| {
                         let a = std::f32::consts::PI * k as f32 / 64.0;
@@ -162,6 +169,7 @@ mod tests {
             assert!(svg.contains(label), "SVG lacks {label}");
         }
         assert!(!svg.contains("side view"));
+        assert_eq!(svg.matches("top view (x, y)").count(), 6, "every panel's top view is labelled");
     }
 
     #[test]

@@ -4,7 +4,8 @@ use super::{Distribution, SeedMode, Sequence};
 use std::str::FromStr;
 
 macro_rules! named {
-    ($ty:ty, $what:literal, [$($variant:ident => $name:literal),+ $(,)?]) => {
+    ($ty:ty, $what:literal, [$($variant:ident => $name:literal),+ $(,)?],
+     words [$($word:literal => $meant:ident),* $(,)?]) => {
         impl $ty {
             /// Every variant, in the order tables and listings use.
             pub const ALL: &'static [$ty] = &[$(<$ty>::$variant),+];
@@ -21,12 +22,16 @@ macro_rules! named {
             fn from_str(s: &str) -> Result<Self, String> {
                 match s {
                     $($name => Ok(<$ty>::$variant),)+
-                    _ => Err(format!(
-                        "unknown {} '{}'; valid: {}",
-                        $what,
-                        s,
-                        <$ty>::NAMES.join(", ")
-                    )),
+                    _ => {
+                        // The report's words (`spec::Row::name`) are not values, but say which is meant.
+                        let said = s.trim().to_lowercase();
+                        let meant: Option<$ty> = match said.as_str() {
+                            $($word => Some(<$ty>::$meant),)*
+                            _ => None,
+                        };
+                        let hint = meant.map_or(String::new(), |m| format!(" ('{s}' is written `{}`)", m.name()));
+                        Err(format!("unknown {} '{}'; valid: {}{hint}", $what, s, <$ty>::NAMES.join(", ")))
+                    }
                 }
             }
         }
@@ -44,6 +49,12 @@ named!(Distribution, "distribution", [
     Sine => "sine",
     SineCosine => "sine-cosine",
     ConcentricCosine => "concentric-cosine",
+], words [
+    "cosine" => SineCosine,
+    "cosine-weighted" => SineCosine,
+    "sinecosine" => SineCosine,
+    "sine cosine" => SineCosine,
+    "concentric" => ConcentricCosine,
 ]);
 
 named!(Sequence, "sequence", [
@@ -51,6 +62,12 @@ named!(Sequence, "sequence", [
     Fibonacci => "fibonacci",
     Stratified => "stratified",
     Sobol => "sobol",
+], words [
+    "pseudo-random" => Random,
+    "pseudorandom" => Random,
+    "sobol'" => Sobol,
+    "lattice" => Fibonacci,
+    "fibonacci lattice" => Fibonacci,
 ]);
 
 named!(SeedMode, "seed mode", [
@@ -58,6 +75,14 @@ named!(SeedMode, "seed mode", [
     Rotation => "rotation",
     Shift => "shift",
     BlueNoise => "blue-noise",
+], words [
+    "per-pixel" => Rotation,
+    "per-pixel seed" => Rotation,
+    "random seed per pixel" => Rotation,
+    "random" => Rotation,
+    "static seed" => Static,
+    "blue noise" => BlueNoise,
+    "bluenoise" => BlueNoise,
 ]);
 
 #[cfg(test)]
@@ -71,5 +96,11 @@ mod tests {
         }
         let e = "cosine".parse::<Distribution>().unwrap_err();
         assert!(e.contains("sine-cosine") && e.contains("'cosine'"), "{e}");
+        // The report's words point at the value they name.
+        let e = "per-pixel".parse::<SeedMode>().unwrap_err();
+        assert!(e.ends_with("('per-pixel' is written `rotation`)"), "{e}");
+        let e = "Pseudo-random".parse::<Sequence>().unwrap_err();
+        assert!(e.ends_with("('Pseudo-random' is written `random`)"), "{e}");
+        assert!(!"gauss".parse::<Distribution>().unwrap_err().contains("written"));
     }
 }

@@ -4,7 +4,7 @@
 //! ```toml
 //! mesh = "cornell-box.obj"          # .obj or .obj.zst, relative to this file
 //! resolution = [320, 240]           # default image size
-//! ao_distance = 1.0                 # or "infinite"
+//! ao_distance = 1.0                 # or "infinite" ("inf")
 //! [camera.perspective]              # or [camera.orthographic] with view_width instead of fov_y_deg
 //! eye = [278.0, 273.0, -800.0]
 //! target = [278.0, 273.0, 0.0]
@@ -13,7 +13,8 @@
 //! ```
 
 use super::camera::{Camera, WorldCamera};
-use crate::cli::MAX_SIDE;
+use crate::spec::position::describe;
+use crate::spec::{RESOLUTION_RULE, resolution_ok};
 use glam::DVec3;
 use serde::{Deserialize, Deserializer, de};
 
@@ -38,18 +39,18 @@ pub enum CameraFile {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PerspectiveFile {
-    pub eye: [f64; 3],
-    pub target: [f64; 3],
-    pub up: [f64; 3],
+    pub eye: Point,
+    pub target: Point,
+    pub up: Point,
     pub fov_y_deg: FovDeg,
 }
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OrthographicFile {
-    pub eye: [f64; 3],
-    pub target: [f64; 3],
-    pub up: [f64; 3],
+    pub eye: Point,
+    pub target: Point,
+    pub up: Point,
     pub view_width: Positive,
 }
 
@@ -58,18 +59,30 @@ impl CameraFile {
     /// precision until `Scene::new` re-centres it on the eye).
     pub fn camera(&self) -> WorldCamera {
         match self {
-            CameraFile::Perspective(p) => Camera::Perspective {
-                eye: DVec3::from(p.eye),
-                target: DVec3::from(p.target),
-                up: DVec3::from(p.up),
-                fov_y_deg: p.fov_y_deg.0,
-            },
+            CameraFile::Perspective(p) => {
+                Camera::Perspective { eye: p.eye.0, target: p.target.0, up: p.up.0, fov_y_deg: p.fov_y_deg.0 }
+            }
             CameraFile::Orthographic(o) => Camera::Orthographic {
-                eye: DVec3::from(o.eye),
-                target: DVec3::from(o.target),
-                up: DVec3::from(o.up),
+                eye: o.eye.0,
+                target: o.target.0,
+                up: o.up.0,
                 view_width: o.view_width.0,
             },
+        }
+    }
+}
+
+/// `[x, y, z]`: exactly three finite numbers, in f64 as written (toml would drop a fourth silently
+/// into an array).
+#[derive(Debug, Clone, Copy)]
+pub struct Point(pub DVec3);
+
+impl<'de> Deserialize<'de> for Point {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<f64>::deserialize(d)?;
+        match v[..] {
+            [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Point(DVec3::new(x, y, z))),
+            _ => Err(de::Error::custom(format!("must be [x, y, z], three finite numbers, got {v:?}"))),
         }
     }
 }
@@ -104,19 +117,24 @@ impl<'de> Deserialize<'de> for Positive {
     }
 }
 
-/// `[width, height]`, each in 1..=MAX_SIDE.
+/// `[width, height]`, within `spec::RESOLUTION_RULE`.
 #[derive(Debug, Clone, Copy)]
 pub struct Resolution(pub u32, pub u32);
 
 impl<'de> Deserialize<'de> for Resolution {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let [w, h] = <[i64; 2]>::deserialize(d)?;
-        let ok = |s: i64| (1..=MAX_SIDE as i64).contains(&s);
-        if ok(w) && ok(h) {
+        let v = Vec::<i64>::deserialize(d)?;
+        let [w, h] = v[..] else {
+            return Err(de::Error::custom(format!(
+                "resolution must be [width, height], got {} numbers",
+                v.len()
+            )));
+        };
+        if w > 0 && h > 0 && resolution_ok(w as u64, h as u64) {
             Ok(Resolution(w as u32, h as u32))
         } else {
             Err(de::Error::custom(format!(
-                "resolution must be [width, height] with each side in 1..={MAX_SIDE}, got [{w}, {h}]"
+                "resolution must be [width, height], {RESOLUTION_RULE}; got [{w}, {h}]"
             )))
         }
     }
@@ -132,7 +150,7 @@ impl<'de> Deserialize<'de> for AoDistance {
         impl de::Visitor<'_> for V {
             type Value = AoDistance;
             fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("ao_distance: a positive number or the string \"infinite\"")
+                f.write_str("ao_distance: a positive number or the string \"infinite\" (or \"inf\")")
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<AoDistance, E> {
                 if v > 0.0 && !v.is_nan() {
@@ -148,11 +166,11 @@ impl<'de> Deserialize<'de> for AoDistance {
                 self.visit_f64(v as f64)
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<AoDistance, E> {
-                if v == "infinite" {
+                if crate::spec::is_infinite(v) {
                     Ok(AoDistance(f32::INFINITY))
                 } else {
                     Err(E::custom(format!(
-                        "ao_distance must be a positive number or \"infinite\", got \"{v}\""
+                        "ao_distance must be a positive number or \"infinite\" (or \"inf\"), got \"{v}\""
                     )))
                 }
             }
@@ -161,9 +179,44 @@ impl<'de> Deserialize<'de> for AoDistance {
     }
 }
 
-/// Parses the scene TOML; the error is toml's (line, column, caret, key), without the file name.
+/// Parses the scene TOML; the error is one line, `line N, key K: what` (without the file name), as
+/// a spec's are.
 pub fn parse(text: &str) -> Result<SceneFile, String> {
-    toml::from_str(text).map_err(|e| e.to_string())
+    toml::from_str(text).map_err(|e| describe(text, &e, &hint))
+}
+
+/// The two ways to write the camera, said whenever the camera is missing or malformed.
+const CAMERA: &str = "write `[camera.perspective]` (eye, target, up, fov_y_deg) or `[camera.orthographic]` \
+                      (eye, target, up, view_width)";
+
+/// What to write instead, for the mistakes serde describes in its own terms.
+fn hint(key: &str, message: &str) -> Option<String> {
+    if key == "camera" && message.starts_with("wanted exactly 1 element") {
+        // An externally tagged enum: `[camera]` with the keys directly under it, or both kinds.
+        return Some(format!("`[camera]` needs its projection in the header: {CAMERA}"));
+    }
+    let spec_keys = ["`scenes`", "`table`", "`convergence`", "`replicates`", "`reference`"];
+    if spec_keys.iter().any(|k| message.starts_with(&format!("unknown field {k}"))) {
+        return Some(
+            "this is an experiment spec, not a scene file: `render`, `bench` and `advise` take a scene file \
+             (like scenes/cornell-box.toml); run a spec with `hemilab run`"
+                .into(),
+        );
+    }
+    if !message.starts_with("missing field") {
+        return None;
+    }
+    let field = key.rsplit('.').next().unwrap_or(key);
+    Some(match field {
+        "camera" => format!("add a camera: {CAMERA}"),
+        "mesh" => "add `mesh = \"file.obj\"` (.obj or .obj.zst, relative to this file)".into(),
+        "resolution" => format!("add `resolution = [width, height]`, {RESOLUTION_RULE}"),
+        "ao_distance" => "add `ao_distance = d`, a positive number or \"infinite\"".into(),
+        "eye" | "target" | "up" => format!("add `{field} = [x, y, z]`"),
+        "fov_y_deg" => "add `fov_y_deg = ..`, the vertical field of view in (0, 180) degrees".into(),
+        "view_width" => "add `view_width = ..`, the width of the view in scene units".into(),
+        _ => return None,
+    })
 }
 
 #[cfg(test)]

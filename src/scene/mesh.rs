@@ -60,7 +60,9 @@ pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
         }
     }
     if mesh.triangles.is_empty() {
-        return Err(if mesh.dropped > 0 {
+        return Err(if mesh.dropped == 1 {
+            "empty mesh: its one triangle has zero area or non-finite vertices".into()
+        } else if mesh.dropped > 0 {
             format!("empty mesh: all {} triangles have zero area or non-finite vertices", mesh.dropped)
         } else {
             "empty mesh: no faces (AO needs at least one triangle)".into()

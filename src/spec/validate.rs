@@ -1,7 +1,8 @@
 //! Phase 1 (serde: shape, unknown keys, types) and phase 2 (ranges, names, duplicates; all problems
 //! gathered with their lines) of reading a spec.
 
-use super::position::{key_at, line_of};
+use super::group::group;
+use super::position::{describe, line_of};
 use super::*;
 use crate::error::{Error, Result};
 use serde::Deserialize;
@@ -9,7 +10,7 @@ use toml::Spanned;
 
 // ---- raw shape (phase 1) ----
 
-type S<T> = Spanned<T>;
+pub(super) type S<T> = Spanned<T>;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -32,6 +33,7 @@ struct RawSpec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawReference {
+    dir: Option<S<String>>,
     rays: Option<S<toml::Value>>,
     replicates: Option<S<i64>>,
     seed: Option<S<i64>>,
@@ -50,39 +52,49 @@ struct RawTiming {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct RawGroup {
-    name: S<String>,
-    rays: S<Vec<S<i64>>>,
-    replicates: Option<S<i64>>,
-    scenes: Option<S<Vec<S<String>>>>,
-    rows: Option<S<Vec<S<RawRow>>>>,
-    distributions: Option<S<Vec<S<String>>>>,
-    sequences: Option<S<Vec<S<String>>>>,
-    seed_modes: Option<S<Vec<S<String>>>>,
+pub(super) struct RawGroup {
+    pub(super) name: S<String>,
+    pub(super) rays: S<Vec<S<i64>>>,
+    pub(super) replicates: Option<S<i64>>,
+    pub(super) scenes: Option<S<Vec<S<String>>>>,
+    pub(super) rows: Option<S<Vec<S<RawRow>>>>,
+    pub(super) distributions: Option<S<Vec<S<String>>>>,
+    pub(super) sequences: Option<S<Vec<S<String>>>>,
+    pub(super) seed_modes: Option<S<Vec<S<String>>>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct RawRow {
-    distribution: S<String>,
-    sequence: S<String>,
-    seed_mode: Option<S<String>>,
+pub(super) struct RawRow {
+    pub(super) distribution: S<String>,
+    pub(super) sequence: S<String>,
+    pub(super) seed_mode: Option<S<String>>,
 }
 
 // ---- validation (phase 2) ----
 
 /// Collects problems with their lines, so one run of `hemilab plan` reports all of them.
-struct Problems<'a> {
-    text: &'a str,
-    list: Vec<(usize, String)>,
+pub(super) struct Problems<'a> {
+    pub(super) text: &'a str,
+    pub(super) list: Vec<(usize, String)>,
+    /// The group being checked (`table 't2'`), said after its keys: the key path is TOML's
+    /// (`table.rays`), and the line and the name say which of several groups it is.
+    pub(super) group: Option<String>,
 }
 
 impl Problems<'_> {
-    fn add(&mut self, span: std::ops::Range<usize>, key: &str, what: impl std::fmt::Display) {
-        self.list.push((line_of(self.text, span.start), format!("key `{key}`: {what}")));
+    pub(super) fn add(&mut self, span: std::ops::Range<usize>, key: &str, what: impl std::fmt::Display) {
+        let of =
+            self.group.as_ref().filter(|_| key.contains('.')).map_or(String::new(), |g| format!(" ({g})"));
+        self.list.push((line_of(self.text, span.start), format!("key `{key}`{of}: {what}")));
     }
 
-    fn int(&mut self, v: &S<i64>, key: &str, min: i64, max: i64) -> Option<u32> {
+    /// A problem of the whole file (something missing), with no line to point at.
+    fn add_file(&mut self, key: &str, what: impl std::fmt::Display) {
+        self.list.push((0, format!("key `{key}`: {what}")));
+    }
+
+    pub(super) fn int(&mut self, v: &S<i64>, key: &str, min: i64, max: i64) -> Option<u32> {
         let x = *v.get_ref();
         if x < min || x > max {
             self.add(v.span(), key, format!("{x} is out of range; allowed {min}..={max}"));
@@ -92,7 +104,7 @@ impl Problems<'_> {
         }
     }
 
-    fn name<T: std::str::FromStr<Err = String>>(&mut self, v: &S<String>, key: &str) -> Option<T> {
+    pub(super) fn name<T: std::str::FromStr<Err = String>>(&mut self, v: &S<String>, key: &str) -> Option<T> {
         v.get_ref().parse::<T>().map_err(|e| self.add(v.span(), key, e)).ok()
     }
 
@@ -100,7 +112,7 @@ impl Problems<'_> {
         self.int(v, key, 0, u32::MAX as i64).map_or(0, u64::from)
     }
 
-    fn ident(&mut self, v: &S<String>, key: &str) -> Option<String> {
+    pub(super) fn ident(&mut self, v: &S<String>, key: &str) -> Option<String> {
         let s = v.get_ref();
         let ok = !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
         if !ok {
@@ -113,7 +125,7 @@ impl Problems<'_> {
         ok.then(|| s.clone())
     }
 
-    fn non_empty<T>(&mut self, v: &S<Vec<T>>, key: &str) -> bool {
+    pub(super) fn non_empty<T>(&mut self, v: &S<Vec<T>>, key: &str) -> bool {
         if v.get_ref().is_empty() {
             self.add(v.span(), key, "is empty; list at least one value");
         }
@@ -123,30 +135,55 @@ impl Problems<'_> {
 
 /// Parses and validates a spec. No IO: `path` is for messages and for resolving scene paths.
 pub fn parse_spec(text: &str, path: &Path) -> Result<Spec> {
-    let raw: RawSpec = toml::from_str(text).map_err(|e| {
-        let what = match e.span() {
-            Some(span) => {
-                let key = key_at(text, span.start).map(|k| format!(", key `{k}`")).unwrap_or_default();
-                format!(
-                    "line {}{key}: {}",
-                    line_of(text, span.start),
-                    e.message().trim_end().replace("expected i64", "expected an integer")
-                )
-            }
-            None => e.message().trim_end().to_string(),
-        };
-        Error::input(path, what)
-    })?;
-    let mut p = Problems { text, list: Vec::new() };
+    let raw: RawSpec =
+        toml::from_str(text).map_err(|e| Error::input(path, describe(text, &e, &shape_hint)))?;
+    let mut p = Problems { text, list: Vec::new(), group: None };
     let spec = validate(raw, path, &mut p);
     if p.list.is_empty() {
         Ok(spec)
     } else {
         p.list.sort_by_key(|(line, _)| *line);
         // One line per problem, each naming the file, so every line alone says where to look.
-        let lines: Vec<String> = p.list.iter().map(|(l, m)| format!("line {l}, {m}")).collect();
+        let lines: Vec<String> =
+            p.list.iter().map(|(l, m)| if *l == 0 { m.clone() } else { format!("line {l}, {m}") }).collect();
         Err(Error::input(path, lines.join(&format!("\n{}: ", path.display()))))
     }
+}
+
+/// What to write instead, for the shape errors a person makes (serde's words name types, not fixes).
+fn shape_hint(key: &str, message: &str) -> Option<String> {
+    let group = matches!(key, "table" | "convergence");
+    if group && message.contains("invalid type: map, expected a sequence") {
+        return Some(format!(
+            "write `[[{key}]]` with double brackets, not `[{key}]`: each `[[{key}]]` is one {}, and a spec \
+             may have several",
+            if key == "table" { "table" } else { "sweep" }
+        ));
+    }
+    if ["`mesh`", "`camera`"].iter().any(|k| message.starts_with(&format!("unknown field {k}"))) {
+        return Some(
+            "this is a scene file, not a spec: `hemilab run` and `plan` take a spec (like \
+             experiments/smoke.toml), which names its scene files in `scenes = [..]`; `render` and `bench` \
+             take a scene file"
+                .into(),
+        );
+    }
+    if !message.starts_with("missing field") {
+        return None;
+    }
+    let field = key.rsplit('.').next().unwrap_or(key);
+    Some(match field {
+        "scenes" => "add `scenes = [\"../scenes/kitchen.toml\"]`, paths relative to the spec file".into(),
+        "name" => "give it a `name = \"...\"` (letters, digits, '-', '_')".into(),
+        "rays" => "add `rays = [8, 16, 32]`, the ray counts per pixel".into(),
+        "distribution" => format!("add `distribution = ..`, one of {}", names(Distribution::ALL)),
+        "sequence" => format!("add `sequence = ..`, one of {}", names(Sequence::ALL)),
+        _ => return None,
+    })
+}
+
+pub(super) fn names<T: std::fmt::Display>(all: &[T]) -> String {
+    all.iter().map(|x| format!("\"{x}\"")).collect::<Vec<_>>().join(", ")
 }
 
 /// The figure files (stems, `.png`) a group's report writes: `app::figures` names them so.
@@ -181,7 +218,10 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
                     "scenes",
                     format!("a second scene named '{stem}'; scene file names must differ"),
                 ),
-                Some(stem) => scenes.push(SceneRef { path: dir.join(&id), id, name: stem }),
+                Some(stem) => {
+                    let line = line_of(p.text, s.span().start);
+                    scenes.push(SceneRef { path: dir.join(&id), id, name: stem, line })
+                }
             }
         }
     }
@@ -192,13 +232,30 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         }
         let w = p.int(&r.get_ref()[0], "resolution", 1, MAX_SIDE as i64);
         let h = p.int(&r.get_ref()[1], "resolution", 1, MAX_SIDE as i64);
-        Some([w?, h?])
+        let (w, h) = (w?, h?);
+        if !resolution_ok(w as u64, h as u64) {
+            p.add(r.span(), "resolution", format!("{w}x{h} is too large; {RESOLUTION_RULE}"));
+            return None;
+        }
+        Some([w, h])
     });
     let ao_distance = raw.ao_distance.as_ref().and_then(|v| distance(v, p));
     let replicates =
         raw.replicates.as_ref().map_or(Some(1), |r| p.int(r, "replicates", 1, MAX_REPLICATES as i64));
     let seed = raw.seed.as_ref().map_or(1, |s| p.seed(s, "seed"));
     let reference = reference(raw.reference.as_ref(), seed, p);
+    let reference_dir = match raw.reference.as_ref().and_then(|r| r.dir.as_ref()) {
+        Some(d) if d.get_ref().trim().is_empty() => {
+            p.add(
+                d.span(),
+                "reference.dir",
+                "is empty; a directory relative to the spec file, e.g. \"reference\"",
+            );
+            dir.join("reference")
+        }
+        Some(d) => dir.join(d.get_ref()),
+        None => dir.join("reference"),
+    };
     let timing = TimingSpec {
         repeats: raw
             .timing
@@ -219,7 +276,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
     let mut all: Vec<_> = all.collect();
     all.sort_by_key(|(_, g)| g.span().start);
     if all.is_empty() {
-        p.add(0..0, "table", "the spec has no [[table]] and no [[convergence]]; add at least one");
+        p.add_file("table", "the spec has no [[table]] and no [[convergence]]; add at least one");
     }
     let point_figures = raw.point_figures.as_ref().is_some_and(|b| *b.get_ref());
     // Figure files already taken: the banding plot, and the point figures when drawn.
@@ -269,12 +326,13 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         seed,
         point_figures,
         reference,
+        reference_dir,
         timing,
         groups,
     }
 }
 
-fn kind_key(kind: GroupKind) -> &'static str {
+pub(super) fn kind_key(kind: GroupKind) -> &'static str {
     match kind {
         GroupKind::Table => "table",
         GroupKind::Convergence => "convergence",
@@ -283,7 +341,7 @@ fn kind_key(kind: GroupKind) -> &'static str {
 
 fn distance(v: &S<toml::Value>, p: &mut Problems) -> Option<AoDistance> {
     let d = match v.get_ref() {
-        toml::Value::String(s) if s == "infinite" => return Some(AoDistance::Infinite),
+        toml::Value::String(s) if is_infinite(s) => return Some(AoDistance::Infinite),
         toml::Value::Float(f) => *f,
         toml::Value::Integer(i) => *i as f64,
         _ => f64::NAN,
@@ -297,7 +355,7 @@ fn distance(v: &S<toml::Value>, p: &mut Problems) -> Option<AoDistance> {
             v.span(),
             "ao_distance",
             format!(
-                "{} is not allowed; a number in [{:e}, {:e}] or \"infinite\"",
+                "{} is not allowed; a number in [{:e}, {:e}] or \"infinite\" (or \"inf\")",
                 v.get_ref(),
                 f32::MIN_POSITIVE,
                 f32::MAX
@@ -358,145 +416,4 @@ fn reference(raw: Option<&RawReference>, seed: u64, p: &mut Problems) -> Referen
         }
     }
     r
-}
-
-fn group(
-    kind: GroupKind,
-    g: &S<RawGroup>,
-    scenes: &[SceneRef],
-    replicates: u32,
-    p: &mut Problems,
-) -> Option<Group> {
-    let k = kind_key(kind);
-    let raw = g.get_ref();
-    let name = p.ident(&raw.name, &format!("{k}.name"));
-    let at = |key: &str| format!("{k}.{}.{key}", raw.name.get_ref());
-    let mut rays = Vec::new();
-    if p.non_empty(&raw.rays, &at("rays")) {
-        for r in raw.rays.get_ref() {
-            if let Some(n) = p.int(r, &at("rays"), 1, MAX_RAYS as i64)
-                && !rays.contains(&n)
-            {
-                rays.push(n);
-            }
-        }
-    }
-    let replicates = match &raw.replicates {
-        Some(r) => p.int(r, &at("replicates"), 1, MAX_REPLICATES as i64).unwrap_or(1),
-        None => replicates,
-    };
-    let group_scenes = match &raw.scenes {
-        None => (0..scenes.len()).collect(),
-        Some(list) => {
-            p.non_empty(list, &at("scenes"));
-            let mut out = Vec::new();
-            for s in list.get_ref() {
-                let id = normalize(s.get_ref());
-                match scenes.iter().position(|o| o.id == id || o.name == *s.get_ref()) {
-                    Some(i) if !out.contains(&i) => out.push(i),
-                    Some(_) => {}
-                    None => {
-                        let valid: Vec<&str> = scenes.iter().map(|o| o.name.as_str()).collect();
-                        p.add(
-                            s.span(),
-                            &at("scenes"),
-                            format!("unknown scene '{}'; valid: {}", s.get_ref(), valid.join(", ")),
-                        )
-                    }
-                }
-            }
-            out
-        }
-    };
-    let rows = rows(raw, &at(""), g.span(), p);
-    Some(Group {
-        kind,
-        name: name?,
-        rows: rows?,
-        rays,
-        replicates,
-        scenes: group_scenes,
-        line: line_of(p.text, g.span().start),
-    })
-}
-
-fn rows(raw: &RawGroup, at: &str, span: std::ops::Range<usize>, p: &mut Problems) -> Option<Vec<Row>> {
-    let axes = raw.distributions.is_some() || raw.sequences.is_some() || raw.seed_modes.is_some();
-    let mut out = Vec::new();
-    let mut push = |r: Row| {
-        let r = r.canonical();
-        if !out.contains(&r) {
-            out.push(r);
-        }
-    };
-    match (&raw.rows, axes) {
-        (Some(rows), true) => {
-            p.add(
-                rows.span(),
-                &format!("{at}rows"),
-                "give either `rows` or the axes `distributions`/`sequences`/`seed_modes`, not both",
-            );
-            None
-        }
-        (None, false) => {
-            const HOW: &str = "missing; give `rows = [{ distribution = .., sequence = .., seed_mode = .. }]` \
-                               or the axes `distributions` and `sequences` (and optionally `seed_modes`)";
-            p.add(span, &format!("{at}rows"), HOW);
-            None
-        }
-        (Some(rows), false) => {
-            if !p.non_empty(rows, &format!("{at}rows")) {
-                return None;
-            }
-            let mut ok = true;
-            for row in rows.get_ref() {
-                let r = row.get_ref();
-                let d = p.name::<Distribution>(&r.distribution, &format!("{at}rows.distribution"));
-                let s = p.name::<Sequence>(&r.sequence, &format!("{at}rows.sequence"));
-                let m = match &r.seed_mode {
-                    Some(m) => p.name::<SeedMode>(m, &format!("{at}rows.seed_mode")),
-                    None => Some(SeedMode::Rotation),
-                };
-                match (d, s, m) {
-                    (Some(d), Some(s), Some(m)) => push(Row::new(d, s, m)),
-                    _ => ok = false,
-                }
-            }
-            ok.then_some(out)
-        }
-        (None, true) => {
-            let ds = axis::<Distribution>(&raw.distributions, &format!("{at}distributions"), span.clone(), p);
-            let ss = axis::<Sequence>(&raw.sequences, &format!("{at}sequences"), span, p);
-            let ms = match &raw.seed_modes {
-                None => Some(vec![SeedMode::Rotation]),
-                Some(v) => axis::<SeedMode>(&Some(v.clone()), &format!("{at}seed_modes"), 0..0, p),
-            };
-            let (ds, ss, ms) = (ds?, ss?, ms?);
-            for &d in &ds {
-                for &s in &ss {
-                    for &m in &ms {
-                        push(Row::new(d, s, m));
-                    }
-                }
-            }
-            Some(out)
-        }
-    }
-}
-
-fn axis<T: std::str::FromStr<Err = String>>(
-    v: &Option<S<Vec<S<String>>>>,
-    key: &str,
-    span: std::ops::Range<usize>,
-    p: &mut Problems,
-) -> Option<Vec<T>> {
-    let Some(v) = v else {
-        p.add(span, key, "missing; with the axes form give both `distributions` and `sequences`");
-        return None;
-    };
-    if !p.non_empty(v, key) {
-        return None;
-    }
-    let parsed: Vec<Option<T>> = v.get_ref().iter().map(|s| p.name::<T>(s, key)).collect();
-    parsed.into_iter().collect()
 }

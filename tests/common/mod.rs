@@ -162,3 +162,32 @@ pub fn timeless_csv(out: &Path) -> Vec<String> {
         })
         .collect()
 }
+
+/// Runs a shipped spec (`experiments/<name>.toml`) through the real binary against the committed
+/// references, as the claims tests do, and returns its records and the command's output. Panics,
+/// naming the spec and how to rebuild its references, when the run fails.
+pub fn run_shipped_spec(name: &str) -> (Vec<JobResult>, Output) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = std::env::temp_dir().join(format!("hemilab-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let o = Command::new(env!("CARGO_BIN_EXE_hemilab"))
+        .arg("run")
+        .arg(root.join(format!("experiments/{name}.toml")))
+        .arg("--out")
+        .arg(&out)
+        .arg("--reference-dir")
+        .arg(root.join("reference"))
+        .arg("--no-build-reference")
+        .arg("--quiet")
+        .output()
+        .expect("hemilab runs");
+    assert!(
+        o.status.success(),
+        "hemilab run experiments/{name}.toml failed (are its references committed? \
+         `hemilab reference experiments/{name}.toml` rebuilds them):\n{}",
+        stderr(&o)
+    );
+    let list = records(&out);
+    let _ = std::fs::remove_dir_all(&out);
+    (list, o)
+}

@@ -1,0 +1,151 @@
+//! Phase 2 of reading a spec for one `[[table]]` or `[[convergence]]` group: its name, rays,
+//! replicates, scenes and rows (explicit `rows`, or the product of `distributions` × `sequences` ×
+//! `seed_modes`), every problem gathered with its line.
+
+use super::position::line_of;
+use super::validate::{Problems, RawGroup, S, kind_key};
+use super::*;
+
+pub(super) fn group(
+    kind: GroupKind,
+    g: &S<RawGroup>,
+    scenes: &[SceneRef],
+    replicates: u32,
+    p: &mut Problems,
+) -> Option<Group> {
+    let k = kind_key(kind);
+    let raw = g.get_ref();
+    let name = p.ident(&raw.name, &format!("{k}.name"));
+    let word = if kind == GroupKind::Table { "table" } else { "sweep" };
+    p.group = Some(format!("{word} '{}'", raw.name.get_ref()));
+    let at = |key: &str| format!("{k}.{key}");
+    let mut rays = Vec::new();
+    if p.non_empty(&raw.rays, &at("rays")) {
+        for r in raw.rays.get_ref() {
+            if let Some(n) = p.int(r, &at("rays"), 1, MAX_RAYS as i64)
+                && !rays.contains(&n)
+            {
+                rays.push(n);
+            }
+        }
+    }
+    let replicates = match &raw.replicates {
+        Some(r) => p.int(r, &at("replicates"), 1, MAX_REPLICATES as i64).unwrap_or(1),
+        None => replicates,
+    };
+    let group_scenes = match &raw.scenes {
+        None => (0..scenes.len()).collect(),
+        Some(list) => {
+            p.non_empty(list, &at("scenes"));
+            let mut out = Vec::new();
+            for s in list.get_ref() {
+                let id = normalize(s.get_ref());
+                match scenes.iter().position(|o| o.id == id || o.name == *s.get_ref()) {
+                    Some(i) if !out.contains(&i) => out.push(i),
+                    Some(_) => {}
+                    None => {
+                        let valid: Vec<&str> = scenes.iter().map(|o| o.name.as_str()).collect();
+                        p.add(
+                            s.span(),
+                            &at("scenes"),
+                            format!("unknown scene '{}'; valid: {}", s.get_ref(), valid.join(", ")),
+                        )
+                    }
+                }
+            }
+            out
+        }
+    };
+    let rows = rows(raw, &at(""), g.span(), p);
+    p.group = None;
+    Some(Group {
+        kind,
+        name: name?,
+        rows: rows?,
+        rays,
+        replicates,
+        scenes: group_scenes,
+        line: line_of(p.text, g.span().start),
+    })
+}
+
+fn rows(raw: &RawGroup, at: &str, span: std::ops::Range<usize>, p: &mut Problems) -> Option<Vec<Row>> {
+    let axes = raw.distributions.is_some() || raw.sequences.is_some() || raw.seed_modes.is_some();
+    let mut out = Vec::new();
+    let mut push = |r: Row| {
+        let r = r.canonical();
+        if !out.contains(&r) {
+            out.push(r);
+        }
+    };
+    match (&raw.rows, axes) {
+        (Some(rows), true) => {
+            p.add(
+                rows.span(),
+                &format!("{at}rows"),
+                "give either `rows` or the axes `distributions`/`sequences`/`seed_modes`, not both",
+            );
+            None
+        }
+        (None, false) => {
+            const HOW: &str = "missing; give `rows = [{ distribution = .., sequence = .., seed_mode = .. }]` \
+                               or the axes `distributions` and `sequences` (and optionally `seed_modes`)";
+            p.add(span, &format!("{at}rows"), HOW);
+            None
+        }
+        (Some(rows), false) => {
+            if !p.non_empty(rows, &format!("{at}rows")) {
+                return None;
+            }
+            let mut ok = true;
+            for row in rows.get_ref() {
+                let r = row.get_ref();
+                let d = p.name::<Distribution>(&r.distribution, &format!("{at}rows.distribution"));
+                let s = p.name::<Sequence>(&r.sequence, &format!("{at}rows.sequence"));
+                let m = match &r.seed_mode {
+                    Some(m) => p.name::<SeedMode>(m, &format!("{at}rows.seed_mode")),
+                    None => Some(SeedMode::Rotation),
+                };
+                match (d, s, m) {
+                    (Some(d), Some(s), Some(m)) => push(Row::new(d, s, m)),
+                    _ => ok = false,
+                }
+            }
+            ok.then_some(out)
+        }
+        (None, true) => {
+            let ds = axis::<Distribution>(&raw.distributions, &format!("{at}distributions"), span.clone(), p);
+            let ss = axis::<Sequence>(&raw.sequences, &format!("{at}sequences"), span, p);
+            let ms = match &raw.seed_modes {
+                None => Some(vec![SeedMode::Rotation]),
+                Some(v) => axis::<SeedMode>(&Some(v.clone()), &format!("{at}seed_modes"), 0..0, p),
+            };
+            let (ds, ss, ms) = (ds?, ss?, ms?);
+            for &d in &ds {
+                for &s in &ss {
+                    for &m in &ms {
+                        push(Row::new(d, s, m));
+                    }
+                }
+            }
+            Some(out)
+        }
+    }
+}
+
+fn axis<T: std::str::FromStr<Err = String>>(
+    v: &Option<S<Vec<S<String>>>>,
+    key: &str,
+    span: std::ops::Range<usize>,
+    p: &mut Problems,
+) -> Option<Vec<T>> {
+    let Some(v) = v else {
+        p.add(span, key, "missing; with the axes form give both `distributions` and `sequences`");
+        return None;
+    };
+    if !p.non_empty(v, key) {
+        return None;
+    }
+    let parsed: Vec<Option<T>> = v.get_ref().iter().map(|s| p.name::<T>(s, key)).collect();
+    parsed.into_iter().collect()
+}

@@ -7,6 +7,7 @@
 //! `warp` to a direction on the hemisphere (uniform, sine, sine-cosine, concentric-cosine),
 //! which `frame` rotates around the surface normal.
 
+pub mod batch;
 pub mod blue_noise;
 pub mod fibonacci;
 pub mod frame;
@@ -15,6 +16,7 @@ pub mod random;
 pub mod seed;
 pub mod sobol;
 pub mod stratified;
+pub mod trig;
 pub mod warp;
 
 pub use fibonacci::fibonacci_point;

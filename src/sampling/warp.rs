@@ -7,6 +7,7 @@
 //! outside [0,1]^2 (or NaN) are clamped first, so no input can produce a NaN.
 
 use super::frame::canonical;
+use super::trig::{sin_cos_quarter, sin_cos_turns};
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI, TAU};
 
@@ -34,7 +35,7 @@ pub struct DirSample {
 
 impl Distribution {
     /// Maps (u, v) in [0,1]^2 to a unit direction (z >= 0) and its AO weight.
-    #[inline]
+    #[inline(always)]
     pub fn sample(self, u: Vec2) -> DirSample {
         let u = clamp_unit(u);
         let dir = match self {
@@ -67,7 +68,7 @@ impl Distribution {
     }
 
     /// cos / (pi pdf) in closed form: finite and >= 0 everywhere, including pole and horizon.
-    #[inline]
+    #[inline(always)]
     pub fn ao_weight(self, dir: Vec3) -> f32 {
         match self {
             Distribution::Uniform => uniform_angles_weight(dir),
@@ -79,33 +80,33 @@ impl Distribution {
 }
 
 /// Clamp to [0,1]^2, NaN to 0 (f32::clamp would keep the NaN).
-#[inline]
+#[inline(always)]
 fn clamp_unit(u: Vec2) -> Vec2 {
     let c = |x: f32| if x >= 0.0 { x.min(1.0) } else { 0.0 };
     Vec2::new(c(u.x), c(u.y))
 }
 
 /// sqrt that returns 0 instead of NaN for rounding-negative input.
-#[inline]
+#[inline(always)]
 fn safe_sqrt(x: f32) -> f32 {
     x.max(0.0).sqrt()
 }
 
 /// sin theta of a unit direction from its xy part (accurate near the pole, unlike acos).
-#[inline]
+#[inline(always)]
 fn sin_theta(d: Vec3) -> f32 {
     (d.x * d.x + d.y * d.y).sqrt().min(1.0)
 }
 
 /// Direction from sin/cos theta and u (phi = 2 pi u), clamped into the upper hemisphere.
-#[inline]
+#[inline(always)]
 fn polar(u: f32, sin_t: f32, cos_t: f32) -> Vec3 {
-    let (sp, cp) = (TAU * u).sin_cos();
+    let (sp, cp) = sin_cos_turns(u);
     canonical(Vec3::new(sin_t * cp, sin_t * sp, cos_t.max(0.0)))
 }
 
 /// u = phi / (2 pi) in [0,1).
-#[inline]
+#[inline(always)]
 fn azimuth_to_u(d: Vec3) -> f32 {
     let u = d.y.atan2(d.x) * (0.5 * FRAC_1_PI);
     let u = if u < 0.0 { u + 1.0 } else { u };
@@ -115,9 +116,9 @@ fn azimuth_to_u(d: Vec3) -> f32 {
 // ---- uniform in the angles (the paper's "uniform") ----
 
 /// phi = 2 pi u, theta = (pi/2) v (joint pdf 1/pi^2 over the angle rectangle).
-#[inline]
+#[inline(always)]
 pub fn square_to_uniform_angles(u: Vec2) -> Vec3 {
-    let (s, c) = (FRAC_PI_2 * u.y).sin_cos();
+    let (s, c) = sin_cos_quarter(u.y);
     polar(u.x, s.clamp(0.0, 1.0), c)
 }
 
@@ -133,7 +134,7 @@ pub fn uniform_angles_to_square(d: Vec3) -> Vec2 {
 }
 
 /// cos / (pi pdf) = pi sin theta cos theta.
-#[inline]
+#[inline(always)]
 pub fn uniform_angles_weight(d: Vec3) -> f32 {
     PI * sin_theta(d) * d.z.max(0.0)
 }
@@ -141,7 +142,7 @@ pub fn uniform_angles_weight(d: Vec3) -> f32 {
 // ---- sine (uniform over solid angle) ----
 
 /// cos theta = 1 - v, sin theta = sqrt(v (2 - v)) (accurate near the pole, no acos).
-#[inline]
+#[inline(always)]
 pub fn square_to_sine(u: Vec2) -> Vec3 {
     polar(u.x, safe_sqrt(u.y * (2.0 - u.y)), 1.0 - u.y)
 }
@@ -157,7 +158,7 @@ pub fn sine_to_square(d: Vec3) -> Vec2 {
 }
 
 /// cos / (pi pdf) = 2 cos theta.
-#[inline]
+#[inline(always)]
 pub fn sine_weight(d: Vec3) -> f32 {
     2.0 * d.z.max(0.0)
 }
@@ -165,7 +166,7 @@ pub fn sine_weight(d: Vec3) -> f32 {
 // ---- sine-cosine (cosine-weighted, the paper's polar map) ----
 
 /// sin theta = sqrt(v), cos theta = sqrt(1 - v).
-#[inline]
+#[inline(always)]
 pub fn square_to_sine_cosine(u: Vec2) -> Vec3 {
     polar(u.x, safe_sqrt(u.y), safe_sqrt(1.0 - u.y))
 }
@@ -181,7 +182,7 @@ pub fn sine_cosine_to_square(d: Vec3) -> Vec2 {
 }
 
 /// cos / (pi pdf) = 1.
-#[inline]
+#[inline(always)]
 pub fn sine_cosine_weight(_d: Vec3) -> f32 {
     1.0
 }
@@ -189,20 +190,17 @@ pub fn sine_cosine_weight(_d: Vec3) -> f32 {
 // ---- concentric cosine (Shirley-Chiu disk + Malley projection; pbrt-v4, Mitsuba 3) ----
 
 /// Shirley & Chiu 1997, "A Low Distortion Map Between Disk and Square" (pbrt-v4
-/// SampleUniformDiskConcentric): squares of [-1,1]^2 to circles of the unit disk.
-#[inline]
+/// SampleUniformDiskConcentric): squares of [-1,1]^2 to circles of the unit disk. The angle is
+/// carried in quarter turns (theta / (pi/2)), both branches are computed and one is selected, so
+/// a loop over points vectorizes.
+#[inline(always)]
 pub fn square_to_concentric_disk(u: Vec2) -> Vec2 {
     let o = 2.0 * u - Vec2::ONE;
-    if o.x == 0.0 && o.y == 0.0 {
-        return Vec2::ZERO;
-    }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, FRAC_PI_4 * (o.y / o.x))
-    } else {
-        (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
-    };
-    let (s, c) = theta.sin_cos();
-    r * Vec2::new(c, s)
+    let wide = o.x.abs() > o.y.abs();
+    let (r, quarter) = if wide { (o.x, 0.5 * (o.y / o.x)) } else { (o.y, 1.0 - 0.5 * (o.x / o.y)) };
+    let (s, c) = sin_cos_quarter(if o.x == 0.0 && o.y == 0.0 { 0.0 } else { quarter });
+    let d = r * Vec2::new(c, s);
+    if o.x == 0.0 && o.y == 0.0 { Vec2::ZERO } else { d }
 }
 
 /// Inverse of `square_to_concentric_disk` (Shirley & Chiu 1997, sec. 3, by octant of phi).
@@ -226,7 +224,7 @@ pub fn concentric_disk_to_square(p: Vec2) -> Vec2 {
 }
 
 /// Malley: lift the concentric disk point to z = sqrt(1 - r^2).
-#[inline]
+#[inline(always)]
 pub fn square_to_concentric_cosine(u: Vec2) -> Vec3 {
     let d = square_to_concentric_disk(u);
     canonical(Vec3::new(d.x, d.y, safe_sqrt(1.0 - d.length_squared())))
@@ -243,7 +241,7 @@ pub fn concentric_cosine_to_square(d: Vec3) -> Vec2 {
 }
 
 /// cos / (pi pdf) = 1.
-#[inline]
+#[inline(always)]
 pub fn concentric_cosine_weight(_d: Vec3) -> f32 {
     1.0
 }

@@ -411,18 +411,23 @@ pub fn rank(curves: &[Curve], budget_s: f64, metric: Metric) -> Ranking {
 
 /// Default budgets when none are given: three times spread over the paper default's measured
 /// range — a quarter, half and three quarters of the way in log time from its cheapest to its
-/// dearest render — rounded to two significant digits (and kept inside the range).
+/// dearest render — rounded to two significant digits (and kept inside the range). On a narrow
+/// range (a tiny image) two of them can round to the same number: then more digits are kept, so
+/// there are always three distinct budgets when the range is not a single time.
 pub fn default_budgets(paper_default: &Curve) -> Vec<f64> {
     let lt = monotone_log_times(&paper_default.points);
     let (Some(&a), Some(&b)) = (lt.first(), lt.last()) else { return Vec::new() };
-    let mut out: Vec<f64> = Vec::new();
-    for q in [0.25, 0.5, 0.75] {
-        let t = round_significant((a + q * (b - a)).exp(), 2).clamp(a.exp(), b.exp());
-        if !out.contains(&t) {
-            out.push(t);
+    let spread = |digits: usize| {
+        let mut out: Vec<f64> = Vec::new();
+        for q in [0.25, 0.5, 0.75] {
+            let t = round_significant((a + q * (b - a)).exp(), digits).clamp(a.exp(), b.exp());
+            if !out.contains(&t) {
+                out.push(t);
+            }
         }
-    }
-    out
+        out
+    };
+    (2..=6).map(spread).find(|b| b.len() == 3).unwrap_or_else(|| spread(2))
 }
 
 /// `x` rounded to `digits` (≥ 1) significant digits, as the nearest double to that decimal (so

@@ -176,6 +176,14 @@ fn default_budgets_lie_inside_the_baseline_range() {
         assert!(matches!(locate(&c, *t), Place::Inside { .. }), "{t}");
         assert_eq!(*t, round_significant(*t, 2));
     }
+    // A narrow range (times within 10 %): still three distinct budgets, with a third digit.
+    let mut narrow = c.clone();
+    for p in &mut narrow.points {
+        p.time_s = 1e-3 + 1e-6 * p.rays as f64; // 1.001 to 1.016 ms
+    }
+    let b = default_budgets(&narrow);
+    assert_eq!(b.len(), 3, "{b:?}");
+    assert!(b.windows(2).all(|w| w[0] < w[1]), "{b:?}");
     assert_eq!(round_significant(0.012345, 2), 0.012);
     assert_eq!(round_significant(987.0, 2), 990.0);
     assert_eq!(round_significant(0.0, 2), 0.0);

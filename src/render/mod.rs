@@ -8,7 +8,8 @@ mod offset;
 pub use offset::ao_origin;
 
 use crate::image::Image;
-use crate::sampling::{Distribution, Frame, SamplerConfig, frame};
+use crate::sampling::batch::Directions;
+use crate::sampling::{Distribution, Frame, SamplerConfig};
 use crate::scene::Scene;
 use crate::scene::accel::Ray;
 use crate::scene::packet::Occluders;
@@ -54,6 +55,8 @@ pub struct PixelRays {
     pub normal: Vec3,
     pub dirs: Vec<Vec3>,
     pub weights: Vec<f32>,
+    /// Scratch: the directions as arrays, as the vectorized warp writes them.
+    batch: Directions,
 }
 
 /// A tile's covered pixels as (index, AO value), its AO rays and its occluded rays.
@@ -161,13 +164,13 @@ pub fn pixel_rays(
     out.normal = n;
     let basis = Frame::from_normal(n);
     job.sampler.fill_pixel(x, y, pixel, points);
+    // All points at once (vectorized; bit for bit the one-point path, `batch::world_sample`).
+    out.batch.fill(job.distribution, points, &basis);
+    let b = &out.batch;
     out.dirs.clear();
+    out.dirs.extend((0..b.len()).map(|i| Vec3::new(b.x[i], b.y[i], b.z[i])));
     out.weights.clear();
-    for &u in points.iter() {
-        let s = job.distribution.sample(u);
-        out.dirs.push(frame::canonical(basis.to_world(s.dir).normalize_or(n)));
-        out.weights.push(s.weight);
-    }
+    out.weights.extend_from_slice(&b.weight[..b.len()]);
     true
 }
 

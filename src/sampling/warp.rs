@@ -197,10 +197,15 @@ pub fn sine_cosine_weight(_d: Vec3) -> f32 {
 pub fn square_to_concentric_disk(u: Vec2) -> Vec2 {
     let o = 2.0 * u - Vec2::ONE;
     let wide = o.x.abs() > o.y.abs();
-    let (r, quarter) = if wide { (o.x, 0.5 * (o.y / o.x)) } else { (o.y, 1.0 - 0.5 * (o.x / o.y)) };
-    let (s, c) = sin_cos_quarter(if o.x == 0.0 && o.y == 0.0 { 0.0 } else { quarter });
+    // One division either way: o.y / o.x in the wide octants, o.x / o.y in the others (written as
+    // selects of operands, not of whole branches, which the vectorizer would not if-convert).
+    let (r, other) = (if wide { o.x } else { o.y }, if wide { o.y } else { o.x });
+    let centre = (o.x == 0.0) & (o.y == 0.0);
+    let ratio = 0.5 * (other / if centre { 1.0 } else { r });
+    let quarter = if wide { ratio } else { 1.0 - ratio };
+    let (s, c) = sin_cos_quarter(if centre { 0.0 } else { quarter });
     let d = r * Vec2::new(c, s);
-    if o.x == 0.0 && o.y == 0.0 { Vec2::ZERO } else { d }
+    if centre { Vec2::ZERO } else { d }
 }
 
 /// Inverse of `square_to_concentric_disk` (Shirley & Chiu 1997, sec. 3, by octant of phi).

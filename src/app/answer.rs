@@ -58,7 +58,8 @@ pub fn answer(data: &Data) -> Answer {
 }
 
 /// "A at 7 of 11 ray counts (4, 16–512; ×1.05–1.14 the runner-up's efficiency, by more than 3
-/// combined spreads at 2 of them); B at …", winners in order of how often they win.
+/// combined spreads at 2 of them); B at …", winners in order of how often they win ("at none of
+/// them by more than 3 combined spreads" when no margin is resolved).
 fn winners(data: &Data, scene: &str, best: &[Best]) -> String {
     let mut groups: Vec<(String, Vec<&Best>)> = Vec::new();
     for b in best {
@@ -81,7 +82,12 @@ fn winners(data: &Data, scene: &str, best: &[Best]) -> String {
                 let lo = ratios.iter().copied().fold(f64::INFINITY, f64::min);
                 let hi = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
                 let r = if (hi - lo) < 0.005 { format!("×{lo:.2}") } else { format!("×{lo:.2}–{hi:.2}") };
-                format!("; {r} the runner-up's efficiency, by more than 3 combined spreads at {resolved}")
+                let resolved = match resolved {
+                    0 => "at none of them by more than 3 combined spreads".to_string(),
+                    n if n == v.len() => "by more than 3 combined spreads at every one".to_string(),
+                    n => format!("by more than 3 combined spreads at {n} of them"),
+                };
+                format!("; {r} the runner-up's efficiency, {resolved}")
             };
             let band = v
                 .iter()

@@ -2,7 +2,7 @@
 //! configuration with the budgets marked, and the winner map (per pixel, which configuration has
 //! the least error at a budget).
 
-use super::axis::{log_axis, tick};
+use super::axis::{log_log_chart, tick};
 use super::canvas::{Align, Canvas, text_size};
 use super::plot::PALETTE;
 use super::{FONT, Format, render};
@@ -72,25 +72,8 @@ fn draw<DB: DrawingBackend>(
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (w, _) = root.dim_in_pixel();
     let (plot, legend) = root.split_horizontally(w - legend_w);
-    let mut chart = ChartBuilder::on(&plot)
-        .caption(title, (FONT, 26.0, FontStyle::Bold).into_font())
-        .margin(16)
-        .x_label_area_size(56)
-        .y_label_area_size(84)
-        .build_cartesian_2d(log_axis(x0, x1), log_axis(y0, y1))
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc("time per image (ms; one thread, thread CPU time)")
-        .y_desc(y_label)
-        .axis_desc_style((FONT, 20.0))
-        .label_style((FONT, 17.0))
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
-        .light_line_style(RGBColor(238, 238, 238))
-        .bold_line_style(RGBColor(205, 205, 205))
-        .draw()
-        .map_err(err)?;
+    let x_label = "time per image (ms; one thread, thread CPU time)";
+    let mut chart = log_log_chart(&plot, title, (x_label, y_label), (x0, x1, y0, y1))?;
     for c in curves.iter().filter(|c| !c.highlight) {
         let line = LineSeries::new(c.points.iter().map(|p| (p.0, p.1)), CONTEXT.stroke_width(1));
         chart.draw_series(line).map_err(err)?;

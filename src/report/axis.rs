@@ -1,14 +1,51 @@
 //! Log axes with ticks chosen here, shared by every log-log figure (convergence, efficiency,
 //! advise's error against time).
 
+use super::FONT;
+use plotters::coord::Shift;
 use plotters::coord::combinators::{LogCoord, WithKeyPoints};
 use plotters::prelude::*;
+
+/// A log-log chart's coordinates.
+pub(super) type LogLog = Cartesian2d<WithKeyPoints<LogCoord<f64>>, WithKeyPoints<LogCoord<f64>>>;
+
+/// The log-log chart of every error figure (convergence, efficiency, advise's error against time):
+/// caption, axis labels, these log axes, grid and tick text in one look. `plot`: the area left of
+/// the figure's legend.
+pub(super) fn log_log_chart<'a, DB: DrawingBackend>(
+    plot: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    (x0, x1, y0, y1): (f64, f64, f64, f64),
+) -> Result<ChartContext<'a, DB, LogLog>, String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let mut chart = ChartBuilder::on(plot)
+        .caption(title, (FONT, 27.0, FontStyle::Bold).into_font())
+        .margin(16)
+        .x_label_area_size(56)
+        .y_label_area_size(84)
+        .build_cartesian_2d(log_axis(x0, x1), log_axis(y0, y1))
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .axis_desc_style((FONT, 21.0))
+        .label_style((FONT, 18.0))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .light_line_style(RGBColor(236, 236, 236))
+        .bold_line_style(RGBColor(202, 202, 202))
+        .draw()
+        .map_err(err)?;
+    Ok(chart)
+}
 
 /// A log axis from `lo` to `hi` with its ticks chosen here: plotters ticks a log axis only from the
 /// first power of ten inside it, so a 1.7–50 ms axis got 10, 20 and 50 alone. Labelled: 1, 2 and
 /// 5 × 10^k (every 1..9 × 10^k on an axis within a decade, and more decades than fit: powers of
 /// ten only); grid lines at every 1..9 × 10^k.
-pub(super) fn log_axis(lo: f64, hi: f64) -> WithKeyPoints<LogCoord<f64>> {
+fn log_axis(lo: f64, hi: f64) -> WithKeyPoints<LogCoord<f64>> {
     let (bold, light) = log_ticks(lo, hi);
     (lo..hi).log_scale().with_key_points(bold).with_light_points(light)
 }

@@ -3,7 +3,7 @@
 //! reference's own noise as a floor and the per-image overhead as a wall; efficiency against ray
 //! count), and the structured-error (banding) metric per configuration.
 
-use super::axis::{log_axis, tick};
+use super::axis::log_log_chart;
 use super::canvas::text_size;
 use super::{FONT, Format, render};
 use plotters::coord::Shift;
@@ -211,25 +211,7 @@ fn draw_convergence<DB: DrawingBackend>(
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (w, _) = root.dim_in_pixel();
     let (plot, legend) = root.split_horizontally(w - legend_w);
-    let mut chart = ChartBuilder::on(&plot)
-        .caption(title, (FONT, 28.0, FontStyle::Bold).into_font())
-        .margin(16)
-        .x_label_area_size(56)
-        .y_label_area_size(84)
-        .build_cartesian_2d(log_axis(x0, x1), log_axis(y0, y1))
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .axis_desc_style((FONT, 21.0))
-        .label_style((FONT, 18.0))
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(200, 200, 200))
-        .draw()
-        .map_err(err)?;
+    let mut chart = log_log_chart(&plot, title, (x_label, y_label), (x0, x1, y0, y1))?;
     // Bands first, under everything: below a noise floor no error can be measured.
     for g in shown {
         if let Guide::Horizontal(v, _) = g {

@@ -147,7 +147,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .iter()
         .map(|n| Figure { path: format!("{n}.png"), caption: n.to_string(), links: vec![] })
         .collect();
-    write("index.html", report::html_report("Gallery", "Synthetic data.", &[table], &figs).as_bytes())?;
+    let tables = [table];
+    let page = report::Page {
+        title: "Gallery",
+        lead: &[],
+        intro: "Synthetic data.",
+        tables: &tables,
+        figures: &figs,
+        collapsed: &[],
+    };
+    write("index.html", report::html_page(&page).as_bytes())?;
     println!("wrote the gallery to {}", dir.display());
     Ok(())
 }

@@ -49,14 +49,16 @@ pub(super) fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) 
     tables.extend(a.rankings.iter().filter(|(r, _)| !r.ranked.is_empty()).map(|(r, _)| ranking_table(r)));
     let collapsed = vec![ladder_table(a)];
     io::write_atomic(&out.join("advice.json"), text.as_bytes())?;
-    io::write_atomic(
-        &out.join("advice.md"),
-        report::markdown_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
-    )?;
-    io::write_atomic(
-        &out.join("index.html"),
-        report::html_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
-    )?;
+    let page = report::Page {
+        title: &title,
+        lead: &[],
+        intro: &intro,
+        tables: &tables,
+        figures,
+        collapsed: &collapsed,
+    };
+    io::write_atomic(&out.join("advice.md"), report::markdown_page(&page).as_bytes())?;
+    io::write_atomic(&out.join("index.html"), report::html_page(&page).as_bytes())?;
     let mut s = String::new();
     for l in &lines {
         let _ = writeln!(s, "{l}");

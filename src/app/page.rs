@@ -1,5 +1,6 @@
 //! `report.md` and `index.html`: one offline page with the run's answer first (generated in
-//! `answer.rs`) and the verdict on each claim per scene (`verdicts.rs`), what a time is, then the
+//! `answer.rs`; with several scenes, the verdict on each claim per scene, `verdicts.rs`, comes
+//! before it), what a time is, then the
 //! numbers (references, each table's RMSE, convergence slopes and costs) and every figure
 //! `figures.rs` wrote, linked by relative paths; the long tables (verdict margins, every aggregate)
 //! folded at the end.
@@ -18,17 +19,21 @@ use std::path::Path;
 pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
     let spec = &data.loaded.spec;
     let answer = answer::answer(data);
-    let mut tables = Vec::new();
-    let mut collapsed = Vec::new();
+    let (mut lead, mut tables, mut collapsed) = (Vec::new(), Vec::new(), Vec::new());
+    // With several scenes the page opens with the verdict per scene and claim (the per-scene
+    // answers that follow are long), and the per-scene tables, which would push the figures down,
+    // are folded after them. With one scene the answer comes first.
+    let many = spec.scenes.len() > 1;
     if let Some((summary, details)) = super::verdicts::tables(data) {
-        tables.push(summary);
+        if many {
+            lead.push(summary)
+        } else {
+            tables.push(summary)
+        }
         collapsed.push(details);
     }
     tables.extend(answer.tables);
     tables.push(reference_table(data));
-    // With several scenes the per-scene tables would push the figures pages down: the verdict sums
-    // them up, and they are folded after the figures.
-    let many = spec.scenes.len() > 1;
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
         for &si in &g.scenes {
             let t = rmse_table(data, &g.name, &spec.scenes[si].name, &g.rows, &g.rays, g.replicates);
@@ -65,14 +70,16 @@ pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
             .into(),
     );
     let intro = intro.join("\n\n");
-    io::write_atomic(
-        &out.join("index.html"),
-        report::html_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
-    )?;
-    io::write_atomic(
-        &out.join("report.md"),
-        report::markdown_page(&title, &intro, &tables, figures, &collapsed).as_bytes(),
-    )
+    let page = report::Page {
+        title: &title,
+        lead: &lead,
+        intro: &intro,
+        tables: &tables,
+        figures,
+        collapsed: &collapsed,
+    };
+    io::write_atomic(&out.join("index.html"), report::html_page(&page).as_bytes())?;
+    io::write_atomic(&out.join("report.md"), report::markdown_page(&page).as_bytes())
 }
 
 /// What a time is and how it was measured.

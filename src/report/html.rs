@@ -22,24 +22,30 @@ table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #bbb;padding:
 th{background:#eee}td:first-child,th:first-child{text-align:left}\
 figure{margin:2em 0}img{max-width:100%;border:1px solid #ddd}figcaption{margin-top:.4em}";
 
-/// The HTML page: title, intro paragraph(s) (plain text, blank line = new paragraph), tables, figures.
-pub fn html_report(title: &str, intro: &str, tables: &[Table], figures: &[Figure]) -> String {
-    html_page(title, intro, tables, figures, &[])
+/// One page: the title, `lead` tables right under it (what a reader must see first), intro
+/// paragraphs (plain text, blank line = new paragraph), tables, figures, then `collapsed` tables,
+/// each folded in a `<details>` element (long reference tables that would otherwise push the
+/// figures off the first screens).
+pub struct Page<'a> {
+    pub title: &'a str,
+    pub lead: &'a [Table],
+    pub intro: &'a str,
+    pub tables: &'a [Table],
+    pub figures: &'a [Figure],
+    pub collapsed: &'a [Table],
 }
 
-/// `html_report`, then `collapsed` tables after the figures, each folded in a `<details>` element
-/// (long reference tables that would otherwise push the figures off the first screens).
-pub fn html_page(
-    title: &str,
-    intro: &str,
-    tables: &[Table],
-    figures: &[Figure],
-    collapsed: &[Table],
-) -> String {
+/// The page as HTML.
+pub fn html_page(page: &Page) -> String {
+    let Page { title, lead, intro, tables, figures, collapsed } = *page;
     let mut s = String::new();
     s += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
     s += &format!("<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n", esc(title));
     s += &format!("<h1>{}</h1>\n", esc(title));
+    for t in lead {
+        s += &format!("<h2>{}</h2>\n", esc(&t.title));
+        s += &html_table(t);
+    }
     for p in intro.split("\n\n").map(str::trim).filter(|p| !p.is_empty()) {
         s += &format!("<p>{}</p>\n", esc(p));
     }
@@ -84,19 +90,10 @@ fn html_table(t: &Table) -> String {
     s
 }
 
-/// The same content as Markdown (renders on GitHub and in any Markdown viewer).
-pub fn markdown_report(title: &str, intro: &str, tables: &[Table], figures: &[Figure]) -> String {
-    markdown_page(title, intro, tables, figures, &[])
-}
-
-/// `markdown_report`, then `collapsed` tables after the figures in `<details>` (GitHub folds them).
-pub fn markdown_page(
-    title: &str,
-    intro: &str,
-    tables: &[Table],
-    figures: &[Figure],
-    collapsed: &[Table],
-) -> String {
+/// The same page as Markdown (renders on GitHub and in any Markdown viewer; GitHub folds the
+/// `<details>`).
+pub fn markdown_page(page: &Page) -> String {
+    let Page { title, lead, intro, tables, figures, collapsed } = *page;
     let cell = |c: &str| c.replace('|', "\\|").replace('\n', " ");
     let md_table = |t: &Table| {
         let mut s = format!("| {} |\n", t.header.iter().map(|h| cell(h)).collect::<Vec<_>>().join(" | "));
@@ -107,6 +104,9 @@ pub fn markdown_page(
         s
     };
     let mut s = format!("# {title}\n\n");
+    for t in lead {
+        s += &format!("## {}\n\n{}\n", t.title, md_table(t));
+    }
     for p in intro.split("\n\n").map(str::trim).filter(|p| !p.is_empty()) {
         s += &format!("{p}\n\n");
     }
@@ -184,16 +184,21 @@ mod tests {
         }
     }
 
+    fn page<'a>(title: &'a str, intro: &'a str, tables: &'a [Table], figures: &'a [Figure]) -> Page<'a> {
+        Page { title, lead: &[], intro, tables, figures, collapsed: &[] }
+    }
+
     #[test]
     fn html_references_exactly_the_given_files() {
-        let html = html_report("Paper", "Intro.\n\nSecond <b>para</b>.", &[table()], &figures());
+        let (t, f) = ([table()], figures());
+        let html = html_page(&page("Paper", "Intro.\n\nSecond <b>para</b>.", &t, &f));
         let mut files = referenced_files(&html);
         files.sort();
         assert_eq!(files, ["convergence_rays.png", "convergence_rays.svg", "table2.png"]);
         assert!(html.contains("Table 2 &lt;AO&gt;") && html.contains("RMSE &amp; rays"), "text is escaped");
         assert!(html.contains("Second &lt;b&gt;para&lt;/b&gt;.") && !html.contains("<b>"));
         assert!(html.contains("<td>0.0512</td>"));
-        assert!(referenced_files(&html_report("t", "", &[], &[])).is_empty());
+        assert!(referenced_files(&html_page(&page("t", "", &[], &[]))).is_empty());
     }
 
     #[test]
@@ -204,10 +209,21 @@ mod tests {
 
     #[test]
     fn markdown_has_the_table_and_every_figure() {
-        let md = markdown_report("Paper", "Intro.", &[table()], &figures());
+        let (t, f) = ([table()], figures());
+        let md = markdown_page(&page("Paper", "Intro.", &t, &f));
         assert!(md.starts_with("# Paper\n"));
         assert!(md.contains("| configuration | 8 |\n|---|---|\n| random \\| sine-cosine | 0.0512 |"), "{md}");
         assert!(md.contains("![Table 2 <AO>](table2.png)"));
         assert!(md.contains("[convergence_rays.svg](convergence_rays.svg)"));
+    }
+
+    /// Lead tables come right under the title, before the intro.
+    #[test]
+    fn lead_tables_open_the_page() {
+        let (lead, f) = ([table()], figures());
+        let p = Page { lead: &lead, ..page("Paper", "Intro.", &[], &f) };
+        let (html, md) = (html_page(&p), markdown_page(&p));
+        assert!(html.find("<td>0.0512</td>").unwrap() < html.find("<p>Intro.</p>").unwrap());
+        assert!(md.find("| configuration |").unwrap() < md.find("Intro.").unwrap());
     }
 }

@@ -22,7 +22,7 @@ pub mod verdict;
 
 pub use banding::banding_plot;
 pub use grid::{GridCell, error_grid, image_grid};
-pub use html::{Figure, Table, html_page, html_report, markdown_page, markdown_report, referenced_files};
+pub use html::{Figure, Page, Table, html_page, markdown_page, referenced_files};
 pub use plot::{Guide, Series, convergence_plot};
 pub use points::{PointSet, point_panels};
 

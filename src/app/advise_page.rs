@@ -99,14 +99,13 @@ pub(super) fn advice_line(r: &Ranking, low: &Ranking) -> String {
     };
     let e = best.rmse(Metric::Rmse);
     let mut s = format!(
-        "At {b} ms per image: ship {} with {} per pixel (RMSE {:.4} ± {:.4})",
+        "At {b} ms per image: ship {} with {} per pixel (RMSE {})",
         label(best.row),
         match shipped_rays(best) {
             1 => "1 ray".to_string(),
             n => format!("{n} rays"),
         },
-        e.value,
-        e.se
+        pm(e, 4)
     );
     if best.structured() {
         let _ = write!(
@@ -203,8 +202,13 @@ pub(super) fn status(r: &Ranking) -> &'static str {
     }
 }
 
+/// "value ± se" with at least `digits` decimals, and more where the ± would round to zero (it
+/// shows its first significant digit: "0.03330 ± 0.00004", not "0.0333 ± 0.0000").
 fn pm(e: advice::Estimate, digits: usize) -> String {
-    format!("{:.digits$} ± {:.digits$}", e.value, e.se)
+    let need =
+        if e.se > 0.0 && e.se.is_finite() { (-e.se.log10()).ceil().clamp(0.0, 8.0) as usize } else { 0 };
+    let d = digits.max(need);
+    format!("{:.d$} ± {:.d$}", e.value, e.se)
 }
 
 fn summary_table(a: &Analysis) -> Table {

@@ -262,7 +262,10 @@ impl Accel {
             }
         };
         for &prim in &cache.prims[..cache.len] {
-            if blocked & all == all {
+            // One ray left: its walk costs less than the rest of the cache (kitchen query, callgrind:
+            // d = inf 1172.5 -> 1150.3 M instructions, d = 1 658.8 -> 654.3 M; stopping at 2-4 rays
+            // or at none saves less).
+            if (all & !blocked).count_ones() <= 1 {
                 break;
             }
             test(prim, all & !blocked, &mut blocked);

@@ -332,6 +332,7 @@ impl Accel {
     /// `wide::node` with SSE2, 4 children at a time: the same culling, the same answers.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::needless_range_loop)] // h indexes the halves of six plane arrays
     fn node_sse2(
         &self,
         node: &obvhs::cwbvh::node::CwBvhNode,

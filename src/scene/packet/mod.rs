@@ -262,7 +262,10 @@ impl Accel {
             }
         };
         for &prim in &cache.prims[..cache.len] {
-            if blocked & all == all {
+            // One ray left: its walk costs less than the rest of the cache (kitchen query, callgrind:
+            // d = inf 1172.5 -> 1150.3 M instructions, d = 1 658.8 -> 654.3 M; stopping at 2-4 rays
+            // or at none saves less).
+            if (all & !blocked).count_ones() <= 1 {
                 break;
             }
             test(prim, all & !blocked, &mut blocked);
@@ -328,7 +331,8 @@ impl Accel {
 impl Accel {
     /// `wide::node` with SSE2, 4 children at a time: the same culling, the same answers.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)] // h indexes the halves of six plane arrays
+    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::needless_range_loop)] // h indexes the halves of six plane arrays
     fn node_sse2(
         &self,
         node: &obvhs::cwbvh::node::CwBvhNode,

@@ -14,7 +14,7 @@
 //! (see `Seen`): so no ray ever hits a triangle whose plane it truly leaves, whatever the size of
 //! the triangle, and an AO origin needs to be lifted only by the error of the hit point itself.
 
-use super::packet::child_planes;
+use super::packet::{child_planes, slabs};
 use glam::{UVec2, Vec3, Vec3A, Vec3Swizzles, Vec4};
 use obvhs::cwbvh::{CwBvh, node::CwBvhNode};
 use std::cmp::Ordering;
@@ -188,20 +188,8 @@ impl Accel {
 /// origin (`child_planes`) and its slab test, with the entry clamped at 0 (obvhs clamps at 1e-4).
 /// Returns obvhs's hit mask (high byte: inner nodes, low: leaves).
 #[inline(always)]
-#[allow(clippy::needless_range_loop)] // h indexes the halves of six plane arrays
 fn node_hits(node: &CwBvhNode, ray: &Ray, tmax: f32, oct_inv4: u32) -> u32 {
-    let pl = child_planes(node, ray.org);
-    let (ix, iy, iz) = (Vec4::splat(ray.inv.x), Vec4::splat(ray.inv.y), Vec4::splat(ray.inv.z));
-    let (widen, tmax4) = (Vec4::splat(1.0 + 8.0 * f32::EPSILON), Vec4::splat(tmax));
-    let mut mask = 0u32;
-    for h in 0..2 {
-        let (x0, x1) = (pl[0][h] * ix, pl[1][h] * ix);
-        let (y0, y1) = (pl[2][h] * iy, pl[3][h] * iy);
-        let (z0, z1) = (pl[4][h] * iz, pl[5][h] * iz);
-        let tn = x0.min(x1).max(y0.min(y1)).max(z0.min(z1)).max(Vec4::ZERO);
-        let tf = x0.max(x1).min(y0.max(y1)).min(z0.max(z1)).min(tmax4);
-        mask |= tn.cmple(tf * widen).bitmask() << (4 * h);
-    }
+    let mut mask = slabs(&child_planes(node, ray.org), ray.inv.to_array(), tmax);
     let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
     let mut hit_mask = 0u32;
     while mask != 0 {

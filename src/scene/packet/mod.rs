@@ -15,10 +15,10 @@ mod simd;
 
 use super::accel::Accel;
 use glam::{Vec3, Vec3A, Vec4};
-pub(super) use simd::child_planes;
 #[cfg(target_arch = "x86_64")]
 use simd::wide;
 use simd::{Cull, Packet, groups_of, hit_group, lanes, present_children};
+pub(super) use simd::{child_planes, slabs};
 
 /// Rays per packet.
 pub const PACKET: usize = 32;
@@ -368,24 +368,13 @@ impl Accel {
         }
         let want = near & !inside;
         let mut cm = lanes::zero();
-        let (widen, tmax4) = (Vec4::splat(1.0 + 8.0 * f32::EPSILON), Vec4::splat(tmax));
         if want != 0 {
             // Per ray: its slabs against the 8 children, 4 at a time.
             let mut rays = live;
             while rays != 0 {
                 let i = rays.trailing_zeros() as usize;
                 rays &= rays - 1;
-                let (ix, iy, iz) =
-                    (Vec4::splat(p.inv[0][i]), Vec4::splat(p.inv[1][i]), Vec4::splat(p.inv[2][i]));
-                let mut hits = 0u32;
-                for h in 0..2 {
-                    let (x0, x1) = (pl[0][h] * ix, pl[1][h] * ix);
-                    let (y0, y1) = (pl[2][h] * iy, pl[3][h] * iy);
-                    let (z0, z1) = (pl[4][h] * iz, pl[5][h] * iz);
-                    let tn = x0.min(x1).max(y0.min(y1)).max(z0.min(z1)).max(Vec4::ZERO);
-                    let tf = x0.max(x1).min(y0.max(y1)).min(z0.max(z1)).min(tmax4);
-                    hits |= tn.cmple(tf * widen).bitmask() << (4 * h);
-                }
+                let hits = slabs(&pl, [p.inv[0][i], p.inv[1][i], p.inv[2][i]], tmax);
                 lanes::add_ray(&mut cm, hits & want, i);
             }
         }

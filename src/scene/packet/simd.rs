@@ -90,6 +90,27 @@ pub(in crate::scene) fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 
     [lx, hx, ly, hy, lz, hz]
 }
 
+/// One ray's slab test against the 8 boxes of `child_planes` (relative to its origin), 4 at a
+/// time: bit c set if it enters child c within [0, tmax]. The entry is clamped at 0 and the exit
+/// widened by 8 ulps, so the rounding of the products never drops a box the ray touches. Shared by
+/// the single-ray walk (`accel`) and the packets' SSE2 path, so both cull alike.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // h indexes the halves of six plane arrays
+pub(in crate::scene) fn slabs(pl: &[[Vec4; 2]; 6], inv: [f32; 3], tmax: f32) -> u32 {
+    let (ix, iy, iz) = (Vec4::splat(inv[0]), Vec4::splat(inv[1]), Vec4::splat(inv[2]));
+    let (widen, tmax4) = (Vec4::splat(1.0 + 8.0 * f32::EPSILON), Vec4::splat(tmax));
+    let mut mask = 0u32;
+    for h in 0..2 {
+        let (x0, x1) = (pl[0][h] * ix, pl[1][h] * ix);
+        let (y0, y1) = (pl[2][h] * iy, pl[3][h] * iy);
+        let (z0, z1) = (pl[4][h] * iz, pl[5][h] * iz);
+        let tn = x0.min(x1).max(y0.min(y1)).max(z0.min(z1)).max(Vec4::ZERO);
+        let tf = x0.max(x1).min(y0.max(y1)).min(z0.max(z1)).min(tmax4);
+        mask |= tn.cmple(tf * widen).bitmask() << (4 * h);
+    }
+    mask
+}
+
 /// Which lanes of group `g` hit `s` within [0, tmax): the vector form of `accel::hit_seen`.
 #[inline(always)]
 pub(super) fn hit_group(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {

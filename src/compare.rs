@@ -330,31 +330,7 @@ mod tests {
     fn paired_rmse_matches_replicates_by_index() {
         let a = row(SC, Sequence::Fibonacci, SeedMode::Rotation);
         let b = row(SC, Sequence::Fibonacci, SeedMode::Shift);
-        let mk = |r: Row, rep: u32, rmse: f64| {
-            let job = crate::plan::Job {
-                scene: "k.toml".into(),
-                scene_id: "k.toml".into(),
-                scene_name: "k".into(),
-                distribution: r.distribution,
-                sequence: r.sequence,
-                seed_mode: r.seed_mode,
-                rays: 8,
-                replicate: rep,
-                seed: rep as u64,
-                resolution: None,
-                ao_distance: None,
-            };
-            let stats = crate::metrics::ErrorStats {
-                covered: 1,
-                rmse,
-                bias: 0.0,
-                autocorr_x: 0.0,
-                autocorr_y: 0.0,
-                lowpass_rmse: 0.0,
-                whiteness_z: 0.0,
-            };
-            JobResult::new(&job, &stats, 8, "x.exr")
-        };
+        let mk = |r: Row, rep: u32, rmse: f64| JobResult::for_test("k", r, 8, rep, rmse, 0.0);
         // Replicate noise ±0.02 shared by both; b is 0.005 above a in every replicate.
         let results = vec![
             mk(a, 0, 0.10),

@@ -166,6 +166,42 @@ impl JobResult {
         }
     }
 
+    /// A record of `scene` with only what the statistics read (configuration, rays, replicate,
+    /// RMSE, whiteness z): the data unit tests of the comparisons and verdicts build.
+    #[cfg(test)]
+    pub(crate) fn for_test(
+        scene: &str,
+        row: crate::spec::Row,
+        rays: u32,
+        replicate: u32,
+        rmse: f64,
+        z: f64,
+    ) -> Self {
+        let job = Job {
+            scene: scene.into(),
+            scene_id: scene.into(),
+            scene_name: scene.into(),
+            distribution: row.distribution,
+            sequence: row.sequence,
+            seed_mode: row.seed_mode,
+            rays,
+            replicate,
+            seed: replicate as u64,
+            resolution: None,
+            ao_distance: None,
+        };
+        let stats = ErrorStats {
+            covered: 1,
+            rmse,
+            bias: 0.0,
+            autocorr_x: 0.0,
+            autocorr_y: 0.0,
+            lowpass_rmse: 0.0,
+            whiteness_z: z,
+        };
+        Self::new(&job, &stats, rays as u64, "")
+    }
+
     /// Adds one timed render of this job (CPU and wall seconds) and updates its own time.
     pub fn add_time(&mut self, cpu_s: f64, wall_s: f64) {
         self.times.push(cpu_s);

@@ -288,29 +288,12 @@ mod tests {
     use super::*;
 
     fn rec(scene: &str, c: Config, rays: u32, replicate: u32, rmse: f64, z: f64) -> JobResult {
-        let job = crate::plan::Job {
-            scene: scene.into(),
-            scene_id: scene.into(),
-            scene_name: scene.into(),
+        let row = crate::spec::Row {
             distribution: c.distribution.parse().unwrap(),
             sequence: c.sequence.parse().unwrap(),
             seed_mode: c.seed_mode.parse().unwrap(),
-            rays,
-            replicate,
-            seed: replicate as u64,
-            resolution: None,
-            ao_distance: None,
         };
-        let stats = crate::metrics::ErrorStats {
-            covered: 1,
-            rmse,
-            bias: 0.0,
-            autocorr_x: 0.0,
-            autocorr_y: 0.0,
-            lowpass_rmse: 0.0,
-            whiteness_z: z,
-        };
-        JobResult::new(&job, &stats, 1, "")
+        JobResult::for_test(scene, row, rays, replicate, rmse, z)
     }
 
     #[test]

@@ -11,8 +11,8 @@ use crate::image::Image;
 use crate::sampling::batch::Directions;
 use crate::sampling::{Distribution, Frame, SamplerConfig};
 use crate::scene::Scene;
-use crate::scene::accel::Ray;
-use crate::scene::packet::Occluders;
+use crate::scene::accel::{Hit, Ray};
+use crate::scene::packet::{Occluders, PACKET};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::cell::RefCell;
@@ -40,8 +40,10 @@ pub struct RenderOutput {
     pub occluded_rays: u64,
 }
 
-/// Per-thread scratch: the pixel's points, directions, weights and answers (no allocation per pixel).
+/// Per-thread scratch: the tile's primary hits, the pixel's points, directions, weights and answers
+/// (no allocation per pixel).
 struct Scratch {
+    primaries: Vec<Primary>,
     points: Vec<Vec2>,
     rays: PixelRays,
     blocked: Vec<bool>,
@@ -77,16 +79,20 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
         .into_par_iter()
         .with_max_len(1)
         .map_init(
-            || Scratch { points: vec![Vec2::ZERO; n], rays: PixelRays::default(), blocked: vec![false; n] },
+            || Scratch {
+                primaries: Vec::with_capacity((TILE * TILE) as usize),
+                points: vec![Vec2::ZERO; n],
+                rays: PixelRays::default(),
+                blocked: vec![false; n],
+            },
             |s, t| {
                 let mut done = Vec::with_capacity((TILE * TILE) as usize);
-                let (mut rays, mut occluded, mut pixels) = (0u64, 0u64, 0u64);
-                for (x, y) in tile_pixels(t, job.width, job.height) {
-                    pixels += 1;
-                    let pixel = y as u64 * w as u64 + x as u64;
-                    if !pixel_rays(scene, job, x, y, pixel, &mut s.points, &mut s.rays) {
-                        continue;
-                    }
+                let (mut rays, mut occluded) = (0u64, 0u64);
+                tile_primaries(scene, job, t, &mut s.primaries);
+                for p in &s.primaries {
+                    let Some(hit) = p.hit else { continue };
+                    let pixel = p.y as u64 * w as u64 + p.x as u64;
+                    rays_from_hit(scene, job, (p.x, p.y, pixel), p.dir, hit, &mut s.points, &mut s.rays);
                     let r = &s.rays;
                     let (d, blocked) = (job.ao_distance, &mut s.blocked);
                     trace_pixel(scene, r.origin, r.normal, &r.dirs, d, blocked);
@@ -100,7 +106,7 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
                     done.push((pixel as u32, (1.0 - sum / n as f64) as f32));
                     rays += n as u64;
                 }
-                progress(pixels);
+                progress(s.primaries.len() as u64);
                 (done, rays, occluded)
             },
         )
@@ -159,7 +165,68 @@ pub fn pixel_rays(
     let Some(hit) = scene.accel.closest(&Ray::new(primary.origin, primary.dir, f32::INFINITY)) else {
         return false;
     };
-    let (origin, n) = ao_origin(scene.accel.triangle(hit.prim), hit.bary_b, hit.bary_c, primary.dir);
+    rays_from_hit(scene, job, (x, y, pixel), primary.dir, hit, points, out);
+    true
+}
+
+/// A pixel's primary ray: its direction and closest hit.
+#[derive(Debug, Clone, Copy)]
+struct Primary {
+    x: u32,
+    y: u32,
+    dir: Vec3,
+    hit: Option<Hit>,
+}
+
+/// The primary rays of tile `t`'s pixels (in `tile_pixels` order) into `out`. Rays that share
+/// their origin (a pinhole camera's: the eye) are traced 32 at a time, 8 × 4 pixels
+/// (`Accel::closest_from`), others one by one; the hits are the same bits either way.
+fn tile_primaries(scene: &Scene, job: &RenderJob, t: u32, out: &mut Vec<Primary>) {
+    out.clear();
+    let mut origins_agree = true;
+    let mut origin = None;
+    for (x, y) in tile_pixels(t, job.width, job.height) {
+        let r = scene.camera.ray(x, y, job.width, job.height);
+        let o = *origin.get_or_insert(r.origin);
+        origins_agree &= o.to_array().map(f32::to_bits) == r.origin.to_array().map(f32::to_bits);
+        out.push(Primary { x, y, dir: r.dir, hit: None });
+    }
+    match origin {
+        Some(o) if origins_agree => {
+            let mut dirs = [Vec3::ZERO; PACKET];
+            let mut hits = [None; PACKET];
+            for chunk in out.chunks_mut(PACKET) {
+                let k = chunk.len();
+                for (d, p) in dirs.iter_mut().zip(chunk.iter()) {
+                    *d = p.dir;
+                }
+                scene.accel.closest_from(o, &dirs[..k], f32::INFINITY, &mut hits[..k]);
+                for (p, h) in chunk.iter_mut().zip(hits) {
+                    p.hit = h;
+                }
+            }
+        }
+        _ => {
+            for p in out.iter_mut() {
+                let r = scene.camera.ray(p.x, p.y, job.width, job.height);
+                p.hit = scene.accel.closest(&Ray::new(r.origin, r.dir, f32::INFINITY));
+            }
+        }
+    }
+}
+
+/// The AO rays of pixel (x, y, index) from its primary ray's direction and hit: offset origin, the
+/// sampler's directions and weights. `points` must hold `job.sampler.count` entries.
+fn rays_from_hit(
+    scene: &Scene,
+    job: &RenderJob,
+    (x, y, pixel): (u32, u32, u64),
+    dir: Vec3,
+    hit: Hit,
+    points: &mut [Vec2],
+    out: &mut PixelRays,
+) {
+    let (origin, n) = ao_origin(scene.accel.triangle(hit.prim), hit.bary_b, hit.bary_c, dir);
     out.origin = origin;
     out.normal = n;
     let basis = Frame::from_normal(n);
@@ -171,7 +238,6 @@ pub fn pixel_rays(
     out.dirs.extend((0..b.len()).map(|i| Vec3::new(b.x[i], b.y[i], b.z[i])));
     out.weights.clear();
     out.weights.extend_from_slice(&b.weight[..b.len()]);
-    true
 }
 
 /// hemilab's AO query: which of a pixel's rays (all from `origin`) are blocked within `tmax`.

@@ -122,21 +122,31 @@ impl Accel {
         [t.a.truncate(), t.b.truncate(), t.c.truncate()]
     }
 
+    /// The index in `source_triangles` of the triangle in BVH slot `prim` (spatial splits put one
+    /// input triangle in several slots).
+    pub fn source_index(&self, prim: u32) -> u32 {
+        self.bvh.primitive_indices[prim as usize]
+    }
+
     /// The triangles as given to `build` (after dropping unusable ones), in that order.
     pub fn source_triangles(&self) -> &[obvhs::triangle::Triangle] {
         &self.source
     }
 
-    /// Closest hit with 0 < t < ray.tmax.
+    /// Closest hit with 0 < t < ray.tmax: of the triangles the ray hits, the least (t, prim) (see
+    /// `closer`), so the answer does not depend on the order the walk meets them in.
     pub fn closest(&self, ray: &Ray) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         let mut tmax = ray.tmax;
         let mut state = self.bvh.new_traversal(ray.dir);
         let mut node: &CwBvhNode;
+        let d = ray.dir.to_array();
         obvhs::traverse!(self.bvh, node, state, node_hits(node, ray, tmax, state.oct_inv4), {
-            if let Some((t, _, v, w)) = intersect(&self.tris[state.primitive_id as usize], ray, tmax) {
-                tmax = t;
-                best = Some(Hit { t, prim: state.primitive_id, bary_b: v, bary_c: w });
+            let prim = state.primitive_id;
+            let s = self.tris[prim as usize].seen_from(ray.org);
+            if let Some(h) = closer(&s, d, prim, ray.tmax, best, &self.bvh.primitive_indices) {
+                tmax = h.t;
+                best = Some(h);
             }
         });
         best
@@ -173,11 +183,12 @@ impl Accel {
     /// proves the traversal culls nothing it should not; far too slow for rendering.
     pub fn closest_brute_force(&self, ray: &Ray) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        let mut tmax = ray.tmax;
         for (i, tri) in self.tris.iter().enumerate() {
-            if let Some((t, _, v, w)) = intersect(tri, ray, tmax) {
-                tmax = t;
-                best = Some(Hit { t, prim: i as u32, bary_b: v, bary_c: w });
+            let s = tri.seen_from(ray.org);
+            if let Some(h) =
+                closer(&s, ray.dir.to_array(), i as u32, ray.tmax, best, &self.bvh.primitive_indices)
+            {
+                best = Some(h);
             }
         }
         best
@@ -330,6 +341,38 @@ pub(crate) fn hit_seen(s: &Seen, d: [f32; 3], tmax: f32) -> Option<(f32, f32, f3
     // t = |T| / d·n < tmax, without the division (d·n > 0 here); the packets do the same.
     let sum = (u + v) + w;
     (s.t < tmax * dn && sum != 0.0).then(|| (s.t / dn, u / sum, v / sum, w / sum))
+}
+
+/// A margin above 1 that `closer`'s first test widens the best t by: 2^-20, far more than the
+/// rounding of t = |T| / d·n and of the product it is compared with.
+const LOOSE: f32 = 1.0 + 1.0 / 1_048_576.0;
+
+/// Triangle `prim`'s hit (seen as `s`, ray direction `d`) if it beats `best`: t = |T| / d·n < ray_tmax
+/// and (t, input triangle) less than best's. A total order on the hits of one ray, so the closest
+/// hit is the same whatever order a traversal tests the triangles in: the single-ray walk and the
+/// primary-ray packets (`packet::closest`) give the same bits. (Accepting a hit where T < tmax·d·n
+/// with tmax the best t so far, as before, let two hits within a rounding of each other, e.g. two
+/// coplanar overlapping triangles, win by the order they were met in.) Ties go to the smaller
+/// input index (`source`, per BVH slot), not BVH slot: the spatial splits put one input triangle in
+/// several slots, which hit alike (same vertices) but are not all reached by every walk; of those
+/// the first met stays, with the same vertices whichever it is. The cheap test against the best t
+/// widened by `LOOSE` comes first; it rejects no hit that wins.
+#[inline(always)]
+pub(crate) fn closer(
+    s: &Seen,
+    d: [f32; 3],
+    prim: u32,
+    ray_tmax: f32,
+    best: Option<Hit>,
+    source: &[u32],
+) -> Option<Hit> {
+    let best_t = best.map_or(ray_tmax, |b| b.t);
+    let (t, _, v, w) = hit_seen(s, d, best_t * LOOSE)?;
+    let wins = match best {
+        None => t < ray_tmax,
+        Some(b) => t < b.t || (t == b.t && source[prim as usize] < source[b.prim as usize]),
+    };
+    wins.then_some(Hit { t, prim, bary_b: v, bary_c: w })
 }
 
 /// Ray/triangle test for 0 <= t < tmax (see `Seen`).

@@ -11,6 +11,7 @@
 //! arithmetic in the same order (SSE2 or AVX2, no FMA); the box tests are padded, so they cull a
 //! subset of what exact boxes would, and any-hit answers do not depend on the order of the tests.
 
+mod closest;
 mod simd;
 
 use super::accel::Accel;

@@ -219,24 +219,7 @@ pub(super) mod wide {
         tmax: f32,
         present: u32,
     ) -> ([u32; 8], u32) {
-        let e = node.compute_extent();
-        let rel = Vec3A::from(node.p) - o;
-        let pad = (rel.abs() + e * 255.0) * (1.0 / 262144.0);
-        // SAFETY: each load reads exactly the 8 bytes of one array.
-        let q = |v: &[u8; 8]| unsafe {
-            _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(v.as_ptr() as *const __m128i)))
-        };
-        let plane = |v: &[u8; 8], base: f32, e: f32| {
-            _mm256_add_ps(_mm256_set1_ps(base), _mm256_mul_ps(q(v), _mm256_set1_ps(e)))
-        };
-        let pl = [
-            plane(&node.child_min_x, rel.x - pad.x, e.x),
-            plane(&node.child_max_x, rel.x + pad.x, e.x),
-            plane(&node.child_min_y, rel.y - pad.y, e.y),
-            plane(&node.child_max_y, rel.y + pad.y, e.y),
-            plane(&node.child_min_z, rel.z - pad.z, e.z),
-            plane(&node.child_max_z, rel.z + pad.z, e.z),
-        ];
+        let pl = planes(node, o);
         let (mut near, mut inside) = (present, 0u32);
         if !few {
             let z = _mm256_setzero_ps();
@@ -287,6 +270,43 @@ pub(super) mod wide {
             _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(cm, _mm256_setzero_si256()))) as u32;
         // SAFETY: one 32-byte register into 32 bytes.
         (unsafe { std::mem::transmute::<__m256i, [u32; 8]>(cm) }, !empty & 0xff)
+    }
+
+    /// `child_planes` (the same values), all 8 children of each plane in one register.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub fn planes(node: &CwBvhNode, o: Vec3A) -> [__m256; 6] {
+        let e = node.compute_extent();
+        let rel = Vec3A::from(node.p) - o;
+        let pad = (rel.abs() + e * 255.0) * (1.0 / 262144.0);
+        // SAFETY: each load reads exactly the 8 bytes of one array.
+        let q = |v: &[u8; 8]| unsafe {
+            _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(v.as_ptr() as *const __m128i)))
+        };
+        let plane = |v: &[u8; 8], base: f32, e: f32| {
+            _mm256_add_ps(_mm256_set1_ps(base), _mm256_mul_ps(q(v), _mm256_set1_ps(e)))
+        };
+        [
+            plane(&node.child_min_x, rel.x - pad.x, e.x),
+            plane(&node.child_max_x, rel.x + pad.x, e.x),
+            plane(&node.child_min_y, rel.y - pad.y, e.y),
+            plane(&node.child_max_y, rel.y + pad.y, e.y),
+            plane(&node.child_min_z, rel.z - pad.z, e.z),
+            plane(&node.child_max_z, rel.z + pad.z, e.z),
+        ]
+    }
+
+    /// Each child box's squared distance from the origin the planes are relative to (0 inside).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub fn box_dist2(pl: &[__m256; 6]) -> [f32; 8] {
+        let (z, sign) = (_mm256_setzero_ps(), _mm256_set1_ps(-0.0));
+        let gap = |k: usize| _mm256_max_ps(_mm256_max_ps(pl[2 * k], _mm256_xor_ps(pl[2 * k + 1], sign)), z);
+        let (gx, gy, gz) = (gap(0), gap(1), gap(2));
+        let d2 =
+            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(gx, gx), _mm256_mul_ps(gy, gy)), _mm256_mul_ps(gz, gz));
+        // SAFETY: one 32-byte register into 32 bytes.
+        unsafe { std::mem::transmute::<__m256, [f32; 8]>(d2) }
     }
 
     /// Children (bits) whose slabs ray `i` crosses within [0, tmax].

@@ -33,12 +33,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "rays" => count += bench::ray_set(&scene, &job).len() as u64,
             "query" | "obvhs" => {
                 let set = set.as_ref().expect("made above");
-                let mut out = vec![false; set.len()];
                 match &base {
-                    Some(b) => pool.install(|| bench::trace_obvhs(b, set, d, &mut out)),
-                    None => pool.install(|| bench::trace_hemilab(&scene, set, d, &mut out)),
+                    Some(b) => {
+                        let mut out = vec![false; set.len()];
+                        pool.install(|| bench::trace_obvhs(b, set, d, &mut out));
+                        count += out.iter().filter(|&&b| b).count() as u64;
+                    }
+                    None => {
+                        let mut out = vec![0u32; set.origins.len() * set.masks_per_pixel()];
+                        pool.install(|| bench::trace_hemilab(&scene, set, d, &mut out));
+                        count += out.iter().map(|m| m.count_ones() as u64).sum::<u64>();
+                    }
                 }
-                count += out.iter().filter(|&&b| b).count() as u64;
             }
             other => return Err(format!("unknown mode {other}").into()),
         }

@@ -49,7 +49,7 @@ fn render_vs_query(
     repeats: u32,
 ) -> Result<Value> {
     let pool = pool(Some(threads as u32))?;
-    let mut out = vec![false; set.len()];
+    let mut out = vec![0u32; set.origins.len() * set.masks_per_pixel()];
     let render_once = || pool.install(|| render::render(scene, job, &|_| {})).rays;
     let mut query_once = || {
         pool.install(|| bench::trace_hemilab(scene, set, job.ao_distance, &mut out));
@@ -115,10 +115,12 @@ fn compare(
     repeats: u32,
 ) -> Result<Value> {
     let rays = set.len();
-    let (mut obvhs_ref, mut ours_ref) = (vec![false; rays], vec![false; rays]);
+    let masks = set.origins.len() * set.masks_per_pixel();
+    let (mut obvhs_ref, mut ours_masks) = (vec![false; rays], vec![0u32; masks]);
     let all = pool(Some(*threads.last().unwrap_or(&1) as u32))?;
     all.install(|| bench::trace_obvhs(base, set, d, &mut obvhs_ref));
-    all.install(|| bench::trace_hemilab(scene, set, d, &mut ours_ref));
+    all.install(|| bench::trace_hemilab(scene, set, d, &mut ours_masks));
+    let ours_ref = set.unpack(&ours_masks);
     let m: Mismatches = all.install(|| bench::mismatches(scene, base, set, d, &obvhs_ref, &ours_ref));
     if m.hemilab_wrong != 0 || m.hemilab_vs_single_ray != 0 {
         return Err(Error::Refused(format!(
@@ -126,7 +128,7 @@ fn compare(
         )));
     }
     let mut rows = Vec::new();
-    let mut out = vec![false; rays];
+    let (mut out, mut out_masks) = (vec![false; rays], vec![0u32; masks]);
     for &t in threads {
         let pool = pool(Some(t as u32))?;
         let (mut obvhs_rate, mut ours, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
@@ -134,12 +136,13 @@ fn compare(
             let mut run = |hemilab: bool| -> Result<f64> {
                 let start = Instant::now();
                 if hemilab {
-                    pool.install(|| bench::trace_hemilab(scene, set, d, &mut out));
+                    pool.install(|| bench::trace_hemilab(scene, set, d, &mut out_masks));
                 } else {
                     pool.install(|| bench::trace_obvhs(base, set, d, &mut out));
                 }
                 let secs = start.elapsed().as_secs_f64();
-                if &out != if hemilab { &ours_ref } else { &obvhs_ref } {
+                let same = if hemilab { out_masks == ours_masks } else { out == obvhs_ref };
+                if !same {
                     return Err(Error::Refused(format!(
                         "bench: d = {d}, {t} threads: a repeat gave different answers; this is a bug"
                     )));

@@ -5,9 +5,10 @@
 //! Ray generation is outside both timings; building each path's own ray record (obvhs `Ray` with its
 //! inverses, hemilab's packet) is inside its timing. No IO, no printing.
 
-use super::{PixelRays, RenderJob, pixel_rays, trace_pixel};
+use super::{PixelRays, RenderJob, pixel_rays, trace_soa};
 use crate::scene::Scene;
 use crate::scene::accel::Ray;
+use crate::scene::packet::{PACKET, Soa};
 use glam::{Vec2, Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
@@ -26,7 +27,13 @@ pub struct RaySet {
     pub origins: Vec<Vec3>,
     /// The surface normal at each origin (hemilab's path uses it; obvhs has no use for it).
     pub normals: Vec<Vec3>,
+    /// Every ray's direction (obvhs's path reads these).
     pub dirs: Vec<Vec3>,
+    /// The same directions as x, y, z arrays, as the renderer hands them to hemilab's query (the
+    /// warps write them so).
+    pub x: Vec<f32>,
+    pub y: Vec<f32>,
+    pub z: Vec<f32>,
 }
 
 impl RaySet {
@@ -37,19 +44,43 @@ impl RaySet {
     pub fn is_empty(&self) -> bool {
         self.dirs.is_empty()
     }
+
+    /// Masks per pixel in hemilab's answer (`trace_hemilab`): one per 32 rays.
+    pub fn masks_per_pixel(&self) -> usize {
+        self.n.div_ceil(PACKET)
+    }
+
+    /// hemilab's answer (one mask per 32 rays of each pixel) as one flag per ray.
+    pub fn unpack(&self, masks: &[u32]) -> Vec<bool> {
+        let m = self.masks_per_pixel();
+        (0..self.len())
+            .map(|i| masks[(i / self.n) * m + (i % self.n) / PACKET] >> (i % self.n % PACKET) & 1 != 0)
+            .collect()
+    }
 }
 
 pub fn ray_set(scene: &Scene, job: &RenderJob) -> RaySet {
     let n = job.sampler.count as usize;
     let mut points = vec![Vec2::ZERO; n];
     let mut px = PixelRays::default();
-    let mut set = RaySet { n, origins: Vec::new(), normals: Vec::new(), dirs: Vec::new() };
+    let mut set = RaySet {
+        n,
+        origins: Vec::new(),
+        normals: Vec::new(),
+        dirs: Vec::new(),
+        x: Vec::new(),
+        y: Vec::new(),
+        z: Vec::new(),
+    };
     for (x, y) in super::pixel_order(job.width, job.height) {
         let pixel = y as u64 * job.width as u64 + x as u64;
         if pixel_rays(scene, job, x, y, pixel, &mut points, &mut px) {
             set.origins.push(px.origin);
             set.normals.push(px.normal);
             set.dirs.extend_from_slice(&px.dirs);
+            set.x.extend(px.dirs.iter().map(|d| d.x));
+            set.y.extend(px.dirs.iter().map(|d| d.y));
+            set.z.extend(px.dirs.iter().map(|d| d.z));
         }
     }
     set
@@ -97,14 +128,16 @@ pub fn trace_obvhs(base: &Baseline, set: &RaySet, tmax: f32, out: &mut [bool]) {
     });
 }
 
-/// hemilab's path: the renderer's own per-pixel query.
-pub fn trace_hemilab(scene: &Scene, set: &RaySet, tmax: f32, out: &mut [bool]) {
-    let n = set.n;
-    out.par_chunks_mut(n * CHUNK_PIXELS).with_max_len(1).enumerate().for_each(|(c, chunk)| {
-        for (i, blocked) in chunk.chunks_mut(n).enumerate() {
+/// hemilab's path: the renderer's own per-pixel query, answering as the renderer reads it: one
+/// mask per 32 rays of each pixel (`RaySet::masks_per_pixel`; `unpack` makes flags of them).
+pub fn trace_hemilab(scene: &Scene, set: &RaySet, tmax: f32, masks: &mut [u32]) {
+    let (n, m) = (set.n, set.masks_per_pixel());
+    masks.par_chunks_mut(m * CHUNK_PIXELS).with_max_len(1).enumerate().for_each(|(c, chunk)| {
+        for (i, out) in chunk.chunks_mut(m).enumerate() {
             let p = c * CHUNK_PIXELS + i;
-            let dirs = &set.dirs[p * n..(p + 1) * n];
-            trace_pixel(scene, set.origins[p], set.normals[p], dirs, tmax, blocked);
+            let r = p * n..(p + 1) * n;
+            let dirs = Soa { x: &set.x[r.clone()], y: &set.y[r.clone()], z: &set.z[r] };
+            trace_soa(scene, set.origins[p], set.normals[p], dirs, tmax, out);
         }
     });
 }

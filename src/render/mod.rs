@@ -12,7 +12,7 @@ use crate::sampling::batch::Directions;
 use crate::sampling::{Distribution, Frame, SamplerConfig};
 use crate::scene::Scene;
 use crate::scene::accel::{Hit, Ray};
-use crate::scene::packet::{Occluders, PACKET};
+use crate::scene::packet::{Occluders, PACKET, Soa};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::cell::RefCell;
@@ -46,7 +46,8 @@ struct Scratch {
     primaries: Vec<Primary>,
     points: Vec<Vec2>,
     rays: PixelRays,
-    blocked: Vec<bool>,
+    /// The pixel's answers, one mask per 32 rays.
+    masks: Vec<u32>,
 }
 
 /// The AO rays of one pixel: they all start at `origin`.
@@ -83,7 +84,7 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
                 primaries: Vec::with_capacity((TILE * TILE) as usize),
                 points: vec![Vec2::ZERO; n],
                 rays: PixelRays::default(),
-                blocked: vec![false; n],
+                masks: vec![0; n.div_ceil(PACKET)],
             },
             |s, t| {
                 let mut done = Vec::with_capacity((TILE * TILE) as usize);
@@ -93,15 +94,18 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
                     let Some(hit) = p.hit else { continue };
                     let pixel = p.y as u64 * w as u64 + p.x as u64;
                     rays_from_hit(scene, job, (p.x, p.y, pixel), p.dir, hit, &mut s.points, &mut s.rays);
-                    let r = &s.rays;
-                    let (d, blocked) = (job.ao_distance, &mut s.blocked);
-                    trace_pixel(scene, r.origin, r.normal, &r.dirs, d, blocked);
+                    let (r, b) = (&s.rays, &s.rays.batch);
+                    let dirs = Soa { x: &b.x[..n], y: &b.y[..n], z: &b.z[..n] };
+                    trace_soa(scene, r.origin, r.normal, dirs, job.ao_distance, &mut s.masks);
+                    // The blocked rays' weights in ray order (the f64 sum's order is part of the result).
                     let mut sum = 0.0f64;
-                    for (&b, &wt) in s.blocked.iter().zip(&s.rays.weights) {
-                        if b {
-                            sum += wt as f64;
-                            occluded += 1;
+                    for (k, &mask) in s.masks.iter().enumerate() {
+                        let mut m = mask;
+                        while m != 0 {
+                            sum += b.weight[k * PACKET + m.trailing_zeros() as usize] as f64;
+                            m &= m - 1;
                         }
+                        occluded += mask.count_ones() as u64;
                     }
                     done.push((pixel as u32, (1.0 - sum / n as f64) as f32));
                     rays += n as u64;
@@ -166,6 +170,11 @@ pub fn pixel_rays(
         return false;
     };
     rays_from_hit(scene, job, (x, y, pixel), primary.dir, hit, points, out);
+    let b = &out.batch;
+    out.dirs.clear();
+    out.dirs.extend((0..b.len()).map(|i| b.get(i)));
+    out.weights.clear();
+    out.weights.extend_from_slice(&b.weight[..b.len()]);
     true
 }
 
@@ -233,11 +242,6 @@ fn rays_from_hit(
     job.sampler.fill_pixel(x, y, pixel, points);
     // All points at once (vectorized; bit for bit the one-point path, `batch::world_sample`).
     out.batch.fill(job.distribution, points, &basis);
-    let b = &out.batch;
-    out.dirs.clear();
-    out.dirs.extend((0..b.len()).map(|i| Vec3::new(b.x[i], b.y[i], b.z[i])));
-    out.weights.clear();
-    out.weights.extend_from_slice(&b.weight[..b.len()]);
 }
 
 /// hemilab's AO query: which of a pixel's rays (all from `origin`) are blocked within `tmax`.
@@ -246,6 +250,17 @@ fn rays_from_hit(
 /// depend on them), across rayon jobs, so that it is not emptied every tile. They are triangle
 /// ids of the BVH they came from; `Occluders` starts afresh when the thread traces another one
 /// (one thread may render the kitchen, then the Cornell box's 30 triangles).
+/// `trace_pixel` on directions as x, y, z arrays, answering one mask per 32 rays (see
+/// `Accel::occluded_soa`): what the renderer and the benchmark's query call.
+pub fn trace_soa(scene: &Scene, origin: Vec3, normal: Vec3, dirs: Soa, tmax: f32, masks: &mut [u32]) {
+    CACHE.with(|c| scene.accel.occluded_soa(origin, Some(normal), dirs, tmax, masks, &mut c.borrow_mut()));
+}
+
+thread_local! {
+    /// Each thread's occluders of the last pixel it traced (see `trace_pixel`).
+    static CACHE: RefCell<Occluders> = RefCell::new(Occluders::new());
+}
+
 pub fn trace_pixel(
     scene: &Scene,
     origin: Vec3,
@@ -254,9 +269,6 @@ pub fn trace_pixel(
     tmax: f32,
     blocked: &mut [bool],
 ) {
-    thread_local! {
-        static CACHE: RefCell<Occluders> = RefCell::new(Occluders::new());
-    }
     CACHE.with(|c| {
         scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked, &mut c.borrow_mut());
     });

@@ -50,6 +50,32 @@ fn horizon(dirs: &[Vec3], normal: Option<Vec3>) -> Option<Horizon> {
     (least > 1e-6).then_some(Horizon { n: n.into(), slope2: s * s })
 }
 
+/// `horizon` of the first `len` rays of a filled packet (the same least d·n: the same products and
+/// sums, lane by lane).
+#[inline(always)]
+fn horizon_of(p: &Packet, len: usize, n: Vec3) -> Option<Horizon> {
+    let (nx, ny, nz) = (Vec4::splat(n.x), Vec4::splat(n.y), Vec4::splat(n.z));
+    let mut least = Vec4::splat(f32::INFINITY);
+    for g in 0..len.div_ceil(4) {
+        let dn = (p.d[0][g] * nx + p.d[1][g] * ny) + p.d[2][g] * nz;
+        // Lanes past `len` hold zero directions: keep them out.
+        let lanes = (len - 4 * g).min(4);
+        let valid = Vec4::from_array([0, 1, 2, 3].map(|l| if l < lanes { 0.0 } else { f32::INFINITY }));
+        least = least.min(dn + valid);
+    }
+    let least = least.min_element();
+    let s = (least - 2e-6).max(0.0);
+    (least > 1e-6).then_some(Horizon { n: n.into(), slope2: s * s })
+}
+
+/// A pixel's directions as separate x, y, z arrays of equal length.
+#[derive(Debug, Clone, Copy)]
+pub struct Soa<'a> {
+    pub x: &'a [f32],
+    pub y: &'a [f32],
+    pub z: &'a [f32],
+}
+
 /// Triangles that blocked rays of the previous packet (the neighbouring pixel, on the same
 /// thread): tested first, since neighbouring pixels tend to share occluders. Only the speed depends
 /// on it: a ray is blocked iff some triangle blocks it, whichever is tried first.
@@ -139,6 +165,31 @@ impl Accel {
         self.occluded_from_impl(false, origin, normal, dirs, tmax, blocked, cache);
     }
 
+    /// `occluded_from` on directions given as separate x, y, z arrays (what the warps write,
+    /// `sampling::batch::Directions`), answering with one mask per 32 rays (bit i of `masks[k]`:
+    /// ray 32k + i is blocked). The renderer's and the benchmark's query: no array of `Vec3` or
+    /// `bool` on the way.
+    pub fn occluded_soa(
+        &self,
+        origin: Vec3,
+        normal: Option<Vec3>,
+        dirs: Soa,
+        tmax: f32,
+        masks: &mut [u32],
+        cache: &mut Occluders,
+    ) {
+        let n = dirs.x.len();
+        assert!(dirs.y.len() == n && dirs.z.len() == n && masks.len() == n.div_ceil(PACKET));
+        let mut p = Packet { d: [[Vec4::ZERO; GROUPS]; 3], inv: [[0.0; PACKET]; 3] };
+        for (k, mask) in masks.iter_mut().enumerate() {
+            let r = k * PACKET..((k + 1) * PACKET).min(n);
+            let len = r.len();
+            p.fill_soa(&dirs.x[r.clone()], &dirs.y[r.clone()], &dirs.z[r]);
+            let up = normal.and_then(|n| horizon_of(&p, len, n));
+            *mask = self.packet_dispatch(true, origin.into(), up, &p, len, tmax, cache);
+        }
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn occluded_from_impl(
         &self,
@@ -150,9 +201,11 @@ impl Accel {
         blocked: &mut [bool],
         cache: &mut Occluders,
     ) {
+        let mut p = Packet { d: [[Vec4::ZERO; GROUPS]; 3], inv: [[0.0; PACKET]; 3] };
         for (chunk, out) in dirs.chunks(PACKET).zip(blocked.chunks_mut(PACKET)) {
             let up = horizon(chunk, normal);
-            let mask = self.packet_dispatch(wide, origin.into(), up, chunk, tmax, cache);
+            p.fill(chunk);
+            let mask = self.packet_dispatch(wide, origin.into(), up, &p, chunk.len(), tmax, cache);
             for (i, b) in out.iter_mut().enumerate() {
                 *b = (mask >> i) & 1 != 0;
             }
@@ -162,12 +215,14 @@ impl Accel {
     /// The same code compiled for AVX2 when the CPU has it (VEX three-operand forms and wider
     /// moves; no FMA, which would change the rounding), else for the SSE2 baseline. Either way
     /// every operation is the same IEEE operation, so the answers are identical.
+    #[allow(clippy::too_many_arguments)]
     fn packet_dispatch(
         &self,
         wide: bool,
         o: Vec3A,
         up: Option<Horizon>,
-        dirs: &[Vec3],
+        p: &Packet,
+        len: usize,
         tmax: f32,
         cache: &mut Occluders,
     ) -> u32 {
@@ -176,10 +231,10 @@ impl Accel {
             use std::arch::is_x86_feature_detected as has;
             if wide && has!("avx2") && has!("popcnt") && has!("bmi1") {
                 // SAFETY: the CPU supports AVX2, POPCNT and BMI1 (checked just above).
-                return unsafe { self.occluded_packet_avx2(o, up, dirs, tmax, cache) };
+                return unsafe { self.occluded_packet_avx2(o, up, p, len, tmax, cache) };
             }
         }
-        self.occluded_packet::<false>(o, up, dirs, tmax, cache)
+        self.occluded_packet::<false>(o, up, p, len, tmax, cache)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -188,11 +243,12 @@ impl Accel {
         &self,
         o: Vec3A,
         up: Option<Horizon>,
-        dirs: &[Vec3],
+        p: &Packet,
+        len: usize,
         tmax: f32,
         cache: &mut Occluders,
     ) -> u32 {
-        self.occluded_packet::<true>(o, up, dirs, tmax, cache)
+        self.occluded_packet::<true>(o, up, p, len, tmax, cache)
     }
 
     /// Bit i set: ray i (of at most 32) is blocked.
@@ -202,20 +258,19 @@ impl Accel {
         &self,
         o: Vec3A,
         up: Option<Horizon>,
-        dirs: &[Vec3],
+        p: &Packet,
+        len: usize,
         tmax: f32,
         cache: &mut Occluders,
     ) -> u32 {
         let nodes = &self.bvh.nodes;
-        if dirs.is_empty() || nodes.is_empty() {
+        if len == 0 || nodes.is_empty() {
             return 0;
         }
         if cache.owner != self.id {
             (cache.owner, cache.len) = (self.id, 0);
         }
-        let all = if dirs.len() >= 32 { u32::MAX } else { (1u32 << dirs.len()) - 1 };
-        let mut p = Packet { d: [[Vec4::ZERO; GROUPS]; 3], inv: [[0.0; PACKET]; 3] };
-        p.fill(dirs);
+        let all = if len >= 32 { u32::MAX } else { (1u32 << len) - 1 };
         // Nothing farther than d from the origin can be hit (|dir| = 1 up to rounding; keep slack).
         let reach2 = {
             let r = tmax * (1.0 + 1.0 / 1024.0);
@@ -242,7 +297,7 @@ impl Accel {
                     let gm = (live >> (8 * g)) & 0xff;
                     if gm != 0 {
                         // SAFETY: WIDE is only set by `occluded_packet_avx2`, on CPUs with AVX2.
-                        new |= (unsafe { wide::hit8(&p, g, &s, tmax) } & gm) << (8 * g);
+                        new |= (unsafe { wide::hit8(p, g, &s, tmax) } & gm) << (8 * g);
                     }
                 }
                 if new != 0 {
@@ -255,7 +310,7 @@ impl Accel {
             while gs != 0 {
                 let g = gs.trailing_zeros() as usize / 4;
                 gs &= gs - 1;
-                new |= (hit_group(&p, g, &s, tmax) & (live >> (4 * g)) & 0xf) << (4 * g);
+                new |= (hit_group(p, g, &s, tmax) & (live >> (4 * g)) & 0xf) << (4 * g);
             }
             if new != 0 {
                 *blocked |= new;
@@ -289,12 +344,12 @@ impl Accel {
             #[cfg(target_arch = "x86_64")]
             let (cm, hit) = if WIDE {
                 // SAFETY: WIDE is only set by `occluded_packet_avx2`, on CPUs with AVX2.
-                unsafe { wide::node(node, o, &p, live, few, &cull, tmax, present) }
+                unsafe { wide::node(node, o, p, live, few, &cull, tmax, present) }
             } else {
-                self.node_sse2(node, o, &p, live, few, &cull, tmax, present)
+                self.node_sse2(node, o, p, live, few, &cull, tmax, present)
             };
             #[cfg(not(target_arch = "x86_64"))]
-            let (cm, hit) = self.node_sse2(node, o, &p, live, few, &cull, tmax, present);
+            let (cm, hit) = self.node_sse2(node, o, p, live, few, &cull, tmax, present);
             // Inner children (imask, as obvhs's `is_leaf`) go on the stack; leaves are tested now.
             let mut kids = hit & node.imask as u32;
             while kids != 0 {

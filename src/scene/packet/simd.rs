@@ -46,6 +46,29 @@ impl Packet {
     }
 }
 
+impl Packet {
+    /// Fills `self` from separate x, y, z arrays (at most 32 each, equal lengths): the same values
+    /// as `fill` of the same directions. Lanes past the end get zero directions.
+    #[inline(always)]
+    pub fn fill_soa(&mut self, x: &[f32], y: &[f32], z: &[f32]) {
+        let tiny = Vec4::splat(TINY);
+        for (k, src) in [x, y, z].into_iter().enumerate() {
+            for g in 0..GROUPS {
+                let at = 4 * g;
+                let v = if at + 4 <= src.len() {
+                    Vec4::from_slice(&src[at..at + 4])
+                } else {
+                    Vec4::from_array(std::array::from_fn(|l| src.get(at + l).copied().unwrap_or(0.0)))
+                };
+                let v = v + Vec4::ZERO; // -0.0 → +0.0, exactly as `Ray::new`
+                self.d[k][g] = v;
+                let safe = Vec4::select(v.abs().cmplt(tiny), tiny.copysign(v), v);
+                (Vec4::ONE / safe).write_to_slice(&mut self.inv[k][at..at + 4]);
+            }
+        }
+    }
+}
+
 /// The 8 quantized planes of one axis as two `Vec4`s (SSE2 widening; per node, not per ray).
 #[inline(always)]
 pub(super) fn q8(v: &[u8; 8]) -> [Vec4; 2] {

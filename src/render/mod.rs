@@ -5,7 +5,7 @@
 pub mod bench;
 mod offset;
 
-pub use offset::ao_origin;
+pub use offset::{Plane, ao_origin};
 
 use crate::image::Image;
 use crate::sampling::batch::Directions;
@@ -192,34 +192,28 @@ struct Primary {
 /// (`Accel::closest_from`), others one by one; the hits are the same bits either way.
 fn tile_primaries(scene: &Scene, job: &RenderJob, t: u32, out: &mut Vec<Primary>) {
     out.clear();
-    let mut origins_agree = true;
-    let mut origin = None;
+    let raster = scene.camera.raster(job.width, job.height);
     for (x, y) in tile_pixels(t, job.width, job.height) {
-        let r = scene.camera.ray(x, y, job.width, job.height);
-        let o = *origin.get_or_insert(r.origin);
-        origins_agree &= o.to_array().map(f32::to_bits) == r.origin.to_array().map(f32::to_bits);
-        out.push(Primary { x, y, dir: r.dir, hit: None });
+        out.push(Primary { x, y, dir: raster.ray(x, y).dir, hit: None });
     }
-    match origin {
-        Some(o) if origins_agree => {
-            let mut dirs = [Vec3::ZERO; PACKET];
-            let mut hits = [None; PACKET];
-            for chunk in out.chunks_mut(PACKET) {
-                let k = chunk.len();
-                for (d, p) in dirs.iter_mut().zip(chunk.iter()) {
-                    *d = p.dir;
-                }
-                scene.accel.closest_from(o, &dirs[..k], f32::INFINITY, &mut hits[..k]);
-                for (p, h) in chunk.iter_mut().zip(hits) {
-                    p.hit = h;
-                }
+    if raster.shared_origin() {
+        let o = raster.ray(0, 0).origin;
+        let mut dirs = [Vec3::ZERO; PACKET];
+        let mut hits = [None; PACKET];
+        for chunk in out.chunks_mut(PACKET) {
+            let k = chunk.len();
+            for (d, p) in dirs.iter_mut().zip(chunk.iter()) {
+                *d = p.dir;
+            }
+            scene.accel.closest_from(o, &dirs[..k], f32::INFINITY, &mut hits[..k]);
+            for (p, h) in chunk.iter_mut().zip(hits) {
+                p.hit = h;
             }
         }
-        _ => {
-            for p in out.iter_mut() {
-                let r = scene.camera.ray(p.x, p.y, job.width, job.height);
-                p.hit = scene.accel.closest(&Ray::new(r.origin, r.dir, f32::INFINITY));
-            }
+    } else {
+        for p in out.iter_mut() {
+            let r = raster.ray(p.x, p.y);
+            p.hit = scene.accel.closest(&Ray::new(r.origin, r.dir, f32::INFINITY));
         }
     }
 }
@@ -235,7 +229,20 @@ fn rays_from_hit(
     points: &mut [Vec2],
     out: &mut PixelRays,
 ) {
-    let (origin, n) = ao_origin(scene.accel.triangle(hit.prim), hit.bary_b, hit.bary_c, dir);
+    // The last triangle's plane, per thread (neighbouring pixels mostly hit the same triangle).
+    thread_local! {
+        static LAST: std::cell::Cell<Option<(u64, u32, Plane)>> = const { std::cell::Cell::new(None) };
+    }
+    let key = (scene.accel.id(), hit.prim);
+    let plane = LAST.with(|last| match last.get() {
+        Some((id, prim, plane)) if (id, prim) == key => plane,
+        _ => {
+            let plane = Plane::of(scene.accel.triangle(hit.prim));
+            last.set(Some((key.0, key.1, plane)));
+            plane
+        }
+    });
+    let (origin, n) = plane.ao_origin(hit.bary_b, hit.bary_c, dir);
     out.origin = origin;
     out.normal = n;
     let basis = Frame::from_normal(n);

@@ -25,49 +25,73 @@ fn gamma(n: f64) -> f64 {
 /// ray's direction). The origin is on the normal's side of the triangle's exact plane (or on it);
 /// the normal is the exact plane's, rounded to f32.
 pub fn ao_origin(tri: [Vec3; 3], bary_b: f32, bary_c: f32, incoming: Vec3) -> (Vec3, Vec3) {
-    let [a, b, c] = tri.map(Vec3::as_dvec3);
-    let (e1, e2) = (b - a, c - a);
-    let (wb, wc) = (e1 * bary_b as f64, e2 * bary_c as f64);
-    // On the plane for any barycentrics (their error moves the point along the surface, not off it);
-    // off by at most γ5 (|a| + |wb| + |wc|): the edges, the products, two sums.
-    let p = a + wb + wc;
-    let err = (a.abs() + wb.abs() + wc.abs()) * gamma(5.0);
+    Plane::of(tri).ao_origin(bary_b, bary_c, incoming)
+}
 
-    let normal = e1.cross(e2);
-    // The f64 normal's direction is off by about γ4 |M| / |N| (M: the magnitudes N is made of);
-    // rounding it to f32 adds 2^-24 per component. Degenerate in f64 (f32 rounding made the area):
-    // no plane to speak of, so any direction, with the largest possible direction error.
-    let m = (e1.yzx() * e2.zxy()).abs() + (e1.zxy() * e2.yzx()).abs();
-    let (mut n64, dir_err) = match normal.try_normalize() {
-        Some(n) => (n, gamma(8.0) * m.length() / normal.length() + 1.0 / 16_777_216.0),
-        None => (DVec3::Z, 2.0),
-    };
-    if n64.dot(incoming.as_dvec3()) > 0.0 {
-        n64 = -n64;
+/// What `ao_origin` needs of a triangle whatever the point on it: its edges and unit normal in f64
+/// and the bound on that normal's direction. Neighbouring pixels mostly hit the same triangle, so
+/// the renderer keeps the last one (the square roots and the division are most of the work).
+#[derive(Debug, Clone, Copy)]
+pub struct Plane {
+    a: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+    n64: DVec3,
+    dir_err: f64,
+}
+
+impl Plane {
+    pub fn of(tri: [Vec3; 3]) -> Self {
+        let [a, b, c] = tri.map(Vec3::as_dvec3);
+        let (e1, e2) = (b - a, c - a);
+        let normal = e1.cross(e2);
+        // The f64 normal's direction is off by about γ4 |M| / |N| (M: the magnitudes N is made of);
+        // rounding it to f32 adds 2^-24 per component. Degenerate in f64 (f32 rounding made the
+        // area): no plane to speak of, so any direction, with the largest possible direction error.
+        let m = (e1.yzx() * e2.zxy()).abs() + (e1.zxy() * e2.yzx()).abs();
+        let (n64, dir_err) = match normal.try_normalize() {
+            Some(n) => (n, gamma(8.0) * m.length() / normal.length() + 1.0 / 16_777_216.0),
+            None => (DVec3::Z, 2.0),
+        };
+        Self { a, e1, e2, n64, dir_err }
     }
-    let n = n64.as_vec3();
 
-    // Distance of the rounded origin o from the exact plane (unit normal ν, |ν - n| <= dir_err):
-    // ν·(o - p_exact) >= h (1 - dir_err) - [dot(|n|, err) + dir_err (|err|_1 + Σ ulp(o_i))] - the
-    // f64 rounding of p + h n; rounding each o_i away from the surface (towards sign n_i) only adds.
-    // So h = 2 × the bracket plus that rounding keeps o on the normal's side.
-    let ulps = p.abs().element_sum() * (4.0 / 8_388_608.0) + 3.0 * f32::from_bits(1) as f64;
-    let h = 2.0
-        * (n.abs().as_dvec3().dot(err)
-            + dir_err * (err.element_sum() + ulps)
-            + gamma(3.0) * p.abs().element_sum());
-    let o = p + n.as_dvec3() * h;
-    let away = |x: f64, dir: f32| {
-        let r = x as f32;
-        if dir > 0.0 && (r as f64) < x {
-            r.next_up()
-        } else if dir < 0.0 && (r as f64) > x {
-            r.next_down()
-        } else {
-            r
+    /// `ao_origin` of this triangle.
+    pub fn ao_origin(&self, bary_b: f32, bary_c: f32, incoming: Vec3) -> (Vec3, Vec3) {
+        let (a, dir_err) = (self.a, self.dir_err);
+        let (wb, wc) = (self.e1 * bary_b as f64, self.e2 * bary_c as f64);
+        // On the plane for any barycentrics (their error moves the point along the surface, not off
+        // it); off by at most γ5 (|a| + |wb| + |wc|): the edges, the products, two sums.
+        let p = a + wb + wc;
+        let err = (a.abs() + wb.abs() + wc.abs()) * gamma(5.0);
+        let mut n64 = self.n64;
+        if n64.dot(incoming.as_dvec3()) > 0.0 {
+            n64 = -n64;
         }
-    };
-    (Vec3::new(away(o.x, n.x), away(o.y, n.y), away(o.z, n.z)), n)
+        let n = n64.as_vec3();
+
+        // Distance of the rounded origin o from the exact plane (unit normal ν, |ν - n| <= dir_err):
+        // ν·(o - p_exact) >= h (1 - dir_err) - [dot(|n|, err) + dir_err (|err|_1 + Σ ulp(o_i))] - the
+        // f64 rounding of p + h n; rounding each o_i away from the surface (towards sign n_i) only
+        // adds. So h = 2 × the bracket plus that rounding keeps o on the normal's side.
+        let ulps = p.abs().element_sum() * (4.0 / 8_388_608.0) + 3.0 * f32::from_bits(1) as f64;
+        let h = 2.0
+            * (n.abs().as_dvec3().dot(err)
+                + dir_err * (err.element_sum() + ulps)
+                + gamma(3.0) * p.abs().element_sum());
+        let o = p + n.as_dvec3() * h;
+        let away = |x: f64, dir: f32| {
+            let r = x as f32;
+            if dir > 0.0 && (r as f64) < x {
+                r.next_up()
+            } else if dir < 0.0 && (r as f64) > x {
+                r.next_down()
+            } else {
+                r
+            }
+        };
+        (Vec3::new(away(o.x, n.x), away(o.y, n.y), away(o.z, n.z)), n)
+    }
 }
 
 #[cfg(test)]

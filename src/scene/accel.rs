@@ -116,6 +116,11 @@ impl Accel {
         (Self { bvh, tris, source: soup, id }, core.as_secs_f64())
     }
 
+    /// Unique per build in this process (never 0): lets caches tell scenes apart.
+    pub fn id(&self) -> u64 {
+        self.id
+    }
+
     /// The vertices of triangle `prim` (BVH order) in the order `Hit`'s barycentrics refer to.
     pub fn triangle(&self, prim: u32) -> [Vec3; 3] {
         let t = &self.tris[prim as usize];

@@ -82,25 +82,71 @@ impl Camera {
 
     /// The ray through the centre of pixel (x, y) of a `width` x `height` image; y = 0 is the top row.
     pub fn ray(&self, x: u32, y: u32, width: u32, height: u32) -> PrimaryRay {
+        self.raster(width, height).ray(x, y)
+    }
+
+    /// What every pixel's ray of a `width` x `height` image shares (the basis, tan(fov/2)), worked
+    /// out once: `Raster::ray` then gives `ray`'s bits without redoing it per pixel.
+    pub fn raster(&self, width: u32, height: u32) -> Raster {
         let (eye, target, up) = self.pose();
         let forward = (target - eye).normalize();
         let right = forward.cross(up).normalize();
         let true_up = right.cross(forward);
         let aspect = width as f32 / height as f32;
-        let sx = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
-        let sy = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
-        match *self {
+        let lens = match *self {
             Camera::Perspective { fov_y_deg, .. } => {
-                let tan_half = (0.5 * fov_y_deg.to_radians()).tan();
-                let dir = forward + right * (sx * tan_half * aspect) + true_up * (sy * tan_half);
-                PrimaryRay { origin: eye, dir: dir.normalize() }
+                Lens::Perspective { tan_half: (0.5 * fov_y_deg.to_radians()).tan() }
             }
             Camera::Orthographic { view_width, .. } => {
                 let half_w = 0.5 * view_width;
-                let half_h = half_w / aspect;
-                PrimaryRay { origin: eye + right * (sx * half_w) + true_up * (sy * half_h), dir: forward }
+                Lens::Orthographic { half_w, half_h: half_w / aspect }
             }
+        };
+        Raster { eye, forward, right, true_up, aspect, width, height, lens }
+    }
+}
+
+/// A camera's rays for one image size (see `Camera::raster`).
+#[derive(Debug, Clone, Copy)]
+pub struct Raster {
+    eye: Vec3,
+    forward: Vec3,
+    right: Vec3,
+    true_up: Vec3,
+    aspect: f32,
+    width: u32,
+    height: u32,
+    lens: Lens,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Lens {
+    Perspective { tan_half: f32 },
+    Orthographic { half_w: f32, half_h: f32 },
+}
+
+impl Raster {
+    /// The ray through the centre of pixel (x, y); y = 0 is the top row.
+    #[inline]
+    pub fn ray(&self, x: u32, y: u32) -> PrimaryRay {
+        let sx = 2.0 * (x as f32 + 0.5) / self.width as f32 - 1.0;
+        let sy = 1.0 - 2.0 * (y as f32 + 0.5) / self.height as f32;
+        let (forward, right, true_up) = (self.forward, self.right, self.true_up);
+        match self.lens {
+            Lens::Perspective { tan_half } => {
+                let dir = forward + right * (sx * tan_half * self.aspect) + true_up * (sy * tan_half);
+                PrimaryRay { origin: self.eye, dir: dir.normalize() }
+            }
+            Lens::Orthographic { half_w, half_h } => PrimaryRay {
+                origin: self.eye + right * (sx * half_w) + true_up * (sy * half_h),
+                dir: forward,
+            },
         }
+    }
+
+    /// True if every ray starts at the same point (a pinhole camera's eye).
+    pub fn shared_origin(&self) -> bool {
+        matches!(self.lens, Lens::Perspective { .. })
     }
 }
 

@@ -167,7 +167,7 @@ fn auto_reference_is_reused_only_with_enough_rays() {
 fn long_run_is_announced_before_it_starts() {
     let t = Tmp::new("long-run");
     let big = tiny_spec(16, "").replace("resolution = [24, 18]", "resolution = [8192, 8192]");
-    let spec = t.spec("big.toml", &big.replace("rays = [2, 4]", "rays = [1024]"));
+    let spec = t.spec("big.toml", &big.replace("rays = [2, 4]", "rays = [16384]"));
     let o = t.run(&spec, "out", "ref", &["--no-build-reference"]);
     let e = stderr(&o);
     assert!(e.starts_with("warning: this run will take about "), "{e}");

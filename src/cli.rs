@@ -146,6 +146,10 @@ pub struct ReferenceArgs {
     /// relative to the spec file, else `reference/` beside the spec).
     #[arg(long, value_name = "DIR")]
     pub reference_dir: Option<PathBuf>,
+    /// Render every reference anew, even where a stored one serves the spec (one with as many rays
+    /// or more, for `rays = "auto"`, which would otherwise be kept).
+    #[arg(long)]
+    pub force: bool,
     #[command(flatten)]
     pub common: Common,
 }

@@ -75,3 +75,27 @@ fn reference_dir_key_and_flag() {
     assert!(e.contains("in nowhere") && e.contains("--reference-dir"), "{e}");
     assert!(!t.path("nowhere").exists(), "a refused run writes nothing");
 }
+
+/// `hemilab reference` keeps a stored reference that serves the spec: a smaller spec sharing a
+/// larger spec's `rays = "auto"` reference (as experiments/blue_noise.toml shares the paper's) does
+/// not replace it with a coarser one. `--force` rebuilds.
+#[test]
+fn reference_keeps_a_richer_auto_reference() {
+    let t = Tmp::new("refdir-keep");
+    let auto = tiny_spec(16, "dir = \"refs\"").replace("rays = 16", "rays = \"auto\"");
+    let big = t.spec("big.toml", &auto.replace("rays = [2, 4]", "rays = [2, 16]"));
+    let small = t.spec("small.toml", &auto);
+    let o = t.hemilab(&["reference", big.to_str().unwrap(), "--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let exr = files(&t.path("refs")).into_iter().find(|f| f.ends_with(".exr")).unwrap();
+    let stored = std::fs::read(t.path("refs").join(&exr)).unwrap();
+
+    let o = t.hemilab(&["reference", small.to_str().unwrap(), "--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("kept"), "{}", stdout(&o));
+    assert_eq!(std::fs::read(t.path("refs").join(&exr)).unwrap(), stored, "the richer reference is kept");
+
+    let o = t.hemilab(&["reference", small.to_str().unwrap(), "--quiet", "--force"]);
+    assert!(o.status.success() && !stdout(&o).contains("kept"), "{}", stdout(&o));
+    assert_ne!(std::fs::read(t.path("refs").join(&exr)).unwrap(), stored, "--force rebuilds");
+}

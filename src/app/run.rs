@@ -24,14 +24,20 @@ pub fn run_reference(args: ReferenceArgs) -> Result<()> {
     let dir = refs::dir(args.reference_dir.as_deref(), &loaded.spec);
     io::ensure_writable_dir(&dir)?;
     let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
+    // A stored reference that serves the spec is kept: for `rays = "auto"` it may hold far more
+    // rays than this spec asks (the paper's, shared with a smaller spec), and rebuilding it would
+    // throw them away.
+    let policy = if args.force { Policy::Rebuild } else { Policy::ReuseOrBuild };
     for (si, scene) in loaded.scenes.iter().enumerate() {
-        let r = refs::obtain(&loaded.spec, si, scene, &dir, Policy::Rebuild, &runner)?;
+        let kept = policy == Policy::ReuseOrBuild && refs::missing(&loaded.spec, si, scene, &dir)?.is_none();
+        let r = refs::obtain(&loaded.spec, si, scene, &dir, policy, &runner)?;
         println!(
-            "{}: noise floor {:.3e} ({} x {} rays)",
+            "{}: noise floor {:.3e} ({} x {} rays){}",
             r.exr.display(),
             r.noise_floor(),
             r.manifest.replicates,
-            r.manifest.rays
+            r.manifest.rays,
+            if kept { "; kept, it serves this spec (--force rebuilds it)" } else { "" }
         );
     }
     runner.bar.finish_and_clear();

@@ -1,7 +1,9 @@
 //! A fixed amount of render or AO-query work on one thread, for profilers (perf, callgrind):
 //! `cargo run --release --example profile_render -- SCENE.toml MODE D [REPEATS] [RAYS]`, MODE one
 //! of `render` (whole renders), `query` (hemilab's AO query on the render's rays), `obvhs` (plain
-//! obvhs on them), `rays` (only collecting the ray set). Prints the wall time of the timed part.
+//! obvhs on them), `rays` (only collecting the ray set), `points` and `directions` (each covered
+//! pixel's point set, and its point set and directions around its normal: what the render spends
+//! on them, per direction). Prints the wall time of the timed part.
 //! Timing figures of record come from `hemilab bench`, not from this.
 
 use hemilab::render::{self, RenderJob, bench};
@@ -23,7 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (width, height) = scene.resolution;
     let job = RenderJob { distribution: Distribution::SineCosine, sampler, width, height, ao_distance: d };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
-    let set = if mode == "query" || mode == "obvhs" { Some(bench::ray_set(&scene, &job)) } else { None };
+    let set = (mode != "render" && mode != "rays").then(|| bench::ray_set(&scene, &job));
     let base = if mode == "obvhs" { Some(bench::obvhs_baseline(&scene)) } else { None };
     let start = Instant::now();
     let mut count = 0u64;
@@ -45,6 +47,33 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         count += out.iter().map(|m| m.count_ones() as u64).sum::<u64>();
                     }
                 }
+            }
+            "points" | "directions" => {
+                let set = set.as_ref().expect("made above");
+                let mut points = vec![glam::Vec2::ZERO; rays as usize];
+                let mut batch = hemilab::sampling::batch::Directions::default();
+                let (w, order) = (width as u64, hemilab::render::pixel_order(width, height));
+                // The covered pixels, as the ray set lists them (the same order).
+                let covered = order.filter(|&(x, y)| {
+                    let r = scene.camera.ray(x, y, width, height);
+                    scene
+                        .accel
+                        .closest(&hemilab::scene::accel::Ray::new(r.origin, r.dir, f32::INFINITY))
+                        .is_some()
+                });
+                let covered: Vec<(u32, u32)> = covered.collect();
+                let t0 = Instant::now();
+                for (&(x, y), n) in covered.iter().zip(&set.normals) {
+                    sampler.fill_pixel(x, y, y as u64 * w + x as u64, &mut points);
+                    if mode == "directions" {
+                        batch.fill(job.distribution, &points, &hemilab::sampling::Frame::from_normal(*n));
+                        count += batch.len() as u64;
+                    } else {
+                        count += points.len() as u64;
+                    }
+                }
+                let ns = t0.elapsed().as_secs_f64() * 1e9 / (covered.len() as f64 * rays as f64);
+                println!("{mode}: {ns:.2} ns per direction");
             }
             other => return Err(format!("unknown mode {other}").into()),
         }

@@ -10,7 +10,7 @@
 
 #[cfg(target_arch = "x86_64")]
 use super::simd::wide;
-use super::simd::{Packet, child_planes, present_children, slabs};
+use super::simd::{Packet, box_dist2, child_planes, present_children, slabs};
 use super::{GROUPS, PACKET, STACK};
 use crate::scene::accel::{Accel, Hit, closer};
 use glam::{Vec3, Vec3A, Vec4};
@@ -165,9 +165,7 @@ fn node_sse2(
     }
     let mut dist2 = [0.0f32; 8];
     for h in 0..2 {
-        let gap = |k: usize| pl[2 * k][h].max(-pl[2 * k + 1][h]).max(Vec4::ZERO);
-        let (gx, gy, gz) = (gap(0), gap(1), gap(2));
-        (gx * gx + gy * gy + gz * gz).write_to_slice(&mut dist2[4 * h..4 * h + 4]);
+        box_dist2(&pl, h).write_to_slice(&mut dist2[4 * h..4 * h + 4]);
     }
     (cm, dist2)
 }

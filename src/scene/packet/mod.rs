@@ -12,13 +12,15 @@
 //! subset of what exact boxes would, and any-hit answers do not depend on the order of the tests.
 
 mod closest;
+mod horizon;
 mod simd;
 
 use super::accel::Accel;
 use glam::{Vec3, Vec3A, Vec4};
+use horizon::{Horizon, horizon, horizon_of};
 #[cfg(target_arch = "x86_64")]
 use simd::wide;
-use simd::{Cull, Packet, groups_of, hit_group, lanes, present_children};
+use simd::{Cull, Packet, box_dist2, groups_of, hit_group, lanes, present_children};
 pub(super) use simd::{child_planes, slabs};
 
 /// Asks for node `idx`'s cache lines (80 bytes: two or three lines) as it goes on the stack, ahead of
@@ -50,46 +52,6 @@ pub(super) const GROUPS: usize = PACKET / 4;
 
 /// 7 siblings per level over obvhs's maximum depth of 32, plus the 8 children of the last node.
 const STACK: usize = 256;
-
-/// A plane through the origin that no ray of the packet goes below, and the least slope `s` at
-/// which they rise above it: a ray reaches height s·r only at distance r, so a box whose top is
-/// below s × its distance from the origin cannot be reached (the plane alone culls only boxes
-/// wholly below it). The cone matters next to the surface the origin lies on: the origin is
-/// lifted off it by a few ulps only, less than the boxes' padding, so without the cone every
-/// box of that surface near the pixel would be entered.
-#[derive(Debug, Clone, Copy)]
-struct Horizon {
-    n: Vec3A,
-    /// s², s the least d·n of the packet less 2e-6 (computed d·n is within a few ulps of the true
-    /// value, and the support and distance of a box within a few ulps of theirs).
-    slope2: f32,
-}
-
-#[inline(always)]
-fn horizon(dirs: &[Vec3], normal: Option<Vec3>) -> Option<Horizon> {
-    let n = normal?;
-    let least = dirs.iter().map(|d| d.dot(n)).fold(f32::INFINITY, f32::min);
-    let s = (least - 2e-6).max(0.0);
-    (least > 1e-6).then_some(Horizon { n: n.into(), slope2: s * s })
-}
-
-/// `horizon` of the first `len` rays of a filled packet (the same least d·n: the same products and
-/// sums, lane by lane).
-#[inline(always)]
-fn horizon_of(p: &Packet, len: usize, n: Vec3) -> Option<Horizon> {
-    let (nx, ny, nz) = (Vec4::splat(n.x), Vec4::splat(n.y), Vec4::splat(n.z));
-    let mut least = Vec4::splat(f32::INFINITY);
-    for g in 0..len.div_ceil(4) {
-        let dn = (p.d[0][g] * nx + p.d[1][g] * ny) + p.d[2][g] * nz;
-        // Lanes past `len` hold zero directions: keep them out.
-        let lanes = (len - 4 * g).min(4);
-        let valid = Vec4::from_array([0, 1, 2, 3].map(|l| if l < lanes { 0.0 } else { f32::INFINITY }));
-        least = least.min(dn + valid);
-    }
-    let least = least.min_element();
-    let s = (least - 2e-6).max(0.0);
-    (least > 1e-6).then_some(Horizon { n: n.into(), slope2: s * s })
-}
 
 /// A pixel's directions as separate x, y, z arrays of equal length.
 #[derive(Debug, Clone, Copy)]
@@ -434,9 +396,7 @@ impl Accel {
         if !few {
             near = 0;
             for h in 0..2 {
-                let gap = |k: usize| pl[2 * k][h].max(-pl[2 * k + 1][h]).max(Vec4::ZERO);
-                let (gx, gy, gz) = (gap(0), gap(1), gap(2));
-                let d2 = gx * gx + gy * gy + gz * gz;
+                let d2 = box_dist2(&pl, h);
                 let support = (pl[0][h] * nx).max(pl[1][h] * nx)
                     + (pl[2][h] * ny).max(pl[3][h] * ny)
                     + (pl[4][h] * nz).max(pl[5][h] * nz);

@@ -113,6 +113,15 @@ pub(in crate::scene) fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 
     [lx, hx, ly, hy, lz, hz]
 }
 
+/// The squared distance from the origin to each of children 4h..4h+3 (0 inside), from their
+/// `child_planes`.
+#[inline(always)]
+pub(super) fn box_dist2(pl: &[[Vec4; 2]; 6], h: usize) -> Vec4 {
+    let gap = |k: usize| pl[2 * k][h].max(-pl[2 * k + 1][h]).max(Vec4::ZERO);
+    let (gx, gy, gz) = (gap(0), gap(1), gap(2));
+    gx * gx + gy * gy + gz * gz
+}
+
 /// One ray's slab test against the 8 boxes of `child_planes` (relative to its origin), 4 at a
 /// time: bit c set if it enters child c within [0, tmax]. The entry is clamped at 0 and the exit
 /// widened by 8 ulps, so the rounding of the products never drops a box the ray touches. Shared by
@@ -246,14 +255,7 @@ pub(super) mod wide {
         let (mut near, mut inside) = (present, 0u32);
         if !few {
             let z = _mm256_setzero_ps();
-            let sign = _mm256_set1_ps(-0.0);
-            let gap =
-                |k: usize| _mm256_max_ps(_mm256_max_ps(pl[2 * k], _mm256_xor_ps(pl[2 * k + 1], sign)), z);
-            let (gx, gy, gz) = (gap(0), gap(1), gap(2));
-            let d2 = _mm256_add_ps(
-                _mm256_add_ps(_mm256_mul_ps(gx, gx), _mm256_mul_ps(gy, gy)),
-                _mm256_mul_ps(gz, gz),
-            );
+            let d2 = dist2(&pl);
             let side = |k: usize, n: f32| {
                 let n = _mm256_set1_ps(n);
                 _mm256_max_ps(_mm256_mul_ps(pl[2 * k], n), _mm256_mul_ps(pl[2 * k + 1], n))
@@ -322,14 +324,19 @@ pub(super) mod wide {
     /// Each child box's squared distance from the origin the planes are relative to (0 inside).
     #[inline]
     #[target_feature(enable = "avx2")]
-    pub fn box_dist2(pl: &[__m256; 6]) -> [f32; 8] {
+    pub fn dist2(pl: &[__m256; 6]) -> __m256 {
         let (z, sign) = (_mm256_setzero_ps(), _mm256_set1_ps(-0.0));
         let gap = |k: usize| _mm256_max_ps(_mm256_max_ps(pl[2 * k], _mm256_xor_ps(pl[2 * k + 1], sign)), z);
         let (gx, gy, gz) = (gap(0), gap(1), gap(2));
-        let d2 =
-            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(gx, gx), _mm256_mul_ps(gy, gy)), _mm256_mul_ps(gz, gz));
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(gx, gx), _mm256_mul_ps(gy, gy)), _mm256_mul_ps(gz, gz))
+    }
+
+    /// `dist2` as an array.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub fn box_dist2(pl: &[__m256; 6]) -> [f32; 8] {
         // SAFETY: one 32-byte register into 32 bytes.
-        unsafe { std::mem::transmute::<__m256, [f32; 8]>(d2) }
+        unsafe { std::mem::transmute::<__m256, [f32; 8]>(dist2(pl)) }
     }
 
     /// Children (bits) whose slabs ray `i` crosses within [0, tmax].

@@ -155,6 +155,8 @@ fn bench_reports_json() {
         let runs = c["runs"].as_array().unwrap();
         assert_eq!(runs[0]["threads"], 1);
         for r in runs {
+            // Each sample traces the set at least once (more for a set this small: ~0.2 s of obvhs).
+            assert!(r["traces_per_sample"].as_u64().unwrap() >= 1);
             for key in ["obvhs_rays_per_s", "hemilab_rays_per_s", "ratio"] {
                 let s = &r[key];
                 assert!(s["min"].as_f64().unwrap() > 0.0, "{key}");

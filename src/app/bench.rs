@@ -131,14 +131,21 @@ fn compare(
     let (mut out, mut out_masks) = (vec![false; rays], vec![0u32; masks]);
     for &t in threads {
         let pool = pool(Some(t as u32))?;
+        // A sample traces the set this many times, the same for both paths: enough for the slower
+        // path (obvhs) to run ~0.2 s, so a small scene's sample is not one call of a few ms.
+        let start = Instant::now();
+        pool.install(|| bench::trace_obvhs(base, set, d, &mut out));
+        let times = ((0.2 / start.elapsed().as_secs_f64().max(1e-6)).ceil() as u32).clamp(1, 1000);
         let (mut obvhs_rate, mut ours, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
         for r in 0..repeats {
             let mut run = |hemilab: bool| -> Result<f64> {
                 let start = Instant::now();
-                if hemilab {
-                    pool.install(|| bench::trace_hemilab(scene, set, d, &mut out_masks));
-                } else {
-                    pool.install(|| bench::trace_obvhs(base, set, d, &mut out));
+                for _ in 0..times {
+                    if hemilab {
+                        pool.install(|| bench::trace_hemilab(scene, set, d, &mut out_masks));
+                    } else {
+                        pool.install(|| bench::trace_obvhs(base, set, d, &mut out));
+                    }
                 }
                 let secs = start.elapsed().as_secs_f64();
                 let same = if hemilab { out_masks == ours_masks } else { out == obvhs_ref };
@@ -147,7 +154,7 @@ fn compare(
                         "bench: d = {d}, {t} threads: a repeat gave different answers; this is a bug"
                     )));
                 }
-                Ok(rays as f64 / secs.max(1e-9))
+                Ok(rays as f64 * times as f64 / secs.max(1e-9))
             };
             // Alternate which path runs first so that neither always inherits a warm cache.
             let (b, o) = if r % 2 == 0 {
@@ -163,6 +170,7 @@ fn compare(
         }
         rows.push(json!({
             "threads": t,
+            "traces_per_sample": times,
             "obvhs_rays_per_s": spread(&obvhs_rate),
             "hemilab_rays_per_s": spread(&ours),
             "ratio": spread(&ratio),

@@ -248,3 +248,15 @@ fn concentric_cosine_is_the_shirley_chiu_map_not_the_polar_one() {
     assert!((c.x - c.y).abs() < 1e-6 && (c.x - 0.5f32.sqrt() * 0.5).abs() < 1e-6, "{c}");
     assert_eq!(Distribution::ConcentricCosine.sample(Vec2::splat(0.5)).dir, Vec3::Z);
 }
+
+/// `unit_weight` holds exactly where every sampled weight is 1.0 (a grid of 257² points and the
+/// corners), and nowhere else: the renderer counts blocked rays instead of summing for those.
+#[test]
+fn unit_weight_means_every_weight_is_exactly_one() {
+    for d in Distribution::ALL {
+        let grid =
+            (0..=256u32).flat_map(|i| (0..=256u32).map(move |j| Vec2::new(i as f32, j as f32) / 256.0));
+        let all_one = grid.map(|u| d.sample(u).weight).all(|w| w == 1.0);
+        assert_eq!(d.unit_weight(), all_one, "{d:?}");
+    }
+}

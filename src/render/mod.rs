@@ -74,6 +74,7 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
         let empty = Image::new(job.width, job.height);
         return RenderOutput { ao: empty.clone(), coverage: empty, rays: 0, occluded_rays: 0 };
     }
+    let unit_weight = job.distribution.unit_weight();
     // Tiles in parallel, each its own rayon job (pixels differ a lot in cost; large sequential
     // ranges left one of 2 threads idle); each tile's covered pixels come back as (index, AO).
     let tiles: Vec<TileResult> = (0..tile_count(job.width, job.height))
@@ -97,16 +98,24 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
                     let (r, b) = (&s.rays, &s.rays.batch);
                     let dirs = Soa { x: &b.x[..n], y: &b.y[..n], z: &b.z[..n] };
                     trace_soa(scene, r.origin, r.normal, dirs, job.ao_distance, &mut s.masks);
-                    // The blocked rays' weights in ray order (the f64 sum's order is part of the result).
-                    let mut sum = 0.0f64;
-                    for (k, &mask) in s.masks.iter().enumerate() {
-                        let mut m = mask;
-                        while m != 0 {
-                            sum += b.weight[k * PACKET + m.trailing_zeros() as usize] as f64;
-                            m &= m - 1;
+                    let blocked: u32 = s.masks.iter().map(|m| m.count_ones()).sum();
+                    occluded += blocked as u64;
+                    let sum = if unit_weight {
+                        // Every weight is exactly 1: the in-order sum below is the count, exactly.
+                        blocked as f64
+                    } else {
+                        // The blocked rays' weights in ray order (the f64 sum's order is part of
+                        // the result).
+                        let mut sum = 0.0f64;
+                        for (k, &mask) in s.masks.iter().enumerate() {
+                            let mut m = mask;
+                            while m != 0 {
+                                sum += b.weight[k * PACKET + m.trailing_zeros() as usize] as f64;
+                                m &= m - 1;
+                            }
                         }
-                        occluded += mask.count_ones() as u64;
-                    }
+                        sum
+                    };
                     done.push((pixel as u32, (1.0 - sum / n as f64) as f32));
                     rays += n as u64;
                 }

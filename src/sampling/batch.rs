@@ -74,21 +74,24 @@ impl Directions {
     fn fill_any(&mut self, distribution: Distribution, points: &[Vec2], frame: &Frame) {
         // One loop per warp, so that each is a straight line of lane operations.
         match distribution {
-            Distribution::Uniform => {
-                self.fill_with(points, |u| world_sample(Distribution::Uniform, u, frame))
-            }
-            Distribution::Sine => self.fill_with(points, |u| world_sample(Distribution::Sine, u, frame)),
-            Distribution::SineCosine => {
-                self.fill_with(points, |u| world_sample(Distribution::SineCosine, u, frame))
-            }
+            Distribution::Uniform => self.warp_all(points, |u| Distribution::Uniform.sample(u)),
+            Distribution::Sine => self.warp_all(points, |u| Distribution::Sine.sample(u)),
+            Distribution::SineCosine => self.warp_all(points, |u| Distribution::SineCosine.sample(u)),
             Distribution::ConcentricCosine => {
-                self.fill_with(points, |u| world_sample(Distribution::ConcentricCosine, u, frame))
+                self.warp_all(points, |u| Distribution::ConcentricCosine.sample(u))
             }
         }
+        self.rotate_all(frame);
     }
 
+    /// First pass: every point's direction in the local frame (z = the normal) and its weight.
+    /// `world_sample` is split in two passes, the same operations in the same order, because each
+    /// half is a long chain of dependent operations (square roots, a polynomial; then the rotation,
+    /// a square root and a division): in one loop of ~150 operations a step, the loop ran near its
+    /// latency (about 80 cycles for 8 directions on Zen 4, llvm-mca agreeing), and two passes
+    /// measured 2.4 instead of 3.1 ns a direction (32 points a pixel, AVX2).
     #[inline(always)]
-    fn fill_with(&mut self, points: &[Vec2], f: impl Fn(Vec2) -> DirSample) {
+    fn warp_all(&mut self, points: &[Vec2], warp: impl Fn(Vec2) -> DirSample) {
         let (xs, ys) = (&mut self.x, &mut self.y);
         let (zs, ws) = (&mut self.z, &mut self.weight);
         for (c, chunk) in points.chunks(LANES).enumerate() {
@@ -99,7 +102,7 @@ impl Directions {
             let (mut x, mut y, mut z, mut w) =
                 ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
             for l in 0..LANES {
-                let s = f(Vec2::new(ux[l], uy[l]));
+                let s = warp(Vec2::new(ux[l], uy[l]));
                 (x[l], y[l], z[l], w[l]) = (s.dir.x, s.dir.y, s.dir.z, s.weight);
             }
             let at = c * LANES;
@@ -107,6 +110,25 @@ impl Directions {
             ys[at..at + LANES].copy_from_slice(&y);
             zs[at..at + LANES].copy_from_slice(&z);
             ws[at..at + LANES].copy_from_slice(&w);
+        }
+    }
+
+    /// Second pass: each local direction rotated into `frame` and normalized, as `world_sample`.
+    #[inline(always)]
+    fn rotate_all(&mut self, frame: &Frame) {
+        let (xs, ys, zs) = (&mut self.x, &mut self.y, &mut self.z);
+        for at in (0..xs.len()).step_by(LANES) {
+            let (mut x, mut y, mut z) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
+            x.copy_from_slice(&xs[at..at + LANES]);
+            y.copy_from_slice(&ys[at..at + LANES]);
+            z.copy_from_slice(&zs[at..at + LANES]);
+            for l in 0..LANES {
+                let d = canonical(frame.to_world(Vec3::new(x[l], y[l], z[l])).normalize_or(frame.z));
+                (x[l], y[l], z[l]) = (d.x, d.y, d.z);
+            }
+            xs[at..at + LANES].copy_from_slice(&x);
+            ys[at..at + LANES].copy_from_slice(&y);
+            zs[at..at + LANES].copy_from_slice(&z);
         }
     }
 }

@@ -67,6 +67,13 @@ impl Distribution {
         }
     }
 
+    /// True when `ao_weight` is exactly 1 for every direction (the cosine-weighted warps): the
+    /// estimator's in-order sum of the blocked rays' weights is then their count, exactly, and
+    /// the renderer takes the count instead of walking the rays.
+    pub fn unit_weight(self) -> bool {
+        matches!(self, Distribution::SineCosine | Distribution::ConcentricCosine)
+    }
+
     /// cos / (pi pdf) in closed form: finite and >= 0 everywhere, including pole and horizon.
     #[inline(always)]
     pub fn ao_weight(self, dir: Vec3) -> f32 {

@@ -60,6 +60,9 @@ pub struct PixelRays {
     pub weights: Vec<f32>,
     /// Scratch: the directions as arrays, as the vectorized warp writes them.
     batch: Directions,
+    /// The last hit triangle's plane, keyed by (BVH id, triangle): neighbouring pixels mostly hit
+    /// the same triangle (kept here, not in a thread-local, so that it is read in place).
+    plane: Option<(u64, u32, Plane)>,
 }
 
 /// A tile's covered pixels as (index, AO value), its AO rays and its occluded rays.
@@ -238,19 +241,14 @@ fn rays_from_hit(
     points: &mut [Vec2],
     out: &mut PixelRays,
 ) {
-    // The last triangle's plane, per thread (neighbouring pixels mostly hit the same triangle).
-    thread_local! {
-        static LAST: std::cell::Cell<Option<(u64, u32, Plane)>> = const { std::cell::Cell::new(None) };
-    }
     let key = (scene.accel.id(), hit.prim);
-    let plane = LAST.with(|last| match last.get() {
-        Some((id, prim, plane)) if (id, prim) == key => plane,
+    let plane = match &out.plane {
+        Some((id, prim, plane)) if (*id, *prim) == key => plane,
         _ => {
             let plane = Plane::of(scene.accel.triangle(hit.prim));
-            last.set(Some((key.0, key.1, plane)));
-            plane
+            &out.plane.insert((key.0, key.1, plane)).2
         }
-    });
+    };
     let (origin, n) = plane.ao_origin(hit.bary_b, hit.bary_c, dir);
     out.origin = origin;
     out.normal = n;

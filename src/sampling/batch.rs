@@ -96,8 +96,16 @@ impl Directions {
         let (zs, ws) = (&mut self.z, &mut self.weight);
         for (c, chunk) in points.chunks(LANES).enumerate() {
             let (mut ux, mut uy) = ([0.0f32; LANES], [0.0f32; LANES]);
-            for (l, p) in chunk.iter().enumerate() {
-                (ux[l], uy[l]) = (p.x, p.y);
+            if let Ok(full) = <&[Vec2; LANES]>::try_from(chunk) {
+                // A whole step: a fixed-size copy, which compiles to shuffles of two loads
+                // instead of a chain of one insertion per lane.
+                for l in 0..LANES {
+                    (ux[l], uy[l]) = (full[l].x, full[l].y);
+                }
+            } else {
+                for (l, p) in chunk.iter().enumerate() {
+                    (ux[l], uy[l]) = (p.x, p.y);
+                }
             }
             let (mut x, mut y, mut z, mut w) =
                 ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);

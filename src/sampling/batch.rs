@@ -15,7 +15,7 @@ use glam::{Vec2, Vec3};
 pub const LANES: usize = 8;
 
 /// World-space directions and their AO weights, structure of arrays. Each array holds `len()`
-/// values, padded with zeros to a multiple of `LANES`.
+/// values, padded to a multiple of `LANES` (the padding holds directions nobody reads).
 #[derive(Debug, Clone, Default)]
 pub struct Directions {
     pub x: Vec<f32>,
@@ -30,7 +30,15 @@ pub struct Directions {
 #[inline(always)]
 pub fn world_sample(distribution: Distribution, u: Vec2, frame: &Frame) -> DirSample {
     let s = distribution.sample(u);
-    DirSample { dir: canonical(frame.to_world(s.dir).normalize_or(frame.z)), weight: s.weight }
+    DirSample { dir: rotate(s.dir, frame), weight: s.weight }
+}
+
+/// A local direction (z = the normal) in world space around `frame`, normalized (the normal itself
+/// if it does not normalize) and canonical: the second half of `world_sample`, which the batch's
+/// second pass runs alone.
+#[inline(always)]
+fn rotate(local: Vec3, frame: &Frame) -> Vec3 {
+    canonical(frame.to_world(local).normalize_or(frame.z))
 }
 
 impl Directions {
@@ -131,7 +139,7 @@ impl Directions {
             y.copy_from_slice(&ys[at..at + LANES]);
             z.copy_from_slice(&zs[at..at + LANES]);
             for l in 0..LANES {
-                let d = canonical(frame.to_world(Vec3::new(x[l], y[l], z[l])).normalize_or(frame.z));
+                let d = rotate(Vec3::new(x[l], y[l], z[l]), frame);
                 (x[l], y[l], z[l]) = (d.x, d.y, d.z);
             }
             xs[at..at + LANES].copy_from_slice(&x);

@@ -3,7 +3,8 @@
 //! of `render` (whole renders), `query` (hemilab's AO query on the render's rays), `obvhs` (plain
 //! obvhs on them), `rays` (only collecting the ray set), `points` and `directions` (each covered
 //! pixel's point set, and its point set and directions around its normal: what the render spends
-//! on them, per direction). Prints the wall time of the timed part.
+//! on them, per direction) or `primaries` (the primary rays alone, in packets of 8 × 4 pixels as the
+//! renderer traces them). Prints the wall time of the timed part.
 //! Timing figures of record come from `hemilab bench`, not from this.
 
 use hemilab::render::{self, RenderJob, bench};
@@ -25,7 +26,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (width, height) = scene.resolution;
     let job = RenderJob { distribution: Distribution::SineCosine, sampler, width, height, ao_distance: d };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
-    let set = (mode != "render" && mode != "rays").then(|| bench::ray_set(&scene, &job));
+    let set =
+        (mode != "render" && mode != "rays" && mode != "primaries").then(|| bench::ray_set(&scene, &job));
     let base = if mode == "obvhs" { Some(bench::obvhs_baseline(&scene)) } else { None };
     let start = Instant::now();
     let mut count = 0u64;
@@ -74,6 +76,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 }
                 let ns = t0.elapsed().as_secs_f64() * 1e9 / (covered.len() as f64 * rays as f64);
                 println!("{mode}: {ns:.2} ns per direction");
+            }
+            "primaries" => {
+                // The renderer's primary packets: 8 × 4 pixels from the eye (`render::tile_primaries`).
+                let raster = scene.camera.raster(width, height);
+                let o = raster.ray(0, 0).origin;
+                let mut hits = [None; 32];
+                let t0 = Instant::now();
+                for y0 in (0..height).step_by(4) {
+                    for x0 in (0..width).step_by(8) {
+                        let dirs: Vec<glam::Vec3> = (y0..(y0 + 4).min(height))
+                            .flat_map(|y| (x0..(x0 + 8).min(width)).map(move |x| (x, y)))
+                            .map(|(x, y)| raster.ray(x, y).dir)
+                            .collect();
+                        let k = dirs.len();
+                        scene.accel.closest_from(o, &dirs, f32::INFINITY, &mut hits[..k]);
+                        count += hits[..k].iter().filter(|h| h.is_some()).count() as u64;
+                    }
+                }
+                let ns = t0.elapsed().as_secs_f64() * 1e9 / (width as f64 * height as f64);
+                println!("{mode}: {ns:.1} ns per primary ray");
             }
             other => return Err(format!("unknown mode {other}").into()),
         }

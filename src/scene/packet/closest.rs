@@ -10,7 +10,7 @@
 
 #[cfg(target_arch = "x86_64")]
 use super::simd::wide;
-use super::simd::{Packet, box_dist2, child_planes, present_children, slabs};
+use super::simd::{Packet, box_dist2, child_planes, lanes, present_children, slabs};
 use super::{GROUPS, PACKET, STACK};
 use crate::scene::accel::{Accel, Hit, closer};
 use glam::{Vec3, Vec3A, Vec4};
@@ -68,20 +68,22 @@ impl Accel {
             let node = &nodes[ni as usize];
             let present = present_children(&node.child_meta);
             // Per child, the rays that enter it; and each child's squared distance from the origin.
-            let mut cm = [0u32; 8];
+            let cm: [u32; 8];
             let dist2: [f32; 8];
             #[cfg(target_arch = "x86_64")]
             if WIDE {
                 // SAFETY: WIDE is only set by `closest_avx2`, on CPUs with AVX2.
                 let pl = unsafe { wide::planes(node, o) };
+                let mut acc = lanes::zero();
                 let mut rays = live;
                 while rays != 0 {
                     let i = rays.trailing_zeros() as usize;
                     rays &= rays - 1;
                     // SAFETY: as above.
                     let h = unsafe { wide::ray_hits(&pl, &p, i, bound[i], widen) } & present;
-                    add_ray(&mut cm, h, i);
+                    lanes::add_ray(&mut acc, h, i);
                 }
+                cm = lanes::to_array(acc);
                 // SAFETY: as above.
                 dist2 = unsafe { wide::box_dist2(&pl) };
             } else {
@@ -133,16 +135,6 @@ impl Accel {
     }
 }
 
-/// Adds ray `i` to the children whose bits are set in `hits`.
-#[inline(always)]
-fn add_ray(cm: &mut [u32; 8], mut hits: u32, i: usize) {
-    while hits != 0 {
-        let c = hits.trailing_zeros() as usize;
-        hits &= hits - 1;
-        cm[c] |= 1 << i;
-    }
-}
-
 /// One node against the live rays, 4 children at a time (SSE2): the rays entering each child within
 /// their bounds, and each child's squared distance from the origin.
 #[inline(always)]
@@ -155,14 +147,15 @@ fn node_sse2(
     present: u32,
 ) -> ([u32; 8], [f32; 8]) {
     let pl = child_planes(node, o);
-    let mut cm = [0u32; 8];
+    let mut cm = lanes::zero();
     let mut rays = live;
     while rays != 0 {
         let i = rays.trailing_zeros() as usize;
         rays &= rays - 1;
         let h = slabs(&pl, [p.inv[0][i], p.inv[1][i], p.inv[2][i]], bound[i]) & present;
-        add_ray(&mut cm, h, i);
+        lanes::add_ray(&mut cm, h, i);
     }
+    let cm = lanes::to_array(cm);
     let mut dist2 = [0.0f32; 8];
     for h in 0..2 {
         box_dist2(&pl, h).write_to_slice(&mut dist2[4 * h..4 * h + 4]);

@@ -350,7 +350,7 @@ pub(crate) fn hit_seen(s: &Seen, d: [f32; 3], tmax: f32) -> Option<(f32, f32, f3
 
 /// A margin above 1 that `closer`'s first test widens the best t by: 2^-20, far more than the
 /// rounding of t = |T| / d·n and of the product it is compared with.
-const LOOSE: f32 = 1.0 + 1.0 / 1_048_576.0;
+pub(crate) const LOOSE: f32 = 1.0 + 1.0 / 1_048_576.0;
 
 /// Triangle `prim`'s hit (seen as `s`, ray direction `d`) if it beats `best`: t = |T| / d·n < ray_tmax
 /// and (t, input triangle) less than best's. A total order on the hits of one ray, so the closest

@@ -1,7 +1,9 @@
 //! Closest hits of up to 32 rays that share their origin: a tile's primary rays (a pinhole camera's
 //! rays all start at the eye). As for the AO packets, what depends only on the origin is done once
 //! per node (the child planes relative to it) and once per triangle (`Seen`); each ray costs a slab
-//! test per node and 4 dot products per triangle. Children are visited nearest box first.
+//! test per node and 4 dot products per triangle (with AVX2, 8 rays at a time: the kitchen's primary
+//! rays 92 -> 85 ns each, `profile_render … primaries`, median of 30). Children are visited nearest
+//! box first.
 //!
 //! The answers are bit-for-bit those of `Accel::closest` on each ray: the same node and triangle
 //! arithmetic (no FMA), and a hit wins by the least (t, triangle) over all the triangles the ray
@@ -12,7 +14,7 @@
 use super::simd::wide;
 use super::simd::{Packet, box_dist2, child_planes, lanes, present_children, slabs};
 use super::{GROUPS, PACKET, STACK};
-use crate::scene::accel::{Accel, Hit, closer};
+use crate::scene::accel::{Accel, Hit, LOOSE, closer};
 use glam::{Vec3, Vec3A, Vec4};
 
 impl Accel {
@@ -114,7 +116,21 @@ impl Accel {
                     if s.g == f32::INFINITY {
                         continue; // the origin is within the rounding of its plane: no ray hits it
                     }
+                    // With AVX2, 8 rays' tests at once find the rays `closer` may accept (the same
+                    // operations as its test, so exactly those); `closer` decides each of them.
                     let mut rays = m;
+                    #[cfg(target_arch = "x86_64")]
+                    if WIDE {
+                        rays = 0;
+                        for g in 0..PACKET / 8 {
+                            let gm = (m >> (8 * g)) & 0xff;
+                            if gm != 0 {
+                                // SAFETY: WIDE is only set by `closest_avx2`, on CPUs with AVX2.
+                                rays |=
+                                    (unsafe { wide::hit8_within(&p, g, &s, &bound, LOOSE) } & gm) << (8 * g);
+                            }
+                        }
+                    }
                     while rays != 0 {
                         let i = rays.trailing_zeros() as usize;
                         rays &= rays - 1;

@@ -363,6 +363,24 @@ pub(super) mod wide {
     #[inline]
     #[target_feature(enable = "avx2")]
     pub fn hit8(p: &Packet, g: usize, s: &Seen, tmax: f32) -> u32 {
+        hit8_below(p, g, s, _mm256_set1_ps(tmax))
+    }
+
+    /// `hit8` with each ray's own bound: ray 8g + k's is `bound[8g + k] * widen` (the product
+    /// `accel::closer` bounds its hit test with), so the rays it returns are exactly those for which
+    /// `closer`'s test finds a hit.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub fn hit8_within(p: &Packet, g: usize, s: &Seen, bound: &[f32; 32], widen: f32) -> u32 {
+        // SAFETY: the slice is exactly 8 f32.
+        let b = unsafe { _mm256_loadu_ps(bound[8 * g..8 * g + 8].as_ptr()) };
+        hit8_below(p, g, s, _mm256_mul_ps(b, _mm256_set1_ps(widen)))
+    }
+
+    /// `hit8` against a bound per lane.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn hit8_below(p: &Packet, g: usize, s: &Seen, tmax: __m256) -> u32 {
         // SAFETY: p.d[k] holds 8 Vec4 = 32 contiguous f32; 2g+1 < 8.
         let ld = |k: usize| unsafe { _mm256_loadu_ps(p.d[k].as_ptr().add(2 * g) as *const f32) };
         let (dx, dy, dz) = (ld(0), ld(1), ld(2));
@@ -378,7 +396,7 @@ pub(super) mod wide {
         let neg = _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_min_ps(_mm256_min_ps(u, v), w), z);
         let pos = _mm256_cmp_ps::<_CMP_GT_OQ>(_mm256_max_ps(_mm256_max_ps(u, v), w), z);
         let dn = dotv(s.n);
-        let near = _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_set1_ps(s.t), _mm256_mul_ps(_mm256_set1_ps(tmax), dn));
+        let near = _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_set1_ps(s.t), _mm256_mul_ps(tmax, dn));
         let sum = _mm256_add_ps(_mm256_add_ps(u, v), w);
         let sure = _mm256_cmp_ps::<_CMP_GT_OQ>(dn, _mm256_set1_ps(s.g));
         let ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), sure);

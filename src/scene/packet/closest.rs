@@ -57,8 +57,11 @@ impl Accel {
         let mut p = Packet { d: [[Vec4::ZERO; GROUPS]; 3], inv: [[0.0; PACKET]; 3] };
         p.fill(dirs);
         // Each ray's direction as `Ray::new` makes it (-0.0 → +0.0, as `Packet::fill` did).
-        let dir = |i: usize| [0, 1, 2].map(|k| p.d[k][i / 4].to_array()[i % 4]);
-        let d: [[f32; 3]; PACKET] = std::array::from_fn(|i| if i < dirs.len() { dir(i) } else { [0.0; 3] });
+        // (Read when a triangle test needs it, not gathered up front: with AVX2 that is rare.)
+        let dir = |i: usize| {
+            let (v, l) = (i / 4, i % 4);
+            [p.d[0][v][l], p.d[1][v][l], p.d[2][v][l]]
+        };
         // A ray's best t so far: its boxes are culled beyond it.
         let mut bound = [tmax; PACKET];
         let mut stack = [(0u32, 0u32); STACK];
@@ -134,7 +137,8 @@ impl Accel {
                     while rays != 0 {
                         let i = rays.trailing_zeros() as usize;
                         rays &= rays - 1;
-                        if let Some(h) = closer(&s, d[i], prim, tmax, hits[i], &self.bvh.primitive_indices) {
+                        if let Some(h) = closer(&s, dir(i), prim, tmax, hits[i], &self.bvh.primitive_indices)
+                        {
                             hits[i] = Some(h);
                             bound[i] = h.t;
                         }

@@ -1,7 +1,7 @@
 //! A fixed amount of render or AO-query work on one thread, for profilers (perf, callgrind):
 //! `cargo run --release --example profile_render -- SCENE.toml MODE D [REPEATS] [RAYS]`, MODE one
-//! of `render` (whole renders), `query` (hemilab's AO query on the render's rays), `obvhs` (plain
-//! obvhs on them), `rays` (only collecting the ray set), `points` and `directions` (each covered
+//! of `render` (whole renders), `query` (hemilab's AO query on the render's rays), `single`
+//! (hemilab's single-ray walk, `Accel::occluded`, on each of them), `obvhs` (plain obvhs on them), `rays` (only collecting the ray set), `points` and `directions` (each covered
 //! pixel's point set, and its point set and directions around its normal: what the render spends
 //! on them, per direction) or `primaries` (the primary rays alone, in packets of 8 × 4 pixels as the
 //! renderer traces them). Prints the wall time of the timed part.
@@ -29,12 +29,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let set =
         (mode != "render" && mode != "rays" && mode != "primaries").then(|| bench::ray_set(&scene, &job));
     let base = if mode == "obvhs" { Some(bench::obvhs_baseline(&scene)) } else { None };
+    let d_max = d;
     let start = Instant::now();
     let mut count = 0u64;
     for _ in 0..repeats {
         match mode {
             "render" => count += pool.install(|| render::render(&scene, &job, &|_| {})).occluded_rays,
             "rays" => count += bench::ray_set(&scene, &job).len() as u64,
+            "single" => {
+                let set = set.as_ref().expect("made above");
+                for (i, d) in set.dirs.iter().enumerate() {
+                    let o = set.origins[i / set.n];
+                    count += scene.accel.occluded(&hemilab::scene::accel::Ray::new(o, *d, d_max)) as u64;
+                }
+            }
             "query" | "obvhs" => {
                 let set = set.as_ref().expect("made above");
                 match &base {

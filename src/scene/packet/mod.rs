@@ -15,7 +15,7 @@ mod closest;
 mod horizon;
 mod simd;
 
-use super::accel::Accel;
+use super::accel::{Accel, Ray};
 use glam::{Vec3, Vec3A, Vec4};
 use horizon::{Horizon, horizon, horizon_of};
 #[cfg(target_arch = "x86_64")]
@@ -169,6 +169,13 @@ impl Accel {
         for (k, mask) in masks.iter_mut().enumerate() {
             let r = k * PACKET..((k + 1) * PACKET).min(n);
             let len = r.len();
+            if len == 1 {
+                // A lone ray (1 ray a pixel, or the 33rd): the single-ray walk is the same answer
+                // and faster than a packet's setup (kitchen, d = 1: 176 against 231 ns a ray).
+                let d = Vec3::new(dirs.x[r.start], dirs.y[r.start], dirs.z[r.start]);
+                *mask = self.occluded(&Ray::new(origin, d, tmax)) as u32;
+                continue;
+            }
             p.fill_soa(&dirs.x[r.clone()], &dirs.y[r.clone()], &dirs.z[r]);
             let up = normal.and_then(|n| horizon_of(&p, len, n));
             *mask = self.packet_dispatch(true, origin.into(), up, &p, len, tmax, cache);
@@ -457,7 +464,7 @@ mod tests {
             let mut got = vec![false; dirs.len()];
             acc.occluded_from(o, None, &dirs, tmax, &mut got, &mut Occluders::new());
             for (d, g) in dirs.iter().zip(&got) {
-                let want = acc.occluded(&super::super::accel::Ray::new(o, *d, tmax));
+                let want = acc.occluded(&Ray::new(o, *d, tmax));
                 assert_eq!(*g, want, "dir {d} tmax {tmax}");
             }
         }

@@ -57,6 +57,7 @@ impl Plane {
     }
 
     /// `ao_origin` of this triangle.
+    #[inline(always)]
     pub fn ao_origin(&self, bary_b: f32, bary_c: f32, incoming: Vec3) -> (Vec3, Vec3) {
         let (a, dir_err) = (self.a, self.dir_err);
         let (wb, wc) = (self.e1 * bary_b as f64, self.e2 * bary_c as f64);

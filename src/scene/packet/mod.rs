@@ -46,38 +46,6 @@ fn prefetch_node(nodes: &[obvhs::cwbvh::node::CwBvhNode], idx: u32) {
     let _ = (nodes, idx);
 }
 
-/// `Packet::fill_soa` and `horizon_of`, compiled for AVX2 where the CPU has it (VEX-encoded, like
-/// the walk that follows; the same IEEE operations, so the same bits). Measured, kitchen query, one
-/// thread, A/B interleaved, min of 6: d = 0.3 -3 %, d = 1 -3 %, d = inf -7 %: more than the fill's
-/// ~4-6 % share of the query, so not only the fill got faster (likely the switch between legacy SSE
-/// and 256-bit AVX code around every packet; not proven, the VM has no performance counters). Made
-/// 8 lanes wide by hand, it was no faster.
-#[inline(always)]
-fn fill_and_horizon(
-    p: &mut Packet,
-    x: &[f32],
-    y: &[f32],
-    z: &[f32],
-    normal: Option<Vec3>,
-) -> Option<Horizon> {
-    #[inline(always)]
-    fn any(p: &mut Packet, x: &[f32], y: &[f32], z: &[f32], normal: Option<Vec3>) -> Option<Horizon> {
-        p.fill_soa(x, y, z);
-        normal.and_then(|n| horizon_of(p, x.len(), n))
-    }
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn avx2(p: &mut Packet, x: &[f32], y: &[f32], z: &[f32], normal: Option<Vec3>) -> Option<Horizon> {
-        any(p, x, y, z, normal)
-    }
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU supports AVX2 (checked just above).
-        return unsafe { avx2(p, x, y, z, normal) };
-    }
-    any(p, x, y, z, normal)
-}
-
 /// Rays per packet.
 pub const PACKET: usize = 32;
 pub(super) const GROUPS: usize = PACKET / 4;
@@ -208,7 +176,8 @@ impl Accel {
                 *mask = self.occluded(&Ray::new(origin, d, tmax)) as u32;
                 continue;
             }
-            let up = fill_and_horizon(&mut p, &dirs.x[r.clone()], &dirs.y[r.clone()], &dirs.z[r], normal);
+            p.fill_soa(&dirs.x[r.clone()], &dirs.y[r.clone()], &dirs.z[r]);
+            let up = normal.and_then(|n| horizon_of(&p, len, n));
             *mask = self.packet_dispatch(true, origin.into(), up, &p, len, tmax, cache);
         }
     }

@@ -121,9 +121,8 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
 
 /// One tile compiled for AVX2, with the per-pixel steps between the kernels (primary packets, AO
 /// origin, bookkeeping) inlined into it: VEX encoding throughout the pixel loop, as in the kernels
-/// it calls. No FMA, so the same bits (90 renders over 7 scenes, every warp, sequence and seed mode
-/// byte-compared). Kitchen, one thread, A/B min of 6-8: render -1.3 to -2.4 % at 32 rays, -2.2 %
-/// at 1.
+/// it calls. No FMA, so the same bits (90 renders byte-compared: README, Performance). `hemilab
+/// bench` (kitchen, d = 1, 3 interleaved runs): render_vs_query 0.784-0.794 -> 0.801-0.806.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn render_tile_avx2(

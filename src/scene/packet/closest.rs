@@ -1,9 +1,10 @@
 //! Closest hits of up to 32 rays that share their origin: a tile's primary rays (a pinhole camera's
 //! rays all start at the eye). As for the AO packets, what depends only on the origin is done once
 //! per node (the child planes relative to it) and once per triangle (`Seen`); each ray costs a slab
-//! test per node and 4 dot products per triangle (with AVX2, 8 rays at a time: the kitchen's primary
-//! rays 92 -> 85 ns each, `profile_render … primaries`, median of 30). Children are visited nearest
-//! box first.
+//! test per node and 4 dot products per triangle (with AVX2, 8 rays at a time; with the shared
+//! branch-free transpose of the child masks and the directions read only for the rays a test finds,
+//! the kitchen's primary rays went from 95 to 82 ns each, `profile_render … primaries`, median of
+//! 30). Children are visited nearest box first.
 //!
 //! The answers are bit-for-bit those of `Accel::closest` on each ray: the same node and triangle
 //! arithmetic (no FMA), and a hit wins by the least (t, triangle) over all the triangles the ray

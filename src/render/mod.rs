@@ -77,7 +77,7 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
         let empty = Image::new(job.width, job.height);
         return RenderOutput { ao: empty.clone(), coverage: empty, rays: 0, occluded_rays: 0 };
     }
-    let unit_weight = job.distribution.unit_weight();
+    let tile = Tile { scene, job, unit_weight: job.distribution.unit_weight(), progress };
     // Tiles in parallel, each its own rayon job (pixels differ a lot in cost; large sequential
     // ranges left one of 2 threads idle); each tile's covered pixels come back as (index, AO).
     let tiles: Vec<TileResult> = (0..tile_count(job.width, job.height))
@@ -94,9 +94,9 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
                 #[cfg(target_arch = "x86_64")]
                 if std::arch::is_x86_feature_detected!("avx2") {
                     // SAFETY: the CPU supports AVX2 (checked just above).
-                    return unsafe { render_tile_avx2(scene, job, t, unit_weight, progress, s) };
+                    return unsafe { render_tile_avx2(&tile, t, s) };
                 }
-                render_tile(scene, job, t, unit_weight, progress, s)
+                render_tile(&tile, t, s)
             },
         )
         .collect();
@@ -125,27 +125,24 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
 /// bench` (kitchen, d = 1, 3 interleaved runs): render_vs_query 0.784-0.794 -> 0.801-0.806.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn render_tile_avx2(
-    scene: &Scene,
-    job: &RenderJob,
-    t: u32,
+unsafe fn render_tile_avx2(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
+    render_tile(tile, t, s)
+}
+
+/// What every tile of a render shares.
+#[derive(Clone, Copy)]
+struct Tile<'a> {
+    scene: &'a Scene,
+    job: &'a RenderJob,
+    /// `Distribution::unit_weight` of the job's warp.
     unit_weight: bool,
-    progress: &(dyn Fn(u64) + Sync),
-    s: &mut Scratch,
-) -> TileResult {
-    render_tile(scene, job, t, unit_weight, progress, s)
+    progress: &'a (dyn Fn(u64) + Sync),
 }
 
 /// Tile `t`'s covered pixels as (index, AO), its AO rays and occluded rays.
 #[inline(always)]
-fn render_tile(
-    scene: &Scene,
-    job: &RenderJob,
-    t: u32,
-    unit_weight: bool,
-    progress: &(dyn Fn(u64) + Sync),
-    s: &mut Scratch,
-) -> TileResult {
+fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
+    let Tile { scene, job, unit_weight, progress } = *tile;
     let (w, n) = (job.width as usize, job.sampler.count as usize);
     let mut done = Vec::with_capacity((TILE * TILE) as usize);
     let (mut rays, mut occluded) = (0u64, 0u64);

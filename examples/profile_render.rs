@@ -1,10 +1,11 @@
 //! A fixed amount of render or AO-query work on one thread, for profilers (perf, callgrind):
 //! `cargo run --release --example profile_render -- SCENE.toml MODE D [REPEATS] [RAYS]`, MODE one
 //! of `render` (whole renders), `query` (hemilab's AO query on the render's rays), `single`
-//! (hemilab's single-ray walk, `Accel::occluded`, on each of them), `obvhs` (plain obvhs on them), `rays` (only collecting the ray set), `points` and `directions` (each covered
+//! (hemilab's single-ray walk, `Accel::occluded`, on each of them), `obvhs` (plain obvhs on them),
+//! `rays` (only collecting the ray set), `points` and `directions` (each covered
 //! pixel's point set, and its point set and directions around its normal: what the render spends
 //! on them, per direction) or `primaries` (the primary rays alone, in packets of 8 × 4 pixels as the
-//! renderer traces them). Prints the wall time of the timed part.
+//! renderer traces them; the camera rays' making included). Prints the wall time of the timed part.
 //! Timing figures of record come from `hemilab bench`, not from this.
 
 use hemilab::render::{self, RenderJob, bench};
@@ -29,7 +30,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let set =
         (mode != "render" && mode != "rays" && mode != "primaries").then(|| bench::ray_set(&scene, &job));
     let base = if mode == "obvhs" { Some(bench::obvhs_baseline(&scene)) } else { None };
-    let d_max = d;
     let start = Instant::now();
     let mut count = 0u64;
     for _ in 0..repeats {
@@ -38,9 +38,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "rays" => count += bench::ray_set(&scene, &job).len() as u64,
             "single" => {
                 let set = set.as_ref().expect("made above");
-                for (i, d) in set.dirs.iter().enumerate() {
+                for (i, dir) in set.dirs.iter().enumerate() {
                     let o = set.origins[i / set.n];
-                    count += scene.accel.occluded(&hemilab::scene::accel::Ray::new(o, *d, d_max)) as u64;
+                    count += scene.accel.occluded(&hemilab::scene::accel::Ray::new(o, *dir, d)) as u64;
                 }
             }
             "query" | "obvhs" => {

@@ -14,7 +14,7 @@ use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let scene = hemilab::app::load_scene(std::path::Path::new(&args[1]))?;
+    let scene = hemilab::load::load_scene(std::path::Path::new(&args[1]))?;
     let mode = args.get(2).map(String::as_str).unwrap_or("render");
     let d: f32 = match args.get(3).map(String::as_str) {
         None => scene.ao_distance,

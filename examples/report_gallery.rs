@@ -1,8 +1,8 @@
 //! Writes one sample of every report figure from synthetic data, so the pictures can be looked at
 //! without running an experiment: `cargo run --release --example report_gallery -- /tmp/gallery`.
 
-use hemilab::app::points::figure_rows;
 use hemilab::image::Image;
+use hemilab::report::figure_rows;
 use hemilab::report::{self, Figure, Format, GridCell, Guide, Series, Table};
 use hemilab::sampling::{Distribution, SeedMode, Sequence};
 use std::path::PathBuf;

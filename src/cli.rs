@@ -1,8 +1,8 @@
 //! Command-line definitions only; `app` does the work. Names are parsed here so that a bad value
 //! fails before anything runs, with clap's exit status 2 and the list of valid choices.
 
-use crate::plan::shard::Shard;
 use crate::sampling::{Distribution, SeedMode, Sequence};
+use crate::shard::Shard;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 

@@ -18,6 +18,8 @@
 // Declared in pipeline order (blank lines keep rustfmt from sorting them).
 pub mod spec;
 
+pub mod load;
+
 pub mod plan;
 
 pub mod sampling;
@@ -25,6 +27,8 @@ pub mod sampling;
 pub mod scene;
 
 pub mod render;
+
+pub mod jobs;
 
 pub mod timing;
 
@@ -42,6 +46,8 @@ pub mod compare;
 
 pub mod advice;
 
+pub mod shard;
+
 pub mod report;
 
 // The shell around the pipeline: command line, orchestration, errors, the filesystem.
@@ -52,5 +58,7 @@ pub mod app;
 pub mod error;
 
 pub mod io;
+
+pub mod outdir;
 
 pub mod progress;

@@ -3,8 +3,8 @@
 
 mod common;
 
-use hemilab::plan::shard::{self, Shard};
 use hemilab::plan::{Plan, plan};
+use hemilab::shard::{self, Shard};
 use hemilab::spec::parse_spec;
 use std::collections::HashSet;
 use std::path::Path;

@@ -1,7 +1,7 @@
 //! The image depends only on (scene, job): bit-identical for 1 thread and for all threads, and across
 //! reruns.
 
-use hemilab::app::load_scene;
+use hemilab::load::load_scene;
 use hemilab::render::{RenderJob, RenderOutput, render};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use std::path::Path;

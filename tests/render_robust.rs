@@ -12,7 +12,7 @@
 mod lambert;
 
 use glam::{DMat3, DVec3, EulerRot};
-use hemilab::app::load_scene;
+use hemilab::load::load_scene;
 use hemilab::render::{RenderJob, RenderOutput, render};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::procedural::Placement;

@@ -4,7 +4,7 @@
 //! caught by the scaled closed box in render_exact.rs; here hits that short are rare.)
 
 use glam::Vec2;
-use hemilab::app::load_scene;
+use hemilab::load::load_scene;
 use hemilab::render::ao_origin;
 use hemilab::sampling::{Distribution, Frame, frame};
 use hemilab::scene::accel::Ray;

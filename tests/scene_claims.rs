@@ -1,18 +1,18 @@
 //! The paper's claims on every shipped scene: `experiments/scene-claims.toml` (seven scenes at 96x72,
 //! 8 replicates, fixed seeds) run through the real binary against the committed references. Each
 //! claim is asserted only where theory backs it, by at least `MIN_SE` standard errors of the *paired*
-//! difference (replicate r shares its seed across configurations: `report::verdict`). And on the
+//! difference (replicate r shares its seed across configurations: `compare::claims`). And on the
 //! slat scene, where the lag-1 autocorrelation misses the static seed's diagonal moiré (issue 10),
 //! the whiteness z-score must separate the static seed from the per-pixel seed by many replicate
 //! spreads at 8, 16 and 32 rays.
 
 mod common;
 
-use hemilab::metrics::whiteness::STRUCTURED_Z;
-use hemilab::report::verdict::{
-    self, COSINE_FIB_PIXEL, COSINE_FIB_STATIC, COSINE_RANDOM, Config, Margin, SINE_RANDOM, SLOPE_TOLERANCE,
-    UNIFORM_RANDOM,
+use hemilab::compare::claims::{
+    self as claims, COSINE_FIB_PIXEL, COSINE_FIB_STATIC, COSINE_RANDOM, Config, Margin, SINE_RANDOM,
+    SLOPE_TOLERANCE, UNIFORM_RANDOM,
 };
+use hemilab::metrics::whiteness::STRUCTURED_Z;
 use hemilab::results::JobResult;
 use std::sync::OnceLock;
 
@@ -49,17 +49,8 @@ fn results() -> &'static [JobResult] {
 
 /// (replicate, value) of one configuration.
 fn values(scene: &str, c: Config, rays: u32, f: fn(&JobResult) -> f64) -> Vec<(u32, f64)> {
-    let v: Vec<(u32, f64)> = results()
-        .iter()
-        .filter(|r| {
-            r.scene == scene
-                && r.rays == rays
-                && r.distribution == c.distribution
-                && r.sequence == c.sequence
-                && r.seed_mode == c.seed_mode
-        })
-        .map(|r| (r.replicate, f(r)))
-        .collect();
+    let v: Vec<(u32, f64)> =
+        results().iter().filter(|r| r.is(scene, c, rays)).map(|r| (r.replicate, f(r))).collect();
     assert_eq!(v.len(), 8, "{scene}: {c:?} at {rays} rays: expected 8 replicates");
     v
 }
@@ -81,7 +72,7 @@ fn assert_margin(m: Option<Margin>, what: &str) -> f64 {
 fn assert_lower(scene: &str, better: Config, worse: Config, claim: &str) {
     for rays in RAYS {
         let (b, w) = (values(scene, better, rays, |r| r.rmse), values(scene, worse, rays, |r| r.rmse));
-        assert_margin(verdict::paired(&b, &w), &format!("{scene}, {claim}, {rays} rays"));
+        assert_margin(claims::paired(&b, &w), &format!("{scene}, {claim}, {rays} rays"));
     }
 }
 
@@ -96,7 +87,7 @@ fn table2_sine_cosine_beats_uniform_and_sine_where_occluders_are_above_the_horiz
             for rays in RAYS {
                 let c = values(scene, COSINE_RANDOM, rays, |r| r.rmse);
                 let s = values(scene, SINE_RANDOM, rays, |r| r.rmse);
-                let m = verdict::paired(&c, &s).expect("pairs");
+                let m = claims::paired(&c, &s).expect("pairs");
                 eprintln!("{scene}, sine-cosine < sine, {rays} rays (not asserted): {:+.1} SE", m.in_se());
             }
         }
@@ -119,7 +110,7 @@ fn table3_the_static_seeds_error_is_structured_on_every_scene() {
             let stat = values(scene, COSINE_FIB_STATIC, rays, |r| r.whiteness_z);
             let pixel = values(scene, COSINE_FIB_PIXEL, rays, |r| r.whiteness_z);
             let what = format!("{scene}, static seed structured, {rays} rays");
-            assert_margin(verdict::paired(&pixel, &stat), &what);
+            assert_margin(claims::paired(&pixel, &stat), &what);
             let mean = stat.iter().map(|v| v.1).sum::<f64>() / stat.len() as f64;
             assert!(mean > STRUCTURED_Z, "{what}: mean whiteness z {mean:.1} of the static seed");
             // The per-pixel seed's error is white: z stays within the N(0, 1) range in every replicate.
@@ -131,13 +122,13 @@ fn table3_the_static_seeds_error_is_structured_on_every_scene() {
 #[test]
 fn convergence_slopes_on_every_scene() {
     for (scene, _) in SCENES {
-        let random = verdict::replicate_slopes(results(), scene, COSINE_RANDOM, &SWEEP);
-        let fib = verdict::replicate_slopes(results(), scene, COSINE_FIB_PIXEL, &SWEEP);
+        let random = claims::replicate_slopes(results(), scene, COSINE_RANDOM, &SWEEP);
+        let fib = claims::replicate_slopes(results(), scene, COSINE_FIB_PIXEL, &SWEEP);
         assert_eq!((random.len(), fib.len()), (8, 8), "{scene}: a replicate lacks ray counts");
         // Independent rays: MSE ∝ 1/rays exactly, so the slope is −0.5 (within the tolerance the
         // reference's noise floor allows), by ≥ MIN_SE SE of the mean slope.
         let zero: Vec<(u32, f64)> = random.iter().map(|&(r, _)| (r, 0.0)).collect();
-        let m = verdict::paired(&zero, &random).expect("slopes");
+        let m = claims::paired(&zero, &random).expect("slopes");
         let inside = Margin { mean: SLOPE_TOLERANCE - (m.mean + 0.5).abs(), ..m };
         assert_margin(
             Some(inside),
@@ -145,7 +136,7 @@ fn convergence_slopes_on_every_scene() {
         );
         // The lattice (low discrepancy; about −0.75 for integrands with edges, Brauchart et al. 2014)
         // converges faster than independent rays.
-        assert_margin(verdict::paired(&fib, &random), &format!("{scene}, Fibonacci slope steeper"));
+        assert_margin(claims::paired(&fib, &random), &format!("{scene}, Fibonacci slope steeper"));
     }
 }
 

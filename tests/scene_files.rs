@@ -1,8 +1,8 @@
 //! Scene files and meshes: the shipped scenes load; every bad input is one error naming the file and
 //! the line or key; bad triangles are dropped and counted, never a panic.
 
-use hemilab::app::load_scene;
-use hemilab::app::render::dropped_warning;
+use hemilab::load::dropped_warning;
+use hemilab::load::load_scene;
 use std::path::{Path, PathBuf};
 
 /// A fresh directory for one test (removed first, so reruns start clean).

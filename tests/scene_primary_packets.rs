@@ -5,7 +5,7 @@
 //! testing every triangle. And a whole render equals the per-pixel path (`pixel_rays`).
 
 use glam::{Vec2, Vec3};
-use hemilab::app::load_scene;
+use hemilab::load::load_scene;
 use hemilab::render::{PixelRays, RenderJob, pixel_rays, render, trace_pixel};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::Accel;

@@ -5,8 +5,8 @@
 mod common;
 
 use common::*;
-use hemilab::plan::shard::Shard;
 use hemilab::results::{JobResult, TIME_COLUMNS};
+use hemilab::shard::Shard;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
@@ -265,7 +265,7 @@ fn shard_auto_reads_slurm_and_kubernetes() {
     let got = records(&t.path("out/tiny/shard-1-of-3"));
     let text = std::fs::read_to_string(&spec).unwrap();
     let plan = hemilab::plan::plan(&hemilab::spec::parse_spec(&text, &spec).unwrap());
-    let want = hemilab::plan::shard::select(&plan, Shard::new(1, 3).unwrap(), |_| unreachable!(), 3);
+    let want = hemilab::shard::select(&plan, Shard::new(1, 3).unwrap(), |_| unreachable!(), 3);
     let brief = |r: &JobResult| {
         (r.distribution.clone(), r.sequence.clone(), r.seed_mode.clone(), r.rays, r.replicate)
     };

@@ -1,58 +1,34 @@
 //! `hemilab advise SCENE.toml`: which configuration to ship for this scene at a time budget.
 //!
-//! The same stages as `run`, from an in-memory spec instead of a file: the flags become a spec with
-//! one convergence sweep (every configuration × the ray ladder × the replicates) → `plan` → the
-//! scene's reference (`reference::obtain`, the same manifest rules; a stored reference of the scene
-//! is reused by adopting its settings) → the jobs under the timing protocol (`timed`) → metrics →
-//! `advice` (equal-time ranking, paired gains, the winner map) → `advise_report` (advice.json,
-//! advice.md, index.html, figures). No image is written: each job's error image stays in memory for
-//! the winner map. Nothing is written before every input has been checked, and the outputs are
-//! written at the end, each atomically; advise does not resume (its default run is about a minute).
+//! The same stages as `run`, from an in-memory spec instead of a file (`advice::setup`): `plan` →
+//! the scene's reference (`reference::store::obtain`, the same manifest rules) → the jobs under the
+//! timing protocol (`jobs::executor`) → metrics → `advice` (equal-time ranking, paired gains, the
+//! winner map) → advice.json, advice.md, index.html, figures. No image is written: each job's error
+//! image stays in memory for the winner map. Nothing is written before every input has been
+//! checked, and the outputs are written at the end, each atomically; advise does not resume (its
+//! default run is about a minute).
 
-use super::advise_report::{self, Measured};
-use super::jobs::{Geometry, JobRunner};
-use super::load::Loaded;
-use super::reference::{self as refs, Policy, Reference};
-use super::render::{MAX_PIXELS, dropped_warning, load_scene};
-use super::timed;
-use crate::advice;
+use crate::advice::analysis::{self, Measured};
+use crate::advice::setup::{map_jobs, setup};
 use crate::cli::AdviseArgs;
-use crate::compare::per_pixel_unbiased;
 use crate::error::{Error, Result};
-use crate::io;
+use crate::jobs::executor;
+use crate::jobs::runner::{Geometry, JobRunner};
 use crate::metrics;
-use crate::plan::{self, Job, Plan};
-use crate::reference::Manifest;
+use crate::plan::Job;
+use crate::reference::store::{self as refs, Policy, Reference};
 use crate::render::RenderOutput;
 use crate::scene::Scene;
-use crate::spec::{self, Group, GroupKind, ReferenceRays, ReferenceSpec, Row, SceneRef, Spec, TimingSpec};
-use crate::timing::{self, Protocol};
+use crate::spec::Row;
+use crate::timing::Protocol;
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Mutex;
 
-/// Default image size, at most: every default configuration's ladder, timed by the protocol, in
-/// well under a minute of CPU time, and the kitchen's committed 64×48 reference (README, "advise").
-pub const DEFAULT_MAX_PIXELS: u64 = 64 * 48;
-
-/// Everything a run of advise needs, checked.
-pub(super) struct Setup {
-    pub loaded: Loaded,
-    pub plan: Plan,
-    pub rows: Vec<Row>,
-    pub rays: Vec<u32>,
-    /// The scene file's stem: the default output directory's name.
-    pub stem: String,
-    /// How the resolution and reference were chosen, for the report.
-    pub choice: String,
-    /// Where the reference is found or built.
-    pub reference_dir: PathBuf,
-}
-
-pub fn run_advise(args: AdviseArgs) -> Result<()> {
+pub fn run(args: AdviseArgs) -> Result<()> {
     let setup = setup(&args)?;
     let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(format!("advise-{}", setup.stem)));
-    io::ensure_writable_dir(&out)?;
+    crate::outdir::prepare(&out, false)?;
     let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
     let (spec, scene) = (&setup.loaded.spec, &setup.loaded.scenes[0]);
     let reference = refs::obtain(spec, 0, scene, &setup.reference_dir, Policy::ReuseOrBuild, &runner)?;
@@ -70,7 +46,7 @@ pub fn run_advise(args: AdviseArgs) -> Result<()> {
         Ok(String::new())
     };
     let none = HashMap::new();
-    let (results, session) = timed::run_jobs_keeping(
+    let (results, session) = executor::run_jobs_keeping(
         &setup.loaded,
         &setup.plan,
         std::slice::from_ref(&reference),
@@ -89,14 +65,14 @@ pub fn run_advise(args: AdviseArgs) -> Result<()> {
         .zip(errors)
         .filter_map(|(j, e)| Some(((j.row().canonical(), j.rays, j.replicate), e?)))
         .collect();
-    let map_replicates = spec.replicates.max(advise_report::MAP_REPLICATES);
+    let map_replicates = spec.replicates.max(analysis::MAP_REPLICATES);
     let mut measured =
         Measured { setup: &setup, reference: &reference, results, errors, map_replicates, session, protocol };
-    let analysis = advise_report::analyse(&measured, &args.budget_ms);
-    let extra = map_jobs(spec, &advise_report::map_needs(&analysis), map_replicates);
+    let analysis = analysis::analyse(&measured, &args.budget_ms);
+    let extra = map_jobs(spec, &analysis::map_needs(&analysis), map_replicates);
     render_extra(&extra, scene, &reference, &runner, &mut measured.errors)?;
     runner.bar.finish_and_clear();
-    let summary = advise_report::finish(&measured, analysis, &out)?;
+    let summary = analysis::finish(&measured, analysis, &out)?;
     print!("{summary}");
     Ok(())
 }
@@ -106,27 +82,6 @@ fn error_of(job: &Job, output: &RenderOutput, reference: &Reference) -> Result<V
     metrics::error_image(&output.ao, &reference.mean, &reference.coverage)
         .map(|e| e.data)
         .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))
-}
-
-/// The winner map's extra replicates: the spec's jobs for each needed (configuration, rays) at
-/// `replicates` replicates (`plan` gives them the same seeds as any run would), less those the
-/// timed stage rendered.
-fn map_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Vec<Job> {
-    let groups = needs
-        .iter()
-        .enumerate()
-        .map(|(i, &(row, rays))| Group {
-            kind: GroupKind::Table,
-            name: format!("map{i}"),
-            rows: vec![row],
-            rays: vec![rays],
-            replicates,
-            scenes: vec![0],
-            line: 0,
-        })
-        .collect();
-    let wider = Spec { groups, ..spec.clone() };
-    plan::plan(&wider).jobs.into_iter().filter(|j| j.replicate >= spec.replicates).collect()
 }
 
 /// Renders `jobs` on every thread (untimed: only their error images are used) into `errors`.
@@ -148,208 +103,4 @@ fn render_extra(
         );
     }
     Ok(())
-}
-
-/// Reads and checks every input, decides the resolution and reference settings, and plans the
-/// jobs; writes nothing.
-fn setup(args: &AdviseArgs) -> Result<Setup> {
-    let mut rays = args.rays.clone();
-    rays.sort_unstable();
-    rays.dedup();
-    if rays.len() < 2 {
-        return Err(Error::Usage(format!(
-            "--rays: {} is a single ray count; give at least two different ones (1..={}) to interpolate \
-             between, e.g. 1,2,4,8,16,32,64",
-            args.rays.iter().map(u32::to_string).collect::<Vec<_>>().join(","),
-            spec::MAX_RAYS
-        )));
-    }
-    let rows = advice::select(&args.only).map_err(|e| Error::Usage(format!("--only: {e}")))?;
-    let scene = load_scene(&args.scene)?;
-    if let Some(w) = dropped_warning(&scene) {
-        eprintln!("{w}");
-    }
-    let name = args.scene.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let stem = name.strip_suffix(".toml").unwrap_or(&name).to_string();
-    let given_id = spec::normalize(&args.scene.to_string_lossy());
-    let sketch =
-        Sketch { path: &args.scene, stem: &stem, rows: &rows, rays: &rays, replicates: args.replicates };
-    let reference_dir = reference_dir(args, &scene)?;
-    let stored = stored_references(&reference_dir, &scene)?;
-    let usable = |m: &Manifest| sketch.reuses(m, &scene);
-    let (resolution, how) = match args.resolution {
-        Some((w, h)) => {
-            if w as u64 * h as u64 > MAX_PIXELS {
-                return Err(Error::Usage(format!(
-                    "--resolution: {w}x{h} has more than {MAX_PIXELS} pixels; too large to hold in memory"
-                )));
-            }
-            ([w, h], "--resolution".to_string())
-        }
-        None => default_resolution(&stored, &scene, &usable),
-    };
-    let mut at_size: Vec<&(Manifest, PathBuf)> =
-        stored.iter().filter(|(m, _)| m.resolution == resolution && usable(m)).collect();
-    at_size.sort_by(|a, b| {
-        a.0.noise_floor.unwrap_or(f64::INFINITY).total_cmp(&b.0.noise_floor.unwrap_or(f64::INFINITY))
-    });
-    let (spec, which) = match at_size.first() {
-        Some((m, file)) => {
-            let reference = reference_spec_of(m).expect("usable manifests have one");
-            (sketch.spec(&m.scene, resolution, reference), format!("stored reference {}", file.display()))
-        }
-        None => (
-            sketch.spec(&given_id, resolution, default_reference()),
-            format!("no stored reference of this scene at {}x{}: one is built", resolution[0], resolution[1]),
-        ),
-    };
-    let choice = format!("resolution {}x{} ({how}); {which}", resolution[0], resolution[1]);
-    let plan = plan::plan(&spec);
-    Ok(Setup { loaded: Loaded { spec, scenes: vec![scene] }, plan, rows, rays, stem, choice, reference_dir })
-}
-
-/// The parts of advise's spec that do not depend on the reference.
-struct Sketch<'a> {
-    path: &'a Path,
-    stem: &'a str,
-    rows: &'a [Row],
-    rays: &'a [u32],
-    replicates: u32,
-}
-
-impl Sketch<'_> {
-    /// One convergence sweep over every configuration; `id` names the scene in job keys and
-    /// reference manifests.
-    fn spec(&self, id: &str, resolution: [u32; 2], reference: ReferenceSpec) -> Spec {
-        let group = Group {
-            kind: GroupKind::Convergence,
-            name: "advise".into(),
-            rows: self.rows.to_vec(),
-            rays: self.rays.to_vec(),
-            replicates: self.replicates,
-            scenes: vec![0],
-            line: 0,
-        };
-        Spec {
-            path: self.path.to_path_buf(),
-            name: format!("advise-{}", self.stem),
-            scenes: vec![SceneRef {
-                path: self.path.to_path_buf(),
-                id: id.to_string(),
-                name: self.stem.to_string(),
-                line: 0,
-            }],
-            resolution: Some(resolution),
-            ao_distance: None,
-            replicates: self.replicates,
-            seed: 1,
-            point_figures: false,
-            reference,
-            // Unused: advise passes its --reference-dir to every reference lookup.
-            reference_dir: Path::new("reference").to_path_buf(),
-            timing: TimingSpec { repeats: timing::DEFAULT_REPEATS, seed: 1 },
-            groups: vec![group],
-        }
-    }
-
-    /// Whether `reference::obtain` would reuse the stored reference `m` for the spec built from it:
-    /// the very rule `run` applies, so nothing is reused that `run` would not.
-    fn reuses(&self, m: &Manifest, scene: &Scene) -> bool {
-        let Some(reference) = reference_spec_of(m) else { return false };
-        let spec = self.spec(&m.scene, m.resolution, reference);
-        let g = Geometry::of(spec.resolution, None, scene);
-        m.matches(&refs::wanted_manifest(&spec, 0, scene, g)).is_ok()
-    }
-}
-
-/// The `[reference]` settings that reproduce a stored manifest, if its estimator is unbiased per
-/// pixel (a reference must be).
-fn reference_spec_of(m: &Manifest) -> Option<ReferenceSpec> {
-    let estimator =
-        Row::new(m.distribution.parse().ok()?, m.sequence.parse().ok()?, m.seed_mode.parse().ok()?);
-    if !per_pixel_unbiased(estimator) {
-        return None;
-    }
-    let (rays, adaptive) = match &m.adaptive {
-        None => (ReferenceRays::Fixed(m.rays), false),
-        Some(a) => (a.budget.map_or(ReferenceRays::Auto, ReferenceRays::Fixed), true),
-    };
-    Some(ReferenceSpec { rays, replicates: m.replicates, seed: m.seed, estimator, adaptive })
-}
-
-/// What `run` builds when nothing is stored: the spec format's defaults, `rays = "auto"`.
-fn default_reference() -> ReferenceSpec {
-    ReferenceSpec {
-        rays: ReferenceRays::Auto,
-        replicates: 4,
-        seed: 1,
-        estimator: Row::new(
-            crate::sampling::Distribution::SineCosine,
-            crate::sampling::Sequence::Fibonacci,
-            crate::sampling::SeedMode::Shift,
-        ),
-        adaptive: false,
-    }
-}
-
-/// `--reference-dir`, else `reference/` beside the scene file, or the scene folder's parent's
-/// `reference/` when that one holds a reference of this scene (this repository's layout: the
-/// committed references of `scenes/*.toml` are in `reference/`). Like a spec's references, never
-/// relative to the current directory, so the committed ones are found from anywhere and a user's
-/// own scene keeps its references beside it.
-fn reference_dir(args: &AdviseArgs, scene: &Scene) -> Result<PathBuf> {
-    if let Some(dir) = &args.reference_dir {
-        return Ok(dir.clone());
-    }
-    let folder = args.scene.parent().unwrap_or(Path::new(""));
-    let beside = folder.join("reference");
-    let parent = folder.join("..").join("reference");
-    if stored_references(&beside, scene)?.is_empty() && !stored_references(&parent, scene)?.is_empty() {
-        return Ok(parent);
-    }
-    Ok(beside)
-}
-
-/// Manifests in `dir` of this scene's content (scene and mesh hash), camera and hemilab version
-/// whose image is there, with their image's path. Unreadable or foreign JSON files are skipped:
-/// they are not this scene's references.
-fn stored_references(dir: &Path, scene: &Scene) -> Result<Vec<(Manifest, PathBuf)>> {
-    let mut out = Vec::new();
-    for json in io::list_dir(dir)?.into_iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
-        let Ok(m) = io::read_string(&json).and_then(|t| Manifest::from_json(&t).map_err(Error::Refused))
-        else {
-            continue;
-        };
-        let exr = json.with_extension("exr");
-        if m.scene_hash == scene.content_hash
-            && m.camera == scene.camera_description()
-            && m.hemilab_version == env!("CARGO_PKG_VERSION")
-            && io::exists(&exr)
-        {
-            out.push((m, exr));
-        }
-    }
-    Ok(out)
-}
-
-/// The largest resolution with a reusable stored reference of at most `DEFAULT_MAX_PIXELS`
-/// pixels, else the scene's own scaled down (aspect kept) to at most that many.
-fn default_resolution(
-    stored: &[(Manifest, PathBuf)],
-    scene: &Scene,
-    usable: &dyn Fn(&Manifest) -> bool,
-) -> ([u32; 2], String) {
-    let px = |r: [u32; 2]| r[0] as u64 * r[1] as u64;
-    let best = stored
-        .iter()
-        .filter(|(m, _)| px(m.resolution) <= DEFAULT_MAX_PIXELS && usable(m))
-        .map(|(m, _)| m.resolution)
-        .max_by_key(|r| (px(*r), r[0]));
-    if let Some(r) = best {
-        return (r, format!("the largest stored reference of at most {DEFAULT_MAX_PIXELS} pixels"));
-    }
-    let (w, h) = scene.resolution;
-    let s = (DEFAULT_MAX_PIXELS as f64 / (w as f64 * h as f64)).sqrt().min(1.0);
-    let r = [((w as f64 * s) as u32).max(1), ((h as f64 * s) as u32).max(1)];
-    (r, format!("the scene's {w}x{h} scaled to at most {DEFAULT_MAX_PIXELS} pixels"))
 }

@@ -1,49 +1,32 @@
 //! `hemilab merge SPEC SHARD_DIR...`: the shards of `run --shard K/N` back into one run — the full
-//! results and the whole report, as a plain run of the spec would have written them.
-//!
-//! Everything is checked before anything is written: every directory is a shard of this spec
-//! (same name and plan fingerprint), made by this hemilab version, of one split (same N); every
-//! record is a planned job measured against the references the merge finds (its run key); a job
-//! in two directories must agree in every column but the times; and every planned job must be
-//! present. A missing job stops the merge with exit status 2, naming how many are missing and from
-//! which shards, and nothing is written.
-//!
-//! Timings: a shard holds whole configurations (`plan::shard`), so each configuration's time
-//! samples, and the overhead its AO time is taken from, come from one shard on one machine; the
-//! records keep them as their shard measured them. Across configurations, though, times may come
-//! from different machines: the report and `timing.json` say which shard ran where, and warn when
-//! that is more than one machine.
+//! results and the whole report, as a plain run of the spec would have written them. Everything is
+//! checked before anything is written (`shard::merge`); a missing job stops the merge with exit
+//! status 2, naming how many are missing and from which shards, and nothing is written.
 
-use super::data::Data;
-use super::jobs::JobRunner;
-use super::load::load;
-use super::reference::{self as refs, Policy};
-use super::shard::{self, Manifest};
-use super::timed::{Session, run_key};
 use crate::cli::MergeArgs;
 use crate::error::{Error, Result};
 use crate::io;
+use crate::jobs::executor::{Session, run_key};
+use crate::jobs::runner::JobRunner;
+use crate::load::load;
+use crate::outdir;
 use crate::plan;
-use crate::results::{self, JobResult};
-use crate::timing::{self, Protocol, Summary};
-use std::collections::{BTreeMap, HashMap};
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use crate::reference::store::{self as refs, Policy};
+use crate::report;
+use crate::results::JobResult;
+use crate::shard::manifest;
+use crate::shard::merge::{
+    check_manifests, match_records, merged_overhead, missing_message, provenance, read_shard, same_dir,
+    session_field, timing_json,
+};
+use crate::timing::Protocol;
+use std::path::Path;
 
-/// One shard directory, read and checked.
-struct ShardDir {
-    dir: PathBuf,
-    manifest: Manifest,
-    records: Vec<JobResult>,
-    /// `timing.json`, if the shard got that far.
-    timing: Option<serde_json::Value>,
-}
-
-pub fn run_merge(args: MergeArgs) -> Result<()> {
+pub fn run(args: MergeArgs) -> Result<()> {
     let loaded = load(&args.spec)?;
     let spec = &loaded.spec;
     let plan = plan::plan(spec);
-    let fingerprint = shard::fingerprint(&loaded, &plan);
+    let fingerprint = manifest::fingerprint(&loaded, &plan);
     let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(&spec.name));
 
     let shards = args.shard_dirs.iter().map(|d| read_shard(d)).collect::<Result<Vec<_>>>()?;
@@ -83,50 +66,14 @@ pub fn run_merge(args: MergeArgs) -> Result<()> {
             run_key(j, scene, &references[si])
         })
         .collect();
-    let index: HashMap<&str, usize> = keys.iter().enumerate().map(|(i, k)| (k.as_str(), i)).collect();
-
-    // Every record to its planned job; the first directory given wins among identical duplicates.
-    let mut found: Vec<Option<(usize, &JobResult)>> = vec![None; plan.jobs.len()];
-    for (si, s) in shards.iter().enumerate() {
-        for r in &s.records {
-            let Some(&j) = index.get(r.key.as_str()) else {
-                return Err(Error::input(
-                    &s.dir.join("results.json"),
-                    format!(
-                        "record {} is not a job of {} as measured against the references in {} (another \
-                         reference, scene file or hemilab version?)",
-                        r.image,
-                        args.spec.display(),
-                        ref_dir.display()
-                    ),
-                ));
-            };
-            if !io::exists(&s.dir.join(&r.image)) {
-                continue; // an unfinished write: the job counts as missing, as a resumed run would redo it
-            }
-            match found[j] {
-                None => found[j] = Some((si, r)),
-                Some((first, kept)) => {
-                    if kept.without_times() != r.without_times() {
-                        return Err(Error::Refused(format!(
-                            "job {} is in {} and in {} with different results; a job must be merged once",
-                            plan.jobs[j].file_stem(),
-                            shards[first].dir.display(),
-                            s.dir.display()
-                        )));
-                    }
-                }
-            }
-        }
-    }
+    let found = match_records(&shards, &keys, &plan, &args.spec, &ref_dir)?;
     let missing: Vec<usize> = (0..plan.jobs.len()).filter(|&j| found[j].is_none()).collect();
     if !missing.is_empty() {
         return Err(Error::Refused(missing_message(&loaded, &plan, &shards, &missing)));
     }
 
     // Checked: now write.
-    io::ensure_writable_dir(&out)?;
-    io::ensure_writable_dir(&out.join("images"))?;
+    outdir::prepare(&out, true)?;
     let mut merged: Vec<JobResult> = Vec::with_capacity(plan.jobs.len());
     let bar = crate::progress::bar(plan.jobs.len() as u64, "images", args.quiet);
     for (si, r) in found.iter().flatten() {
@@ -135,7 +82,7 @@ pub fn run_merge(args: MergeArgs) -> Result<()> {
         bar.inc(1);
     }
     bar.finish_and_clear();
-    super::run::write_results(&out, &merged)?;
+    outdir::write_results(&out, &merged)?;
 
     let overhead = merged_overhead(&loaded.spec, &shards);
     let session = Session {
@@ -143,278 +90,24 @@ pub fn run_merge(args: MergeArgs) -> Result<()> {
         renders: shards.iter().map(|s| session_field(s, "timed_renders") as usize).sum(),
         cpu_s: shards.iter().map(|s| session_field(s, "timed_cpu_s")).sum(),
         wall_s: shards.iter().map(|s| session_field(s, "wall_s")).sum(),
+        reused: 0,
     };
     let m0 = &shards[0].manifest;
     let protocol = Protocol::new(m0.timing.repeats, m0.timing.seed, m0.timing.workers);
     let note = provenance(&shards);
-    write_timing(&out, &shards, &found, protocol, &note)?;
-    let summary = super::run::summarize(&loaded, &references, &merged, &session, &out)?;
-    let mut data = Data::new(&loaded, &references, &merged, protocol, overhead);
-    data.notes.push(note.clone());
-    let figures = super::figures::write_all(&data, &out)?;
-    super::page::write(&data, &figures, &out)?;
+    outdir::write_timing(&out, &timing_json(&shards, &found, protocol, &note))?;
+    let summary =
+        report::run::write(&loaded, &references, &merged, protocol, &session, vec![note.clone()], &out)?;
+    for w in &summary.warnings {
+        eprintln!("{w}");
+    }
     println!("{note}");
-    print!("{summary}");
+    print!("{}", summary.text);
     println!(
         "merged {} shard directories ({} jobs; times summed over the shards); report: {}",
         shards.len(),
         merged.len(),
-        out.join("index.html").display()
+        outdir::index(&out).display()
     );
     Ok(())
-}
-
-fn read_shard(dir: &Path) -> Result<ShardDir> {
-    let manifest = Manifest::read(dir)?;
-    let path = dir.join("results.json");
-    let records = if io::exists(&path) {
-        results::from_json(&io::read_string(&path)?)
-            .map_err(|e| Error::input(&path, format!("not a results file ({e})")))?
-    } else {
-        Vec::new() // started, nothing finished yet
-    };
-    let tpath = dir.join("timing.json");
-    let timing = if io::exists(&tpath) { serde_json::from_str(&io::read_string(&tpath)?).ok() } else { None };
-    Ok(ShardDir { dir: dir.to_path_buf(), manifest, records, timing })
-}
-
-/// Same spec, same plan, this hemilab, one split.
-fn check_manifests(shards: &[ShardDir], spec_path: &Path, name: &str, fingerprint: &str) -> Result<()> {
-    let version = env!("CARGO_PKG_VERSION");
-    for s in shards {
-        let m = &s.manifest;
-        let file = s.dir.join(shard::MANIFEST);
-        if m.spec != name || m.plan != fingerprint {
-            let what = if m.spec != name {
-                format!("spec '{}' ({})", m.spec, m.spec_path)
-            } else {
-                format!(
-                    "another version of spec '{}' ({}: its jobs, reference or timing differ)",
-                    m.spec, m.spec_path
-                )
-            };
-            return Err(Error::input(
-                &file,
-                format!("this shard ran {what}, not {}; merge shards of one spec only", spec_path.display()),
-            ));
-        }
-        if m.hemilab_version != version {
-            return Err(Error::input(
-                &file,
-                format!("this shard ran hemilab {}, this is hemilab {version}; rerun it", m.hemilab_version),
-            ));
-        }
-    }
-    let first = &shards[0];
-    if let Some(other) = shards.iter().find(|s| s.manifest.shards != first.manifest.shards) {
-        return Err(Error::Refused(format!(
-            "{} is shard {}/{} but {} is shard {}/{}: merge the shards of one split (one N)",
-            first.dir.display(),
-            first.manifest.shard,
-            first.manifest.shards,
-            other.dir.display(),
-            other.manifest.shard,
-            other.manifest.shards
-        )));
-    }
-    Ok(())
-}
-
-/// "12 of 40 planned jobs are missing: shard 1/3 (12 jobs; no directory given) …"
-fn missing_message(
-    loaded: &super::load::Loaded,
-    plan: &plan::Plan,
-    shards: &[ShardDir],
-    missing: &[usize],
-) -> String {
-    let n = shards[0].manifest.shards;
-    let of = shard::partition(loaded, plan, n);
-    let mut by_shard: BTreeMap<u32, usize> = BTreeMap::new();
-    for &j in missing {
-        *by_shard.entry(of[j]).or_default() += 1;
-    }
-    let total = |k: u32| of.iter().filter(|&&s| s == k).count();
-    let parts: Vec<String> = by_shard
-        .iter()
-        .map(|(&k, &count)| {
-            let dirs: Vec<String> = shards
-                .iter()
-                .filter(|s| s.manifest.shard == k)
-                .map(|s| s.dir.display().to_string())
-                .collect();
-            let where_ = if dirs.is_empty() {
-                "no directory of it given".to_string()
-            } else {
-                format!("unfinished in {}; rerun it there to resume", dirs.join(", "))
-            };
-            format!("shard {k}/{n} ({count} of its {} jobs; {where_})", total(k))
-        })
-        .collect();
-    format!(
-        "{} of {} planned jobs are missing: {}; nothing was written",
-        missing.len(),
-        plan.jobs.len(),
-        parts.join(", ")
-    )
-}
-
-fn same_dir(a: &Path, b: &Path) -> bool {
-    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => a == b,
-    }
-}
-
-fn session_field(s: &ShardDir, key: &str) -> f64 {
-    s.timing.as_ref().and_then(|t| t.get("session")?.get(key)?.as_f64()).unwrap_or(0.0)
-}
-
-/// The overhead each shard measured for scene `name`.
-fn shard_overhead(s: &ShardDir, name: &str) -> Option<Summary> {
-    let list = s.timing.as_ref()?.get("overhead")?.as_array()?;
-    let e = list.iter().find(|e| e.get("scene").and_then(|n| n.as_str()) == Some(name))?;
-    serde_json::from_value(e.get("overhead_s")?.clone()).ok()
-}
-
-/// Per scene, the overhead for the report's figures and text: one shard's as it is; several
-/// shards' as the median of their medians, their overall min and max, the widest interval, and
-/// all their renders (each record keeps the overhead of its own shard).
-fn merged_overhead(spec: &crate::spec::Spec, shards: &[ShardDir]) -> Vec<Option<Summary>> {
-    spec.scenes
-        .iter()
-        .map(|scene| {
-            let all: Vec<Summary> = shards.iter().filter_map(|s| shard_overhead(s, &scene.name)).collect();
-            match all.len() {
-                0 => None,
-                1 => Some(all[0]),
-                _ => {
-                    let medians: Vec<f64> = all.iter().map(|o| o.median).collect();
-                    Some(Summary {
-                        median: crate::stats::median(&medians),
-                        min: all.iter().map(|o| o.min).fold(f64::INFINITY, f64::min),
-                        max: all.iter().map(|o| o.max).fold(f64::NEG_INFINITY, f64::max),
-                        n: all.iter().map(|o| o.n).sum(),
-                        // The widest: no interval is claimed narrower than a shard's own.
-                        ci_low: all.iter().map(|o| o.ci_low).fold(f64::INFINITY, f64::min),
-                        ci_high: all.iter().map(|o| o.ci_high).fold(f64::NEG_INFINITY, f64::max),
-                    })
-                }
-            }
-        })
-        .collect()
-}
-
-/// Which shard ran where, for the page, the summary and `timing.json`.
-fn provenance(shards: &[ShardDir]) -> String {
-    let mut machines: BTreeMap<String, Vec<String>> = BTreeMap::new();
-    for s in shards {
-        let m = &s.manifest;
-        machines.entry(m.machine()).or_default().push(format!("{}/{}", m.shard, m.shards));
-    }
-    let list: Vec<String> =
-        machines.iter().map(|(machine, ks)| format!("{} on {machine}", ks.join(", "))).collect();
-    let mut s = format!(
-        "Shards. Merged from {} shard directories of a {}-way split: {}. A shard holds whole \
-         configurations, so each configuration's timing samples come from one machine and one \
-         session, and its AO time is taken from that session's own per-image overhead.",
-        shards.len(),
-        shards[0].manifest.shards,
-        list.join("; ")
-    );
-    let workers: std::collections::BTreeSet<usize> =
-        shards.iter().map(|s| s.manifest.timing.workers).collect();
-    if workers.len() > 1 {
-        let w: Vec<String> = workers.iter().map(|w| w.to_string()).collect();
-        let _ = write!(s, " The shards ran with different numbers of workers ({}).", w.join(", "));
-    }
-    if machines.len() > 1 {
-        let _ = write!(
-            s,
-            " Warning: the timings come from {} different machines, so times, AO times, efficiencies and \
-             slopes against time compare configurations measured on different machines; compare times \
-             only within one shard, or run the spec on one machine for timing claims.",
-            machines.len()
-        );
-    } else {
-        s.push_str(
-            " All shards ran on one machine, in separate sessions (which may have met different loads).",
-        );
-    }
-    s
-}
-
-/// The merged `timing.json`: the protocol, and per shard its machine, overhead and session, and
-/// the keys of the records taken from it (so each record's time can be traced to its machine).
-fn write_timing(
-    out: &Path,
-    shards: &[ShardDir],
-    found: &[Option<(usize, &JobResult)>],
-    protocol: Protocol,
-    note: &str,
-) -> Result<()> {
-    let per_shard: Vec<serde_json::Value> = shards
-        .iter()
-        .enumerate()
-        .map(|(i, s)| {
-            let m = &s.manifest;
-            let keys: Vec<&str> =
-                found.iter().flatten().filter(|(si, _)| *si == i).map(|(_, r)| r.key.as_str()).collect();
-            serde_json::json!({
-                "dir": s.dir.display().to_string(),
-                "shard": m.shard,
-                "shards": m.shards,
-                "host": m.host,
-                "cpu": m.cpu,
-                "timing": m.timing,
-                "overhead": s.timing.as_ref().and_then(|t| t.get("overhead")).cloned(),
-                "session": s.timing.as_ref().and_then(|t| t.get("session")).cloned(),
-                "records": keys,
-            })
-        })
-        .collect();
-    let machines: std::collections::BTreeSet<String> = shards.iter().map(|s| s.manifest.machine()).collect();
-    let v = serde_json::json!({
-        "clock": timing::clock::NAME,
-        "time_includes": timing::TIME_INCLUDES,
-        "protocol": protocol,
-        "machines": machines.len(),
-        "note": note,
-        "shards": per_shard,
-    });
-    let text = serde_json::to_string_pretty(&v).unwrap_or_default();
-    io::write_atomic(&out.join("timing.json"), text.as_bytes())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::app::shard::TimingOf;
-
-    fn shard(k: u32, host: &str, workers: usize) -> ShardDir {
-        let manifest = Manifest {
-            hemilab_version: "0".into(),
-            spec: "s".into(),
-            spec_path: "s.toml".into(),
-            plan: "p".into(),
-            shard: k,
-            shards: 3,
-            jobs: 1,
-            planned_jobs: 3,
-            host: host.into(),
-            cpu: "CPU X (8 CPUs)".into(),
-            timing: TimingOf { repeats: 3, seed: 1, workers },
-        };
-        ShardDir { dir: PathBuf::from(format!("d{k}")), manifest, records: Vec::new(), timing: None }
-    }
-
-    #[test]
-    fn provenance_names_machines_and_warns_when_several() {
-        let one = provenance(&[shard(0, "a", 2), shard(1, "a", 2), shard(2, "a", 2)]);
-        assert!(one.contains("0/3, 1/3, 2/3 on a (CPU X (8 CPUs))"), "{one}");
-        assert!(one.contains("All shards ran on one machine") && !one.contains("Warning"), "{one}");
-        let two = provenance(&[shard(0, "a", 2), shard(1, "b", 4), shard(2, "a", 2)]);
-        assert!(two.contains("0/3, 2/3 on a (CPU X (8 CPUs)); 1/3 on b (CPU X (8 CPUs))"), "{two}");
-        assert!(two.contains("Warning: the timings come from 2 different machines"), "{two}");
-        assert!(two.contains("different numbers of workers (2, 4)"), "{two}");
-    }
 }

@@ -1,43 +1,27 @@
-//! The one orchestrator: load → validate everything → plan → render → measure → export.
-//! Only this module (through `io`) touches the filesystem.
+//! One thin file per command: parse the arguments, call the stages, print. No command imports
+//! another command's file; what two commands share lives in the stage that owns it.
 
-mod adaptive;
 mod advise;
-mod advise_json;
-mod advise_page;
-mod advise_report;
-mod answer;
 mod bench;
-mod data;
-mod estimate;
-mod figures;
-mod jobs;
-mod load;
-mod long_run;
 mod merge;
-mod page;
-pub mod points;
+mod plan;
+mod points;
 mod reference;
-pub mod render;
-pub mod run;
-mod shard;
-mod timed;
-mod verdicts;
-
-pub use render::load_scene;
+mod render;
+mod run;
 
 use crate::cli::{Cli, Command};
 use crate::error::Result;
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Run(args) => run::run_run(args),
-        Command::Plan(args) => estimate::run_plan(args),
-        Command::Reference(args) => run::run_reference(args),
-        Command::Merge(args) => merge::run_merge(args),
-        Command::Render(args) => render::run_render(args),
-        Command::Bench(args) => bench::run_bench(args),
+        Command::Run(args) => run::run(args),
+        Command::Plan(args) => plan::run(args),
+        Command::Reference(args) => reference::run(args),
+        Command::Merge(args) => merge::run(args),
+        Command::Render(args) => render::run(args),
+        Command::Bench(args) => bench::run(args),
         Command::Points(args) => points::run(&args),
-        Command::Advise(args) => advise::run_advise(args),
+        Command::Advise(args) => advise::run(args),
     }
 }

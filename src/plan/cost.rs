@@ -5,8 +5,7 @@
 //! `overhead_renders` times; then cheap units are topped up by the protocol's own rule
 //! (`timing::top_up`); and every worker warms up on each scene before its first timed render.
 
-use super::shard;
-use super::{Job, Plan};
+use super::{Job, Plan, units};
 use crate::timing::{self, Protocol};
 
 /// The protocol and the machine's per-job costs, as the estimate needs them.
@@ -57,7 +56,7 @@ pub fn jobs(
     overhead_s: impl Fn(&str) -> f64,
     m: &Model,
 ) -> Breakdown {
-    let units = shard::units(plan);
+    let units = units(plan);
     let mut b = Breakdown { units: units.len(), ..Breakdown::default() };
     for u in &units {
         let t = render_s(&plan.jobs[u[0]]);

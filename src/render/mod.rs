@@ -2,6 +2,7 @@
 //! Tiles run in parallel on the current rayon pool; a pixel's result depends only on (scene, job,
 //! pixel index), so the image is bit-identical for any thread count. No IO, no printing.
 
+pub mod adaptive;
 pub mod bench;
 mod offset;
 
@@ -321,4 +322,11 @@ pub fn trace_pixel(
     CACHE.with(|c| {
         scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked, &mut c.borrow_mut());
     });
+}
+/// A pool of `threads` worker threads (default: one per core).
+pub fn pool(threads: Option<u32>) -> crate::error::Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0) as usize)
+        .build()
+        .map_err(|e| crate::error::Error::Refused(format!("cannot start worker threads: {e}")))
 }

@@ -9,22 +9,22 @@
 //! Text is drawn with plotters' `ab_glyph` rasterizer and the DejaVu Sans font shipped inside the
 //! `dejavu` crate, so no system font library is needed (see NOTES.md).
 
-pub mod advice;
-mod axis;
+pub mod advise;
+pub(crate) mod axis;
 mod banding;
-mod canvas;
+pub(crate) mod canvas;
 pub mod colormap;
 mod grid;
 mod html;
-mod plot;
+pub(crate) mod plot;
 mod points;
-pub mod verdict;
+pub mod run;
 
 pub use banding::banding_plot;
 pub use grid::{GridCell, error_grid, image_grid};
 pub use html::{Figure, Page, Table, html_page, markdown_page, referenced_files};
 pub use plot::{Guide, Series, convergence_plot};
-pub use points::{PointSet, point_panels};
+pub use points::{PointSet, directions, figure_rows, point_panels};
 
 use std::sync::Once;
 

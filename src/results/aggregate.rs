@@ -103,14 +103,19 @@ pub fn aggregate(results: &[JobResult]) -> Vec<Aggregate> {
 
 /// The aggregate of one cell of a table (`row` is canonicalized, so random+shift finds random+rotation).
 pub fn lookup<'a>(aggs: &'a [Aggregate], scene: &str, row: Row, rays: u32) -> Option<&'a Aggregate> {
-    let row = row.canonical();
-    aggs.iter().find(|a| {
-        a.scene == scene
-            && a.rays == rays
-            && a.distribution == row.distribution.name()
-            && a.sequence == row.sequence.name()
-            && a.seed_mode == row.seed_mode.name()
-    })
+    aggs.iter().find(|a| a.is(scene, row, rays))
+}
+
+impl Aggregate {
+    /// Whether this aggregate is of `row` (any scene, any ray count).
+    pub fn is_row(&self, row: Row) -> bool {
+        super::names_row([&self.distribution, &self.sequence, &self.seed_mode], row)
+    }
+
+    /// Whether this aggregate is the cell (scene, row, rays).
+    pub fn is(&self, scene: &str, row: Row, rays: u32) -> bool {
+        self.scene == scene && self.rays == rays && self.is_row(row)
+    }
 }
 
 /// Column order of the aggregate CSV.

@@ -2,6 +2,7 @@
 //! with a 95 % interval, and the row's fitted cost (overhead + per-ray cost).
 
 use super::Aggregate;
+use crate::spec::{GroupKind, Spec};
 use crate::stats::{LinearFit, loglog_fit};
 use crate::timing::Calibration;
 use serde::Serialize;
@@ -88,6 +89,28 @@ pub fn convergence_slopes(aggs: &[Aggregate], rays: &[u32]) -> Vec<Slope> {
                 vs_ao_time: loglog_fit(&ao, &rmse).map(SlopeFit::of),
                 cost: Calibration::fit(&cost_pts),
             }
+        })
+        .collect()
+}
+/// The slopes of one `[[convergence]]` sweep (`slopes.json`).
+#[derive(Serialize)]
+pub struct SweepSlopes<'a> {
+    pub group: &'a str,
+    pub slopes: Vec<Slope>,
+}
+
+/// Per sweep, per row and scene, over the sweep's own ray counts only: a table that shares a row
+/// must not add its points to the fit.
+pub fn sweep_slopes<'a>(spec: &'a Spec, aggs: &[Aggregate]) -> Vec<SweepSlopes<'a>> {
+    let sweeps = spec.groups.iter().filter(|g| g.kind == GroupKind::Convergence);
+    sweeps
+        .map(|g| {
+            let in_sweep = |a: &Aggregate| {
+                g.scenes.iter().any(|&si| spec.scenes[si].name == a.scene)
+                    && g.rows.iter().any(|&r| a.is_row(r))
+            };
+            let pts: Vec<Aggregate> = aggs.iter().filter(|a| in_sweep(a)).cloned().collect();
+            SweepSlopes { group: &g.name, slopes: convergence_slopes(&pts, &g.rays) }
         })
         .collect()
 }

@@ -2,10 +2,10 @@
 //! configuration with the budgets marked, and the winner map (per pixel, which configuration has
 //! the least error at a budget).
 
-use super::axis::{log_log_chart, tick};
-use super::canvas::{Align, Canvas, text_size};
-use super::plot::PALETTE;
-use super::{FONT, Format, render};
+use crate::report::axis::{log_log_chart, tick};
+use crate::report::canvas::{Align, Canvas, text_size};
+use crate::report::plot::PALETTE;
+use crate::report::{FONT, Format, render};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};

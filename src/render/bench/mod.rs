@@ -5,6 +5,8 @@
 //! Ray generation is outside both timings; building each path's own ray record (obvhs `Ray` with its
 //! inverses, hemilab's packet) is inside its timing. No IO, no printing.
 
+pub mod measure;
+
 use super::{PixelRays, RenderJob, pixel_rays, trace_soa};
 use crate::scene::Scene;
 use crate::scene::accel::Ray;

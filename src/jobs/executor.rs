@@ -4,14 +4,13 @@
 //! warm-up before a worker's first timed render on a scene. Each job's image and record are
 //! written as soon as it is rendered, so a killed run resumes where it stopped.
 
-use super::load::Loaded;
-use super::reference::Reference;
 use crate::error::{Error, Result};
-use crate::image::Channel;
-use crate::io;
+use crate::load::Loaded;
 use crate::metrics;
+use crate::outdir;
 use crate::plan::{self, Job, Plan};
 use crate::reference as refmath;
+use crate::reference::store::Reference;
 use crate::render::{self, RenderJob, RenderOutput};
 use crate::results::{self, JobResult};
 use crate::sampling::{SamplerConfig, SeedMode, Sequence};
@@ -31,6 +30,32 @@ pub struct Session {
     pub renders: usize,
     pub cpu_s: f64,
     pub wall_s: f64,
+    /// Jobs whose records an earlier run left (`resumed`), not rendered again.
+    pub reused: usize,
+}
+
+impl Session {
+    /// `timing.json`: how the run was timed, what a time includes, each scene's overhead, and the
+    /// session's totals (a resumed run's older records keep the times of the session that made them).
+    pub fn timing_json(&self, spec: &crate::spec::Spec, protocol: Protocol) -> serde_json::Value {
+        let overhead: Vec<serde_json::Value> = spec
+            .scenes
+            .iter()
+            .zip(&self.overhead)
+            .map(|(s, o)| serde_json::json!({ "scene": s.name, "overhead_s": o }))
+            .collect();
+        serde_json::json!({
+            "clock": timing::clock::NAME,
+            "time_includes": timing::TIME_INCLUDES,
+            "protocol": protocol,
+            "overhead": overhead,
+            "session": {
+                "timed_renders": self.renders,
+                "timed_cpu_s": self.cpu_s,
+                "wall_s": self.wall_s,
+            },
+        })
+    }
 }
 
 /// Rays per pixel of the warm-up render (enough to exercise the AO path, cheap enough to repeat).
@@ -39,7 +64,7 @@ const WARMUP_RAYS: u32 = 16;
 /// The resume key: the job, and everything outside the job that its numbers depend on (scene
 /// content, reference, hemilab version). The reference's measured fields (its render time, noise
 /// floor) are left out: a rebuilt identical reference must not invalidate finished jobs.
-pub(super) fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
+pub fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
     let manifest = refmath::Manifest { noise_floor: None, time_s: None, ..reference.manifest.clone() };
     let what = format!(
         "{};{};{};{}",
@@ -51,18 +76,20 @@ pub(super) fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String
     format!("{:016x}", plan::fnv1a64(what.as_bytes()))
 }
 
-fn image_rel(job: &Job) -> String {
-    format!("images/{}.exr", job.file_stem())
+/// The one resume rule: a job is reused when an earlier run left a record with its key and the
+/// image that record names is on disk (a record whose image write was cut short is redone).
+pub fn resumed<'a>(previous: &'a HashMap<String, JobResult>, key: &str, out: &Path) -> Option<&'a JobResult> {
+    previous.get(key).filter(|r| outdir::has_image(out, &r.image))
 }
 
-pub(super) fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
-    super::jobs::render_job(job, loaded.scene_of(job).1, rays)
+pub fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
+    super::runner::render_job(job, loaded.scene_of(job).1, rays)
 }
 
 /// The overhead render: `job`'s image with no AO rays, i.e. primary rays, hit points, frames and
 /// the image itself. (Built directly: `SamplerConfig::new` refuses zero points, which would
 /// have no estimate; this render's image is never used, only its time.)
-pub(super) fn overhead_job(base: &RenderJob) -> RenderJob {
+pub fn overhead_job(base: &RenderJob) -> RenderJob {
     let sampler =
         SamplerConfig { sequence: Sequence::Random, seed_mode: SeedMode::Rotation, count: 0, seed: 0 };
     RenderJob { sampler, ..*base }
@@ -143,14 +170,7 @@ pub fn run_jobs(
     bar: &ProgressBar,
     write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
 ) -> Result<(Vec<JobResult>, Session)> {
-    let keep = |_: usize, job: &Job, output: &RenderOutput| -> Result<String> {
-        let image = image_rel(job);
-        io::write_exr(
-            &out.join(&image),
-            &[Channel { name: "Y", image: &output.ao }, Channel { name: "A", image: &output.coverage }],
-        )?;
-        Ok(image)
-    };
+    let keep = |_: usize, job: &Job, output: &RenderOutput| outdir::write_image(out, job, output);
     run_jobs_keeping(loaded, plan, references, previous, out, protocol, bar, write, &keep)
 }
 
@@ -178,22 +198,17 @@ pub fn run_jobs_keeping(
             run_key(j, s, &references[si])
         })
         .collect();
-    let records: Vec<Option<JobResult>> = plan
-        .jobs
-        .iter()
-        .zip(&keys)
-        .map(|(j, k)| previous.get(k).filter(|_| io::exists(&out.join(image_rel(j)))).cloned())
-        .collect();
+    let records: Vec<Option<JobResult>> = keys.iter().map(|k| resumed(previous, k, out).cloned()).collect();
+    let reused = records.iter().flatten().count();
 
     // One unit per configuration: its replicates cost the same.
     let mut unit_of: HashMap<(String, Row, u32), usize> = HashMap::new();
     let mut needs: Vec<Need> = Vec::new();
     for (i, job) in plan.jobs.iter().enumerate() {
-        let u =
-            *unit_of.entry((job.scene_id.clone(), job.row().canonical(), job.rays)).or_insert_with(|| {
-                needs.push(Need { repeats: protocol.repeats, ..Need::default() });
-                needs.len() - 1
-            });
+        let u = *unit_of.entry(plan::unit_key(job)).or_insert_with(|| {
+            needs.push(Need { repeats: protocol.repeats, ..Need::default() });
+            needs.len() - 1
+        });
         match &records[i] {
             None => needs[u].fresh.push(i),
             Some(r) => {
@@ -274,7 +289,7 @@ pub fn run_jobs_keeping(
     if state.renders > 0 {
         let mut members: Vec<Vec<usize>> = vec![Vec::new(); needs.len()];
         for (i, job) in plan.jobs.iter().enumerate() {
-            members[unit_of[&(job.scene_id.clone(), job.row().canonical(), job.rays)]].push(i);
+            members[unit_of[&plan::unit_key(job)]].push(i);
         }
         let units: Vec<(Vec<usize>, Vec<f64>)> = needs
             .iter()
@@ -305,5 +320,5 @@ pub fn run_jobs_keeping(
     }
     write(&records)?;
     let wall_s = start.elapsed().as_secs_f64();
-    Ok((records, Session { overhead, renders, cpu_s, wall_s }))
+    Ok((records, Session { overhead, renders, cpu_s, wall_s, reused }))
 }

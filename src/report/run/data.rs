@@ -2,9 +2,9 @@
 //! readable name, a configuration's banding, a sweep's points and slopes). `figures` and `page`
 //! depend on this module and never on each other.
 
-use super::load::Loaded;
-use super::reference::Reference;
+use crate::load::Loaded;
 use crate::metrics::mean_sd;
+use crate::reference::store::Reference;
 use crate::results::{self, Aggregate, JobResult};
 use crate::spec::{Group, GroupKind, Row};
 use crate::timing::{Protocol, Summary};
@@ -27,10 +27,10 @@ impl<'a> Data<'a> {
         loaded: &'a Loaded,
         references: &'a [Reference],
         results: &'a [JobResult],
+        aggs: Vec<Aggregate>,
         protocol: Protocol,
         overhead: Vec<Option<Summary>>,
     ) -> Self {
-        let aggs = results::aggregate(results);
         Self { loaded, references, results, aggs, protocol, overhead, notes: Vec::new() }
     }
 
@@ -57,16 +57,6 @@ pub fn agg_label(a: &Aggregate) -> String {
         .unwrap_or_else(|| format!("{}, {}, {}", a.distribution, a.sequence, a.seed_mode))
 }
 
-/// Whether a result belongs to (scene, row, rays).
-pub fn is_config(r: &JobResult, scene: &str, row: Row, rays: u32) -> bool {
-    let row = row.canonical();
-    r.scene == scene
-        && r.rays == rays
-        && r.distribution == row.distribution.name()
-        && r.sequence == row.sequence.name()
-        && r.seed_mode == row.seed_mode.name()
-}
-
 /// The banding metric of one image: mean of the horizontal and vertical lag-1 error autocorrelation.
 fn banding(r: &JobResult) -> f64 {
     0.5 * (r.autocorr_x + r.autocorr_y)
@@ -74,12 +64,8 @@ fn banding(r: &JobResult) -> f64 {
 
 /// Mean ± sd of the banding metric over the replicates of a configuration.
 pub fn banding_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Option<(f64, f64)> {
-    let v: Vec<f64> = results
-        .iter()
-        .filter(|r| is_config(r, scene, row, rays))
-        .map(banding)
-        .filter(|b| b.is_finite())
-        .collect();
+    let v: Vec<f64> =
+        results.iter().filter(|r| r.is(scene, row, rays)).map(banding).filter(|b| b.is_finite()).collect();
     (!v.is_empty()).then(|| mean_sd(&v))
 }
 
@@ -87,7 +73,7 @@ pub fn banding_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> 
 pub fn whiteness_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Option<(f64, f64)> {
     let v: Vec<f64> = results
         .iter()
-        .filter(|r| is_config(r, scene, row, rays))
+        .filter(|r| r.is(scene, row, rays))
         .map(|r| r.whiteness_z)
         .filter(|z| z.is_finite())
         .collect();

@@ -14,28 +14,25 @@
 use crate::metrics::loglog_slope;
 use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::results::JobResult;
+use crate::sampling::{Distribution, SeedMode, Sequence};
+use crate::spec::Row;
 
 /// Two-sided significance level of a verdict.
 pub const ALPHA: f64 = 0.01;
 
-/// A configuration as the results name it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Config {
-    pub distribution: &'static str,
-    pub sequence: &'static str,
-    pub seed_mode: &'static str,
+/// A configuration the claims name.
+pub type Config = Row;
+
+const fn row(distribution: Distribution, sequence: Sequence, seed_mode: SeedMode) -> Row {
+    Row { distribution, sequence, seed_mode }
 }
 
-pub const UNIFORM_RANDOM: Config =
-    Config { distribution: "uniform", sequence: "random", seed_mode: "rotation" };
-pub const SINE_RANDOM: Config = Config { distribution: "sine", sequence: "random", seed_mode: "rotation" };
-pub const COSINE_RANDOM: Config =
-    Config { distribution: "sine-cosine", sequence: "random", seed_mode: "rotation" };
+pub const UNIFORM_RANDOM: Config = row(Distribution::Uniform, Sequence::Random, SeedMode::Rotation);
+pub const SINE_RANDOM: Config = row(Distribution::Sine, Sequence::Random, SeedMode::Rotation);
+pub const COSINE_RANDOM: Config = row(Distribution::SineCosine, Sequence::Random, SeedMode::Rotation);
 /// The paper's "random seed per pixel": the lattice rotated about the normal per pixel.
-pub const COSINE_FIB_PIXEL: Config =
-    Config { distribution: "sine-cosine", sequence: "fibonacci", seed_mode: "rotation" };
-pub const COSINE_FIB_STATIC: Config =
-    Config { distribution: "sine-cosine", sequence: "fibonacci", seed_mode: "static" };
+pub const COSINE_FIB_PIXEL: Config = row(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Rotation);
+pub const COSINE_FIB_STATIC: Config = row(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Static);
 
 /// The claims, as the report words them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -158,16 +155,7 @@ pub struct Verdict {
 
 /// `(replicate, value)` of one configuration at one ray count on one scene.
 fn values(rs: &[JobResult], scene: &str, c: Config, rays: u32, f: fn(&JobResult) -> f64) -> Vec<(u32, f64)> {
-    rs.iter()
-        .filter(|r| {
-            r.scene == scene
-                && r.rays == rays
-                && r.distribution == c.distribution
-                && r.sequence == c.sequence
-                && r.seed_mode == c.seed_mode
-        })
-        .map(|r| (r.replicate, f(r)))
-        .collect()
+    rs.iter().filter(|r| r.is(scene, c, rays)).map(|r| (r.replicate, f(r))).collect()
 }
 
 /// Per replicate: the least-squares log-log slope of RMSE against rays over `rays`.
@@ -288,12 +276,7 @@ mod tests {
     use super::*;
 
     fn rec(scene: &str, c: Config, rays: u32, replicate: u32, rmse: f64, z: f64) -> JobResult {
-        let row = crate::spec::Row {
-            distribution: c.distribution.parse().unwrap(),
-            sequence: c.sequence.parse().unwrap(),
-            seed_mode: c.seed_mode.parse().unwrap(),
-        };
-        JobResult::for_test(scene, row, rays, replicate, rmse, z)
+        JobResult::for_test(scene, c, rays, replicate, rmse, z)
     }
 
     #[test]

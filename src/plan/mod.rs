@@ -7,7 +7,6 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 pub mod cost;
-pub mod shard;
 
 /// One image to render.
 #[derive(Debug, Clone, PartialEq)]
@@ -231,6 +230,25 @@ pub fn format_duration(seconds: f64) -> String {
     } else {
         format!("{seconds:.1} s")
     }
+}
+
+/// What the timing protocol calls a unit: one configuration on one scene.
+pub fn unit_key(job: &Job) -> (String, Row, u32) {
+    (job.scene_id.clone(), job.row().canonical(), job.rays)
+}
+
+/// The plan's jobs grouped into units (job indices), units in order of their first job.
+pub fn units(plan: &Plan) -> Vec<Vec<usize>> {
+    let mut index: std::collections::HashMap<(String, Row, u32), usize> = Default::default();
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    for (i, job) in plan.jobs.iter().enumerate() {
+        let u = *index.entry(unit_key(job)).or_insert_with(|| {
+            out.push(Vec::new());
+            out.len() - 1
+        });
+        out[u].push(i);
+    }
+    out
 }
 
 #[cfg(test)]

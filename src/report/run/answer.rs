@@ -3,9 +3,9 @@
 //! overall and among per-pixel-unbiased ones, with its margin over the runner-up; and the paired
 //! comparisons of rows that differ in one choice. Every sentence quotes the tables below it.
 
-use super::data::{Data, agg_label, banding_stat, row_label};
 use crate::compare::{self, Best};
 use crate::report::Table;
+use crate::report::run::data::{Data, agg_label, banding_stat, row_label};
 use crate::results::lookup;
 use crate::spec::{Group, Row};
 

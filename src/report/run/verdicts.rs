@@ -3,9 +3,9 @@
 //! end of the page, the margins at every ray count. The claim logic is `report::verdict`'s; this file
 //! picks the ray counts the spec measured and formats the cells.
 
-use super::data::Data;
+use crate::compare::claims::{self, Claim, Outcome, Verdict};
 use crate::report::Table;
-use crate::report::verdict::{self, Claim, Outcome, Verdict};
+use crate::report::run::data::Data;
 use crate::spec::GroupKind;
 
 /// Every claim on every scene of the spec. Table claims use the ray counts of the `[[table]]`s that
@@ -27,7 +27,7 @@ pub fn all(data: &Data) -> Vec<Verdict> {
             .iter()
             .find(|g| g.kind == GroupKind::Convergence && g.scenes.contains(&si))
             .map_or(Vec::new(), |g| g.rays.clone());
-        out.extend(verdict::scene_verdicts(data.results, &scene.name, &rays, &sweep));
+        out.extend(claims::scene_verdicts(data.results, &scene.name, &rays, &sweep));
     }
     out
 }
@@ -35,7 +35,7 @@ pub fn all(data: &Data) -> Vec<Verdict> {
 fn cell(v: &Verdict) -> String {
     match v.outcome {
         Outcome::NotMeasured => "–".into(),
-        o => format!("{} ({})", o.label(), verdict::fmt_se(v.margin_se)),
+        o => format!("{} ({})", o.label(), claims::fmt_se(v.margin_se)),
     }
 }
 
@@ -71,8 +71,8 @@ pub fn tables(data: &Data) -> Option<(Table, Table)> {
             "Verdict: the paper's claims on every scene (weakest margin over the ray counts, in standard \
              errors of the paired difference over {n} replicates; significant beyond ±{:.2} SE, Student's t \
              at {} % two-sided)",
-            verdict::critical_se(n),
-            verdict::ALPHA * 100.0
+            claims::critical_se(n),
+            claims::ALPHA * 100.0
         ),
         header,
         rows,

@@ -14,22 +14,19 @@
 //! second of those renders measures how busy the machine is; the estimate assumes it stays so.
 //! Not estimated: writing files (fsync) and drawing the report, about a second or two.
 
-use super::jobs::Geometry;
-use super::load::{Loaded, load};
-use super::reference as refs;
-use super::shard;
-use super::timed::{overhead_job, render_job};
-use crate::cli::PlanArgs;
 use crate::error::{Error, Result};
 use crate::image::{self, Channel};
 use crate::io;
-use crate::plan::{self, Job, Plan, cost, format_duration};
+use crate::jobs::executor::{overhead_job, render_job};
+use crate::jobs::runner::Geometry;
+use crate::load::Loaded;
+use crate::plan::{self, Job, Plan, cost};
 use crate::reference::Manifest;
+use crate::reference::store as refs;
 use crate::render::{self, RenderJob, RenderOutput};
 use crate::results::{self, JobResult};
 use crate::spec::Row;
 use crate::timing::{self, Calibration, Time, clock};
-use std::fmt::Write as _;
 use std::sync::Mutex;
 
 /// AO rays per calibration render, about: enough to dwarf the per-image cost, few enough that a
@@ -43,33 +40,33 @@ const CALIBRATION_SAMPLES: usize = 3;
 const CALIBRATION_WARMUP_S: f64 = 0.05;
 
 /// What the calibration measured on one scene.
-struct SceneCal {
+pub struct SceneCal {
     /// Covered pixels (AO rays cast per ray per pixel).
-    covered: f64,
+    pub covered: f64,
     /// Median CPU seconds of the no-AO-ray render.
-    overhead_s: f64,
+    pub overhead_s: f64,
     /// Per estimator: time = intercept + cost · AO rays.
-    rows: Vec<(Row, Calibration)>,
+    pub rows: Vec<(Row, Calibration)>,
     /// Rays per pixel of the estimator renders.
-    rays: u32,
+    pub rays: u32,
 }
 
-struct Calibrated {
-    scenes: Vec<Option<SceneCal>>,
+pub struct Calibrated {
+    pub scenes: Vec<Option<SceneCal>>,
     /// Wall seconds per CPU second a worker will see: the geometric mean of `measured` and
     /// `averaged`. The calibration's own wall/CPU is a direct measurement but of a fraction of a
     /// second, in which the scheduler favours threads that just started; the load average
     /// (threads wanting a core, with the run's workers added, per online CPU) is a minute's average
     /// of the whole machine. On this project's shared 2-core machine the first alone came out
     /// 1.3–2.3× below what the run then saw, the second 1.2–1.6× above.
-    contention: f64,
-    measured: f64,
-    averaged: Option<f64>,
+    pub contention: f64,
+    pub measured: f64,
+    pub averaged: Option<f64>,
     /// CPU seconds per job for metrics and EXR encoding, and per record for rewriting the results.
-    measure_s: f64,
-    serialize_per_record_s: f64,
-    cpu_s: f64,
-    wall_s: f64,
+    pub measure_s: f64,
+    pub serialize_per_record_s: f64,
+    pub cpu_s: f64,
+    pub wall_s: f64,
 }
 
 impl Calibrated {
@@ -78,19 +75,19 @@ impl Calibrated {
     }
 
     /// Predicted CPU seconds of one render of `job` (on its own row's line).
-    fn render_s(&self, loaded: &Loaded, job: &Job) -> f64 {
+    pub fn render_s(&self, loaded: &Loaded, job: &Job) -> f64 {
         let s = self.scene(loaded, job);
         let row = job.row().canonical();
         let cal = s.rows.iter().find(|(r, _)| *r == row).map(|(_, c)| c).expect("calibrated row");
         cal.predict((s.covered * job.rays as f64).round() as u64)
     }
 
-    fn overhead_s(&self, loaded: &Loaded, scene_id: &str) -> f64 {
+    pub fn overhead_s(&self, loaded: &Loaded, scene_id: &str) -> f64 {
         let si = loaded.spec.scenes.iter().position(|s| s.id == scene_id).expect("planned scene");
         self.scenes[si].as_ref().map_or(0.0, |s| s.overhead_s)
     }
 
-    fn model(&self, loaded: &Loaded, jobs: usize, workers: usize) -> cost::Model {
+    pub fn model(&self, loaded: &Loaded, jobs: usize, workers: usize) -> cost::Model {
         let spec = &loaded.spec;
         cost::Model {
             protocol: timing::Protocol::new(spec.timing.repeats, spec.timing.seed, workers),
@@ -112,7 +109,7 @@ struct Probe {
 }
 
 /// Renders the probes on `workers` one-thread workers and fits each estimator's line.
-fn calibrate(
+pub fn calibrate(
     loaded: &Loaded,
     full: &Plan,
     builds: &[Option<Manifest>],
@@ -272,14 +269,14 @@ fn calibrate(
 /// Rays per covered pixel of an adaptive reference's renders after its pilot, on average: its
 /// budget, or for `rays = "auto"` (settled only by the pilot) the rays an even reference would
 /// need, which the adaptive allocation is there to undercut.
-fn adaptive_rays(loaded: &Loaded, si: usize, m: &Manifest) -> Option<u32> {
+pub fn adaptive_rays(loaded: &Loaded, si: usize, m: &Manifest) -> Option<u32> {
     let a = m.adaptive.as_ref()?;
     Some(a.budget.unwrap_or_else(|| refs::auto_rays(&loaded.spec, si)))
 }
 
 /// Wall seconds to build the references that must be built (on `threads` threads): every
 /// replicate at the manifest's rays (an adaptive reference's pilot), and an adaptive one's renders.
-fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Option<Manifest>], threads: usize) -> f64 {
+pub fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Option<Manifest>], threads: usize) -> f64 {
     let mut cpu = 0.0;
     for (si, b) in builds.iter().enumerate() {
         let Some(m) = b else { continue };
@@ -295,7 +292,7 @@ fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Option<Manifest>], 
 
 /// `plan`'s estimate of the wall time of running `selected` (of `full`), references included: for
 /// `run`'s warning before a long run (a fraction of a second of calibration renders).
-pub(super) fn estimate_s(
+pub fn estimate_s(
     loaded: &Loaded,
     full: &Plan,
     selected: &Plan,
@@ -316,162 +313,4 @@ pub(super) fn estimate_s(
         &cal.model(loaded, selected.jobs.len(), threads),
     );
     Ok(references_s(loaded, &cal, &builds, threads) + b.wall_s)
-}
-
-pub fn run_plan(args: PlanArgs) -> Result<()> {
-    let t0 = clock::wall_s();
-    let loaded = load(&args.spec)?;
-    let load_s = clock::wall_s() - t0;
-    let spec = &loaded.spec;
-    let full = plan::plan(spec);
-    let count = args.shard.map(|s| s.count).or(args.shards);
-    let selected = args.shard.map_or_else(|| full.clone(), |s| shard::select(&loaded, &full, s));
-    let threads = args
-        .threads
-        .map_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()), |t| t as usize);
-
-    let ref_dir = refs::dir(args.reference_dir.as_deref(), spec);
-    let builds: Vec<Option<Manifest>> = (0..loaded.scenes.len())
-        .map(|si| refs::missing(spec, si, &loaded.scenes[si], &ref_dir))
-        .collect::<Result<_>>()?;
-    let builds: Vec<Option<Manifest>> = builds
-        .into_iter()
-        .enumerate()
-        .map(|(si, b)| b.filter(|_| full.jobs.iter().any(|j| loaded.scene_of(j).0 == si)))
-        .collect();
-    let cal = calibrate(&loaded, &full, &builds, threads)?;
-    let refs_s = references_s(&loaded, &cal, &builds, threads);
-    let estimate = |p: &Plan| {
-        cost::jobs(
-            p,
-            |j| cal.render_s(&loaded, j),
-            |id| cal.overhead_s(&loaded, id),
-            &cal.model(&loaded, p.jobs.len(), threads),
-        )
-    };
-
-    let mut s = String::new();
-    let what = args.shard.map_or(String::new(), |k| format!(", shard {k}"));
-    let b = estimate(&selected);
-    let size = plan::estimate(&selected, |j| {
-        let (_, sc) = loaded.scene_of(j);
-        [sc.resolution.0, sc.resolution.1]
-    });
-    let _ = writeln!(
-        s,
-        "plan for {}{what}: {} jobs in {} configurations; at most {} AO rays ({:.3} G) over {} pixels",
-        args.spec.display(),
-        selected.jobs.len(),
-        b.units,
-        size.total_rays,
-        size.total_rays as f64 / 1e9,
-        size.pixels
-    );
-    let _ = writeln!(
-        s,
-        "timing protocol: at least {} timed renders per configuration, {} one-thread workers: {} renders",
-        spec.timing.repeats, threads, b.renders
-    );
-    for (si, sc) in spec.scenes.iter().enumerate() {
-        match &builds[si] {
-            Some(m) => {
-                let how = match adaptive_rays(&loaded, si, m) {
-                    Some(r) => format!(
-                        "adaptive: a pilot of {0} x {1} rays, then {0} x about {r}",
-                        m.replicates, m.rays
-                    ),
-                    None => format!("{} x {} rays", m.replicates, m.rays),
-                };
-                let _ = writeln!(s, "reference '{}': must be built ({how})", sc.name);
-            }
-            None => {
-                let _ = writeln!(s, "reference '{}': stored in {}, reused", sc.name, ref_dir.display());
-            }
-        }
-    }
-    let _ =
-        write!(s, "calibration on this machine ({:.2} s of rendering in {:.2} s): ", cal.cpu_s, cal.wall_s);
-    let parts: Vec<String> = spec
-        .scenes
-        .iter()
-        .zip(&cal.scenes)
-        .filter_map(|(sc, c)| {
-            let c = c.as_ref()?;
-            let ns: Vec<f64> = c.rows.iter().map(|(_, k)| k.ns_per_ray).collect();
-            let (lo, hi) =
-                ns.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
-            let per_image = c.rows.first().map_or(0.0, |(_, k)| k.overhead_s);
-            Some(format!(
-                "'{}' {:.1} ms per image + {:.0}–{:.0} ns per AO ray by estimator ({} estimators at {} rays)",
-                sc.name,
-                per_image * 1e3,
-                lo,
-                hi,
-                c.rows.len(),
-                c.rays
-            ))
-        })
-        .collect();
-    let _ = writeln!(s, "{}", parts.join("; "));
-    if cal.contention > 1.15 {
-        let load = cal.averaged.map_or(String::new(), |a| format!(", the load average says {a:.1}x"));
-        let _ = writeln!(
-            s,
-            "the machine is busy: the calibration renders took {:.1}x their CPU time in wall time{load}; the \
-             estimate assumes {:.1}x for the whole run",
-            cal.measured, cal.contention
-        );
-    }
-    let total = load_s + refs_s + b.wall_s;
-    let _ = writeln!(
-        s,
-        "estimate: ≈ {} (renders {:.1} s CPU, per-job metrics and results {:.1} s, warm-up {:.1} s, on {} workers; \
-         references {}; loading {:.1} s; not counted: writing the report)",
-        format_duration(total),
-        b.render_cpu_s + b.overhead_cpu_s,
-        b.post_cpu_s,
-        b.warmup_cpu_s,
-        threads,
-        if refs_s > 0.0 { format_duration(refs_s) } else { "none to build".into() },
-        load_s
-    );
-    if let Some(n) = count {
-        let of = shard::partition(&loaded, &full, n);
-        let _ = writeln!(
-            s,
-            "\n{:>7}  {:>6}  {:>14}  {:>8}  estimate",
-            "shard", "jobs", "configurations", "renders"
-        );
-        for k in 0..n {
-            let jobs: Vec<Job> =
-                full.jobs.iter().zip(&of).filter(|(_, x)| **x == k).map(|(j, _)| j.clone()).collect();
-            let p = Plan { jobs };
-            let e = estimate(&p);
-            let t = if p.jobs.is_empty() { 0.0 } else { load_s + refs_s + e.wall_s };
-            let _ = writeln!(
-                s,
-                "{:>7}  {:>6}  {:>14}  {:>8}  ≈ {}",
-                format!("{k}/{n}"),
-                p.jobs.len(),
-                e.units,
-                e.renders,
-                format_duration(t)
-            );
-        }
-        if refs_s > 0.0 {
-            let _ = writeln!(
-                s,
-                "(each shard's estimate includes building the references, or waiting for the shard that does; \
-                 build them first with `hemilab reference` to save that)"
-            );
-        }
-    }
-    if args.jobs {
-        let _ = writeln!(s, "\njobs, in run order:");
-        s.push_str(&plan::format_jobs(&selected));
-    } else {
-        let _ = writeln!(s, "(--jobs lists the {} jobs)", selected.jobs.len());
-    }
-    print!("{s}");
-    Ok(())
 }

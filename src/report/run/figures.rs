@@ -4,14 +4,15 @@
 //! and the paper's point figures when the spec asks. Drawing is `report`'s job; this module picks
 //! the data from `data::Data` and writes the bytes. The page (`page.rs`) lists what it returns.
 
-use super::data::{
-    Data, banding_stat, is_config, row_label, sweep_points, sweep_slope, table_configs, whiteness_stat,
-};
-use super::points::figure_rows;
 use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::io;
 use crate::metrics::whiteness::STRUCTURED_Z;
+use crate::outdir;
+use crate::report::figure_rows;
+use crate::report::run::data::{
+    Data, banding_stat, row_label, sweep_points, sweep_slope, table_configs, whiteness_stat,
+};
 use crate::report::{self, Figure, Format, GridCell, Guide, Series};
 use crate::results;
 use crate::sampling::{Distribution, SeedMode, Sequence};
@@ -60,7 +61,7 @@ fn write_figure(
     links: Vec<String>,
     bytes: Result<Vec<u8>>,
 ) -> Result<Figure> {
-    io::write_atomic(&out.join(name), &bytes?)?;
+    outdir::write_file(out, name, &bytes?)?;
     Ok(Figure { path: name.to_string(), caption, links })
 }
 
@@ -86,14 +87,9 @@ fn point_figures(seed: u64, out: &Path) -> Result<Vec<Figure>> {
 
 /// The AO image of replicate 0 (the lowest replicate present) of a configuration, with its coverage.
 fn cell_image(data: &Data, out: &Path, scene: &str, row: Row, rays: u32) -> Result<(Image, Image)> {
-    let r = data
-        .results
-        .iter()
-        .filter(|r| is_config(r, scene, row, rays))
-        .min_by_key(|r| r.replicate)
-        .ok_or_else(|| {
-            Error::Refused(format!("no result for {} at {rays} rays on '{scene}'", row.label()))
-        })?;
+    let r = data.results.iter().filter(|r| r.is(scene, row, rays)).min_by_key(|r| r.replicate).ok_or_else(
+        || Error::Refused(format!("no result for {} at {rays} rays on '{scene}'", row.label())),
+    )?;
     let path = out.join(&r.image);
     let channels = io::read_exr(&path)?;
     let take = |name: &str| {

@@ -2,12 +2,12 @@
 //! and, if that may be long, as `plan` estimates it (`estimate::estimate_s`, a fraction of a second
 //! of calibration renders), so that an 8000x8000 spec does not start for hours unannounced.
 
-use super::jobs::Geometry;
-use super::load::Loaded;
-use super::reference as refs;
-use crate::cli::RunArgs;
 use crate::error::Result;
+use crate::jobs::runner::Geometry;
+use crate::load::Loaded;
+use crate::outdir;
 use crate::plan::{self, Job, Plan, cost};
+use crate::reference::store as refs;
 use crate::results::JobResult;
 use crate::timing;
 use std::collections::HashMap;
@@ -19,8 +19,9 @@ const LONG_RUN_S: f64 = 3600.0;
 /// Says before the first render when what is left of the run (references included) will take over
 /// `LONG_RUN_S`, as `plan` estimates it. A rough estimate comes first, without rendering, so that
 /// only a run that may be long pays for `plan`'s calibration (a fraction of a second).
-pub(super) fn warn_if_long(
-    args: &RunArgs,
+pub fn warn_if_long(
+    spec_path: &Path,
+    p: timing::Protocol,
     loaded: &Loaded,
     full: &Plan,
     plan: &Plan,
@@ -29,20 +30,19 @@ pub(super) fn warn_if_long(
 ) -> Result<()> {
     // What is left to render (by image: the keys need the references, which may take hours).
     let done: std::collections::HashSet<&str> = previous.values().map(|r| r.image.as_str()).collect();
-    let left = plan.jobs.iter().filter(|j| !done.contains(format!("images/{}.exr", j.file_stem()).as_str()));
+    let left = plan.jobs.iter().filter(|j| !done.contains(outdir::image_rel(j).as_str()));
     let todo = Plan { jobs: left.cloned().collect() };
-    let p = super::run::protocol(args, &loaded.spec);
     let rough = rough_run_s(loaded, &todo, ref_dir, p, LONG_RUN_S / 4.0)?;
     if todo.jobs.is_empty() || rough <= LONG_RUN_S / 4.0 {
         return Ok(());
     }
-    let s = super::estimate::estimate_s(loaded, full, &todo, ref_dir, p.workers)?;
+    let s = crate::jobs::calibrate::estimate_s(loaded, full, &todo, ref_dir, p.workers)?;
     if s > LONG_RUN_S {
         eprintln!(
             "warning: this run will take about {} on this machine (as `hemilab plan {}` estimates it); it can \
              be stopped at any time and resumes where it stopped, and `--shard K/N` splits it over machines",
             plan::format_duration(s),
-            args.spec.display()
+            spec_path.display()
         );
     }
     Ok(())

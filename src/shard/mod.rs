@@ -15,9 +15,12 @@
 //!   agree on the partition. A changed formula changes the partition, which is why `merge` checks
 //!   coverage job by job rather than trusting it.
 
-use super::{Job, Plan};
-use crate::spec::Row;
-use std::collections::HashMap;
+pub mod manifest;
+pub mod merge;
+
+pub use crate::plan::{unit_key, units};
+
+use crate::plan::{Job, Plan};
 use std::fmt;
 
 /// Per-image cost of a pixel (primary ray, hit point, frame, point set, image) in AO-ray
@@ -67,25 +70,6 @@ impl fmt::Display for Shard {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}/{}", self.index, self.count)
     }
-}
-
-/// What the timing protocol calls a unit: one configuration on one scene.
-pub fn unit_key(job: &Job) -> (String, Row, u32) {
-    (job.scene_id.clone(), job.row().canonical(), job.rays)
-}
-
-/// The plan's jobs grouped into units (job indices), units in order of their first job.
-pub fn units(plan: &Plan) -> Vec<Vec<usize>> {
-    let mut index: HashMap<(String, Row, u32), usize> = HashMap::new();
-    let mut out: Vec<Vec<usize>> = Vec::new();
-    for (i, job) in plan.jobs.iter().enumerate() {
-        let u = *index.entry(unit_key(job)).or_insert_with(|| {
-            out.push(Vec::new());
-            out.len() - 1
-        });
-        out[u].push(i);
-    }
-    out
 }
 
 /// Relative cost of a unit: its renders (its jobs, or `min_renders` timing repeats if more) times

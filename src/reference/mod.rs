@@ -5,6 +5,8 @@
 //! standard error, whose RMS over covered pixels is the *noise floor*: no RMSE measured against this
 //! reference means anything below it.
 
+pub mod store;
+
 use crate::image::Image;
 use crate::metrics::covered;
 use crate::spec::{AoDistance, Row, SceneRef};

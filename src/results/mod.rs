@@ -4,14 +4,15 @@
 
 mod aggregate;
 mod slopes;
-mod timing;
+mod split;
 
 pub use aggregate::{Aggregate, Stat, aggregate, aggregate_columns, aggregates_to_csv, lookup};
-pub use slopes::{Slope, SlopeFit, convergence_slopes};
-pub use timing::{efficiency_spread, fill_timing};
+pub use slopes::{Slope, SlopeFit, SweepSlopes, convergence_slopes, sweep_slopes};
+pub use split::{efficiency_spread, fill_timing};
 
 use crate::metrics::ErrorStats;
 use crate::plan::Job;
+use crate::spec::Row;
 use serde::{Deserialize, Serialize};
 
 /// Column order of `results.csv`; the first fourteen are the ones issue 4 promises, so later columns
@@ -85,29 +86,29 @@ pub struct JobResult {
     /// z-score of the error's 2-D portmanteau statistic against white noise (`metrics::whiteness`).
     pub whiteness_z: f64,
     /// This job's own render time (the median of its renders when it was rendered more than once).
-    #[serde(deserialize_with = "timing::nan_null")]
+    #[serde(deserialize_with = "split::nan_null")]
     pub time_s: f64,
     /// `rays_cast / time_s`; 0 when the time was too short to measure.
     pub rays_per_s: f64,
     pub rays_cast: u64,
     /// Median, min and max over every timed render of the configuration (all its replicates and
     /// timing-only re-renders), and how many there were.
-    #[serde(deserialize_with = "timing::nan_null")]
+    #[serde(deserialize_with = "split::nan_null")]
     pub time_median_s: f64,
-    #[serde(deserialize_with = "timing::nan_null")]
+    #[serde(deserialize_with = "split::nan_null")]
     pub time_min_s: f64,
-    #[serde(deserialize_with = "timing::nan_null")]
+    #[serde(deserialize_with = "split::nan_null")]
     pub time_max_s: f64,
     pub timings: usize,
     /// Median time of the scene's render with no AO rays: primary rays and per-image setup.
-    #[serde(deserialize_with = "timing::nan_null")]
+    #[serde(deserialize_with = "split::nan_null")]
     pub overhead_s: f64,
     /// `time_median_s − overhead_s`: what the AO rays cost (points, warps, tracing); NaN (empty)
     /// when not above the overhead.
-    #[serde(deserialize_with = "timing::nan_null")]
+    #[serde(deserialize_with = "split::nan_null")]
     pub ao_time_s: f64,
     /// `ao_time_s` per AO ray cast, in nanoseconds: the marginal cost of a ray.
-    #[serde(deserialize_with = "timing::nan_null")]
+    #[serde(deserialize_with = "split::nan_null")]
     pub ns_per_ray: f64,
     /// 1 / (MSE · ao_time_s), in 1/s; `None` (empty in CSV, null in JSON) when that is undefined.
     /// Overhead is left out so that it cannot dominate at low ray counts.
@@ -115,7 +116,7 @@ pub struct JobResult {
     /// Threads each timed render ran on.
     pub timing_threads: u32,
     /// Median wall time of this job's renders, for comparison with `time_s`.
-    #[serde(deserialize_with = "timing::nan_null")]
+    #[serde(deserialize_with = "split::nan_null")]
     pub wall_s: f64,
     pub covered_pixels: u64,
     /// The resume key: a rerun skips a job whose key is already here.
@@ -128,7 +129,25 @@ pub struct JobResult {
     pub walls: Vec<f64>,
 }
 
+/// The one "this record belongs to that configuration" rule, for records and aggregates alike:
+/// the row is canonicalized first (`Row::canonical`: pseudo-random with a shift names the same
+/// images as with a rotation).
+fn names_row(names: [&str; 3], row: Row) -> bool {
+    let row = row.canonical();
+    names == [row.distribution.name(), row.sequence.name(), row.seed_mode.name()]
+}
+
 impl JobResult {
+    /// Whether this record is an image of `row` (any scene, any ray count).
+    pub fn is_row(&self, row: Row) -> bool {
+        names_row([&self.distribution, &self.sequence, &self.seed_mode], row)
+    }
+
+    /// Whether this record is an image of (scene, row, rays).
+    pub fn is(&self, scene: &str, row: Row, rays: u32) -> bool {
+        self.scene == scene && self.rays == rays && self.is_row(row)
+    }
+
     /// A record with its error metrics and no time yet (`add_time`, then `fill_timing`).
     pub fn new(job: &Job, stats: &ErrorStats, rays_cast: u64, image: impl Into<String>) -> Self {
         Self {

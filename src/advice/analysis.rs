@@ -2,26 +2,28 @@
 //! the budgets' rankings (`advice`) → the winner maps and the error-against-time figures; then
 //! `advise_page` writes advice.json, advice.md and index.html.
 
-use super::advise::Setup;
-use super::advise_page;
-use super::reference::Reference;
-use super::timed::Session;
+use crate::advice::setup::Setup;
 use crate::advice::winner::{self, Pixel};
 use crate::advice::{self, AtBudget, Curve, Metric, PAPER_DEFAULT, Point, Ranking};
 use crate::error::{Error, Result};
-use crate::io;
+use crate::jobs::executor::Session;
 use crate::metrics::covered;
-use crate::report::advice::{self as fig, OTHER_WINNER, Panel, TimeCurve, UNRESOLVED, WINNER_COLOURS};
+use crate::outdir;
+use crate::reference::store::Reference;
+use crate::report::advise::figures::{
+    self as fig, OTHER_WINNER, Panel, TimeCurve, UNRESOLVED, WINNER_COLOURS,
+};
+use crate::report::advise::page;
 use crate::report::colormap::{BACKGROUND, grey};
 use crate::report::{Figure, Format};
-use crate::results::{self, JobResult};
+use crate::results::JobResult;
 use crate::spec::Row;
 use crate::timing::{Protocol, Summary};
 use std::collections::HashMap;
 use std::path::Path;
 
 /// What advise measured.
-pub(super) struct Measured<'a> {
+pub struct Measured<'a> {
     pub setup: &'a Setup,
     pub reference: &'a Reference,
     /// By plan index.
@@ -37,13 +39,16 @@ pub(super) struct Measured<'a> {
 
 /// The winner map compares, per budget, this many of the best configurations (and the paper's
 /// default): beyond them the image-level gap is large, and a legend of 50 colours unreadable.
+/// The winner map figure.
+const WINNER_MAP: &str = "winner_map.png";
+
 pub const MAP_CANDIDATES: usize = 6;
 /// Replicates per pixel comparison, at least: with a handful, a pixel's MSE is too noisy to order
 /// anything (the timed replicates are reused; the rest are rendered untimed, for the map only).
 pub const MAP_REPLICATES: u32 = 16;
 
 /// The winner map at one budget.
-pub(super) struct Map {
+pub struct Map {
     pub budget_s: f64,
     /// The compared configurations, in ranking order; `Pixel::Won(i)` indexes this.
     pub rows: Vec<Row>,
@@ -51,7 +56,7 @@ pub(super) struct Map {
 }
 
 /// Everything the page and advice.json are made from.
-pub(super) struct Analysis {
+pub struct Analysis {
     pub curves: Vec<Curve>,
     pub budgets_s: Vec<f64>,
     /// The budgets were chosen by advise (`advice::default_budgets`), not given.
@@ -66,7 +71,7 @@ pub(super) struct Analysis {
 }
 
 /// Ladders, budgets and rankings (no maps yet).
-pub(super) fn analyse(m: &Measured, budgets_ms: &[f64]) -> Analysis {
+pub fn analyse(m: &Measured, budgets_ms: &[f64]) -> Analysis {
     let curves = curves(m);
     let default = curves.iter().find(|c| c.row == PAPER_DEFAULT).expect("the paper default is always run");
     let (budgets_s, defaulted) = if budgets_ms.is_empty() {
@@ -105,7 +110,7 @@ fn candidates(r: &Ranking) -> Vec<&AtBudget> {
 
 /// (configuration, rays) the maps need at `MAP_REPLICATES` replicates: the two measured ray counts
 /// around each budget of each candidate.
-pub(super) fn map_needs(a: &Analysis) -> Vec<(Row, u32)> {
+pub fn map_needs(a: &Analysis) -> Vec<(Row, u32)> {
     let mut out = Vec::new();
     for (r, _) in &a.rankings {
         for c in candidates(r) {
@@ -121,24 +126,18 @@ pub(super) fn map_needs(a: &Analysis) -> Vec<(Row, u32)> {
 }
 
 /// The winner maps, then figures, advice.json, the pages and the records; returns the text to print.
-pub(super) fn finish(m: &Measured, mut a: Analysis, out: &Path) -> Result<String> {
+pub fn finish(m: &Measured, mut a: Analysis, out: &Path) -> Result<String> {
     a.maps = winner_maps(m, &a.curves, &a.rankings);
     a.colours = colours(&a.maps);
     let figures = figures(m, &a, out)?;
-    io::write_atomic(&out.join("results.csv"), results::to_csv(&m.results).as_bytes())?;
-    io::write_atomic(&out.join("results.json"), results::to_json(&m.results).as_bytes())?;
-    advise_page::write(m, &a, &figures, out)
+    outdir::write_results(out, &m.results)?;
+    page::write(m, &a, &figures, out)
 }
 
 /// Each configuration's ladder from its records: per ray count, the median of every timed render
 /// of it and that median's spread, and each replicate's MSE and low-pass MSE.
 fn curves(m: &Measured) -> Vec<Curve> {
-    let is = |r: &JobResult, row: Row, n: u32| {
-        r.rays == n
-            && r.distribution == row.distribution.name()
-            && r.sequence == row.sequence.name()
-            && r.seed_mode == row.seed_mode.name()
-    };
+    let is = |r: &JobResult, row: Row, n: u32| r.rays == n && r.is_row(row);
     m.setup
         .rows
         .iter()
@@ -226,7 +225,7 @@ fn colours(maps: &[Map]) -> Vec<(Row, [u8; 3])> {
 }
 
 /// A configuration's name in tables and legends.
-pub(super) fn label(row: Row) -> String {
+pub fn label(row: Row) -> String {
     let l = row.name();
     if row == PAPER_DEFAULT { format!("{l} (paper default)") } else { l }
 }
@@ -261,7 +260,7 @@ fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
         let title = format!("{what} against time per image, {} at {w}x{h}", m.setup.stem);
         let png =
             fig::error_time_plot(&title, what, &curves, &budgets_ms, Format::Png).map_err(Error::Refused)?;
-        io::write_atomic(&out.join(file), &png)?;
+        outdir::write_file(out, file, &png)?;
         figs.push(Figure {
             path: file.into(),
             caption: format!(
@@ -275,11 +274,11 @@ fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
     }
     if a.maps.is_empty() {
         // No budget to map: a map left by an earlier advise in this directory would mislead.
-        io::remove_file_if_exists(&out.join("winner_map.png"))?;
+        outdir::remove_file(out, WINNER_MAP)?;
     } else {
         let png = winner_png(m, a)?;
-        io::write_atomic(&out.join("winner_map.png"), &png)?;
-        figs.push(Figure { path: "winner_map.png".into(), caption: winner_note(m, a), links: vec![] });
+        outdir::write_file(out, WINNER_MAP, &png)?;
+        figs.push(Figure { path: WINNER_MAP.into(), caption: winner_note(m, a), links: vec![] });
     }
     Ok(figs)
 }
@@ -296,7 +295,7 @@ fn point(p: &Point, metric: Metric) -> (f64, f64, f64) {
 }
 
 /// What "significant" means on the map.
-pub(super) fn winner_note(m: &Measured, a: &Analysis) -> String {
+pub fn winner_note(m: &Measured, a: &Analysis) -> String {
     format!(
         "Winner map: per pixel, which of the budget's {MAP_CANDIDATES} best configurations and the paper's default \
          has the least MSE at the budget over {} replicates (squared error pooled over the pixel's 3x3 neighbourhood, interpolated between the \

@@ -2,9 +2,9 @@
 //! paper's default, with their standard errors), both full rankings, every measured point with each
 //! replicate's MSE (so the advice can be recomputed), and the winner map's counts.
 
-use super::advise_page::{advice_line, default_at, mean, outside_note, shipped_rays, status};
-use super::advise_report::{Analysis, Measured};
+use crate::advice::analysis::{Analysis, Measured};
 use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking, winner};
+use crate::report::advise::page::{advice_line, default_at, mean, outside_note, shipped_rays, status};
 use crate::spec::Row;
 use crate::timing;
 use serde_json::{Value, json};
@@ -83,7 +83,7 @@ fn recommendation(r: &Ranking, low: &Ranking) -> Value {
     v
 }
 
-pub(super) fn advice_json(m: &Measured, a: &Analysis) -> Value {
+pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
     let spec = &m.setup.loaded.spec;
     let configurations: Vec<Value> = a
         .curves

@@ -1,10 +1,10 @@
 //! advice.md and index.html from advise's analysis (advice.json is `advise_json`), and the lines
 //! it prints: the answer per budget first, then what a time is, the rankings, and every measured point.
 
-use super::advise_report::{Analysis, Measured, label, winner_note};
+use crate::advice::analysis::{Analysis, Measured, label, winner_note};
 use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking};
 use crate::error::Result;
-use crate::io;
+use crate::outdir;
 use crate::report::{self, Figure, Table};
 use crate::timing;
 use std::fmt::Write as _;
@@ -13,8 +13,8 @@ use std::path::Path;
 /// Rows of a budget's ranking table shown in the page (all are in advice.json).
 const SHOWN: usize = 10;
 
-pub(super) fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) -> Result<String> {
-    let json = super::advise_json::advice_json(m, a);
+pub fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) -> Result<String> {
+    let json = crate::report::advise::json::advice_json(m, a);
     let mut text = serde_json::to_string_pretty(&json).unwrap_or_default();
     text.push('\n');
     let lines: Vec<String> = a.rankings.iter().map(|(r, l)| advice_line(r, l)).collect();
@@ -48,7 +48,7 @@ pub(super) fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) 
     let mut tables = vec![summary_table(a)];
     tables.extend(a.rankings.iter().filter(|(r, _)| !r.ranked.is_empty()).map(|(r, _)| ranking_table(r)));
     let collapsed = vec![ladder_table(a)];
-    io::write_atomic(&out.join("advice.json"), text.as_bytes())?;
+    outdir::write_file(out, outdir::ADVICE_JSON, text.as_bytes())?;
     let page = report::Page {
         title: &title,
         lead: &[],
@@ -57,8 +57,7 @@ pub(super) fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) 
         figures,
         collapsed: &collapsed,
     };
-    io::write_atomic(&out.join("advice.md"), report::markdown_page(&page).as_bytes())?;
-    io::write_atomic(&out.join("index.html"), report::html_page(&page).as_bytes())?;
+    outdir::write_page(out, &report::html_page(&page), outdir::ADVICE_MD, &report::markdown_page(&page))?;
     let mut s = String::new();
     for l in &lines {
         let _ = writeln!(s, "{l}");
@@ -78,21 +77,21 @@ pub(super) fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) 
         m.session.renders,
         m.session.cpu_s,
         m.session.wall_s,
-        out.join("index.html").display()
+        outdir::index(out).display()
     );
     Ok(s)
 }
 
-pub(super) fn mean(v: &[f64]) -> f64 {
+pub fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
-pub(super) fn ms(s: f64) -> String {
+pub fn ms(s: f64) -> String {
     format!("{}", advice::round_significant(s * 1e3, 3))
 }
 
 /// One sentence per budget: what to ship and what it gains, or why there is no answer.
-pub(super) fn advice_line(r: &Ranking, low: &Ranking) -> String {
+pub fn advice_line(r: &Ranking, low: &Ranking) -> String {
     let b = ms(r.budget_s);
     let Some(best) = advice::recommended(r) else {
         return format!("At {b} ms per image: {}.", outside_note(r));
@@ -151,16 +150,16 @@ pub(super) fn advice_line(r: &Ranking, low: &Ranking) -> String {
 }
 
 /// The rays to ship: the interpolated count, rounded down (at least 1).
-pub(super) fn shipped_rays(a: &AtBudget) -> u32 {
+pub fn shipped_rays(a: &AtBudget) -> u32 {
     (a.rays.floor() as u32).max(1)
 }
 
-pub(super) fn default_at(r: &Ranking) -> Option<&AtBudget> {
+pub fn default_at(r: &Ranking) -> Option<&AtBudget> {
     r.ranked.iter().find(|a| a.row == PAPER_DEFAULT)
 }
 
 /// Why a budget has no ranked configuration.
-pub(super) fn outside_note(r: &Ranking) -> String {
+pub fn outside_note(r: &Ranking) -> String {
     let below: Vec<f64> = r
         .outside
         .iter()
@@ -188,7 +187,7 @@ pub(super) fn outside_note(r: &Ranking) -> String {
     }
 }
 
-pub(super) fn status(r: &Ranking) -> &'static str {
+pub fn status(r: &Ranking) -> &'static str {
     if !r.ranked.is_empty() {
         return "inside";
     }

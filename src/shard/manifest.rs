@@ -2,12 +2,12 @@
 //! and the `shard.json` a shard leaves in its output directory so that `merge` can check what it
 //! was: which spec and plan, which hemilab, which shard of how many, and on which machine.
 
-use super::load::Loaded;
 use crate::cli::ShardArg;
 use crate::error::{Error, Result};
 use crate::io;
-use crate::plan::shard::{self, Shard};
+use crate::load::Loaded;
 use crate::plan::{self, Plan};
+use crate::shard::{self, Shard};
 use crate::timing::Protocol;
 use serde::{Deserialize, Serialize};
 use std::path::Path;

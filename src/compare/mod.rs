@@ -8,6 +8,8 @@
 //! - **Rank agreement** of two runs: the check behind "two runs rank the rows' efficiency
 //!   identically wherever they differ by more than 3 combined spreads".
 
+pub mod claims;
+
 use crate::results::{Aggregate, JobResult};
 use crate::sampling::{SeedMode, Sequence};
 use crate::spec::Row;
@@ -53,17 +55,8 @@ impl Paired {
 
 fn rmse_by_replicate(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Vec<(u32, f64)> {
     let row = row.canonical();
-    let mut v: Vec<(u32, f64)> = results
-        .iter()
-        .filter(|r| {
-            r.scene == scene
-                && r.rays == rays
-                && r.distribution == row.distribution.name()
-                && r.sequence == row.sequence.name()
-                && r.seed_mode == row.seed_mode.name()
-        })
-        .map(|r| (r.replicate, r.rmse))
-        .collect();
+    let mut v: Vec<(u32, f64)> =
+        results.iter().filter(|r| r.is(scene, row, rays)).map(|r| (r.replicate, r.rmse)).collect();
     v.sort_by_key(|x| x.0);
     v
 }

@@ -16,6 +16,8 @@
 //!
 //! The per-pixel winner map is in `advice/winner.rs`.
 
+pub mod analysis;
+pub mod setup;
 pub mod winner;
 
 use crate::metrics::whiteness::STRUCTURED_Z;

@@ -5,11 +5,11 @@
 //! `figures.rs` wrote, linked by relative paths; the long tables (verdict margins, every aggregate)
 //! folded at the end.
 
-use super::answer;
-use super::data::{Data, agg_label, banding_stat, row_label, sweep_slope};
 use crate::error::Result;
-use crate::io;
 use crate::metrics::whiteness::STRUCTURED_Z;
+use crate::outdir;
+use crate::report::run::answer;
+use crate::report::run::data::{Data, agg_label, banding_stat, row_label, sweep_slope};
 use crate::report::{self, Figure, Table};
 use crate::results::{self, SlopeFit, Stat};
 use crate::spec::{GroupKind, Row};
@@ -78,8 +78,7 @@ pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
         figures,
         collapsed: &collapsed,
     };
-    io::write_atomic(&out.join("index.html"), report::html_page(&page).as_bytes())?;
-    io::write_atomic(&out.join("report.md"), report::markdown_page(&page).as_bytes())
+    outdir::write_page(out, &report::html_page(&page), outdir::REPORT_MD, &report::markdown_page(&page))
 }
 
 /// What a time is and how it was measured.

@@ -47,7 +47,7 @@ pub struct JobRunner {
 
 impl JobRunner {
     pub fn new(threads: Option<u32>, quiet: bool) -> Result<Self> {
-        Ok(Self { pool: super::render::pool(threads)?, bar: progress::bar(0, "", quiet) })
+        Ok(Self { pool: render::pool(threads)?, bar: progress::bar(0, "", quiet) })
     }
 
     /// `job` with `counts[i]` rays in pixel i instead of `job.rays` (adaptive references); the bar
@@ -55,8 +55,9 @@ impl JobRunner {
     pub fn render_counts(&self, job: &Job, scene: &Scene, counts: &[u32], label: &str) -> Result<Rendered> {
         let rj = render_job(job, scene, job.rays)?;
         self.bar.set_message(label.to_string());
-        let output =
-            self.pool.install(|| super::adaptive::render_counts(scene, &rj, counts, &|n| self.bar.inc(n)));
+        let output = self
+            .pool
+            .install(|| crate::render::adaptive::render_counts(scene, &rj, counts, &|n| self.bar.inc(n)));
         Ok(Rendered { output })
     }
 
@@ -74,7 +75,7 @@ impl JobRunner {
 
 /// What the renderer needs to know of a planned job, with `rays` AO rays per pixel (the job's own,
 /// or fewer for warm-up and overhead renders).
-pub(super) fn render_job(job: &Job, scene: &Scene, rays: u32) -> Result<RenderJob> {
+pub fn render_job(job: &Job, scene: &Scene, rays: u32) -> Result<RenderJob> {
     let g = Geometry::of(job.resolution, job.ao_distance, scene);
     let sampler = SamplerConfig::new(job.sequence, job.seed_mode, rays, job.seed)
         .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;

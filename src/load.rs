@@ -1,0 +1,130 @@
+//! A spec with every scene it names, loaded and validated before any work: every command that
+//! takes a spec (`run`, `plan`, `reference`) starts here, and the report reads the same `Loaded`.
+
+use crate::error::{Error, Result};
+use crate::io;
+use crate::jobs::runner::Geometry;
+use crate::plan::Job;
+use crate::scene::{self, Scene, file, mesh};
+use crate::spec::{self, MAX_PIXELS, SceneRef, Spec};
+use std::path::Path;
+
+/// A spec with every scene it names loaded: all bad input is found here, before any work.
+pub struct Loaded {
+    pub spec: Spec,
+    pub scenes: Vec<Scene>,
+}
+
+impl Loaded {
+    pub fn scene_of(&self, job: &Job) -> (usize, &Scene) {
+        let i =
+            self.spec.scenes.iter().position(|s| s.id == job.scene_id).expect("planned scene is in the spec");
+        (i, &self.scenes[i])
+    }
+}
+
+pub fn load(spec_path: &Path) -> Result<Loaded> {
+    let text = io::read_string(spec_path)?;
+    let spec = spec::parse_spec(&text, spec_path)?;
+    let scenes = spec.scenes.iter().map(|s| load_named_scene(&spec, s)).collect::<Result<Vec<_>>>()?;
+    for w in scenes.iter().filter_map(dropped_warning) {
+        eprintln!("{w}");
+    }
+    Ok(Loaded { spec, scenes })
+}
+
+/// A scene the spec names: a missing file is the spec's mistake, so the message points at its key;
+/// an image too large to hold in memory is refused here rather than by the allocator mid-run.
+fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
+    if !io::exists(&s.path) {
+        // The full path: the scene is looked for relative to the spec, which may not be where the
+        // user is.
+        let looked =
+            std::path::absolute(&s.path).map_or(s.id.clone(), |p| spec::normalize(&p.to_string_lossy()));
+        return Err(Error::input(
+            &spec.path,
+            format!(
+                "line {}, key `scenes`: scene file '{}' not found (looked for {looked}); scene paths are \
+                 relative to the spec file",
+                s.line, s.id
+            ),
+        ));
+    }
+    let scene = load_scene(&s.path)?;
+    let g = Geometry::of(spec.resolution, spec.ao_distance, &scene);
+    check_pixels(g.width, g.height)
+        .map_err(|e| Error::input(&spec.path, format!("key `resolution`: scene '{}': {e}", s.name)))?;
+    Ok(scene)
+}
+
+/// Reads, parses and validates a scene file and its mesh, and builds the BVH. Every error names the
+/// scene file (and its line/key) or the mesh file (and its line).
+pub fn load_scene(path: &Path) -> Result<Scene> {
+    let text = io::read_string(path)?;
+    let spec = file::parse(&text).map_err(|e| Error::input(path, e))?;
+    let lower = spec.mesh.to_ascii_lowercase();
+    if !(lower.ends_with(".obj") || lower.ends_with(".obj.zst")) {
+        return Err(Error::input(
+            path,
+            format!("key `mesh`: '{}' must be a Wavefront .obj or .obj.zst file", spec.mesh),
+        ));
+    }
+    let mesh_path = path.parent().unwrap_or(Path::new("")).join(&spec.mesh);
+    if !io::exists(&mesh_path) {
+        let looked = std::path::absolute(&mesh_path)
+            .map_or(spec.mesh.clone(), |p| crate::spec::normalize(&p.to_string_lossy()));
+        return Err(Error::input(
+            path,
+            format!(
+                "key `mesh`: mesh file '{}' not found (looked for {looked}); mesh paths are relative to the \
+                 scene file",
+                spec.mesh
+            ),
+        ));
+    }
+    let bytes = io::read_bytes(&mesh_path).map_err(|e| Error::input(path, format!("key `mesh`: {e}")))?;
+    let mesh = mesh::parse_obj(&bytes).map_err(|e| Error::input(&mesh_path, e))?;
+    let name = spec.name.clone().unwrap_or_else(|| {
+        let stem = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        stem.strip_suffix(".toml").unwrap_or(&stem).to_string()
+    });
+    let hash = scene::content_hash(&[text.as_bytes(), &bytes]);
+    let res = (spec.resolution.0, spec.resolution.1);
+    Scene::new(name, spec.camera.camera(), res, spec.ao_distance.0, hash, mesh)
+        .map_err(|e| Error::input(path, e))
+}
+
+/// The one-line warning for triangles dropped at load, if any.
+pub fn dropped_warning(scene: &Scene) -> Option<String> {
+    (scene.dropped_triangles > 0).then(|| {
+        format!(
+            "warning: scene '{}': dropped {} triangles with zero area or non-finite vertices",
+            scene.name, scene.dropped_triangles
+        )
+    })
+}
+
+/// The one pixel limit: an image of more than `MAX_PIXELS` pixels is refused before any work (rather
+/// than by the allocator mid-run). Callers add where the size came from.
+pub fn check_pixels(w: u32, h: u32) -> std::result::Result<(), String> {
+    if w as u64 * h as u64 > MAX_PIXELS {
+        return Err(format!("{w}x{h} is too large to hold in memory; {}", spec::RESOLUTION_RULE));
+    }
+    Ok(())
+}
+
+/// Loads a scene for one image of `resolution` (default: the scene's), refusing an absurd size
+/// before the mesh is even read, and prints the dropped-triangle warning.
+pub fn scene_at(path: &Path, resolution: Option<(u32, u32)>) -> Result<(Scene, u32, u32)> {
+    let usage = |e: String| Error::Usage(format!("resolution {e}"));
+    if let Some((w, h)) = resolution {
+        check_pixels(w, h).map_err(usage)?;
+    }
+    let scene = load_scene(path)?;
+    if let Some(w) = dropped_warning(&scene) {
+        eprintln!("{w}");
+    }
+    let (width, height) = resolution.unwrap_or(scene.resolution);
+    check_pixels(width, height).map_err(usage)?;
+    Ok((scene, width, height))
+}

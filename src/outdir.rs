@@ -1,0 +1,137 @@
+//! The output directory of `run`, `merge` and `advise`: every file it holds is named here once, and
+//! read or written here (through `io`, atomically), so a rerun, a merge and the report agree on
+//! what is where.
+
+use crate::error::{Error, Result};
+use crate::image::Channel;
+use crate::io;
+use crate::plan::Job;
+use crate::render::RenderOutput;
+use crate::results::{self, Aggregate, JobResult};
+use crate::spec::Spec;
+use crate::timing::Summary;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// One record per image, as JSON (the resume source) and CSV.
+pub const RESULTS_JSON: &str = "results.json";
+pub const RESULTS_CSV: &str = "results.csv";
+/// One line per configuration.
+pub const AGGREGATES_CSV: &str = "aggregates.csv";
+/// Each convergence sweep's fitted slopes.
+pub const SLOPES_JSON: &str = "slopes.json";
+/// How the run was timed.
+pub const TIMING_JSON: &str = "timing.json";
+/// The report: one offline page, and its Markdown twin.
+pub const INDEX_HTML: &str = "index.html";
+pub const REPORT_MD: &str = "report.md";
+/// `advise`'s answer, for programs and for people.
+pub const ADVICE_JSON: &str = "advice.json";
+pub const ADVICE_MD: &str = "advice.md";
+/// Every measured image, as EXR.
+pub const IMAGES: &str = "images";
+
+/// A job's image, relative to the output directory (the record's `image` column).
+pub fn image_rel(job: &Job) -> String {
+    format!("{IMAGES}/{}.exr", job.file_stem())
+}
+
+/// The output directory, and its `images/` when images are written; refused before any work if
+/// either cannot be written.
+pub fn prepare(out: &Path, images: bool) -> Result<()> {
+    io::ensure_writable_dir(out)?;
+    if images {
+        io::ensure_writable_dir(&out.join(IMAGES))?;
+    }
+    Ok(())
+}
+
+/// A measured job's image (AO and coverage) as `images/<job>.exr`; returns its relative path.
+pub fn write_image(out: &Path, job: &Job, output: &RenderOutput) -> Result<String> {
+    let image = image_rel(job);
+    io::write_exr(
+        &out.join(&image),
+        &[Channel { name: "Y", image: &output.ao }, Channel { name: "A", image: &output.coverage }],
+    )?;
+    Ok(image)
+}
+
+/// Whether the image a record names is on disk (a record without its image is not finished).
+pub fn has_image(out: &Path, image: &str) -> bool {
+    io::exists(&out.join(image))
+}
+
+/// `results.json` and `results.csv`, rewritten whole after every job.
+pub fn write_results(out: &Path, results: &[JobResult]) -> Result<()> {
+    io::write_atomic(&out.join(RESULTS_JSON), results::to_json(results).as_bytes())?;
+    io::write_atomic(&out.join(RESULTS_CSV), results::to_csv(results).as_bytes())
+}
+
+/// The records in `dir`'s `results.json` (none if there is no such file). A results file that
+/// cannot be read is an error naming it (`explain` words the parse error), not something to
+/// overwrite.
+pub fn read_results(dir: &Path, explain: &dyn Fn(String) -> String) -> Result<Vec<JobResult>> {
+    let path = dir.join(RESULTS_JSON);
+    if !io::exists(&path) {
+        return Ok(Vec::new());
+    }
+    results::from_json(&io::read_string(&path)?).map_err(|e| Error::input(&path, explain(e.to_string())))
+}
+
+/// Finished records of an earlier run, by key.
+pub fn previous_results(out: &Path) -> Result<HashMap<String, JobResult>> {
+    let list = read_results(out, &|e| format!("cannot resume from it ({e}); move it away or pass --force"))?;
+    Ok(list.into_iter().map(|r| (r.key.clone(), r)).collect())
+}
+
+/// `timing.json`.
+pub fn write_timing(out: &Path, timing: &serde_json::Value) -> Result<()> {
+    let text = serde_json::to_string_pretty(timing).unwrap_or_default();
+    io::write_atomic(&out.join(TIMING_JSON), text.as_bytes())
+}
+
+/// `dir`'s `timing.json`, if it is there and parses.
+pub fn read_timing(dir: &Path) -> Option<serde_json::Value> {
+    serde_json::from_str(&io::read_string(&dir.join(TIMING_JSON)).ok()?).ok()
+}
+
+/// The overhead an earlier session measured (`timing.json`), for a run that rendered nothing.
+pub fn previous_overhead(out: &Path, spec: &Spec) -> Vec<Option<Summary>> {
+    let v = read_timing(out);
+    spec.scenes
+        .iter()
+        .map(|s| {
+            let list = v.as_ref()?.get("overhead")?.as_array()?;
+            let e = list.iter().find(|e| e.get("scene").and_then(|n| n.as_str()) == Some(s.name.as_str()))?;
+            serde_json::from_value(e.get("overhead_s")?.clone()).ok()
+        })
+        .collect()
+}
+
+/// `aggregates.csv` and `slopes.json`.
+pub fn write_aggregates(out: &Path, spec: &Spec, aggs: &[Aggregate]) -> Result<()> {
+    io::write_atomic(&out.join(AGGREGATES_CSV), results::aggregates_to_csv(aggs).as_bytes())?;
+    let slopes = serde_json::to_string_pretty(&results::sweep_slopes(spec, aggs)).unwrap_or_default();
+    io::write_atomic(&out.join(SLOPES_JSON), slopes.as_bytes())
+}
+
+/// A figure (or any other file the report names) by its file name.
+pub fn write_file(out: &Path, name: &str, bytes: &[u8]) -> Result<()> {
+    io::write_atomic(&out.join(name), bytes)
+}
+
+/// Removes a file an earlier run left that this one does not write (it would mislead).
+pub fn remove_file(out: &Path, name: &str) -> Result<()> {
+    io::remove_file_if_exists(&out.join(name))
+}
+
+/// The report's page: `index.html` and its Markdown twin `md` (`report.md` or `advice.md`).
+pub fn write_page(out: &Path, html: &str, md_name: &str, md: &str) -> Result<()> {
+    io::write_atomic(&out.join(md_name), md.as_bytes())?;
+    io::write_atomic(&out.join(INDEX_HTML), html.as_bytes())
+}
+
+/// The report's entry point, for the closing line.
+pub fn index(out: &Path) -> PathBuf {
+    out.join(INDEX_HTML)
+}

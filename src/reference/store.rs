@@ -1,0 +1,377 @@
+//! Reference images: reuse a stored one only when its manifest matches what the run needs,
+//! otherwise render it (unless told not to). A reference is the mean of independent renders with
+//! an unbiased estimator; their spread gives the per-pixel standard error and so the noise floor.
+
+use crate::error::{Error, Result};
+use crate::image::{Channel, Image};
+use crate::io;
+use crate::jobs::runner::{Geometry, JobRunner};
+use crate::plan;
+use crate::reference::{self, Adaptive, Manifest};
+use crate::scene::Scene;
+use crate::spec::{MAX_REFERENCE_RAYS, ReferenceRays, Spec};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+pub struct Reference {
+    pub mean: Image,
+    pub stderr: Image,
+    pub coverage: Image,
+    pub manifest: Manifest,
+    pub exr: PathBuf,
+}
+
+impl Reference {
+    pub fn noise_floor(&self) -> f64 {
+        reference::noise_floor(&self.stderr, &self.coverage)
+    }
+}
+
+/// Where a command finds the spec's references: `--reference-dir`, else the spec's own
+/// (`[reference] dir` relative to the spec file, or `reference/` beside it), never the current
+/// directory's.
+pub fn dir(flag: Option<&Path>, spec: &Spec) -> PathBuf {
+    flag.map_or_else(|| spec.reference_dir.clone(), Path::to_path_buf)
+}
+
+/// What to do when the stored reference is missing or does not match.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Policy {
+    /// Reuse a matching one, else render.
+    ReuseOrBuild,
+    /// Reuse a matching one, else stop with an error.
+    ReuseOnly,
+    /// Always render.
+    Rebuild,
+}
+
+/// Rays per reference replicate for `rays = "auto"`. The smallest RMSE a spec measures is about the
+/// single-render error of the best estimator at the largest ray count N; the floor of K replicates
+/// at R rays is about err(R)/√K, and err falls at least as 1/√rays, so R = 100·N/K puts the floor at
+/// or below a tenth of it. The run checks the claim against the measured RMSEs afterwards.
+pub fn auto_rays(spec: &Spec, scene: usize) -> u32 {
+    let n = spec.groups.iter().filter(|g| g.scenes.contains(&scene)).flat_map(|g| g.rays.iter()).max();
+    let n = *n.unwrap_or(&64) as u64;
+    let r = (100 * n).div_ceil(spec.reference.replicates.max(1) as u64);
+    r.next_power_of_two().min(1 << 22) as u32
+}
+
+/// Most rays of a pilot pass under a fixed budget: enough to see each pixel's spread, a small part of
+/// the budget.
+pub const MAX_PILOT_RAYS: u32 = 256;
+
+/// An adaptive reference's pilot rays per pixel: under `rays = "auto"` the largest ray count the spec
+/// measures on the scene (so the pilot's spread is the single-render error the floor is set against),
+/// else the budget, up to `MAX_PILOT_RAYS`.
+pub fn pilot_rays(spec: &Spec, scene: usize) -> u32 {
+    match spec.reference.rays {
+        ReferenceRays::Fixed(r) => r.min(MAX_PILOT_RAYS),
+        ReferenceRays::Auto => {
+            let n =
+                spec.groups.iter().filter(|g| g.scenes.contains(&scene)).flat_map(|g| g.rays.iter()).max();
+            *n.unwrap_or(&64)
+        }
+    }
+}
+
+pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry) -> Manifest {
+    let rays = match (spec.reference.adaptive, spec.reference.rays) {
+        (true, _) => pilot_rays(spec, si),
+        (false, ReferenceRays::Fixed(r)) => r,
+        (false, ReferenceRays::Auto) => auto_rays(spec, si),
+    };
+    let mut m = Manifest::wanted(
+        &spec.scenes[si],
+        &scene.content_hash,
+        &scene.camera_description(),
+        [geometry.width, geometry.height],
+        geometry.distance,
+        spec.reference.estimator,
+        rays,
+        spec.reference.replicates,
+        spec.reference.seed,
+    );
+    if spec.reference.adaptive {
+        m.adaptive = Some(Adaptive {
+            rule: reference::ADAPTIVE_RULE.into(),
+            min_rays: rays,
+            budget: match spec.reference.rays {
+                ReferenceRays::Fixed(r) => Some(r),
+                ReferenceRays::Auto => None,
+            },
+            total_rays: None,
+            max_rays: None,
+        });
+    }
+    m
+}
+
+fn paths(dir: &Path, manifest: &Manifest) -> (PathBuf, PathBuf) {
+    let stem = manifest.file_stem();
+    (dir.join(format!("{stem}.exr")), dir.join(format!("{stem}.json")))
+}
+
+/// The reference of scene `si`, from `dir` or freshly rendered into it.
+///
+/// Shards of one spec may start together on a shared filesystem: each takes the reference's lock
+/// file (`<stem>.lock`, an OS lock released even if the process is killed) before it looks, so one
+/// builds while the others wait and then reuse its result. The image and the manifest are each
+/// written atomically, image first, so no reader ever sees a half-written file or a manifest
+/// without its image. Where the lock cannot be taken (a read-only reference directory, a filesystem
+/// without locks) the run goes on without it: then build the references in a step of their own
+/// (`hemilab reference`) and run the shards with `--no-build-reference`.
+pub fn obtain(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    dir: &Path,
+    policy: Policy,
+    runner: &JobRunner,
+) -> Result<Reference> {
+    let geometry = Geometry::of(spec.resolution, spec.ao_distance, scene);
+    let wanted = wanted_manifest(spec, si, scene, geometry);
+    let (exr, json) = paths(dir, &wanted);
+    let lock_path = dir.join(format!("{}.lock", wanted.file_stem()));
+    if policy != Policy::ReuseOnly && !io::exists(dir) {
+        // Nothing to reuse: it will be built here, and the lock file needs the directory.
+        io::ensure_writable_dir(dir)?;
+        io::create_dir_all(dir)?;
+    }
+    let waiting = |holder: &str| {
+        eprintln!("reference for '{}': waiting for {holder} ({})", scene.name, lock_path.display())
+    };
+    let (_lock, unlocked) = match io::exists(dir).then(|| io::lock(&lock_path, waiting)).transpose()? {
+        Some(Ok(lock)) => (Some(lock), None),
+        Some(Err(why)) => (None, Some(why)),
+        None => (None, None),
+    };
+    if policy != Policy::Rebuild {
+        match load_if_matching(spec, &wanted, &exr, &json)? {
+            Ok(r) => return Ok(r),
+            Err((file, why)) if policy == Policy::ReuseOnly => {
+                let flag = if dir == spec.reference_dir {
+                    String::new()
+                } else {
+                    format!(" --reference-dir {}", dir.display())
+                };
+                return Err(Error::input(
+                    &file,
+                    format!(
+                        "{why}: no usable reference for scene '{}' in {}; build it with `hemilab reference \
+                         {}{flag}`, pass --reference-dir DIR if it is stored elsewhere, or drop \
+                         --no-build-reference",
+                        scene.name,
+                        dir.display(),
+                        spec.path.display()
+                    ),
+                ));
+            }
+            Err((file, why)) => {
+                // Fail before the (long) reference render, not after it, if it could not be saved.
+                io::ensure_writable_dir(dir)?;
+                eprintln!("reference for '{}': {}: {why}; rendering a new one", scene.name, file.display())
+            }
+        }
+    }
+    io::ensure_writable_dir(dir)?;
+    if let Some(why) = unlocked {
+        eprintln!("warning: {why}; another run started now could build this reference at the same time");
+    }
+    build(spec, si, scene, wanted, &exr, &json, runner)
+}
+
+/// The reference scene `si` needs, if `dir` holds no usable one (what `obtain` would build).
+pub fn missing(spec: &Spec, si: usize, scene: &Scene, dir: &Path) -> Result<Option<Manifest>> {
+    let wanted = wanted_manifest(spec, si, scene, Geometry::of(spec.resolution, spec.ao_distance, scene));
+    let (exr, json) = paths(dir, &wanted);
+    Ok(load_if_matching(spec, &wanted, &exr, &json)?.err().map(|_| wanted))
+}
+
+/// `Ok(Err((file, why)))` when there is nothing reusable; `Err` only for a stored file that cannot
+/// be read.
+fn load_if_matching(
+    spec: &Spec,
+    wanted: &Manifest,
+    exr: &Path,
+    json: &Path,
+) -> Result<std::result::Result<Reference, (PathBuf, String)>> {
+    for file in [json, exr] {
+        if !io::exists(file) {
+            return Ok(Err((file.to_path_buf(), "not found".into())));
+        }
+    }
+    let stored = Manifest::from_json(&io::read_string(json)?)
+        .map_err(|e| Error::input(json, format!("not a reference manifest: {e}")))?;
+    let check = match spec.reference.rays {
+        // An adaptive reference's rays follow from its (exactly compared) pilot settings.
+        _ if wanted.adaptive.is_some() => stored.matches(wanted),
+        ReferenceRays::Fixed(_) => stored.matches(wanted),
+        // The floor the run needs is known only after it; a reference with at least the rays `auto`
+        // would spend now is as good as a new one, one with fewer (the spec grew) is not.
+        ReferenceRays::Auto => stored.matches_auto(wanted, f64::INFINITY).and_then(|()| {
+            let total = |m: &Manifest| m.rays as u64 * m.replicates as u64;
+            if total(&stored) >= total(wanted) {
+                return Ok(());
+            }
+            Err(vec![format!(
+                "rays: stored {} x {}, wanted at least {} x {} for rays = \"auto\"",
+                stored.replicates, stored.rays, wanted.replicates, wanted.rays
+            )])
+        }),
+    };
+    if let Err(diffs) = check {
+        return Ok(Err((json.to_path_buf(), format!("does not match ({})", diffs.join("; ")))));
+    }
+    let channels = io::read_exr(exr)?;
+    let take = |name: &str| {
+        channels
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, img)| img.clone())
+            .ok_or_else(|| Error::input(exr, format!("reference lacks channel '{name}'")))
+    };
+    let (mean, stderr, coverage) = (take("Y")?, take("stderr")?, take("A")?);
+    if mean.width != wanted.resolution[0] || mean.height != wanted.resolution[1] {
+        return Ok(Err((exr.to_path_buf(), "has the wrong size".into())));
+    }
+    Ok(Ok(Reference { mean, stderr, coverage, manifest: stored, exr: exr.to_path_buf() }))
+}
+
+fn build(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    mut manifest: Manifest,
+    exr: &Path,
+    json: &Path,
+    runner: &JobRunner,
+) -> Result<Reference> {
+    let jobs = plan::reference_jobs(spec, si, manifest.rays);
+    let start = Instant::now();
+    let mut images = Vec::with_capacity(jobs.len());
+    let mut coverage = None;
+    let counts = match &manifest.adaptive {
+        Some(a) => Some(allocation(spec, si, scene, &manifest, a, runner)?),
+        None => None,
+    };
+    for (i, job) in jobs.iter().enumerate() {
+        let label = format!("reference {}/{}", i + 1, jobs.len());
+        let done = match &counts {
+            Some(c) => runner.render_counts(job, scene, c, &label)?,
+            None => runner.render(job, scene, &label)?,
+        };
+        coverage.get_or_insert(done.output.coverage);
+        images.push(done.output.ao);
+    }
+    if let (Some(a), Some(c)) = (manifest.adaptive.as_mut(), &counts) {
+        a.total_rays = Some(c.iter().map(|&n| n as u64).sum());
+        a.max_rays = c.iter().copied().max();
+    }
+    let coverage =
+        coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
+    let (mean, stderr) = reference::mean_and_stderr(&images).map_err(Error::Refused)?;
+    manifest.noise_floor = Some(reference::noise_floor(&stderr, &coverage));
+    manifest.time_s = Some(start.elapsed().as_secs_f64());
+    // Image first, manifest last: a crash in between leaves no manifest, so nothing stale is reused.
+    io::write_exr(
+        exr,
+        &[
+            Channel { name: "Y", image: &mean },
+            Channel { name: "stderr", image: &stderr },
+            Channel { name: "A", image: &coverage },
+        ],
+    )?;
+    io::write_atomic(json, manifest.to_json().as_bytes())?;
+    let rays = match &manifest.adaptive {
+        Some(a) => {
+            let pixels = reference::noise_floor_pixels(&coverage);
+            let mean = a.total_rays.unwrap_or(0) as f64 / pixels.max(1) as f64;
+            format!("adaptive, {mean:.0} mean (pilot {} x {})", manifest.replicates, manifest.rays)
+        }
+        None => manifest.rays.to_string(),
+    };
+    eprintln!(
+        "reference for '{}': {} x {} rays, noise floor {:.2e}, {:.1} s → {}",
+        scene.name,
+        manifest.replicates,
+        rays,
+        manifest.noise_floor.unwrap_or(0.0),
+        manifest.time_s.unwrap_or(0.0),
+        exr.display()
+    );
+    let others = others_of_scene(exr.parent().unwrap_or(Path::new(".")), &manifest)?;
+    if !others.is_empty() {
+        eprintln!(
+            "note: {} also holds {} other reference(s) of '{}' (another view, size or d; never deleted, another \
+             spec may use them): {}",
+            exr.parent().map_or(String::new(), |d| d.display().to_string()),
+            others.len(),
+            manifest.scene,
+            others.join(", ")
+        );
+    }
+    Ok(Reference { mean, stderr, coverage, manifest, exr: exr.to_path_buf() })
+}
+
+/// The stems of the other references of `m`'s scene file in `dir` (older views, other sizes): a
+/// camera edit builds a new reference beside the old one, which is kept, so say what piles up.
+fn others_of_scene(dir: &Path, m: &Manifest) -> Result<Vec<String>> {
+    let mine = m.file_stem();
+    let mut out = Vec::new();
+    for p in io::list_dir(dir)? {
+        let stem = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        if p.extension().is_none_or(|e| e != "json") || stem == mine {
+            continue;
+        }
+        let Ok(text) = io::read_string(&p) else { continue };
+        if Manifest::from_json(&text).is_ok_and(|o| o.scene == m.scene) {
+            out.push(stem);
+        }
+    }
+    Ok(out)
+}
+
+/// Rays per pixel of an adaptive reference: a pilot pass (the reference estimator at the manifest's
+/// `rays`, replicates with seeds of their own stream, so the allocation is independent of the final
+/// renders) gives each pixel's spread; `reference::allocate` turns it into counts. Under `rays =
+/// "auto"` the target floor is `FLOOR_RATIO` of the pilot's single-render RMS error, the error of the
+/// reference estimator at the largest ray count the spec measures.
+fn allocation(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    manifest: &Manifest,
+    a: &Adaptive,
+    runner: &JobRunner,
+) -> Result<Vec<u32>> {
+    let mut pilots = Vec::new();
+    let mut coverage = None;
+    let mut jobs = plan::reference_jobs(spec, si, manifest.rays);
+    for (i, job) in jobs.iter_mut().enumerate() {
+        job.seed = plan::reference_seed(spec.reference.seed ^ PILOT_STREAM, job.replicate);
+        let done =
+            runner.render(job, scene, &format!("reference pilot {}/{}", i + 1, spec.reference.replicates))?;
+        coverage.get_or_insert(done.output.coverage);
+        pilots.push(done.output.ao);
+    }
+    let coverage =
+        coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
+    let (_, se) = reference::mean_and_stderr(&pilots).map_err(Error::Refused)?;
+    let k = pilots.len() as f32;
+    let sd = Image::from_vec(se.width, se.height, se.data.iter().map(|x| x * k.sqrt()).collect());
+    let sd = reference::neighbourhood_max(&sd, &coverage);
+    let single_render_error = reference::noise_floor(&sd, &coverage);
+    let target = reference::target_floor(single_render_error);
+    let allocation = reference::Allocation {
+        replicates: manifest.replicates,
+        pilot_rays: manifest.rays,
+        budget: a.budget,
+        target_floor: target,
+        min_rays: a.min_rays,
+        max_rays: MAX_REFERENCE_RAYS,
+    };
+    Ok(reference::allocate(&sd, &coverage, &allocation))
+}
+
+/// Pilot seeds are their own stream (the reference's seed xor "pilot").
+const PILOT_STREAM: u64 = 0x0070_696c_6f74;

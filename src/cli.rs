@@ -1,9 +1,9 @@
 //! Command-line definitions only; `app` does the work. Names are parsed here so that a bad value
 //! fails before anything runs, with clap's exit status 2 and the list of valid choices.
 
-use crate::sampling::{Distribution, SeedMode, Sequence};
-use crate::shard::Shard;
 use clap::{Args, Parser, Subcommand};
+use hemilab::sampling::{Distribution, SeedMode, Sequence};
+use hemilab::shard::{Shard, ShardArg};
 use std::path::PathBuf;
 
 #[derive(Debug, Parser)]
@@ -81,13 +81,6 @@ pub struct RunArgs {
     pub shards: Option<u32>,
     #[command(flatten)]
     pub common: Common,
-}
-
-/// `--shard`: a fixed shard, or `auto` from the batch scheduler's environment.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ShardArg {
-    Fixed(Shard),
-    Auto,
 }
 
 pub fn parse_shard(s: &str) -> Result<ShardArg, String> {
@@ -217,7 +210,7 @@ pub struct BenchArgs {
 /// A positive AO distance, or `inf` / `infinite`.
 pub fn parse_distance(s: &str) -> Result<f32, String> {
     let t = s.trim();
-    if crate::spec::is_infinite(t) {
+    if hemilab::spec::is_infinite(t) {
         return Ok(f32::INFINITY);
     }
     match t.parse::<f32>() {
@@ -274,7 +267,7 @@ pub struct AdviseArgs {
     /// Only these configurations, comma-separated distribution/sequence/seed_mode, each part a
     /// name or * (e.g. sine-cosine/fibonacci/*); the paper's default is always run.
     #[arg(long, value_parser = parse_pattern, value_delimiter = ',', value_name = "LIST")]
-    pub only: Vec<crate::advice::Pattern>,
+    pub only: Vec<hemilab::advice::Pattern>,
     /// Output directory (default: out/advise-<scene>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -295,8 +288,8 @@ pub fn parse_budget(s: &str) -> Result<f64, String> {
     }
 }
 
-fn parse_pattern(s: &str) -> Result<crate::advice::Pattern, String> {
-    crate::advice::Pattern::parse(s)
+fn parse_pattern(s: &str) -> Result<hemilab::advice::Pattern, String> {
+    hemilab::advice::Pattern::parse(s)
 }
 
 fn parse_distribution(s: &str) -> Result<Distribution, String> {
@@ -311,15 +304,13 @@ fn parse_seed_mode(s: &str) -> Result<SeedMode, String> {
     s.parse()
 }
 
-pub use crate::spec::MAX_SIDE;
-
 /// Parses `WxH` within `spec::RESOLUTION_RULE` (the limits of scene files and specs).
 pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
-    let bad = || format!("resolution '{s}' must be WxH, {}; e.g. 320x240", crate::spec::RESOLUTION_RULE);
+    let bad = || format!("resolution '{s}' must be WxH, {}; e.g. 320x240", hemilab::spec::RESOLUTION_RULE);
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    if !crate::spec::resolution_ok(w as u64, h as u64) {
+    if !hemilab::spec::resolution_ok(w as u64, h as u64) {
         return Err(bad());
     }
     Ok((w, h))

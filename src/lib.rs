@@ -1,19 +1,22 @@
 //! hemilab: which way of generating points on the hemisphere gives the least error per unit of
 //! run time for ray-traced ambient occlusion?
 //!
-//! Data flows one way:
+//! Data flows one way, and the modules are declared in that order:
 //!
 //! ```text
-//!   spec ──► plan ──► jobs ──► images ──► metrics ──► report
-//!  (spec.rs) (plan.rs)  (render/,     (image.rs) (metrics.rs) (report/)
-//!                       scene/,
-//!                       sampling/)
+//!   spec ──► plan ──► jobs ──────────► images ──► metrics ──► results ──► report
+//!  (spec/,  (plan/)  (jobs/: runner,  (render/,   (metrics/) (results/,  (report/: run/,
+//!   load)            executor,        scene/,                compare/,   advise/; outdir
+//!                    calibrate)       sampling/)             advice/)    writes the files)
 //! ```
 //!
+//! `load` reads a spec and its scenes and refuses bad input before any work; `reference` owns what
+//! a reference is and how it is stored; `shard` splits a plan over machines and merges it back;
 //! `timing` is how a render's cost is measured (thread CPU time, interleaved repeats, per-image
-//! overhead apart from per-ray cost); `compare` turns the records into the answer (best per unit
-//! time, paired differences), and `advice` ranks configurations at equal time for `hemilab advise`. `app` is the one orchestrator; `io` is the only module that touches
-//! the filesystem.
+//! overhead apart from per-ray cost); `compare` turns records into paired comparisons and the
+//! paper's claims; `advice` ranks configurations at equal time for `hemilab advise`. `outdir` names
+//! every output file once and `io` is the only module that touches the filesystem. The command
+//! line (`cli`) and the commands (`app`, one thin file each) are the binary's.
 
 // Declared in pipeline order (blank lines keep rustfmt from sorting them).
 pub mod spec;
@@ -50,11 +53,7 @@ pub mod shard;
 
 pub mod report;
 
-// The shell around the pipeline: command line, orchestration, errors, the filesystem.
-pub mod cli;
-
-pub mod app;
-
+// The shell around the pipeline: errors, the filesystem, progress.
 pub mod error;
 
 pub mod io;

@@ -4,7 +4,6 @@
 //! input is read and checked here, before any work; nothing is written.
 
 use crate::advice;
-use crate::cli::AdviseArgs;
 use crate::compare::per_pixel_unbiased;
 use crate::error::{Error, Result};
 use crate::io;
@@ -22,6 +21,16 @@ use std::path::{Path, PathBuf};
 /// well under a minute of CPU time, and the kitchen's committed 64×48 reference (README, "advise").
 pub const DEFAULT_MAX_PIXELS: u64 = 64 * 48;
 
+/// What the user asked advise for (`hemilab advise`'s flags).
+pub struct Request {
+    pub scene: PathBuf,
+    pub rays: Vec<u32>,
+    pub only: Vec<advice::Pattern>,
+    pub replicates: u32,
+    pub resolution: Option<(u32, u32)>,
+    pub reference_dir: Option<PathBuf>,
+}
+
 /// Everything a run of advise needs, checked.
 pub struct Setup {
     pub loaded: Loaded,
@@ -38,7 +47,7 @@ pub struct Setup {
 
 /// Reads and checks every input, decides the resolution and reference settings, and plans the
 /// jobs; writes nothing.
-pub fn setup(args: &AdviseArgs) -> Result<Setup> {
+pub fn setup(args: &Request) -> Result<Setup> {
     let mut rays = args.rays.clone();
     rays.sort_unstable();
     rays.dedup();
@@ -179,7 +188,7 @@ fn default_reference() -> ReferenceSpec {
 /// committed references of `scenes/*.toml` are in `reference/`). Like a spec's references, never
 /// relative to the current directory, so the committed ones are found from anywhere and a user's
 /// own scene keeps its references beside it.
-fn reference_dir(args: &AdviseArgs, scene: &Scene) -> Result<PathBuf> {
+fn reference_dir(args: &Request, scene: &Scene) -> Result<PathBuf> {
     if let Some(dir) = &args.reference_dir {
         return Ok(dir.clone());
     }

@@ -8,27 +8,34 @@
 //! checked, and the outputs are written at the end, each atomically; advise does not resume (its
 //! default run is about a minute).
 
-use crate::advice::analysis::{self, Measured};
-use crate::advice::setup::{map_jobs, setup};
 use crate::cli::AdviseArgs;
-use crate::error::{Error, Result};
-use crate::jobs::executor;
-use crate::jobs::runner::{Geometry, JobRunner};
-use crate::metrics;
-use crate::plan::Job;
-use crate::reference::store::{self as refs, Policy, Reference};
-use crate::render::RenderOutput;
-use crate::scene::Scene;
-use crate::spec::Row;
-use crate::timing::Protocol;
+use hemilab::advice::analysis::{self, Measured};
+use hemilab::advice::setup::{Request, map_jobs, setup};
+use hemilab::error::{Error, Result};
+use hemilab::jobs::executor;
+use hemilab::jobs::runner::{Geometry, JobRunner};
+use hemilab::metrics;
+use hemilab::plan::Job;
+use hemilab::reference::store::{self as refs, Policy, Reference};
+use hemilab::render::RenderOutput;
+use hemilab::scene::Scene;
+use hemilab::spec::Row;
+use hemilab::timing::Protocol;
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Mutex;
 
 pub fn run(args: AdviseArgs) -> Result<()> {
-    let setup = setup(&args)?;
+    let setup = setup(&Request {
+        scene: args.scene.clone(),
+        rays: args.rays.clone(),
+        only: args.only.clone(),
+        replicates: args.replicates,
+        resolution: args.resolution,
+        reference_dir: args.reference_dir.clone(),
+    })?;
     let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(format!("advise-{}", setup.stem)));
-    crate::outdir::prepare(&out, false)?;
+    hemilab::outdir::prepare(&out, false)?;
     let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
     let (spec, scene) = (&setup.loaded.spec, &setup.loaded.scenes[0]);
     let reference = refs::obtain(spec, 0, scene, &setup.reference_dir, Policy::ReuseOrBuild, &runner)?;
@@ -72,7 +79,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let extra = map_jobs(spec, &analysis::map_needs(&analysis), map_replicates);
     render_extra(&extra, scene, &reference, &runner, &mut measured.errors)?;
     runner.bar.finish_and_clear();
-    let summary = analysis::finish(&measured, analysis, &out)?;
+    let summary = hemilab::report::advise::write(&measured, analysis, &out)?;
     print!("{summary}");
     Ok(())
 }

@@ -11,7 +11,7 @@ mod render;
 mod run;
 
 use crate::cli::{Cli, Command};
-use crate::error::Result;
+use hemilab::error::Result;
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {

@@ -2,11 +2,11 @@
 //! Also the one place that turns sampling settings into directions for the report's point figures.
 
 use crate::cli::PointsArgs;
-use crate::error::{Error, Result};
-use crate::io;
-use crate::report::directions;
-use crate::report::{self, Format, PointSet};
-use crate::spec::Row;
+use hemilab::error::{Error, Result};
+use hemilab::io;
+use hemilab::report::directions;
+use hemilab::report::{self, Format, PointSet};
+use hemilab::spec::Row;
 
 pub fn run(args: &PointsArgs) -> Result<()> {
     let path = &args.output;

@@ -1,11 +1,11 @@
 //! `hemilab reference`: builds (or keeps) the reference of every scene of a spec.
 
 use crate::cli::ReferenceArgs;
-use crate::error::Result;
-use crate::io;
-use crate::jobs::runner::JobRunner;
-use crate::load::load;
-use crate::reference::store::{self as refs, Policy};
+use hemilab::error::Result;
+use hemilab::io;
+use hemilab::jobs::runner::JobRunner;
+use hemilab::load::load;
+use hemilab::reference::store::{self as refs, Policy};
 
 pub fn run(args: ReferenceArgs) -> Result<()> {
     let loaded = load(&args.spec)?;

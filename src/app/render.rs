@@ -1,13 +1,13 @@
 //! `hemilab render`, and scene loading for the whole app.
 
 use crate::cli::RenderArgs;
-use crate::error::{Error, Result};
-use crate::image::{self, Channel, Image};
-use crate::io;
-use crate::load::scene_at;
-use crate::progress;
-use crate::render::{self, RenderJob, RenderOutput};
-use crate::sampling::SamplerConfig;
+use hemilab::error::{Error, Result};
+use hemilab::image::{self, Channel, Image};
+use hemilab::io;
+use hemilab::load::scene_at;
+use hemilab::progress;
+use hemilab::render::{self, RenderJob, RenderOutput};
+use hemilab::sampling::SamplerConfig;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -39,7 +39,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let bar = progress::bar(width as u64 * height as u64, "render", args.common.quiet);
     let start = Instant::now();
     let result =
-        crate::render::pool(args.common.threads)?.install(|| render::render(&scene, &job, &|n| bar.inc(n)));
+        hemilab::render::pool(args.common.threads)?.install(|| render::render(&scene, &job, &|n| bar.inc(n)));
     let secs = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
 

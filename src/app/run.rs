@@ -3,15 +3,15 @@
 //! an interrupted run loses nothing and resumes where it stopped.
 
 use crate::cli::RunArgs;
-use crate::error::{Error, Result};
-use crate::jobs::runner::JobRunner;
-use crate::jobs::{executor, long_run, protocol};
-use crate::load::load;
-use crate::outdir;
-use crate::plan;
-use crate::reference::store::{self as refs, Policy};
-use crate::report;
-use crate::shard::manifest as shard;
+use hemilab::error::{Error, Result};
+use hemilab::jobs::runner::JobRunner;
+use hemilab::jobs::{executor, long_run, protocol};
+use hemilab::load::load;
+use hemilab::outdir;
+use hemilab::plan;
+use hemilab::reference::store::{self as refs, Policy};
+use hemilab::report;
+use hemilab::shard::manifest as shard;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -39,7 +39,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     if let Some(s) = shard {
         shard::Manifest::new(&loaded, &full, s, plan.jobs.len(), protocol).write(&out)?;
     }
-    let write = |r: &[crate::results::JobResult]| outdir::write_results(&out, r);
+    let write = |r: &[hemilab::results::JobResult]| outdir::write_results(&out, r);
     let (results, mut session) =
         executor::run_jobs(&loaded, &plan, &references, &previous, &out, protocol, &runner.bar, &write)?;
     runner.bar.finish_and_clear();

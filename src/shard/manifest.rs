@@ -2,7 +2,7 @@
 //! and the `shard.json` a shard leaves in its output directory so that `merge` can check what it
 //! was: which spec and plan, which hemilab, which shard of how many, and on which machine.
 
-use crate::cli::ShardArg;
+use super::ShardArg;
 use crate::error::{Error, Result};
 use crate::io;
 use crate::load::Loaded;

@@ -72,6 +72,13 @@ impl fmt::Display for Shard {
     }
 }
 
+/// `--shard`: a fixed shard, or `auto` from the batch scheduler's environment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShardArg {
+    Fixed(Shard),
+    Auto,
+}
+
 /// Relative cost of a unit: its renders (its jobs, or `min_renders` timing repeats if more) times
 /// its pixels times (rays + the fixed per-pixel overhead).
 pub fn unit_cost(jobs: usize, pixels: u64, rays: u32, min_renders: u32) -> u64 {

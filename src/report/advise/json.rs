@@ -2,9 +2,10 @@
 //! paper's default, with their standard errors), both full rankings, every measured point with each
 //! replicate's MSE (so the advice can be recomputed), and the winner map's counts.
 
+use super::text::{advice_line, default_at, outside_note, shipped_rays, status};
+use crate::advice::analysis::mean;
 use crate::advice::analysis::{Analysis, Measured};
 use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking, winner};
-use crate::report::advise::page::{advice_line, default_at, mean, outside_note, shipped_rays, status};
 use crate::spec::Row;
 use crate::timing;
 use serde_json::{Value, json};

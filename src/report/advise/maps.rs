@@ -1,0 +1,169 @@
+//! advise's figures: RMSE and low-pass RMSE against time for every configuration, and the winner
+//! maps (which configuration has the least error in each pixel at each budget).
+
+use super::text::label;
+use crate::advice::analysis::{Analysis, MAP_CANDIDATES, Map, Measured};
+use crate::advice::winner::{self, Pixel};
+use crate::advice::{self, Metric, PAPER_DEFAULT, Point};
+use crate::error::{Error, Result};
+use crate::metrics::covered;
+use crate::outdir;
+use crate::report::advise::figures::{
+    self as fig, OTHER_WINNER, Panel, TimeCurve, UNRESOLVED, WINNER_COLOURS,
+};
+use crate::report::colormap::{BACKGROUND, grey};
+use crate::report::{Figure, Format};
+use crate::spec::Row;
+use std::path::Path;
+
+/// The winner map figure.
+const WINNER_MAP: &str = "winner_map.png";
+
+/// Colours for the configurations that win pixels, most pixels over all maps first; those beyond
+/// the palette share `OTHER_WINNER`.
+pub fn colours(maps: &[Map]) -> Vec<(Row, [u8; 3])> {
+    let mut won: Vec<(Row, usize)> = Vec::new();
+    for map in maps {
+        let (counts, _, _) = winner::tally(&map.pixels, map.rows.len());
+        for (row, n) in map.rows.iter().zip(counts).filter(|(_, n)| *n > 0) {
+            match won.iter_mut().find(|(r, _)| r == row) {
+                Some(w) => w.1 += n,
+                None => won.push((*row, n)),
+            }
+        }
+    }
+    won.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    won.into_iter()
+        .enumerate()
+        .map(|(i, (row, _))| (row, WINNER_COLOURS.get(i).copied().unwrap_or(OTHER_WINNER)))
+        .collect()
+}
+
+/// error_time.png, lowpass_time.png and winner_map.png (when there is a map).
+pub fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
+    let [w, h] = m.setup.loaded.spec.resolution.unwrap_or([0, 0]);
+    let mut highlight: Vec<Row> = vec![PAPER_DEFAULT];
+    for (r, l) in &a.rankings {
+        for best in [advice::recommended(r), r.ranked.first(), l.ranked.first()].into_iter().flatten() {
+            if !highlight.contains(&best.row) {
+                highlight.push(best.row);
+            }
+        }
+    }
+    let budgets_ms: Vec<f64> = a.budgets_s.iter().map(|b| b * 1e3).collect();
+    let mut figs = Vec::new();
+    for (metric, file, what) in [
+        (Metric::Rmse, "error_time.png", "RMSE"),
+        (Metric::Lowpass, "lowpass_time.png", "low-pass RMSE (σ = 1.5 px)"),
+    ] {
+        let mut curves: Vec<TimeCurve> = a
+            .curves
+            .iter()
+            .map(|c| TimeCurve {
+                label: label(c.row),
+                points: c.points.iter().map(|p| point(p, metric)).collect(),
+                highlight: highlight.contains(&c.row),
+            })
+            .collect();
+        curves.sort_by_key(|c| (!c.highlight, highlight.iter().position(|r| label(*r) == c.label)));
+        let title = format!("{what} against time per image, {} at {w}x{h}", m.setup.stem);
+        let png =
+            fig::error_time_plot(&title, what, &curves, &budgets_ms, Format::Png).map_err(Error::Refused)?;
+        outdir::write_file(out, file, &png)?;
+        figs.push(Figure {
+            path: file.into(),
+            caption: format!(
+                "{what} (mean ± sd over the replicates) against the median time per image of every \
+                 configuration at 1 … {} rays; the paper's default and each budget's best in colour, the \
+                 rest grey; dashed: the budgets.",
+                m.setup.rays.last().copied().unwrap_or(0)
+            ),
+            links: vec![],
+        });
+    }
+    if a.maps.is_empty() {
+        // No budget to map: a map left by an earlier advise in this directory would mislead.
+        outdir::remove_file(out, WINNER_MAP)?;
+    } else {
+        let png = winner_png(m, a)?;
+        outdir::write_file(out, WINNER_MAP, &png)?;
+        figs.push(Figure { path: WINNER_MAP.into(), caption: winner_note(m, a), links: vec![] });
+    }
+    Ok(figs)
+}
+/// (median time in ms, √(mean MSE), its sd over replicates by the delta method).
+fn point(p: &Point, metric: Metric) -> (f64, f64, f64) {
+    let v = match metric {
+        Metric::Rmse => &p.mse,
+        Metric::Lowpass => &p.lowpass_mse,
+    };
+    let (mean, sd) = crate::metrics::mean_sd(v);
+    let rmse = mean.sqrt();
+    (p.time_s * 1e3, rmse, if rmse > 0.0 { sd / (2.0 * rmse) } else { 0.0 })
+}
+/// What "significant" means on the map.
+pub fn winner_note(m: &Measured, a: &Analysis) -> String {
+    format!(
+        "Winner map: per pixel, which of the budget's {MAP_CANDIDATES} best configurations and the paper's default \
+         has the least MSE at the budget over {} replicates (squared error pooled over the pixel's 3x3 neighbourhood, interpolated between the \
+         two measured ray counts around the budget). Coloured where the runner-up's MSE is higher by \
+         more than {:.2} paired standard errors (Student's t, one-sided 1 %, replicates paired by \
+         seed); grey where no win is that clear (equal configurations colour 0.2-1.4 % of pixels by \
+         chance); slate: no surface. The first panel is the reference.",
+        m.map_replicates, a.threshold
+    )
+}
+fn winner_png(m: &Measured, a: &Analysis) -> Result<Vec<u8>> {
+    let r = &m.reference;
+    let (w, h) = (r.mean.width, r.mean.height);
+    let mut panels = vec![Panel {
+        caption: "reference AO".into(),
+        width: w,
+        height: h,
+        rgb: (0..r.mean.len())
+            .map(|i| if covered(&r.coverage, i) { grey(r.mean.data[i]) } else { BACKGROUND })
+            .collect(),
+    }];
+    for map in &a.maps {
+        let colour_of = |row: Row| a.colours.iter().find(|(r, _)| *r == row).map_or(OTHER_WINNER, |c| c.1);
+        let rgb = map
+            .pixels
+            .iter()
+            .map(|p| match p {
+                Pixel::Background => BACKGROUND,
+                Pixel::Unresolved => UNRESOLVED,
+                Pixel::Won(i) => colour_of(map.rows[*i]),
+            })
+            .collect();
+        let (_, unresolved, cov) = winner::tally(&map.pixels, map.rows.len());
+        let share = 100.0 * (cov - unresolved) as f64 / cov.max(1) as f64;
+        panels.push(Panel {
+            caption: format!(
+                "{} ms: {share:.0} % of pixels resolved",
+                advice::round_significant(map.budget_s * 1e3, 3)
+            ),
+            width: w,
+            height: h,
+            rgb,
+        });
+    }
+    let mut legend: Vec<(String, [u8; 3])> = Vec::new();
+    for (i, (row, c)) in a.colours.iter().enumerate() {
+        if i < WINNER_COLOURS.len() {
+            legend.push((label(*row), *c));
+        }
+    }
+    if a.colours.len() > WINNER_COLOURS.len() {
+        legend
+            .push((format!("{} other configurations", a.colours.len() - WINNER_COLOURS.len()), OTHER_WINNER));
+    }
+    legend.push(("no significant winner".into(), UNRESOLVED));
+    legend.push(("no surface".into(), BACKGROUND));
+    let title = format!("Where each configuration wins: {} at {w}x{h}, equal time per image", m.setup.stem);
+    let note = format!(
+        "Least MSE among each budget's {MAP_CANDIDATES} best and the paper default, over {} replicates (3x3 pooled); \
+         coloured if ahead of the runner-up by > {:.2} paired SE.",
+        m.map_replicates, a.threshold
+    );
+    fig::winner_map(&title, &panels, &legend, &note).map_err(Error::Refused)
+}

@@ -6,11 +6,14 @@
 //! masks) →
 //! `warp` to a direction on the hemisphere (uniform, sine, sine-cosine, concentric-cosine),
 //! which `frame` rotates around the surface normal.
+//! All of them draw their randomness from `hash` (counter-based hashing and the 24-bit fixed
+//! point), a leaf that imports nothing of the crate.
 
 pub mod batch;
 pub mod blue_noise;
 pub mod fibonacci;
 pub mod frame;
+pub mod hash;
 mod names;
 pub mod random;
 pub mod seed;

@@ -1,7 +1,7 @@
 //! The paper's pseudo-random pairs, counter-based: point i of a pixel is a hash of
 //! (run seed, pixel, i, dimension), so it never depends on thread scheduling or on other pixels.
 
-use super::seed::{fix_add, fix_from_bits, fix_to_f32, hash};
+use super::hash::{fix_add, fix_from_bits, fix_to_f32, hash};
 use glam::Vec2;
 
 /// Point `i` of the stream `key` (key = hash of run seed, and of the pixel unless static).

@@ -24,6 +24,7 @@ pub mod warp;
 
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
+pub use seed::SeedMode;
 pub use warp::{DirSample, Distribution};
 
 use seed::PixelSeed;
@@ -55,16 +56,6 @@ pub enum Sequence {
     Fibonacci,
     Stratified,
     Sobol,
-}
-
-/// How the point set differs from pixel to pixel (the paper's "seed").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum SeedMode {
-    Static,
-    Rotation,
-    Shift,
-    /// The static set shifted per pixel by a blue-noise mask (Georgiev & Fajardo 2016).
-    BlueNoise,
 }
 
 /// Everything that determines the points of every pixel of one image.

@@ -11,9 +11,18 @@
 //! `rotation` leaves y (hence theta) as in the static set, so it does not make the per-pixel
 //! estimate unbiased for the lattice sequences (tests/sampling_estimators.rs measures it).
 
-use super::SeedMode;
 use super::blue_noise::MaskShift;
 pub use super::hash::{FIX_BITS, FIX_ONE, fix_add, fix_from_bits, fix_to_f32, hash, mix64};
+
+/// How the point set differs from pixel to pixel (the paper's "seed").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum SeedMode {
+    Static,
+    Rotation,
+    Shift,
+    /// The static set shifted per pixel by a blue-noise mask (Georgiev & Fajardo 2016).
+    BlueNoise,
+}
 
 /// One pixel's randomization, derived once per pixel (three mixes).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

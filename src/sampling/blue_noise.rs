@@ -20,7 +20,7 @@
 //! both marginals exact) gave the same low-pass RMSE on the kitchen for every sequence, so the
 //! simpler pair is kept.
 
-use super::seed::{FIX_ONE, hash};
+use super::hash::{FIX_ONE, hash};
 use std::sync::OnceLock;
 
 /// Side of the shipped masks: 4096 ranks, tiled toroidally over the image.

@@ -6,7 +6,7 @@
 //! cannot reach a 24-bit boundary for any u64 index in practice, so the f32 is the true fraction
 //! truncated. (An f32 division loses every fractional bit past index 2^24.)
 
-use super::seed::{FIX_BITS, fix_add, fix_to_f32};
+use super::hash::{FIX_BITS, fix_add, fix_to_f32};
 use glam::Vec2;
 
 /// floor(2^128 / phi_g) = floor(2^128 * (phi_g - 1)).

@@ -6,11 +6,14 @@
 //! masks) →
 //! `warp` to a direction on the hemisphere (uniform, sine, sine-cosine, concentric-cosine),
 //! which `frame` rotates around the surface normal.
+//! All of them draw their randomness from `hash` (counter-based hashing and the 24-bit fixed
+//! point), a leaf that imports nothing of the crate.
 
 pub mod batch;
 pub mod blue_noise;
 pub mod fibonacci;
 pub mod frame;
+pub mod hash;
 mod names;
 pub mod random;
 pub mod seed;
@@ -21,6 +24,7 @@ pub mod warp;
 
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
+pub use seed::SeedMode;
 pub use warp::{DirSample, Distribution};
 
 use seed::PixelSeed;
@@ -52,16 +56,6 @@ pub enum Sequence {
     Fibonacci,
     Stratified,
     Sobol,
-}
-
-/// How the point set differs from pixel to pixel (the paper's "seed").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum SeedMode {
-    Static,
-    Rotation,
-    Shift,
-    /// The static set shifted per pixel by a blue-noise mask (Georgiev & Fajardo 2016).
-    BlueNoise,
 }
 
 /// Everything that determines the points of every pixel of one image.

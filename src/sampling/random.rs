@@ -1,19 +1,12 @@
 //! The paper's pseudo-random pairs, counter-based: point i of a pixel is a hash of
 //! (run seed, pixel, i, dimension), so it never depends on thread scheduling or on other pixels.
 
-use super::seed::{fix_add, fix_from_bits, fix_to_f32, hash};
+use super::hash::{fix_add, fix_from_bits, fix_to_f32, hash};
 use glam::Vec2;
 
-/// Point `i` of the stream `key` (key = hash of run seed, and of the pixel unless static).
-#[inline]
-pub fn random_point(key: u64, i: u64) -> Vec2 {
-    let x = hash(key, 2 * i + 1);
-    let y = hash(key, 2 * i + 2);
-    Vec2::new(fix_to_f32(fix_from_bits(x)), fix_to_f32(fix_from_bits(y)))
-}
-
-/// Fills `out` with points 0.. of the stream `key`, shifted by the fixed-point offsets (dx, dy)
-/// mod 1 (0 except for `blue-noise`, which shifts the run's static set per pixel).
+/// Fills `out` with points 0.. of the stream `key` (key = hash of run seed, and of the pixel unless
+/// static), shifted by the fixed-point offsets (dx, dy) mod 1 (0 except for `blue-noise`, which
+/// shifts the run's static set per pixel).
 pub fn fill(key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
     for (i, p) in out.iter_mut().enumerate() {
         let (x, y) = (hash(key, 2 * i as u64 + 1), hash(key, 2 * i as u64 + 2));

@@ -2,7 +2,7 @@
 //! "Practical Hash-based Owen Scrambling" (JCGT 9(4)). Written here: it is 30 lines, and the
 //! crates that offer it pull in tables for hundreds of dimensions we never use.
 
-use super::seed::{FIX_BITS, fix_add, fix_to_f32, hash};
+use super::hash::{FIX_BITS, fix_add, fix_to_f32, hash};
 use glam::Vec2;
 
 /// Dimension 0 of Sobol' = van der Corput in base 2.

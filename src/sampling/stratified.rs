@@ -4,7 +4,8 @@
 //! is a square grid; a prime n degrades to n strata in x only (y is then a plain jitter over
 //! [0,1)) — honest one-point-per-stratum rather than a grid with empty or doubled cells.
 
-use super::seed::{StrataWalk, fix_add, fix_from_bits, fix_to_f32, hash};
+use super::hash::{fix_add, fix_from_bits, fix_to_f32, hash};
+use super::seed::StrataWalk;
 use glam::Vec2;
 
 /// (rows, cols) with rows * cols == n, rows <= cols, rows as large as possible.

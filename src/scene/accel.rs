@@ -3,18 +3,20 @@
 //!
 //! Why not obvhs's own `ray_traverse_miss`: its 8-wide node test clamps the entry distance to a
 //! hard-coded 1e-4 and ignores `ray.tmin` (obvhs 0.4.0, `cwbvh/simd.rs`), so boxes whose exit lies
-//! closer than 1e-4 are culled and short AO hits are lost (scenes scaled by 1e-3 leak light), and it
-//! picks the slab order from `dir < 0` but the slab distances from `1/dir`, which disagree for -0.0.
-//! Our node test clamps at 0 and pads each child box relative to its distance from the origin (the
-//! packet path's `child_planes`, so single rays and packets cull alike). The triangle test is
-//! watertight, so a closed mesh never lets a ray slip between two triangles that share an edge; it
-//! is written from the ray origin's point of view (signed volumes of the vertices relative to the
-//! origin) so that the rays of one AO pixel, which share their origin, share most of its work (see
-//! `packet`). It reports a hit only where the rounding cannot have changed the sign of the distance
-//! (see `Seen`): so no ray ever hits a triangle whose plane it truly leaves, whatever the size of
-//! the triangle, and an AO origin needs to be lifted only by the error of the hit point itself.
+//! closer than 1e-4 are culled and short AO hits are lost (scenes scaled by 1e-3 leak light), and
+//! it picks the slab order from `dir < 0` but the slab distances from `1/dir`, which disagree for
+//! -0.0. Our node test clamps at 0 and pads each child box relative to its distance from the origin
+//! (`node`'s `child_planes` and `slabs`, shared with the packets, so single rays and packets cull
+//! alike). The triangle test is watertight, so a closed mesh never lets a ray slip between two
+//! triangles that share an edge; it is written from the ray origin's point of view (signed volumes
+//! of the vertices relative to the origin) so that the rays of one AO pixel, which share their
+//! origin, share most of its work (see `packet`). It reports a hit only where the rounding cannot
+//! have changed the sign of the distance (see `Seen`): so no ray ever hits a triangle whose plane
+//! it truly leaves, whatever the size of the triangle, and an AO origin needs to be lifted only by
+//! the error of the hit point itself.
 
-use super::packet::{child_planes, slabs};
+pub use super::node::Ray;
+use super::node::{child_planes, slabs};
 use glam::{UVec2, Vec3, Vec3A, Vec3Swizzles, Vec4};
 use obvhs::cwbvh::{CwBvh, node::CwBvhNode};
 use std::cmp::Ordering;
@@ -51,30 +53,6 @@ pub struct Hit {
     pub prim: u32,
     pub bary_b: f32,
     pub bary_c: f32,
-}
-
-/// A ray prepared for traversal: canonical direction and the slab inverses.
-pub struct Ray {
-    org: Vec3A,
-    dir: Vec3A,
-    inv: Vec3A,
-    tmax: f32,
-}
-
-/// Slabs use 1/dir; a zero component would give 0 * inf = NaN, so tiny components are clamped.
-pub(crate) const TINY: f32 = 1e-20;
-
-fn safe_inv(x: f32) -> f32 {
-    1.0 / if x.abs() < TINY { TINY.copysign(x) } else { x }
-}
-
-impl Ray {
-    /// `dir`: a unit vector (the triangle test's error bound assumes components of magnitude <= 1).
-    pub fn new(org: Vec3, dir: Vec3, tmax: f32) -> Self {
-        let dir = Vec3A::from(dir) + Vec3A::ZERO; // -0.0 → +0.0 (obvhs bug 1)
-        let inv = Vec3A::new(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
-        Self { org: org.into(), dir, inv, tmax }
-    }
 }
 
 impl Accel {

@@ -6,6 +6,7 @@ pub mod camera;
 pub mod file;
 pub mod generate;
 pub mod mesh;
+mod node;
 pub mod packet;
 pub mod procedural;
 

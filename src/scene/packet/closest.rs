@@ -1,21 +1,22 @@
 //! Closest hits of up to 32 rays that share their origin: a tile's primary rays (a pinhole camera's
 //! rays all start at the eye). As for the AO packets, what depends only on the origin is done once
 //! per node (the child planes relative to it) and once per triangle (`Seen`); each ray costs a slab
-//! test per node and 4 dot products per triangle (with AVX2, 8 rays at a time; with the shared
-//! branch-free transpose of the child masks and the directions read only for the rays a test finds,
-//! the kitchen's primary rays went from 95 to 82 ns each, `profile_render … primaries`, median of
-//! 30). Children are visited nearest box first.
+//! test per node and 4 dot products per triangle (with AVX2, 8 rays at a time; the child masks go
+//! through the shared branch-free transpose, and the directions are read only for the rays a test
+//! finds). Children are visited nearest box first.
 //!
 //! The answers are bit-for-bit those of `Accel::closest` on each ray: the same node and triangle
 //! arithmetic (no FMA), and a hit wins by the least (t, triangle) over all the triangles the ray
 //! hits (`accel::closer`), which no visiting order changes. A ray's boxes are culled beyond its
-//! best t so far, padded (see `child_planes`), so no box that holds a winning hit is ever culled.
+//! best t so far, padded (see `node::child_planes`), so no box that holds a winning hit is ever
+//! culled.
 
+use super::STACK;
 #[cfg(target_arch = "x86_64")]
 use super::simd::wide;
-use super::simd::{Packet, box_dist2, child_planes, lanes, present_children, slabs};
-use super::{GROUPS, PACKET, STACK};
+use super::simd::{GROUPS, PACKET, Packet, box_dist2, lanes, present_children};
 use crate::scene::accel::{Accel, Hit, LOOSE, closer};
+use crate::scene::node::{child_planes, slabs};
 use glam::{Vec3, Vec3A, Vec4};
 
 impl Accel {

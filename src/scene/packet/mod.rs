@@ -15,13 +15,14 @@ mod closest;
 mod horizon;
 mod simd;
 
-use super::accel::{Accel, Ray};
+use super::accel::Accel;
+use super::node::{Ray, child_planes, slabs};
 use glam::{Vec3, Vec3A, Vec4};
 use horizon::{Horizon, horizon, horizon_of};
+pub use simd::PACKET;
 #[cfg(target_arch = "x86_64")]
 use simd::wide;
-use simd::{Cull, Packet, box_dist2, groups_of, hit_group, lanes, present_children};
-pub(super) use simd::{child_planes, slabs};
+use simd::{Cull, GROUPS, Packet, box_dist2, groups_of, hit_group, lanes, present_children};
 
 /// Asks for node `idx`'s cache lines (80 bytes: two or three lines) as it goes on the stack, ahead of
 /// its visit: at d = ∞ a packet's last rays walk far across the tree, and each node's fetch would
@@ -45,10 +46,6 @@ fn prefetch_node(nodes: &[obvhs::cwbvh::node::CwBvhNode], idx: u32) {
     #[cfg(not(target_arch = "x86_64"))]
     let _ = (nodes, idx);
 }
-
-/// Rays per packet.
-pub const PACKET: usize = 32;
-pub(super) const GROUPS: usize = PACKET / 4;
 
 /// 7 siblings per level over obvhs's maximum depth of 32, plus the 8 children of the last node.
 const STACK: usize = 256;

@@ -53,7 +53,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         Ok(String::new())
     };
     let none = HashMap::new();
-    let (results, session) = executor::run_jobs_keeping(
+    let (results, session) = executor::measure_jobs(
         &setup.loaded,
         &setup.plan,
         std::slice::from_ref(&reference),

@@ -1,4 +1,5 @@
-//! `hemilab plan`: the plan's size, and how long its run will take *on this machine, now*, from a
+//! How long a plan's run will take *on this machine, now* (`hemilab plan`, `run`'s long-run
+//! warning), from a
 //! short calibration: a fraction of a second of real renders through the timing protocol's own
 //! pieces (one-thread `timing::Worker`s side by side, `timing::Calibration` fitted per estimator),
 //! then the protocol's renders (`plan::cost`) and the references that must be built.

@@ -171,12 +171,12 @@ pub fn run_jobs(
     write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
 ) -> Result<(Vec<JobResult>, Session)> {
     let keep = |_: usize, job: &Job, output: &RenderOutput| outdir::write_image(out, job, output);
-    run_jobs_keeping(loaded, plan, references, previous, out, protocol, bar, write, &keep)
+    measure_jobs(loaded, plan, references, previous, out, protocol, bar, write, &keep)
 }
 
 /// `run_jobs` with the image handed to `keep` instead of written.
 #[allow(clippy::too_many_arguments)]
-pub fn run_jobs_keeping(
+pub fn measure_jobs(
     loaded: &Loaded,
     plan: &Plan,
     references: &[Reference],

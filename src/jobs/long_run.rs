@@ -1,5 +1,5 @@
 //! `run`'s warning before a long run: what is left of it, estimated first roughly (no rendering)
-//! and, if that may be long, as `plan` estimates it (`estimate::estimate_s`, a fraction of a second
+//! and, if that may be long, as `plan` estimates it (`calibrate::estimate_s`, a fraction of a second
 //! of calibration renders), so that an 8000x8000 spec does not start for hours unannounced.
 
 use crate::error::Result;
@@ -28,7 +28,8 @@ pub fn warn_if_long(
     previous: &HashMap<String, JobResult>,
     ref_dir: &Path,
 ) -> Result<()> {
-    // What is left to render (by image: the keys need the references, which may take hours).
+    // What is left to render, by image: the resume rule (`executor::resumed`) needs the run keys,
+    // and they need the references, which may take hours to build; this is an estimate.
     let done: std::collections::HashSet<&str> = previous.values().map(|r| r.image.as_str()).collect();
     let left = plan.jobs.iter().filter(|j| !done.contains(outdir::image_rel(j).as_str()));
     let todo = Plan { jobs: left.cloned().collect() };

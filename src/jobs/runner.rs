@@ -1,4 +1,4 @@
-//! Turning a planned job into an image on all threads (the references; `timed.rs` renders the
+//! Turning a planned job into an image on all threads (the references; `executor` renders the
 //! measured jobs): its geometry on its scene, the sampler, the thread pool.
 
 use crate::error::{Error, Result};

@@ -7,7 +7,7 @@
 //! renders AO; `app` writes what it returns through `io`.
 //!
 //! Text is drawn with plotters' `ab_glyph` rasterizer and the DejaVu Sans font shipped inside the
-//! `dejavu` crate, so no system font library is needed (see NOTES.md).
+//! `dejavu` crate, so no system font library is needed at run time.
 
 pub mod advise;
 pub(crate) mod axis;

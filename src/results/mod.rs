@@ -15,7 +15,8 @@ use crate::plan::Job;
 use crate::spec::Row;
 use serde::{Deserialize, Serialize};
 
-/// Column order of `results.csv`; the first fourteen are the ones issue 4 promises, so later columns
+/// Column order of `results.csv`; the first fourteen are the original columns,
+/// kept in place so that scripts reading them by position still work; later columns
 /// (whiteness_z, the timing columns, …) come after them.
 pub const CSV_COLUMNS: &[&str] = &[
     "scene",

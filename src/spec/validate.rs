@@ -186,7 +186,7 @@ pub(super) fn names<T: std::fmt::Display>(all: &[T]) -> String {
     all.iter().map(|x| format!("\"{x}\"")).collect::<Vec<_>>().join(", ")
 }
 
-/// The figure files (stems, `.png`) a group's report writes: `app::figures` names them so.
+/// The figure files (stems, `.png`) a group's report writes: `report::run::figures` names them so.
 fn figure_stems(g: &Group, scenes: &[SceneRef]) -> Vec<String> {
     let suffixes: &[&str] = match g.kind {
         GroupKind::Table => &["", "_error"],

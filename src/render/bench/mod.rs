@@ -88,8 +88,8 @@ pub fn ray_set(scene: &Scene, job: &RenderJob) -> RaySet {
     set
 }
 
-/// What a user of obvhs would write: a CWBVH with obvhs's medium preset (the one its docs and
-/// NOTES.md suggest) over the scene's triangles, and its fast triangle layout in BVH order.
+/// What a user of obvhs would write: a CWBVH with obvhs's medium preset (the one its docs
+/// suggest) over the scene's triangles, and its fast triangle layout in BVH order.
 pub struct Baseline {
     pub bvh: CwBvh,
     pub tris: Vec<RtTriangle>,

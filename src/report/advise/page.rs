@@ -1,4 +1,4 @@
-//! advice.md and index.html from advise's analysis (advice.json is `advise_json`), and the lines
+//! advice.md and index.html from advise's analysis (advice.json is `json`), and the lines
 //! it prints: the answer per budget first, then what a time is, the rankings, and every measured point.
 
 use super::maps::winner_note;

@@ -5,7 +5,7 @@
 
 use crate::compare::{self, Best};
 use crate::report::Table;
-use crate::report::run::data::{Data, agg_label, banding_stat, row_label};
+use crate::report::run::data::{ReportInput, agg_label, banding_stat, row_label};
 use crate::results::lookup;
 use crate::spec::{Group, Row};
 
@@ -15,7 +15,7 @@ pub struct Answer {
     pub tables: Vec<Table>,
 }
 
-pub fn answer(data: &Data) -> Answer {
+pub fn answer(data: &ReportInput) -> Answer {
     let mut text = Vec::new();
     let mut tables = Vec::new();
     for (g, _, scene) in data.sweeps() {
@@ -60,7 +60,7 @@ pub fn answer(data: &Data) -> Answer {
 /// "A at 7 of 11 ray counts (4, 16–512; ×1.05–1.14 the runner-up's efficiency, by more than 3
 /// combined spreads at 2 of them); B at …", winners in order of how often they win ("at none of
 /// them by more than 3 combined spreads" when no margin is resolved).
-fn winners(data: &Data, scene: &str, best: &[Best]) -> String {
+fn winners(data: &ReportInput, scene: &str, best: &[Best]) -> String {
     let mut groups: Vec<(String, Vec<&Best>)> = Vec::new();
     for b in best {
         let label = agg_label(b.best);
@@ -165,7 +165,7 @@ fn top_two(best: &[Best]) -> Option<(Row, Row)> {
 
 /// `w` against `r` at every ray count of the sweep, replicate by replicate: where w's RMSE is lower
 /// or higher by at least 5 paired standard errors, and the ratio of their median times.
-fn head_to_head(data: &Data, g: &Group, scene: &str, w: Row, r: Row) -> String {
+fn head_to_head(data: &ReportInput, g: &Group, scene: &str, w: Row, r: Row) -> String {
     let (mut lower, mut higher, mut within) = (Vec::new(), Vec::new(), Vec::new());
     let mut ratios = Vec::new();
     for &n in &g.rays {
@@ -270,7 +270,7 @@ fn best_table(g: &Group, scene: &str, all: &[Best], unbiased: &[Best]) -> Table 
 
 /// Rows that differ in one choice, compared replicate by replicate (the same seeds): the RMSE
 /// difference in percent with its paired z, and the ratio of their median render times.
-fn paired_table(data: &Data, g: &Group, scene: &str) -> Table {
+fn paired_table(data: &ReportInput, g: &Group, scene: &str) -> Table {
     let mut header = vec!["b vs a".to_string()];
     header.extend(g.rays.iter().map(|r| format!("{r} rays")));
     let rows = compare::one_factor_pairs(&g.rows)
@@ -292,7 +292,7 @@ fn paired_table(data: &Data, g: &Group, scene: &str) -> Table {
     }
 }
 
-fn paired_cell(data: &Data, scene: &str, a: Row, b: Row, n: u32) -> String {
+fn paired_cell(data: &ReportInput, scene: &str, a: Row, b: Row, n: u32) -> String {
     let Some(p) = compare::paired_rmse(data.results, scene, a, b, n) else { return "–".into() };
     let z = p.z();
     let z = if z.is_finite() { format!("z {z:+.1}") } else { "every replicate".into() };

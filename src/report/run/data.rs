@@ -10,7 +10,7 @@ use crate::spec::{Group, GroupKind, Row};
 use crate::timing::{Protocol, Summary};
 
 /// Everything the figures and the page are drawn from.
-pub struct Data<'a> {
+pub struct ReportInput<'a> {
     pub loaded: &'a Loaded,
     pub references: &'a [Reference],
     pub results: &'a [JobResult],
@@ -22,7 +22,7 @@ pub struct Data<'a> {
     pub notes: Vec<String>,
 }
 
-impl<'a> Data<'a> {
+impl<'a> ReportInput<'a> {
     pub fn new(
         loaded: &'a Loaded,
         references: &'a [Reference],
@@ -81,18 +81,18 @@ pub fn whiteness_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -
 }
 
 /// The aggregates of one sweep row, in ray order.
-pub fn sweep_points<'a>(data: &'a Data, g: &Group, scene: &str, row: Row) -> Vec<&'a Aggregate> {
+pub fn sweep_points<'a>(data: &'a ReportInput, g: &Group, scene: &str, row: Row) -> Vec<&'a Aggregate> {
     g.rays.iter().filter_map(|&rays| results::lookup(&data.aggs, scene, row, rays)).collect()
 }
 
 /// The fitted slopes of one sweep row, over the sweep's own ray counts.
-pub fn sweep_slope(data: &Data, g: &Group, scene: &str, row: Row) -> Option<results::Slope> {
+pub fn sweep_slope(data: &ReportInput, g: &Group, scene: &str, row: Row) -> Option<results::Slope> {
     let pts: Vec<Aggregate> = sweep_points(data, g, scene, row).into_iter().cloned().collect();
     results::convergence_slopes(&pts, &g.rays).into_iter().next()
 }
 
 /// Every (scene, row, rays) of the spec's tables, in file order, without duplicates.
-pub fn table_configs(data: &Data) -> Vec<(String, Row, u32)> {
+pub fn table_configs(data: &ReportInput) -> Vec<(String, Row, u32)> {
     let spec = &data.loaded.spec;
     let mut out: Vec<(String, Row, u32)> = Vec::new();
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {

@@ -2,7 +2,7 @@
 //! grids (the paper's Tables 2 and 3), every `[[convergence]]` as RMSE against rays and against
 //! render time and its efficiency against rays, the banding metric of the tables' configurations,
 //! and the paper's point figures when the spec asks. Drawing is `report`'s job; this module picks
-//! the data from `data::Data` and writes the bytes. The page (`page.rs`) lists what it returns.
+//! the data from `data::ReportInput` and writes the bytes. The page (`page.rs`) lists what it returns.
 
 use crate::error::{Error, Result};
 use crate::image::Image;
@@ -11,7 +11,7 @@ use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::outdir;
 use crate::report::figure_rows;
 use crate::report::run::data::{
-    Data, banding_stat, row_label, sweep_points, sweep_slope, table_configs, whiteness_stat,
+    ReportInput, banding_stat, row_label, sweep_points, sweep_slope, table_configs, whiteness_stat,
 };
 use crate::report::{self, Figure, Format, GridCell, Guide, Series};
 use crate::results;
@@ -23,7 +23,7 @@ use std::path::Path;
 const POINT_COUNTS: [u32; 3] = [500, 1000, 5000];
 
 /// Writes every figure of the run into `out` and returns them in page order.
-pub fn write_all(data: &Data, out: &Path) -> Result<Vec<Figure>> {
+pub fn write_all(data: &ReportInput, out: &Path) -> Result<Vec<Figure>> {
     let spec = &data.loaded.spec;
     let mut figures = Vec::new();
     if spec.point_figures {
@@ -86,7 +86,7 @@ fn point_figures(seed: u64, out: &Path) -> Result<Vec<Figure>> {
 }
 
 /// The AO image of replicate 0 (the lowest replicate present) of a configuration, with its coverage.
-fn cell_image(data: &Data, out: &Path, scene: &str, row: Row, rays: u32) -> Result<(Image, Image)> {
+fn cell_image(data: &ReportInput, out: &Path, scene: &str, row: Row, rays: u32) -> Result<(Image, Image)> {
     let r = data.results.iter().filter(|r| r.is(scene, row, rays)).min_by_key(|r| r.replicate).ok_or_else(
         || Error::Refused(format!("no result for {} at {rays} rays on '{scene}'", row.label())),
     )?;
@@ -102,7 +102,7 @@ fn cell_image(data: &Data, out: &Path, scene: &str, row: Row, rays: u32) -> Resu
     Ok((take("Y")?, take("A")?))
 }
 
-fn caption(data: &Data, scene: &str, row: Row, rays: u32) -> String {
+fn caption(data: &ReportInput, scene: &str, row: Row, rays: u32) -> String {
     match results::lookup(&data.aggs, scene, row, rays) {
         Some(a) => {
             let (b, _) = banding_stat(data.results, scene, row, rays).unwrap_or((f64::NAN, 0.0));
@@ -112,7 +112,7 @@ fn caption(data: &Data, scene: &str, row: Row, rays: u32) -> String {
     }
 }
 
-fn table_figures(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+fn table_figures(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
     let reference = &data.references[si];
     let mut images: Vec<Vec<(Image, Image, String)>> = Vec::new();
@@ -196,7 +196,7 @@ fn log_log(
 }
 
 /// The reference's noise floor as a guide, when it is a positive number.
-fn floor_guide(data: &Data, si: usize) -> Vec<Guide> {
+fn floor_guide(data: &ReportInput, si: usize) -> Vec<Guide> {
     let floor = data.references[si].noise_floor();
     if floor.is_finite() && floor > 0.0 {
         vec![Guide::Horizontal(floor, "reference noise floor".into())]
@@ -205,12 +205,12 @@ fn floor_guide(data: &Data, si: usize) -> Vec<Guide> {
     }
 }
 
-fn size(data: &Data, si: usize) -> String {
+fn size(data: &ReportInput, si: usize) -> String {
     format!("{}x{} px", data.references[si].mean.width, data.references[si].mean.height)
 }
 
 /// RMSE against rays per pixel, mean ± sd over replicates, slope and its 95 % interval in the legend.
-fn convergence_rays(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+fn convergence_rays(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
     let series: Vec<Series> = g
         .rows
@@ -239,7 +239,7 @@ fn convergence_rays(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -
 
 /// RMSE against the median render time (min..max of the timed renders as x bars), the
 /// no-AO-ray overhead as a wall; slope against AO time in the legend.
-fn convergence_time(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+fn convergence_time(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
     let mut series = Vec::new();
     for &row in &g.rows {
@@ -283,7 +283,13 @@ fn convergence_time(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -
 }
 
 /// Efficiency 1 / (MSE · AO time) against rays per pixel, ± its spread.
-fn efficiency_figure(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+fn efficiency_figure(
+    data: &ReportInput,
+    g: &Group,
+    si: usize,
+    stem: &str,
+    out: &Path,
+) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
     let series: Vec<Series> = g
         .rows
@@ -315,7 +321,7 @@ fn efficiency_figure(data: &Data, g: &Group, si: usize, stem: &str, out: &Path) 
 /// The structured-error metric (whiteness z) of every table configuration, so Table 3's banding is
 /// a number: one figure for a single scene (`banding.png`), one per scene otherwise
 /// (`banding_<scene>.png`), so that no figure grows beyond a screen or two.
-fn banding_figure(data: &Data, out: &Path) -> Result<Vec<Figure>> {
+fn banding_figure(data: &ReportInput, out: &Path) -> Result<Vec<Figure>> {
     let configs = table_configs(data);
     let mut scenes: Vec<String> = Vec::new();
     for (scene, _, _) in &configs {

@@ -33,7 +33,8 @@ pub fn write(
     let aggs = results::aggregate(results);
     outdir::write_aggregates(out, &loaded.spec, &aggs)?;
     let summary = summary::summary(&loaded.spec, references, &aggs, session);
-    let mut data = data::Data::new(loaded, references, results, aggs, protocol, session.overhead.clone());
+    let mut data =
+        data::ReportInput::new(loaded, references, results, aggs, protocol, session.overhead.clone());
     data.notes = notes;
     let figures = figures::write_all(&data, out)?;
     page::write(&data, &figures, out)?;

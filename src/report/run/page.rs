@@ -9,14 +9,14 @@ use crate::error::Result;
 use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::outdir;
 use crate::report::run::answer;
-use crate::report::run::data::{Data, agg_label, banding_stat, row_label, sweep_slope};
+use crate::report::run::data::{ReportInput, agg_label, banding_stat, row_label, sweep_slope};
 use crate::report::{self, Figure, Table};
 use crate::results::{self, SlopeFit, Stat};
 use crate::spec::{GroupKind, Row};
 use crate::timing;
 use std::path::Path;
 
-pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
+pub fn write(data: &ReportInput, figures: &[Figure], out: &Path) -> Result<()> {
     let spec = &data.loaded.spec;
     let answer = answer::answer(data);
     let (mut lead, mut tables, mut collapsed) = (Vec::new(), Vec::new(), Vec::new());
@@ -82,7 +82,7 @@ pub fn write(data: &Data, figures: &[Figure], out: &Path) -> Result<()> {
 }
 
 /// What a time is and how it was measured.
-fn timing_text(data: &Data) -> String {
+fn timing_text(data: &ReportInput) -> String {
     let p = &data.protocol;
     let overhead: Vec<String> = data
         .loaded
@@ -137,7 +137,7 @@ fn pm(s: Stat, digits: usize) -> String {
     if s.mean.is_finite() { format!("{:.digits$} ± {:.digits$}", s.mean, s.sd) } else { "–".into() }
 }
 
-fn reference_table(data: &Data) -> Table {
+fn reference_table(data: &ReportInput) -> Table {
     let header =
         ["scene", "size", "estimator", "replicates × rays", "noise floor", "smallest RMSE", "floor / RMSE"];
     let rows = data
@@ -178,7 +178,7 @@ fn reference_table(data: &Data) -> Table {
     Table { title: "References".into(), header: header.map(String::from).to_vec(), rows }
 }
 
-fn rmse_table(data: &Data, name: &str, scene: &str, rows: &[Row], rays: &[u32], reps: u32) -> Table {
+fn rmse_table(data: &ReportInput, name: &str, scene: &str, rows: &[Row], rays: &[u32], reps: u32) -> Table {
     let mut header = vec!["configuration".to_string()];
     header.extend(rays.iter().map(|r| format!("{r} rays")));
     let rows = rows
@@ -209,7 +209,7 @@ fn rmse_table(data: &Data, name: &str, scene: &str, rows: &[Row], rays: &[u32], 
     Table { title, header, rows }
 }
 
-fn slope_table(data: &Data) -> Table {
+fn slope_table(data: &ReportInput) -> Table {
     let header = [
         "sweep",
         "scene",
@@ -262,7 +262,7 @@ fn slope_table(data: &Data) -> Table {
     }
 }
 
-fn aggregate_table(data: &Data) -> Table {
+fn aggregate_table(data: &ReportInput) -> Table {
     let header = [
         "scene",
         "configuration",

@@ -5,12 +5,12 @@
 
 use crate::compare::claims::{self, Claim, Outcome, Verdict};
 use crate::report::Table;
-use crate::report::run::data::Data;
+use crate::report::run::data::ReportInput;
 use crate::spec::GroupKind;
 
 /// Every claim on every scene of the spec. Table claims use the ray counts of the `[[table]]`s that
 /// include the scene; slope claims the ray counts of its first `[[convergence]]`.
-pub fn all(data: &Data) -> Vec<Verdict> {
+pub fn all(data: &ReportInput) -> Vec<Verdict> {
     let spec = &data.loaded.spec;
     let mut out = Vec::new();
     for (si, scene) in spec.scenes.iter().enumerate() {
@@ -41,7 +41,7 @@ fn cell(v: &Verdict) -> String {
 
 /// (the scene × claim table, the per-ray-count details); `None` when the run measured none of the
 /// claims (e.g. a spec without the paper's rows).
-pub fn tables(data: &Data) -> Option<(Table, Table)> {
+pub fn tables(data: &ReportInput) -> Option<(Table, Table)> {
     let all = all(data);
     if all.iter().all(|v| v.outcome == Outcome::NotMeasured) {
         return None;

@@ -1,6 +1,5 @@
 //! Shared by the integration tests that run the binary: a fresh temporary directory per test, a tiny spec written into it
 //! (absolute scene paths, 24x18 pixels, few rays), and the real binary run inside it.
-#![allow(dead_code)]
 
 use hemilab::results::JobResult;
 use std::path::{Path, PathBuf};

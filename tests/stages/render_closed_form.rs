@@ -19,7 +19,7 @@
 //! and seeds are independent under `shift`), at the Šidák level for the 8 configurations: it sees a
 //! bias of about 0.0007 and puts the unweighted count at 40 SE.
 
-mod lambert;
+use crate::support::lambert;
 
 use glam::DVec3;
 use hemilab::render::{RenderJob, render};

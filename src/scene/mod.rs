@@ -4,9 +4,11 @@
 pub mod accel;
 pub mod camera;
 pub mod file;
+#[cfg(any(test, feature = "testing"))]
 pub mod generate;
 pub mod mesh;
 pub mod packet;
+#[cfg(any(test, feature = "testing"))]
 pub mod procedural;
 
 pub use accel::Accel;

@@ -23,3 +23,4 @@ mod scene_files;
 mod scene_primary_packets;
 mod spec_errors;
 mod spec_files;
+mod stats;

@@ -4,3 +4,4 @@
 
 pub mod common;
 pub mod lambert;
+pub mod stats;

@@ -1,6 +1,6 @@
 //! Writes the procedural meshes of `scenes/` (atrium, slats, terrain) as plain OBJ into a directory:
 //! `cargo run --release --example write_scenes -- /tmp/scenes`, then compress each by hand with
-//! `zstd -19 --rm X.obj -o scenes/X.obj.zst` (hemilab only *reads* zstd). `tests/scene_files.rs`
+//! `zstd -19 --rm X.obj -o scenes/X.obj.zst` (hemilab only *reads* zstd). `tests/stages/scene_files.rs`
 //! checks that the committed meshes are exactly what `hemilab::scene::generate` writes.
 
 use hemilab::scene::generate;

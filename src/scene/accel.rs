@@ -106,7 +106,8 @@ impl Accel {
     }
 
     /// The index in `source_triangles` of the triangle in BVH slot `prim` (spatial splits put one
-    /// input triangle in several slots).
+    /// input triangle in several slots). Only tests need it.
+    #[cfg(any(test, feature = "testing"))]
     pub fn source_index(&self, prim: u32) -> u32 {
         self.bvh.primitive_indices[prim as usize]
     }

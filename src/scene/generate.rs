@@ -2,7 +2,7 @@
 //! crevices), thin parallel slats over a floor (the geometry that makes a static seed's error into
 //! moiré), and open terrain under the sky. Each is chosen for what AO is sensitive to (see
 //! scenes/README.md). Pure: `examples/write_scenes.rs` writes the files; the committed `.obj.zst`
-//! are checked against this code by `tests/scene_files.rs`, so the meshes stay reproducible.
+//! are checked against this code by `tests/stages/scene_files.rs`, so the meshes stay reproducible.
 //!
 //! Coordinates are printed with 4 decimals (0.1 mm in these metre-scale scenes): enough for AO,
 //! small when compressed, and the same text on every machine.

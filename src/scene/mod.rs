@@ -4,10 +4,12 @@
 pub mod accel;
 pub mod camera;
 pub mod file;
+#[cfg(any(test, feature = "testing"))]
 pub mod generate;
 pub mod mesh;
 mod node;
 pub mod packet;
+#[cfg(any(test, feature = "testing"))]
 pub mod procedural;
 
 pub use accel::Accel;

@@ -2,7 +2,7 @@
 //! resuming an interrupted run, bit-identical reruns for any thread count, and a plan that renders
 //! and writes nothing.
 
-mod common;
+use crate::support::common;
 
 use common::*;
 use hemilab::results::JobResult;

@@ -2,7 +2,7 @@
 //! message naming what to fix, and nothing written — no output directory, no reference, no
 //! overwritten results.
 
-mod common;
+use crate::support::common;
 
 use common::*;
 

@@ -9,7 +9,7 @@
 //! Also: a 10 km ground alone is exactly unoccluded (flat and tilted), the image is bit-identical for
 //! any thread count, and the kitchen moved 1 km renders like the kitchen at the origin.
 
-mod lambert;
+use crate::support::lambert;
 
 use glam::{DMat3, DVec3, EulerRot};
 use hemilab::load::load_scene;

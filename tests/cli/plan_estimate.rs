@@ -3,7 +3,7 @@
 //! (checked against a real run: CPU time, which other work on a shared machine does not inflate;
 //! the wall-time estimate multiplies it by the machine's measured load and is checked by hand).
 
-mod common;
+use crate::support::common;
 
 use common::*;
 

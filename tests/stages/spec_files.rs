@@ -130,7 +130,7 @@ rows = [{ distribution = "sine", sequence = "random", seed_mode = "shift" }]
 
 #[test]
 fn format_example_in_the_module_doc_parses() {
-    let src = include_str!("../src/spec/mod.rs");
+    let src = include_str!("../../src/spec/mod.rs");
     let block: String = src
         .lines()
         .skip_while(|l| !l.starts_with("//! ```toml"))

@@ -3,7 +3,7 @@
 //! names exist, budgets outside the measured times are said to be, and every bad input exits 2
 //! with nothing written.
 
-mod common;
+use crate::support::common;
 
 use common::{Tmp, assert_error, scene};
 use serde_json::Value;

@@ -2,7 +2,7 @@
 //! run but for the times, the merged report is whole, a killed shard resumes, an incomplete or
 //! mixed merge writes nothing, and `--shard auto` reads Slurm's and Kubernetes' variables.
 
-mod common;
+use crate::support::common;
 
 use common::*;
 use hemilab::results::{JobResult, TIME_COLUMNS};

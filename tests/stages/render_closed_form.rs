@@ -19,13 +19,13 @@
 //! and seeds are independent under `shift`), at the Šidák level for the 8 configurations: it sees a
 //! bias of about 0.0007 and puts the unweighted count at 40 SE.
 
-mod lambert;
+use crate::support::lambert;
 
+use crate::support::stats::{sidak_threshold, two_sided_z};
 use glam::DVec3;
 use hemilab::render::{RenderJob, render};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::procedural::{RECT_MAX, RECT_MIN, RECT_Z, VIEW_HALF, floating_rectangle};
-use hemilab::stats::{sidak_threshold, two_sided_z};
 
 const SIDE: u32 = 16;
 const SEEDS: u64 = 64;

@@ -8,9 +8,10 @@
 //! estimators would have a 9 % chance that one fails after any legitimate change of the numbers
 //! (a new hash, seed or pixel order). 16384 pixels keep the test sharper than 3 SE at 4096 were.
 
+use crate::support::stats::{sidak_threshold, two_sided_z};
 use glam::{Vec2, Vec3};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
-use hemilab::stats::{mean_and_standard_error, sidak_threshold, two_sided_z};
+use hemilab::stats::mean_and_standard_error;
 
 const PIXELS: u64 = 16384;
 const N: u32 = 16;

@@ -7,7 +7,7 @@
 //! rim polygon; beside an occluder that stands on the floor it is 1 minus the occluder's form factor
 //! (pooled per configuration within 4 standard errors, as in render_robust.rs).
 
-mod lambert;
+use crate::support::lambert;
 
 use glam::{DMat3, DVec3, EulerRot, Vec2, Vec3};
 use hemilab::render::{PixelRays, RenderJob, RenderOutput, pixel_rays, render};

@@ -3,7 +3,7 @@
 //! the same floor, exactly described by their manifest (a rerun reuses them, a changed setting
 //! rebuilds), and bad settings are refused with the key.
 
-mod common;
+use crate::support::common;
 
 use common::{Tmp, scene};
 use hemilab::image::{Image, decode_exr};

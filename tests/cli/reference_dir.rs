@@ -2,7 +2,7 @@
 //! `reference/` beside it), never to the current directory, so committed references are found from
 //! anywhere and a user's own spec never writes into the project's `reference/`.
 
-mod common;
+use crate::support::common;
 
 use common::*;
 use std::path::{Path, PathBuf};

@@ -3,11 +3,12 @@
 //! each pixel's offset is uniform over run seeds and each pixel's estimate unbiased over seeds;
 //! the point set is the static set shifted by the pixel's offsets.
 
+use crate::support::stats::{chi2_test, sidak_threshold, two_sided_z};
 use glam::{Vec2, Vec3};
 use hemilab::sampling::blue_noise::{BlueNoiseMask, MASK_SIGMA, MASK_SIZE, MaskShift, masks};
 use hemilab::sampling::seed::{PixelSeed, hash};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
-use hemilab::stats::{chi2_test, mean_and_standard_error, sidak_threshold, two_sided_z};
+use hemilab::stats::mean_and_standard_error;
 use std::f64::consts::TAU;
 
 const M: usize = MASK_SIZE as usize;

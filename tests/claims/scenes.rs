@@ -6,7 +6,7 @@
 //! the whiteness z-score must separate the static seed from the per-pixel seed by many replicate
 //! spreads at 8, 16 and 32 rays.
 
-mod common;
+use crate::support::common;
 
 use hemilab::compare::claims::{
     self as claims, COSINE_FIB_PIXEL, COSINE_FIB_STATIC, COSINE_RANDOM, Config, Margin, SINE_RANDOM,

@@ -1,6 +1,5 @@
 //! Closed forms shared by the AO tests: Lambert's polygon form factor, and the pooled comparison of
 //! rendered floor pixels with it.
-#![allow(dead_code)]
 
 use glam::DVec3;
 use std::f64::consts::PI;

@@ -5,7 +5,7 @@
 //! replicate by replicate (sd of the per-replicate differences / √n), and a pass is not luck of the
 //! seeds.
 
-mod common;
+use crate::support::common;
 
 use hemilab::results::{Aggregate, JobResult, Slope, aggregate, convergence_slopes};
 use hemilab::stats::paired_difference;

@@ -1,7 +1,7 @@
 //! Shards (`hemilab run --shard K/N`): disjoint, covering, whole timing units, balanced by cost,
 //! and pinned, so that shards started on different machines agree on the partition.
 
-mod common;
+use crate::support::common;
 
 use hemilab::plan::{Plan, plan};
 use hemilab::shard::{self, Shard};

@@ -2,10 +2,10 @@
 //! power, pdf normalisation, inverses, weights, and extreme inputs. Every test runs over
 //! `Distribution::ALL`, so a new warp is covered by adding it to the enum.
 
+use crate::support::stats::{Chi2, chi2_test, sidak_threshold};
 use glam::{Vec2, Vec3};
 use hemilab::sampling::Distribution;
 use hemilab::sampling::seed::hash;
-use hemilab::stats::{Chi2, chi2_test, sidak_threshold};
 use std::f64::consts::{FRAC_PI_2, TAU};
 
 const SAMPLES: usize = 1_000_000;

@@ -5,7 +5,7 @@ use hemilab::report::referenced_files;
 use std::path::Path;
 use std::process::Command;
 
-mod common;
+use crate::support::common;
 
 /// A fresh directory per test, removed when dropped.
 use common::Tmp as TempDir;

@@ -1,6 +1,5 @@
 //! Shared by the integration tests that run the binary: a fresh temporary directory per test, a tiny spec written into it
 //! (absolute scene paths, 24x18 pixels, few rays), and the real binary run inside it.
-#![allow(dead_code)]
 
 use hemilab::results::JobResult;
 use std::path::{Path, PathBuf};
@@ -10,8 +9,12 @@ use std::process::{Command, Output};
 pub struct Tmp(pub PathBuf);
 
 impl Tmp {
+    /// Unique per call, not just per process: tests of several files share one test binary, and
+    /// two of them may pick the same `name`.
     pub fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("hemilab-test-{name}-{}", std::process::id()));
+        static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let n = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("hemilab-test-{name}-{}-{n}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         Tmp(dir)

@@ -2,7 +2,7 @@
 
 use std::process::Command;
 
-mod common;
+use crate::support::common;
 
 /// A fresh directory per test, removed when dropped.
 use common::Tmp as TempDir;

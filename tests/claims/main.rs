@@ -1,0 +1,8 @@
+//! The paper's claims, asserted on real renders of the shipped claims specs against the committed
+//! references: on the kitchen (`paper`) and on every shipped scene (`scenes`).
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod paper;
+mod scenes;

@@ -1,0 +1,16 @@
+//! The command-line contract: every test here runs the real `hemilab` binary (`CARGO_BIN_EXE_hemilab`),
+//! mostly in a temporary directory of its own, and checks its exit status, messages and files.
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod advise;
+mod plan_estimate;
+mod points;
+mod reference_adaptive;
+mod reference_dir;
+mod render;
+mod report_page;
+mod run_errors;
+mod run_results;
+mod shard_merge;

@@ -1,0 +1,26 @@
+//! The stages' properties, through the library: warps and sequences (χ², exact structure), estimators
+//! against closed forms, the BVH against brute force, rendering (exact scenes, determinism, extreme
+//! coordinates), metrics, the plan and its shards, spec and scene files.
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod metrics_known;
+mod plan_order;
+mod plan_shard;
+mod render_closed_form;
+mod render_determinism;
+mod render_exact;
+mod render_robust;
+mod render_stiff;
+mod sampling_blue_noise;
+mod sampling_estimators;
+mod sampling_frame;
+mod sampling_sequences;
+mod sampling_warps;
+mod scene_bvh;
+mod scene_files;
+mod scene_primary_packets;
+mod spec_errors;
+mod spec_files;
+mod stats;

@@ -1,0 +1,7 @@
+//! Helpers shared by the three test binaries (`cli`, `stages`, `claims`). Each includes this module
+//! with `#[path = "../support/mod.rs"] mod support;` and uses only part of it.
+#![allow(dead_code)]
+
+pub mod common;
+pub mod lambert;
+pub mod stats;

@@ -1,5 +1,5 @@
 //! Does each of the paper's claims hold on each scene? Pure: records in, verdicts out; the page
-//! (`report::run::verdicts`) prints them as the report's first table and `tests/scene_claims.rs` asserts them.
+//! (`report::run::verdicts`) prints them as the report's first table and `tests/claims/scenes.rs` asserts them.
 //!
 //! Every margin is in standard errors of a *paired* difference: replicate r of every configuration
 //! uses the same seed (`plan::replicate_seed`), so configurations are compared replicate by

@@ -82,7 +82,7 @@ const _: () = assert!(CELL * MASK_SIZE * MASK_SIZE == FIX_ONE, "the ranks must t
 /// the mask is a permutation, so the rank a fixed pixel reads is uniform over 0..N; with the
 /// independent jitter, the offset is exactly uniform over the 24-bit grid of [0,1). The x and y
 /// masks get independent shifts and jitters, so (x, y) is uniform on [0,1)² and the
-/// Cranley–Patterson-shifted set is unbiased in every pixel (tests/sampling_blue_noise.rs checks
+/// Cranley–Patterson-shifted set is unbiased in every pixel (tests/stages/sampling_blue_noise.rs checks
 /// both). The usual alternative, a Cranley–Patterson rotation of the mask values by a uniform
 /// amount mod 1, is as unbiased and measured the same on the kitchen (low-pass RMSE within 2 % at
 /// 8–32 rays, inside the run-to-run spread): a shifted point set is a periodic function of its

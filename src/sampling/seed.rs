@@ -9,7 +9,7 @@
 //! | `blue-noise` — the static set + a Cranley–Patterson shift of x and y whose per-pixel offsets come from two blue-noise masks ([`super::blue_noise`]), toroidally shifted per run: unbiased per pixel, error pushed to high frequencies | static numbers, shifted | static lattice, shifted (like `shift`, offsets blue instead of white) | static jitter, shifted | static scramble, shifted |
 //!
 //! `rotation` leaves y (hence theta) as in the static set, so it does not make the per-pixel
-//! estimate unbiased for the lattice sequences (tests/sampling_estimators.rs measures it).
+//! estimate unbiased for the lattice sequences (tests/stages/sampling_estimators.rs measures it).
 
 use super::blue_noise::MaskShift;
 pub use super::hash::{FIX_BITS, FIX_ONE, fix_add, fix_from_bits, fix_to_f32, hash, mix64};

@@ -230,6 +230,7 @@ pub struct PointsArgs {
     /// Randomization across pixels: static, rotation, shift, blue-noise.
     #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "static")]
     pub seed_mode: SeedMode,
+    /// Run seed: the points are pixel 0's of a render with this seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Number of points.
@@ -274,7 +275,7 @@ pub struct AdviseArgs {
     /// Where reference images and their manifests live (default: `reference/` beside the scene
     /// file, or its parent folder's `reference/` when that holds one of this scene, as in this
     /// repository's layout of scenes/ beside reference/; never the current directory).
-    #[arg(long)]
+    #[arg(long, value_name = "DIR")]
     pub reference_dir: Option<PathBuf>,
     #[command(flatten)]
     pub common: Common,

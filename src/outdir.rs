@@ -20,6 +20,8 @@ pub const RESULTS_CSV: &str = "results.csv";
 pub const AGGREGATES_CSV: &str = "aggregates.csv";
 /// Each convergence sweep's fitted slopes.
 pub const SLOPES_JSON: &str = "slopes.json";
+/// The numbers the README quotes (`report::run::quotes`).
+pub const QUOTES_MD: &str = "quotes.md";
 /// How the run was timed.
 pub const TIMING_JSON: &str = "timing.json";
 /// The report: one offline page, and its Markdown twin.

@@ -18,7 +18,7 @@ use crate::timing;
 use std::path::{Path, PathBuf};
 
 /// Default image size, at most: every default configuration's ladder, timed by the protocol, in
-/// well under a minute of CPU time, and the kitchen's committed 64×48 reference (README, "advise").
+/// well under a minute of CPU time, and the kitchen's committed 64×48 reference (docs/advise.md).
 pub const DEFAULT_MAX_PIXELS: u64 = 64 * 48;
 
 /// What the user asked advise for (`hemilab advise`'s flags).

@@ -95,9 +95,19 @@ pub fn run(args: MergeArgs) -> Result<()> {
     let m0 = &shards[0].manifest;
     let protocol = Protocol::new(m0.timing.repeats, m0.timing.seed, m0.timing.workers);
     let note = provenance(&shards);
-    outdir::write_timing(&out, &timing_json(&shards, &found, protocol, &note))?;
-    let summary =
-        report::run::write(&loaded, &references, &merged, protocol, &session, vec![note.clone()], &out)?;
+    let timing = timing_json(&shards, &found, protocol, &note);
+    outdir::write_timing(&out, &timing)?;
+    let cost = report::run::quotes::Cost::of_timing(&timing, merged.len());
+    let summary = report::run::write(
+        &loaded,
+        &references,
+        &merged,
+        protocol,
+        &session,
+        cost,
+        vec![note.clone()],
+        &out,
+    )?;
     for w in &summary.warnings {
         eprintln!("{w}");
     }

@@ -46,10 +46,12 @@ pub fn run(args: RunArgs) -> Result<()> {
     if session.renders == 0 {
         session.overhead = outdir::previous_overhead(&out, &loaded.spec);
     }
-    outdir::write_timing(&out, &session.timing_json(&loaded.spec, protocol))?;
+    let timing = session.timing_json(&loaded.spec, protocol);
+    outdir::write_timing(&out, &timing)?;
     // "12 rendered, 428 reused": what the run did, for its closing line.
     let counts =
         format!("{} rendered, {} reused", results.len().saturating_sub(session.reused), session.reused);
+    let cost = report::run::quotes::Cost::of_timing(&timing, results.len());
     if let Some(s) = shard {
         // A shard's report would be of a part; `merge` writes the whole one.
         println!(
@@ -60,7 +62,8 @@ pub fn run(args: RunArgs) -> Result<()> {
         );
         return Ok(());
     }
-    let summary = report::run::write(&loaded, &references, &results, protocol, &session, Vec::new(), &out)?;
+    let summary =
+        report::run::write(&loaded, &references, &results, protocol, &session, cost, Vec::new(), &out)?;
     for w in &summary.warnings {
         eprintln!("{w}");
     }

@@ -21,7 +21,7 @@ use crate::stats::paired_difference;
 pub fn per_pixel_unbiased(row: Row) -> bool {
     let row = row.canonical();
     match row.seed_mode {
-        // A blue-noise mask shifts every pixel's set by an offset uniform over runs (README).
+        // A blue-noise mask shifts every pixel's set by an offset uniform over runs (docs/estimators.md).
         SeedMode::Shift | SeedMode::BlueNoise => true,
         SeedMode::Rotation => row.sequence == Sequence::Random,
         SeedMode::Static => false,
@@ -30,7 +30,12 @@ pub fn per_pixel_unbiased(row: Row) -> bool {
 
 /// The row of an aggregate, if its names parse.
 pub fn row_of(a: &Aggregate) -> Option<Row> {
-    Some(Row::new(a.distribution.parse().ok()?, a.sequence.parse().ok()?, a.seed_mode.parse().ok()?))
+    row_of_names(&a.distribution, &a.sequence, &a.seed_mode)
+}
+
+/// The row the results' names `distribution`, `sequence`, `seed_mode` denote, if they parse.
+pub fn row_of_names(distribution: &str, sequence: &str, seed_mode: &str) -> Option<Row> {
+    Some(Row::new(distribution.parse().ok()?, sequence.parse().ok()?, seed_mode.parse().ok()?))
 }
 
 /// Paired RMSE difference of configuration `b` minus `a` (same scene and ray count), over the

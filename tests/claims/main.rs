@@ -5,4 +5,5 @@
 mod support;
 
 mod paper;
+mod readme;
 mod scenes;

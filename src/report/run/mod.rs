@@ -5,6 +5,7 @@ pub mod answer;
 pub mod data;
 pub mod figures;
 pub mod page;
+pub mod quotes;
 pub mod summary;
 pub mod verdicts;
 
@@ -17,7 +18,8 @@ use crate::results::{self, JobResult};
 use crate::timing::Protocol;
 use std::path::Path;
 
-/// The whole run's outputs after its records: `aggregates.csv`, `slopes.json`, the figures and the
+/// The whole run's outputs after its records: `aggregates.csv`, `slopes.json`, `quotes.md` (with
+/// `cost`, the session as `timing.json` records it), the figures and the
 /// page (with `notes` after its timing text), in `out`; returns what to print. `run` and `merge`
 /// both end here.
 #[allow(clippy::too_many_arguments)]
@@ -27,9 +29,11 @@ pub fn write(
     results: &[JobResult],
     protocol: Protocol,
     session: &Session,
+    cost: Option<quotes::Cost>,
     notes: Vec<String>,
     out: &Path,
 ) -> Result<summary::Summary> {
+    outdir::write_file(out, outdir::QUOTES_MD, quotes::quotes(&loaded.spec, results, cost).as_bytes())?;
     let aggs = results::aggregate(results);
     outdir::write_aggregates(out, &loaded.spec, &aggs)?;
     let summary = summary::summary(&loaded.spec, references, &aggs, session);

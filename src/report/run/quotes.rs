@@ -1,0 +1,161 @@
+//! `quotes.md`: the numbers of a run that the README quotes, as named blocks, made from nothing but
+//! the spec, the records and the session's timing — so that a test can rebuild them from the
+//! committed outputs and hold the README against them, and a number typed by hand cannot go stale
+//! (one did: a headline stayed "8 of 11 ray counts" after the code it measured got faster).
+//!
+//! A block is `<!-- quote NAME -->`, its Markdown, `<!-- /quote -->`; NAME is `<spec>/<what>`. The
+//! README holds copies of some blocks; `examples/readme_quotes.rs` copies them in after a rerun.
+
+use super::data::{banding_stat, row_label};
+use crate::results::{self, JobResult, Stat};
+use crate::spec::{Group, GroupKind, Spec};
+use std::fmt::Write as _;
+
+/// The opening and closing lines of a quoted block.
+pub fn open(name: &str) -> String {
+    format!("<!-- quote {name} -->")
+}
+pub const CLOSE: &str = "<!-- /quote -->";
+
+/// What the session did, as `timing.json`'s `session` records it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cost {
+    pub jobs: usize,
+    pub timed_renders: usize,
+    pub cpu_s: f64,
+    pub wall_s: f64,
+}
+
+impl Cost {
+    /// From `timing.json` (`None` if it has no session, e.g. a merged run's).
+    pub fn of_timing(timing: &serde_json::Value, jobs: usize) -> Option<Self> {
+        let s = timing.get("session")?;
+        Some(Self {
+            jobs,
+            timed_renders: s.get("timed_renders")?.as_u64()? as usize,
+            cpu_s: s.get("timed_cpu_s")?.as_f64()?,
+            wall_s: s.get("wall_s")?.as_f64()?,
+        })
+    }
+}
+
+/// Every block of a run, in spec order: one per `[[table]]` and `[[convergence]]` group and scene,
+/// and the run's cost.
+pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String {
+    let aggs = results::aggregate(records);
+    let mut s = String::new();
+    let mut block = |name: String, body: String| {
+        let _ = write!(s, "{}\n{}{CLOSE}\n\n", open(&name), body);
+    };
+    for g in &spec.groups {
+        for &si in &g.scenes {
+            let scene = &spec.scenes[si].name;
+            let name = if g.scenes.len() > 1 {
+                format!("{}/{}/{scene}", spec.name, g.name)
+            } else {
+                format!("{}/{}", spec.name, g.name)
+            };
+            match g.kind {
+                GroupKind::Table => block(name, rmse_table(g, scene, &aggs, records)),
+                GroupKind::Convergence => block(name, slopes(spec, g, scene, &aggs)),
+            }
+        }
+    }
+    if let Some(c) = cost {
+        block(
+            format!("{}/cost", spec.name),
+            format!(
+                "{} jobs, {} timed renders: {:.1} s of render CPU time in {:.1} s of wall time.\n",
+                c.jobs, c.timed_renders, c.cpu_s, c.wall_s
+            ),
+        );
+    }
+    s
+}
+
+/// `x` to `digits` decimals, without a minus sign on a value that rounds to zero.
+fn fixed(x: f64, digits: usize) -> String {
+    let t = format!("{x:.digits$}");
+    if t.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+        t.trim_start_matches('-').into()
+    } else {
+        t
+    }
+}
+
+fn pm(s: Stat) -> String {
+    if s.mean.is_finite() { format!("{:.4} ± {:.4}", s.mean, s.sd) } else { "–".into() }
+}
+
+/// RMSE mean ± sd over the replicates, with ρ (the lag-1 error autocorrelation) where it is above
+/// noise, at every ray count of the table.
+fn rmse_table(g: &Group, scene: &str, aggs: &[results::Aggregate], records: &[JobResult]) -> String {
+    let mut s = String::from("| configuration |");
+    for n in &g.rays {
+        let _ = write!(s, " {n} rays |");
+    }
+    s.push_str("\n|---|");
+    s.push_str(&"---|".repeat(g.rays.len()));
+    s.push('\n');
+    for &row in &g.rows {
+        let _ = write!(s, "| {} |", row_label(row));
+        for &n in &g.rays {
+            let cell = results::lookup(aggs, scene, row, n).map_or("–".into(), |a| {
+                let rho = banding_stat(records, scene, row, n).map_or(f64::NAN, |b| b.0);
+                format!("{} (ρ {})", pm(a.rmse), fixed(rho, 2))
+            });
+            let _ = write!(s, " {cell} |");
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Each row's slope of log RMSE against log rays, with its 95 % interval, over the sweep's rays.
+fn slopes(spec: &Spec, g: &Group, scene: &str, aggs: &[results::Aggregate]) -> String {
+    let mut s = String::from(
+        "| configuration | RMSE ∝ rays^slope, 95 % interval | against render time |\n|---|---|---|\n",
+    );
+    let sweep = results::sweep_slopes(spec, aggs);
+    let fits =
+        sweep.iter().filter(|w| w.group == g.name).flat_map(|w| &w.slopes).filter(|f| f.scene == scene);
+    for f in fits {
+        let label = crate::compare::row_of_names(&f.distribution, &f.sequence, &f.seed_mode)
+            .map_or_else(|| format!("{}, {}, {}", f.distribution, f.sequence, f.seed_mode), row_label);
+        let text = |v: Option<results::SlopeFit>| v.map_or("–".into(), |k| k.text());
+        let _ = writeln!(s, "| {label} | {} | {} |", text(f.vs_rays), text(f.vs_time));
+    }
+    s
+}
+
+/// The blocks of a quotes file (or a README), by name, each as its full text from the opening to
+/// the closing line.
+pub fn blocks(text: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let mut rest = text;
+    while let Some(i) = rest.find("<!-- quote ") {
+        let after = &rest[i + "<!-- quote ".len()..];
+        let Some(end_name) = after.find(" -->") else { break };
+        let name = after[..end_name].to_string();
+        let Some(close) = rest[i..].find(CLOSE) else { break };
+        out.push((name, rest[i..i + close + CLOSE.len()].to_string()));
+        rest = &rest[i + close + CLOSE.len()..];
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_are_found_by_name_with_their_text() {
+        let t =
+            "a\n<!-- quote p/t2 -->\n| x |\n<!-- /quote -->\nb <!-- quote p/cost -->\n1 job\n<!-- /quote -->";
+        let b = blocks(t);
+        assert_eq!(b.len(), 2);
+        assert_eq!(b[0].0, "p/t2");
+        assert_eq!(b[0].1, "<!-- quote p/t2 -->\n| x |\n<!-- /quote -->");
+        assert_eq!(b[1].0, "p/cost");
+    }
+}

@@ -6,7 +6,7 @@ use crate::io;
 use crate::jobs::runner::Geometry;
 use crate::plan::Job;
 use crate::scene::{self, Scene, file, mesh};
-use crate::spec::{self, MAX_PIXELS, SceneRef, Spec};
+use crate::spec::{self, SceneRef, Spec};
 use std::path::Path;
 
 /// A spec with every scene it names loaded: all bad input is found here, before any work.
@@ -104,10 +104,11 @@ pub fn dropped_warning(scene: &Scene) -> Option<String> {
     })
 }
 
-/// The one pixel limit: an image of more than `MAX_PIXELS` pixels is refused before any work (rather
-/// than by the allocator mid-run). Callers add where the size came from.
+/// An image size outside the one limit (`spec::resolution_ok`: what specs, scene files and the
+/// command line accept) is refused before any work, rather than by the allocator mid-run. Callers
+/// add where the size came from.
 pub fn check_pixels(w: u32, h: u32) -> std::result::Result<(), String> {
-    if w as u64 * h as u64 > MAX_PIXELS {
+    if !spec::resolution_ok(w as u64, h as u64) {
         return Err(format!("{w}x{h} is too large to hold in memory; {}", spec::RESOLUTION_RULE));
     }
     Ok(())

@@ -243,8 +243,11 @@ pub fn calibrate(
                 Channel { name: "A", image: &out.coverage },
             ]);
             let c1 = clock::thread_cpu_s();
-            let records: Vec<JobResult> =
-                full.jobs.iter().map(|j| JobResult::new(j, &stats, out.rays, "images/x.exr")).collect();
+            let records: Vec<JobResult> = full
+                .jobs
+                .iter()
+                .map(|j| JobResult::new(j, &stats, out.rays, crate::outdir::image_rel(j)))
+                .collect();
             let text = (results::to_json(&records), results::to_csv(&records));
             let c2 = clock::thread_cpu_s();
             drop(text);

@@ -1,23 +1,33 @@
-//! Copies the quoted blocks of README.md from the committed outputs, after a rerun of a spec into
-//! `experiments/outputs/<spec>/` (`hemilab run experiments/paper.toml --out experiments/outputs/paper`):
-//! `cargo run --release --example readme_quotes`. Every `<!-- quote NAME -->` block of the README
-//! is replaced by the block of that name in `experiments/outputs/*/quotes.md`; a name no quotes
-//! file holds is an error. `tests/claims/readme.rs` checks the result.
+//! Refreshes the numbers the README quotes, after a rerun of a spec into `experiments/outputs/<spec>/`
+//! (`hemilab run experiments/paper.toml --out experiments/outputs/paper`):
+//! `cargo run --release --example readme_quotes`. For every such directory, its `quotes.md` is made
+//! again from its `results.json` and `timing.json` (as `tests/claims/readme.rs` does); then every
+//! `<!-- quote NAME -->` block of README.md is replaced by the block of that name. A name no quotes
+//! file holds is an error.
 
-use hemilab::report::run::quotes;
+use hemilab::report::run::quotes::{self, Cost};
+use hemilab::{io, results, spec};
 use std::path::PathBuf;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let mut known = Vec::new();
     for e in std::fs::read_dir(root.join("experiments/outputs"))? {
-        let q = e?.path().join("quotes.md");
-        if q.exists() {
-            known.extend(quotes::blocks(&std::fs::read_to_string(q)?));
+        let out = e?.path();
+        if !out.join("results.json").exists() {
+            continue;
         }
+        let name = out.file_name().ok_or("a directory name")?.to_string_lossy().into_owned();
+        let spec_path = root.join(format!("experiments/{name}.toml"));
+        let spec = spec::parse_spec(&io::read_string(&spec_path)?, &spec_path)?;
+        let records = results::from_json(&io::read_string(&out.join("results.json"))?)?;
+        let timing: serde_json::Value = serde_json::from_str(&io::read_string(&out.join("timing.json"))?)?;
+        let text = quotes::quotes(&spec, &records, Cost::of_timing(&timing, records.len()));
+        io::write_atomic(&out.join("quotes.md"), text.as_bytes())?;
+        known.extend(quotes::blocks(&text));
     }
     let path = root.join("README.md");
-    let mut readme = std::fs::read_to_string(&path)?;
+    let mut readme = io::read_string(&path)?;
     let mut changed = 0;
     for (name, old) in quotes::blocks(&readme.clone()) {
         let new = &known.iter().find(|(n, _)| *n == name).ok_or(format!("no committed quote '{name}'"))?.1;
@@ -26,7 +36,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             changed += 1;
         }
     }
-    hemilab::io::write_atomic(&path, readme.as_bytes())?;
+    io::write_atomic(&path, readme.as_bytes())?;
     println!("{}: {changed} quoted blocks refreshed", path.display());
     Ok(())
 }

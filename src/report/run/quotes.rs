@@ -57,7 +57,10 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
             };
             match g.kind {
                 GroupKind::Table => block(name, rmse_table(g, scene, &aggs, records)),
-                GroupKind::Convergence => block(name, slopes(spec, g, scene, &aggs)),
+                GroupKind::Convergence => {
+                    block(name.clone(), slopes(spec, g, scene, &aggs));
+                    block(format!("{name}/times"), times(g, scene, &aggs));
+                }
             }
         }
     }
@@ -124,6 +127,40 @@ fn slopes(spec: &Spec, g: &Group, scene: &str, aggs: &[results::Aggregate]) -> S
             .map_or_else(|| format!("{}, {}, {}", f.distribution, f.sequence, f.seed_mode), row_label);
         let text = |v: Option<results::SlopeFit>| v.map_or("–".into(), |k| k.text());
         let _ = writeln!(s, "| {label} | {} | {} |", text(f.vs_rays), text(f.vs_time));
+    }
+    s
+}
+
+/// Each row's median render time in ms (thread CPU time, every timed render of the configuration)
+/// at up to six of the sweep's ray counts (every other one of a longer sweep, and its last), and
+/// each row's time relative to the first row's.
+fn times(g: &Group, scene: &str, aggs: &[results::Aggregate]) -> String {
+    let mut rays: Vec<u32> =
+        if g.rays.len() > 6 { g.rays.iter().step_by(2).copied().collect() } else { g.rays.clone() };
+    if let Some(&last) = g.rays.last()
+        && !rays.contains(&last)
+    {
+        rays.push(last);
+    }
+    let ms = |row, n| results::lookup(aggs, scene, row, n).and_then(|a| a.time).map(|t| t.median * 1e3);
+    let mut s = String::from("| configuration, median ms per render (× the first row's) |");
+    for n in &rays {
+        let _ = write!(s, " {n} rays |");
+    }
+    s.push_str("\n|---|");
+    s.push_str(&"---|".repeat(rays.len()));
+    s.push('\n');
+    let first = g.rows.first().copied();
+    for &row in &g.rows {
+        let _ = write!(s, "| {} |", row_label(row));
+        for &n in &rays {
+            let cell = match (ms(row, n), first.and_then(|f| ms(f, n))) {
+                (Some(t), Some(f)) => format!("{t:.2} (× {:.2})", t / f),
+                _ => "–".into(),
+            };
+            let _ = write!(s, " {cell} |");
+        }
+        s.push('\n');
     }
     s
 }

@@ -2,8 +2,8 @@
 //! (`hemilab run experiments/paper.toml --out experiments/outputs/paper`):
 //! `cargo run --release --example readme_quotes`. For every such directory, its `quotes.md` is made
 //! again from its `results.json` and `timing.json` (as `tests/claims/readme.rs` does); then every
-//! `<!-- quote NAME -->` block of README.md is replaced by the block of that name. A name no quotes
-//! file holds is an error.
+//! `<!-- quote NAME -->` block of README.md is replaced by the block of that name (a name no quotes
+//! file holds is an error), and the figures in `experiments/figures/` are copied from the runs.
 
 use hemilab::report::run::quotes::{self, Cost};
 use hemilab::{io, results, spec};
@@ -38,5 +38,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     io::write_atomic(&path, readme.as_bytes())?;
     println!("{}: {changed} quoted blocks refreshed", path.display());
+    // The figures the README shows, from the same runs: `experiments/figures/NAME.png` is the
+    // paper run's `NAME.png`, and `SPEC_NAME.png` another spec's `NAME.png`.
+    let figures = root.join("experiments/figures");
+    let mut copied = 0;
+    for e in std::fs::read_dir(&figures)? {
+        let file = e?.file_name().to_string_lossy().into_owned();
+        if !file.ends_with(".png") {
+            continue;
+        }
+        let outputs = root.join("experiments/outputs");
+        let from = match file.split_once('_') {
+            Some((spec, rest)) if outputs.join(spec).join(rest).exists() => outputs.join(spec).join(rest),
+            _ => outputs.join("paper").join(&file),
+        };
+        if from.exists() {
+            io::write_atomic(&figures.join(&file), &io::read_bytes(&from)?)?;
+            copied += 1;
+        }
+    }
+    println!("{}: {copied} figures copied from the runs' outputs", figures.display());
     Ok(())
 }

@@ -193,7 +193,7 @@ impl JobResult {
     }
 
     /// A record of `scene` with only what the statistics read (configuration, rays, replicate,
-    /// RMSE, whiteness z): the data unit tests of the comparisons and verdicts build.
+    /// RMSE, low-frequency ratio): the data unit tests of the comparisons and verdicts build.
     #[cfg(test)]
     pub(crate) fn for_test(
         scene: &str,
@@ -201,7 +201,7 @@ impl JobResult {
         rays: u32,
         replicate: u32,
         rmse: f64,
-        z: f64,
+        lowfreq_ratio: f64,
     ) -> Self {
         let job = Job {
             scene: scene.into(),
@@ -223,8 +223,8 @@ impl JobResult {
             autocorr_x: 0.0,
             autocorr_y: 0.0,
             lowpass_rmse: 0.0,
-            whiteness_z: z,
-            lowfreq_ratio: 1.0,
+            whiteness_z: 0.0,
+            lowfreq_ratio,
         };
         Self::new(&job, &stats, rays as u64, "")
     }

@@ -136,6 +136,7 @@ fn curves(m: &Measured) -> Vec<Curve> {
                         mse: rs.iter().map(|r| r.rmse * r.rmse).collect(),
                         lowpass_mse: rs.iter().map(|r| r.lowpass_rmse * r.lowpass_rmse).collect(),
                         whiteness_z: rs.iter().map(|r| r.whiteness_z).collect(),
+                        lowfreq_ratio: rs.iter().map(|r| r.lowfreq_ratio).collect(),
                     })
                 })
                 .collect();

@@ -20,7 +20,7 @@ pub mod analysis;
 pub mod setup;
 pub mod winner;
 
-use crate::metrics::whiteness::STRUCTURED_Z;
+use crate::metrics::STRUCTURED_RATIO;
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use crate::spec::Row;
 
@@ -145,8 +145,11 @@ pub struct Point {
     pub replicates: Vec<u32>,
     pub mse: Vec<f64>,
     pub lowpass_mse: Vec<f64>,
-    /// Each replicate's whiteness z-score (`metrics::whiteness`): above 5, the error is structured.
+    /// Each replicate's whiteness z-score (`metrics::whiteness`), reported: a test of any
+    /// correlation, which blue noise fails too.
     pub whiteness_z: Vec<f64>,
+    /// Each replicate's low-frequency ratio (`metrics::lowfreq`): what "structured" is judged by.
+    pub lowfreq_ratio: Vec<f64>,
 }
 
 /// A configuration's ladder, points in increasing ray count.
@@ -247,15 +250,19 @@ pub struct AtBudget {
     pub time_rel_spread: f64,
     /// Mean whiteness z-score over the replicates, interpolated linearly between the two points.
     pub whiteness_z: f64,
+    /// Mean low-frequency ratio over the replicates, interpolated the same way.
+    pub lowfreq_ratio: f64,
     /// The two measured points the budget lies between, and the weight.
     pub lo: usize,
     pub w: f64,
 }
 
 impl AtBudget {
-    /// Whether its error is structured (bands, moiré) rather than noise.
+    /// Whether its error is structured — clumped in blotches or bands that a blur keeps — rather
+    /// than noise: mean low-frequency ratio above [`STRUCTURED_RATIO`]. Not the whiteness z, which
+    /// flags any correlation, blue noise's negative one included, and grows with the pixel count.
     pub fn structured(&self) -> bool {
-        self.whiteness_z > STRUCTURED_Z
+        self.lowfreq_ratio > STRUCTURED_RATIO
     }
 
     fn values(&self, m: Metric) -> &[f64] {
@@ -310,6 +317,7 @@ pub fn at_budget(curve: &Curve, budget_s: f64) -> Result<AtBudget, Place> {
         lowpass_slope: slope(mean(&a.lowpass_mse), mean(&b.lowpass_mse)),
         time_rel_spread: (1.0 - w) * a.time_spread_s / a.time_s + w * b.time_spread_s / b.time_s,
         whiteness_z: (1.0 - w) * mean(&a.whiteness_z) + w * mean(&b.whiteness_z),
+        lowfreq_ratio: (1.0 - w) * mean(&a.lowfreq_ratio) + w * mean(&b.lowfreq_ratio),
         lo,
         w,
     })
@@ -393,8 +401,10 @@ pub struct Ranking {
 }
 
 /// What to ship at a budget: the best-ranked configuration whose error is not structured
-/// (whiteness z at most [`STRUCTURED_Z`]), because a sampler with visible bands or moiré is not an
-/// answer a renderer can ship however low its RMSE; the best overall when every one is structured.
+/// (low-frequency ratio at most [`STRUCTURED_RATIO`]), because a sampler with visible blotches or
+/// bands is not an answer a renderer can ship however low its RMSE; the best overall when every one
+/// is structured. Blue noise (ratio below 1: the error pushed to high frequencies, which a blur or
+/// the eye removes) is shippable.
 pub fn recommended(r: &Ranking) -> Option<&AtBudget> {
     r.ranked.iter().find(|a| !a.structured()).or_else(|| r.ranked.first())
 }

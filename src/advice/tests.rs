@@ -18,6 +18,7 @@ fn curve(r: Row, c: f64, noise: &[f64]) -> Curve {
             mse: noise.iter().map(|k| k * c / n as f64).collect(),
             lowpass_mse: noise.iter().map(|k| k * c / (4.0 * n as f64)).collect(),
             whiteness_z: noise.iter().map(|_| n as f64).collect(),
+            lowfreq_ratio: noise.iter().map(|_| 1.0 + 0.01 * n as f64).collect(),
         })
         .collect();
     Curve { row: r, points }
@@ -119,6 +120,12 @@ fn interpolation_is_exact_for_a_power_law_in_time() {
     assert!((a.slope + 1.0).abs() < 1e-12);
     let z = 4.0 + 4.0 * (5.5f64 / 4.0).ln() / 2f64.ln();
     assert!((a.whiteness_z - z).abs() < 1e-9, "z 4 and 8 at rays 4 and 8, linear in w: {}", a.whiteness_z);
+    let ratio = 1.0 + 0.01 * z;
+    assert!(
+        (a.lowfreq_ratio - ratio).abs() < 1e-12,
+        "the ratio interpolates the same way: {}",
+        a.lowfreq_ratio
+    );
     let m = a.mean_mse(Metric::Rmse);
     assert!((m.value - 2.2e-6 / 0.55e-3).abs() < 1e-9);
     assert!((m.se - 0.2e-6 / 0.55e-3).abs() < 1e-9, "sd 0.28e-6/t over two replicates: se 0.2e-6/t");
@@ -164,6 +171,35 @@ fn ranking_gain_and_paired_margins() {
     assert!(z > 10.0, "a 4 % difference in every replicate is resolved when paired: {z}");
     let low = rank(&curves, budget, Metric::Lowpass);
     assert_eq!(low.ranked[0].row, lattice.row);
+}
+
+/// `c` with every replicate's low-frequency ratio and whiteness z set.
+fn textured(mut c: Curve, ratio: f64, z: f64) -> Curve {
+    for p in &mut c.points {
+        p.lowfreq_ratio = vec![ratio; p.mse.len()];
+        p.whiteness_z = vec![z; p.mse.len()];
+    }
+    c
+}
+
+#[test]
+fn blue_noise_ships_and_clumped_error_does_not() {
+    // The best RMSE is clumped (ratio 3, z 40: the static seed's look); the next is blue noise
+    // (ratio 0.55 but z 17: the whiteness test flags its negative correlation); the default is white.
+    let noise = [0.9, 1.0, 1.1, 1.05];
+    let clumped = textured(curve(row(Sequence::Fibonacci, SeedMode::Static), 0.2, &noise), 3.0, 40.0);
+    let blue = textured(curve(row(Sequence::Random, SeedMode::BlueNoise), 0.5, &noise), 0.55, 17.0);
+    let base = textured(curve(PAPER_DEFAULT, 1.0, &noise), 1.0, 0.0);
+    let r = rank(&[base.clone(), blue.clone(), clumped.clone()], 1.8e-3, Metric::Rmse);
+    assert_eq!(r.ranked[0].row, clumped.row);
+    assert!(r.ranked[0].structured() && !r.ranked[1].structured());
+    assert!(r.ranked[1].whiteness_z > crate::metrics::whiteness::STRUCTURED_Z, "z alone would refuse it");
+    assert_eq!(recommended(&r).map(|a| a.row), Some(blue.row), "blue noise is shippable where it wins");
+    // Just above the threshold is structured; when every configuration is, the best is returned.
+    let edge = textured(clumped.clone(), STRUCTURED_RATIO + 1e-9, 0.0);
+    let only = rank(&[edge], 1.8e-3, Metric::Rmse);
+    assert!(only.ranked[0].structured());
+    assert_eq!(recommended(&only).map(|a| a.row), Some(clumped.row));
 }
 
 #[test]

@@ -244,6 +244,7 @@ mod tests {
             autocorr_y: stat,
             lowpass_rmse: stat,
             whiteness_z: stat,
+            lowfreq_ratio: stat,
             mse: stat,
             time: None,
             overhead_s: 0.009,

@@ -1,9 +1,14 @@
 //! Error statistics of an image against a reference, over covered pixels only (a leaf: imports only
-//! `crate::image`, and `stats` for distributions). RMSE and bias say how far off; the whiteness
-//! z-score (`whiteness`: every short lag, every direction), the lag-1 autocorrelation and the low-pass
-//! RMSE say whether the error is *structured* — the paper's Table 3 banding, which RMSE alone cannot see.
+//! `crate::image`, and `stats` for distributions). RMSE and bias say how far off; the low-frequency
+//! ratio (`lowfreq`: low-pass energy against white noise's, with a sign: < 1 blue, > 1 clumped), the
+//! whiteness z-score (`whiteness`: a test of any correlation, every short lag, every direction), the
+//! lag-1 autocorrelation and the low-pass RMSE say whether the error is *structured* — the paper's
+//! Table 3 banding, which RMSE alone cannot see.
 
+pub mod lowfreq;
 pub mod whiteness;
+
+pub use lowfreq::{STRUCTURED_RATIO, lowfreq_ratio, lowpass, lowpass_rmse};
 
 use crate::image::Image;
 use std::fmt;
@@ -47,8 +52,13 @@ pub struct ErrorStats {
     pub autocorr_y: f64,
     pub lowpass_rmse: f64,
     /// z-score of the 2-D portmanteau statistic against white noise (`whiteness`): ~N(0, 1) for
-    /// independent per-pixel noise, above `whiteness::STRUCTURED_Z` for structure in any direction.
+    /// independent per-pixel noise, above `whiteness::STRUCTURED_Z` when *any* correlation is
+    /// significant, negative (blue noise) or positive — a test, which grows with the pixel count.
     pub whiteness_z: f64,
+    /// Low-pass energy of the error over that of independent errors of the same magnitudes
+    /// (`lowfreq`): 1 = white, < 1 = blue, above `STRUCTURED_RATIO` = clumped or banded; the same
+    /// at any image size. The structure verdict of the report and of `advise`.
+    pub lowfreq_ratio: f64,
 }
 
 /// Width of the low-pass: wide enough to average pixel noise away, narrow enough to keep bands.
@@ -93,6 +103,7 @@ pub fn measure(image: &Image, reference: &Image, mask: &Image) -> Result<ErrorSt
         autocorr_y,
         lowpass_rmse: lowpass_rmse(&err, mask, LOWPASS_SIGMA),
         whiteness_z: whiteness::whiteness(&err, mask).z,
+        lowfreq_ratio: lowfreq_ratio(&err, mask, LOWPASS_SIGMA),
     })
 }
 
@@ -144,46 +155,6 @@ pub fn autocorrelation(err: &Image, mask: &Image) -> (f64, f64) {
     let x = lag(1, &|i| i % w + 1 < w);
     let y = lag(w, &|i| i / w + 1 < h);
     (x, y)
-}
-
-/// RMS over covered pixels of the error blurred by a Gaussian of `sigma` pixels. The blur is a
-/// normalized convolution over covered pixels only, so background zeros do not dilute edges.
-pub fn lowpass_rmse(err: &Image, mask: &Image, sigma: f64) -> f64 {
-    let blurred = lowpass(err, mask, sigma);
-    rmse_bias(&blurred, mask).0
-}
-
-/// The low-passed error image itself (0 on background), for the report's pictures.
-pub fn lowpass(err: &Image, mask: &Image, sigma: f64) -> Image {
-    let (w, h) = (err.width as usize, err.height as usize);
-    let radius = (3.0 * sigma).ceil().max(0.0) as isize;
-    let kernel: Vec<f64> =
-        (-radius..=radius).map(|k| (-((k * k) as f64) / (2.0 * sigma * sigma).max(1e-12)).exp()).collect();
-    let m: Vec<f64> = (0..err.len()).map(|i| if covered(mask, i) { 1.0 } else { 0.0 }).collect();
-    let v: Vec<f64> = (0..err.len()).map(|i| m[i] * err.data[i] as f64).collect();
-    let pass = |src: &[f64], horizontal: bool| -> Vec<f64> {
-        let mut out = vec![0.0; src.len()];
-        for y in 0..h {
-            for x in 0..w {
-                let mut acc = 0.0;
-                for (ki, k) in (-radius..=radius).enumerate() {
-                    let (sx, sy) =
-                        if horizontal { (x as isize + k, y as isize) } else { (x as isize, y as isize + k) };
-                    if sx >= 0 && sy >= 0 && (sx as usize) < w && (sy as usize) < h {
-                        acc += kernel[ki] * src[sy as usize * w + sx as usize];
-                    }
-                }
-                out[y * w + x] = acc;
-            }
-        }
-        out
-    };
-    let num = pass(&pass(&v, true), false);
-    let den = pass(&pass(&m, true), false);
-    let data = (0..err.len())
-        .map(|i| if m[i] > 0.0 && den[i] > 0.0 { (num[i] / den[i]) as f32 } else { 0.0 })
-        .collect();
-    Image::from_vec(err.width, err.height, data)
 }
 
 /// Error per unit of work: 1 / (MSE · time). `None` when MSE · time is 0 or not finite (a perfect

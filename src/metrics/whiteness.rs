@@ -28,8 +28,11 @@ use crate::image::Image;
 /// Largest |dx| and |dy| of the lags tested: up to period-8 patterns, within a few pixels' reach.
 pub const MAX_LAG: i32 = 4;
 
-/// Above this z the error is called structured: one-sided p ≈ 3e-7 for white noise ("5 sigma"), so a
-/// table of hundreds of white-noise images calls none of them structured by chance.
+/// Above this z the error is significantly correlated: one-sided p ≈ 3e-7 for white noise ("5
+/// sigma"), so a table of hundreds of white-noise images flags none of them by chance. It is a test,
+/// not the structure verdict: T_h squares each autocovariance, so blue noise's *negative* short-range
+/// correlation counts like banding, and for a fixed texture z grows as √(pixels). The report and
+/// `advise` call an error structured by `lowfreq::STRUCTURED_RATIO` (issue 26).
 pub const STRUCTURED_Z: f64 = 5.0;
 
 /// The lags of the half-window, each ±h pair once: (dx, 0) for dx = 1..=L, and (dx, dy) for

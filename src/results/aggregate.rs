@@ -36,6 +36,7 @@ pub struct Aggregate {
     pub autocorr_y: Stat,
     pub lowpass_rmse: Stat,
     pub whiteness_z: Stat,
+    pub lowfreq_ratio: Stat,
     /// Mean squared error per replicate, mean ± sd: what efficiency divides by.
     pub mse: Stat,
     /// Over every timed render of the configuration (`None` before any).
@@ -87,6 +88,7 @@ pub fn aggregate(results: &[JobResult]) -> Vec<Aggregate> {
                 autocorr_y: st(&|r| r.autocorr_y),
                 lowpass_rmse: st(&|r| r.lowpass_rmse),
                 whiteness_z: st(&|r| r.whiteness_z),
+                lowfreq_ratio: st(&|r| r.lowfreq_ratio),
                 mse,
                 time,
                 overhead_s: first.overhead_s,
@@ -127,10 +129,16 @@ pub fn aggregate_columns() -> Vec<String> {
         c.push(format!("{m}_sd"));
     }
     c.extend(AGG_TIMING.map(String::from));
+    for m in AGG_APPENDED {
+        c.push(format!("{m}_mean"));
+        c.push(format!("{m}_sd"));
+    }
     c
 }
 
 const AGG_METRICS: [&str; 6] = ["rmse", "bias", "autocorr_x", "autocorr_y", "lowpass_rmse", "whiteness_z"];
+/// Metrics added later, after the timing columns so that every earlier column keeps its position.
+const AGG_APPENDED: [&str; 1] = ["lowfreq_ratio"];
 const AGG_TIMING: [&str; 12] = [
     "time_median_s",
     "time_min_s",
@@ -182,6 +190,7 @@ pub fn aggregates_to_csv(aggs: &[Aggregate]) -> String {
             num(a.efficiency),
             num(a.efficiency_spread)
         );
+        let _ = write!(s, ",{},{}", num(a.lowfreq_ratio.mean), num(a.lowfreq_ratio.sd));
         s.push('\n');
     }
     s
@@ -250,5 +259,11 @@ mod tests {
         let csv = aggregates_to_csv(&aggs);
         assert!(csv.starts_with("scene,distribution,sequence,seed_mode,rays,replicates,rmse_mean,rmse_sd,"));
         assert_eq!(csv.lines().count(), 5);
+        let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+        assert_eq!(header[header.len() - 2..], ["lowfreq_ratio_mean", "lowfreq_ratio_sd"], "appended last");
+        assert_eq!(header[header.len() - 3], "efficiency_spread", "every earlier column in place");
+        let first: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+        assert_eq!(first.len(), header.len());
+        assert_eq!(first[first.len() - 2..], ["0.75", "0"], "mean ± sd of the records' ratios");
     }
 }

@@ -17,7 +17,8 @@ use serde::{Deserialize, Serialize};
 
 /// Column order of `results.csv`; the first fourteen are the original columns,
 /// kept in place so that scripts reading them by position still work; later columns
-/// (whiteness_z, the timing columns, …) come after them.
+/// (whiteness_z, the timing columns, …, lowfreq_ratio) were appended after them, in the order
+/// they were added.
 pub const CSV_COLUMNS: &[&str] = &[
     "scene",
     "distribution",
@@ -48,6 +49,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "covered_pixels",
     "key",
     "image",
+    "lowfreq_ratio",
 ];
 
 /// The columns that hold measured times, or depend on them (how many renders a configuration got:
@@ -86,6 +88,9 @@ pub struct JobResult {
     pub lowpass_rmse: f64,
     /// z-score of the error's 2-D portmanteau statistic against white noise (`metrics::whiteness`).
     pub whiteness_z: f64,
+    /// Low-pass energy of the error over that of independent per-pixel errors of the same
+    /// magnitudes (`metrics::lowfreq`): 1 white, < 1 blue, > 1 clumped; the structure verdict.
+    pub lowfreq_ratio: f64,
     /// This job's own render time (the median of its renders when it was rendered more than once).
     #[serde(deserialize_with = "split::nan_null")]
     pub time_s: f64,
@@ -165,6 +170,7 @@ impl JobResult {
             autocorr_y: stats.autocorr_y,
             lowpass_rmse: stats.lowpass_rmse,
             whiteness_z: stats.whiteness_z,
+            lowfreq_ratio: stats.lowfreq_ratio,
             time_s: f64::NAN,
             rays_per_s: 0.0,
             rays_cast,
@@ -187,7 +193,7 @@ impl JobResult {
     }
 
     /// A record of `scene` with only what the statistics read (configuration, rays, replicate,
-    /// RMSE, whiteness z): the data unit tests of the comparisons and verdicts build.
+    /// RMSE, low-frequency ratio): the data unit tests of the comparisons and verdicts build.
     #[cfg(test)]
     pub(crate) fn for_test(
         scene: &str,
@@ -195,7 +201,7 @@ impl JobResult {
         rays: u32,
         replicate: u32,
         rmse: f64,
-        z: f64,
+        lowfreq_ratio: f64,
     ) -> Self {
         let job = Job {
             scene: scene.into(),
@@ -217,7 +223,8 @@ impl JobResult {
             autocorr_x: 0.0,
             autocorr_y: 0.0,
             lowpass_rmse: 0.0,
-            whiteness_z: z,
+            whiteness_z: 0.0,
+            lowfreq_ratio,
         };
         Self::new(&job, &stats, rays as u64, "")
     }
@@ -302,6 +309,7 @@ pub fn to_csv(results: &[JobResult]) -> String {
             r.covered_pixels.to_string(),
             csv_field(&r.key),
             csv_field(&r.image),
+            num(r.lowfreq_ratio),
         ];
         s.push_str(&fields.join(","));
         s.push('\n');
@@ -351,6 +359,7 @@ mod tests {
             autocorr_y: -0.1,
             lowpass_rmse: rmse / 4.0,
             whiteness_z: 0.5,
+            lowfreq_ratio: 0.75,
         };
         let mut r = JobResult::new(
             &job(rays, replicate),
@@ -376,7 +385,7 @@ mod tests {
             lines.next().unwrap(),
             "scene,distribution,sequence,seed_mode,rays,replicate,seed,rmse,bias,autocorr_x,autocorr_y,\
              lowpass_rmse,time_s,rays_per_s,whiteness_z,rays_cast,time_median_s,time_min_s,time_max_s,timings,overhead_s,\
-             ao_time_s,ns_per_ray,efficiency,timing_threads,wall_s,covered_pixels,key,image"
+             ao_time_s,ns_per_ray,efficiency,timing_threads,wall_s,covered_pixels,key,image,lowfreq_ratio"
         );
         let row: Vec<&str> = lines.next().unwrap().split(',').collect();
         assert_eq!(row.len(), CSV_COLUMNS.len());
@@ -393,6 +402,7 @@ mod tests {
         assert_eq!(col("efficiency"), (1.0 / (0.1f64 * 0.1 * 0.4)).to_string());
         assert_eq!((col("timing_threads"), col("wall_s")), ("1", "0.75"));
         assert_eq!(col("key"), job(8, 0).key());
+        assert_eq!(col("lowfreq_ratio"), "0.75");
         for c in TIME_COLUMNS {
             assert!(CSV_COLUMNS.contains(c), "{c}");
         }
@@ -404,7 +414,7 @@ mod tests {
         r.image = "a,b \"c\".exr".into();
         let csv = to_csv(&timed(vec![r], 0.1));
         let line = csv.lines().nth(1).unwrap();
-        assert!(line.ends_with(",\"a,b \"\"c\"\".exr\""), "{line}");
+        assert!(line.ends_with(",\"a,b \"\"c\"\".exr\",0.75"), "quoted, then lowfreq_ratio: {line}");
         assert!(line.contains(",0,0,0.5,128,"), "time and rays_per_s 0, whiteness 0.5: {line}");
         assert!(
             line.contains(",0.1,,,,1,"),

@@ -6,6 +6,7 @@
 use crate::support::common;
 
 use common::{Tmp, assert_error, scene};
+use hemilab::metrics::STRUCTURED_RATIO;
 use serde_json::Value;
 
 const ONLY: &str = "sine-cosine/fibonacci/shift,sine-cosine/fibonacci/static,uniform/random/rotation";
@@ -127,19 +128,22 @@ fn advice_json_validates_and_its_recommendations_recompute() {
             .collect();
         at.sort_by(|x, y| x.1.total_cmp(&y.1));
         // The ranking recomputes; the recommendation is its best configuration whose error is not
-        // structured (whiteness z ≤ 5), or its best when every one is.
+        // structured (low-frequency ratio ≤ STRUCTURED_RATIO), or its best when every one is.
         let ranking = rec["ranking"].as_array().unwrap();
         assert_eq!(label(&ranking[0]["configuration"]), at[0].0, "ranking at {budget} ms: {at:?}");
-        let shipped = ranking.iter().find(|e| num(&e["whiteness_z"]) <= 5.0).unwrap_or(&ranking[0]);
+        let structured = |e: &Value| num(&e["lowfreq_ratio"]) > STRUCTURED_RATIO;
+        let shipped = ranking.iter().find(|e| !structured(e)).unwrap_or(&ranking[0]);
         assert_eq!(label(&shipped["configuration"]), best, "the recommendation at {budget} ms: {at:?}");
-        assert_eq!(rec["structured"].as_bool().unwrap(), num(&shipped["whiteness_z"]) > 5.0);
+        assert_eq!(rec["structured"].as_bool().unwrap(), structured(shipped));
+        assert!(rec["structured_rule"].as_str().unwrap().contains("lowfreq_ratio"));
+        assert!(ranking.iter().all(|e| num(&e["whiteness_z"]).is_finite()), "z is still reported");
         let mse = at.iter().find(|x| x.0 == best).unwrap().1;
         let rmse = num(&rec["rmse"]);
         assert!((rmse - mse.sqrt()).abs() < 1e-9 * rmse, "{rmse} vs {}", mse.sqrt());
         assert!(num(&rec["rmse_se"]) >= 0.0 && num(&rec["lowpass_rmse"]) > 0.0);
         if best != at[0].0 {
             assert_eq!(label(&rec["least_rmse_structured"]["configuration"]), at[0].0);
-            assert!(num(&ranking[0]["whiteness_z"]) > 5.0);
+            assert!(structured(&ranking[0]));
         }
         let default =
             at.iter().find(|x| x.0 == "sine-cosine/random/rotation").expect("the default is inside");

@@ -65,6 +65,8 @@ fn smoke_run_writes_results_with_the_required_columns() {
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     assert_eq!(&header[..PROMISED.len()], &PROMISED, "promised columns, in this order");
+    assert_eq!(header, hemilab::results::CSV_COLUMNS, "later columns appended, in their order");
+    assert_eq!(header.last(), Some(&"lowfreq_ratio"), "the newest column is last");
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
 
     let text = std::fs::read_to_string(&spec).unwrap();
@@ -151,8 +153,9 @@ fn rerun_is_bit_identical_for_any_thread_count() {
     assert_eq!(one.len(), 16);
     for (a, b) in one.iter().zip(&two) {
         assert_eq!(image_bytes(&t.path("one"), a), image_bytes(&t.path("two"), b), "{}", a.image);
-        let metrics =
-            |r: &JobResult| [r.rmse, r.bias, r.autocorr_x, r.autocorr_y, r.lowpass_rmse, r.whiteness_z];
+        let metrics = |r: &JobResult| {
+            [r.rmse, r.bias, r.autocorr_x, r.autocorr_y, r.lowpass_rmse, r.whiteness_z, r.lowfreq_ratio]
+        };
         assert_eq!(metrics(a).map(f64::to_bits), metrics(b).map(f64::to_bits), "{}", a.image);
         assert_eq!(timeless(a), timeless(b));
     }
@@ -318,7 +321,16 @@ fn timing_columns_follow_the_protocol() {
         );
     }
     let aggs = std::fs::read_to_string(t.path("out/aggregates.csv")).unwrap();
-    for c in ["time_median_s", "time_min_s", "time_max_s", "overhead_s", "ns_per_ray", "efficiency_spread"] {
+    for c in [
+        "time_median_s",
+        "time_min_s",
+        "time_max_s",
+        "overhead_s",
+        "ns_per_ray",
+        "efficiency_spread",
+        "lowfreq_ratio_mean",
+        "lowfreq_ratio_sd",
+    ] {
         assert!(aggs.lines().next().unwrap().split(',').any(|h| h == c), "aggregates.csv lacks {c}");
     }
     // Killed after its last job but before the timing columns were filled: every record is there,

@@ -6,6 +6,7 @@ use super::text::{advice_line, default_at, outside_note, shipped_rays, status};
 use crate::advice::analysis::mean;
 use crate::advice::analysis::{Analysis, Measured};
 use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking, winner};
+use crate::metrics::{LOWPASS_SIGMA, STRUCTURED_RATIO};
 use crate::spec::Row;
 use crate::timing;
 use serde_json::{Value, json};
@@ -14,6 +15,16 @@ use serde_json::{Value, json};
 /// 5.1000000000000005).
 fn ms_value(s: f64) -> f64 {
     advice::round_significant(s * 1e3, 15)
+}
+
+/// What "structured" means in advice.json, for a reader without the source.
+fn structured_rule() -> String {
+    format!(
+        "mean lowfreq_ratio over the replicates (interpolated to the budget) above {STRUCTURED_RATIO}: the \
+         error's low-pass energy (Gaussian, sigma {LOWPASS_SIGMA} px) over what independent per-pixel errors \
+         of the same sizes would have; 1 = white noise, < 1 = blue noise, > 1 = blotches or bands. \
+         whiteness_z is reported as a test of any correlation, not used here"
+    )
 }
 
 fn conf(row: Row) -> Value {
@@ -37,6 +48,7 @@ fn entry(a: &AtBudget, r: &Ranking) -> Value {
         "lowpass_rmse": l.value,
         "lowpass_rmse_se": l.se,
         "whiteness_z": a.whiteness_z,
+        "lowfreq_ratio": a.lowfreq_ratio,
         "gain_vs_paper_default": g.map(|g| g.value),
         "gain_vs_paper_default_se": g.map(|g| g.se),
         "gain_se_replicates": g.map(|g| g.se_replicates),
@@ -72,6 +84,7 @@ fn recommendation(r: &Ranking, low: &Ranking) -> Value {
     o.insert("note".into(), json!(note));
     o.insert("paper_default".into(), default_at(r).map_or(Value::Null, |d| entry(d, r)));
     o.insert("structured".into(), json!(advice::recommended(r).is_some_and(|b| b.structured())));
+    o.insert("structured_rule".into(), json!(structured_rule()));
     let shipped = advice::recommended(r).map(|b| b.row);
     let least_structured = r.ranked.first().filter(|t| Some(t.row) != shipped);
     o.insert("least_rmse_structured".into(), least_structured.map_or(Value::Null, |t| entry(t, r)));
@@ -103,6 +116,8 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
                         "lowpass_mse": p.lowpass_mse,
                         "rmse": mean(&p.mse).sqrt(),
                         "lowpass_rmse": mean(&p.lowpass_mse).sqrt(),
+                        "whiteness_z": p.whiteness_z,
+                        "lowfreq_ratio": p.lowfreq_ratio,
                     })
                 })
                 .collect();

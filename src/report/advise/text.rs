@@ -2,6 +2,7 @@
 //! is shipped, why a budget has no answer.
 
 use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking};
+use crate::metrics::STRUCTURED_RATIO;
 use crate::spec::Row;
 use std::fmt::Write as _;
 
@@ -27,9 +28,9 @@ pub fn advice_line(r: &Ranking, low: &Ranking) -> String {
     if best.structured() {
         let _ = write!(
             s,
-            " — its error is structured (whiteness z {:.0}: bands or moiré that RMSE does not show), as is \
-             every configuration measured here",
-            best.whiteness_z
+            " — its error is structured (low-frequency ratio {:.2} > {STRUCTURED_RATIO}: blotches or bands \
+             that a blur keeps and RMSE does not show), as is every configuration measured here",
+            best.lowfreq_ratio
         );
     }
     match default_at(r) {
@@ -51,10 +52,11 @@ pub fn advice_line(r: &Ranking, low: &Ranking) -> String {
     if let Some(top) = r.ranked.first().filter(|t| t.row != best.row) {
         let _ = write!(
             s,
-            "; {} has {:.0} % less RMSE but its error is structured (whiteness z {:.0}), so it is not advised",
+            "; {} has {:.0} % less RMSE but its error is structured (low-frequency ratio {:.2} > \
+             {STRUCTURED_RATIO}), so it is not advised",
             label(top.row),
             100.0 * (1.0 - top.rmse(Metric::Rmse).value / e.value),
-            top.whiteness_z
+            top.lowfreq_ratio
         );
     }
     if let Some(lb) = low.ranked.first().filter(|l| l.row != best.row) {

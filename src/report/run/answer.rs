@@ -4,8 +4,9 @@
 //! comparisons of rows that differ in one choice. Every sentence quotes the tables below it.
 
 use crate::compare::{self, Best};
+use crate::metrics::STRUCTURED_RATIO;
 use crate::report::Table;
-use crate::report::run::data::{ReportInput, agg_label, banding_stat, row_label};
+use crate::report::run::data::{ReportInput, agg_label, lowfreq_stat, row_label};
 use crate::results::lookup;
 use crate::spec::{Group, Row};
 
@@ -59,7 +60,8 @@ pub fn answer(data: &ReportInput) -> Answer {
 
 /// "A at 7 of 11 ray counts (4, 16–512; ×1.05–1.14 the runner-up's efficiency, by more than 3
 /// combined spreads at 2 of them); B at …", winners in order of how often they win ("at none of
-/// them by more than 3 combined spreads" when no margin is resolved).
+/// them by more than 3 combined spreads" when no margin is resolved), a winner whose error is
+/// structured (low-frequency ratio above `STRUCTURED_RATIO`, the verdict advise ships by) said so.
 fn winners(data: &ReportInput, scene: &str, best: &[Best]) -> String {
     let mut groups: Vec<(String, Vec<&Best>)> = Vec::new();
     for b in best {
@@ -89,15 +91,18 @@ fn winners(data: &ReportInput, scene: &str, best: &[Best]) -> String {
                 };
                 format!("; {r} the runner-up's efficiency, {resolved}")
             };
-            let band = v
+            let ratio = v
                 .iter()
                 .filter_map(|b| {
-                    compare::row_of(b.best).and_then(|r| banding_stat(data.results, scene, r, b.rays))
+                    compare::row_of(b.best).and_then(|r| lowfreq_stat(data.results, scene, r, b.rays))
                 })
                 .map(|(m, _)| m)
                 .fold(f64::NEG_INFINITY, f64::max);
-            let band = if band > 0.1 {
-                format!(" — its error is banded (ρ, the lag-1 error autocorrelation, up to {band:.2}: table of all configurations)")
+            let band = if ratio > STRUCTURED_RATIO {
+                format!(
+                    " — its error is structured (low-frequency ratio up to {ratio:.2}, above \
+                     {STRUCTURED_RATIO}: blotches or bands a blur keeps; table of all configurations)"
+                )
             } else {
                 String::new()
             };

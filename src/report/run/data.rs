@@ -69,12 +69,13 @@ pub fn banding_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> 
     (!v.is_empty()).then(|| mean_sd(&v))
 }
 
-/// Mean ± sd of the whiteness z-score over the replicates of a configuration.
-pub fn whiteness_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Option<(f64, f64)> {
+/// Mean ± sd of the low-frequency ratio (the structure verdict's measure) over the replicates of a
+/// configuration.
+pub fn lowfreq_stat(results: &[JobResult], scene: &str, row: Row, rays: u32) -> Option<(f64, f64)> {
     let v: Vec<f64> = results
         .iter()
         .filter(|r| r.is(scene, row, rays))
-        .map(|r| r.whiteness_z)
+        .map(|r| r.lowfreq_ratio)
         .filter(|z| z.is_finite())
         .collect();
     (!v.is_empty()).then(|| mean_sd(&v))

@@ -5,7 +5,7 @@
 //! the blue-noise mask below 1 — the configuration the whiteness z-score, a test of *any*
 //! correlation, calls structured (issue 26).
 
-mod common;
+use crate::support::common;
 
 use hemilab::compare::claims::{self, COSINE_FIB_PIXEL, COSINE_FIB_STATIC, COSINE_RANDOM, Claim, Outcome};
 use hemilab::metrics::STRUCTURED_RATIO;

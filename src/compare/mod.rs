@@ -7,9 +7,12 @@
 //!   configurations' RMSEs are compared replicate by replicate (`stats::paired_difference`).
 //! - **Rank agreement** of two runs: the check behind "two runs rank the rows' efficiency
 //!   identically wherever they differ by more than 3 combined spreads".
+//! - **Structure**: whether a configuration's error is structured (`is_structured`), the one test
+//!   every part of `run`'s report asks.
 
 pub mod claims;
 
+use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::results::{Aggregate, JobResult};
 use crate::sampling::{SeedMode, Sequence};
 use crate::spec::Row;
@@ -26,6 +29,23 @@ pub fn per_pixel_unbiased(row: Row) -> bool {
         SeedMode::Rotation => row.sequence == Sequence::Random,
         SeedMode::Static => false,
     }
+}
+
+/// Whether a configuration's error is structured (bands, moiré: visible, not noise), from its
+/// records, each with a weight (the replicates of one ray count at 1/n each; at a budget between
+/// two ray counts, advise's interpolation: (1 − w)/n and w/n). Today the weighted mean whiteness
+/// z-score above [`STRUCTURED_Z`], the test advise's `AtBudget::structured` applies to the same
+/// numbers. Every structure decision of `run`'s answer, equal-time tables and claims goes through
+/// here, so that the structure measure is switched in one place. False with no weight.
+pub fn is_structured(records: &[(f64, &JobResult)]) -> bool {
+    let total: f64 = records.iter().map(|(w, _)| w).sum();
+    let z: f64 = records.iter().map(|(w, r)| w * r.whiteness_z).sum();
+    total > 0.0 && z / total > STRUCTURED_Z
+}
+
+/// `records` at equal weights: the structure test of one configuration at one ray count.
+pub fn equally<'a>(records: impl IntoIterator<Item = &'a JobResult>) -> Vec<(f64, &'a JobResult)> {
+    records.into_iter().map(|r| (1.0, r)).collect()
 }
 
 /// The row of an aggregate, if its names parse.

@@ -3,8 +3,10 @@
 
 pub mod answer;
 pub mod data;
+pub mod equal_time;
 pub mod figures;
 pub mod page;
+pub mod rays;
 pub mod summary;
 pub mod verdicts;
 

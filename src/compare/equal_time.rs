@@ -102,10 +102,10 @@ pub fn budgets(curves: &[Curve], baseline: Row, per_doubling: usize) -> Vec<f64>
             None => return Vec::new(),
         }
     };
-    let (lo, hi) = (lo + INSIDE, hi - INSIDE);
-    if hi < lo {
-        return vec![lo.exp()];
+    if hi - lo < 2.0 * INSIDE {
+        return vec![(0.5 * (lo + hi)).exp()];
     }
+    let (lo, hi) = (lo + INSIDE, hi - INSIDE);
     let steps = (((hi - lo) / std::f64::consts::LN_2) * per_doubling.max(1) as f64).ceil().max(1.0) as usize;
     let mut out: Vec<f64> = Vec::new();
     for i in 0..=steps {

@@ -2,7 +2,8 @@
 //!
 //! - **Best per unit time**: at each ray count of a sweep, the row with the highest efficiency
 //!   (1 / (MSE · AO time), see `results`), overall and among per-pixel-unbiased rows, with its
-//!   margin over the runner-up as a ratio and in combined spreads.
+//!   margin over the runner-up as a ratio and in paired standard errors. The report shows it as
+//!   a column; the ranking is by MSE at equal time (`equal_time`).
 //! - **Paired differences**: replicate r uses the same seed in every configuration, so two
 //!   configurations' RMSEs are compared replicate by replicate (`stats::paired_difference`).
 //! - **Rank agreement** of two runs: the check behind "two runs rank the rows' efficiency

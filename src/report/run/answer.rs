@@ -43,7 +43,9 @@ pub fn answer(data: &ReportInput) -> Answer {
         a.findings.extend(identities(data, g, scene));
         a.findings.push(ao_view(&ao));
         a.tables.push(tables::table(&total, &g.name));
-        a.tables.push(tables::table(&ao, &g.name));
+        if !ao.at.is_empty() {
+            a.tables.push(tables::table(&ao, &g.name));
+        }
         let pairs = tables::pairs_table(&total, &g.rows, &g.name);
         if !pairs.rows.is_empty() {
             a.tables.push(pairs);
@@ -345,9 +347,15 @@ fn t_range(t: &[f64]) -> String {
 
 /// The AO-time view in one sentence.
 fn ao_view(ao: &EqualTime) -> String {
+    if ao.at.is_empty() {
+        return "By AO time (render time less the per-image overhead) the configurations share no measured \
+                time, so there is no second view."
+            .into();
+    }
     let wins = winners(ao);
     let Some((w, ats)) = wins.first() else {
-        return "By AO time (render time less the per-image overhead) no unstructured configuration is ranked."
+        return "By AO time (render time less the per-image overhead) every configuration measured has \
+                structured error."
             .into();
     };
     format!(

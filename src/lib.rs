@@ -13,8 +13,9 @@
 //! `load` reads a spec and its scenes and refuses bad input before any work; `reference` owns what
 //! a reference is and how it is stored; `shard` splits a plan over machines and merges it back;
 //! `timing` is how a render's cost is measured (thread CPU time, interleaved repeats, per-image
-//! overhead apart from per-ray cost); `compare` turns records into paired comparisons and the
-//! paper's claims; `advice` ranks configurations at equal time for `hemilab advise`. `outdir` names
+//! overhead apart from per-ray cost); `compare` turns records into paired comparisons, the
+//! paper's claims and `run`'s equal-time ranking; `advice` ranks configurations at equal time for
+//! `hemilab advise`, with the interpolation `compare::equal_time` calls too. `outdir` names
 //! every output file once and `io` is the only module that touches the filesystem. The command
 //! line (`cli`) and the commands (`app`, one thin file each) are the binary's.
 

@@ -18,6 +18,8 @@ pub const RESULTS_JSON: &str = "results.json";
 pub const RESULTS_CSV: &str = "results.csv";
 /// One line per configuration.
 pub const AGGREGATES_CSV: &str = "aggregates.csv";
+/// Each convergence sweep's configurations at equal time: MSE at every budget, both views.
+pub const EQUAL_TIME_CSV: &str = "equal_time.csv";
 /// Each convergence sweep's fitted slopes.
 pub const SLOPES_JSON: &str = "slopes.json";
 /// The numbers the README quotes (`report::run::quotes`).

@@ -2,14 +2,23 @@
 //!
 //! - **Best per unit time**: at each ray count of a sweep, the row with the highest efficiency
 //!   (1 / (MSE · AO time), see `results`), overall and among per-pixel-unbiased rows, with its
-//!   margin over the runner-up as a ratio and in combined spreads.
+//!   margin over the runner-up as a ratio and in paired standard errors. The report shows it as
+//!   a column; the ranking is by MSE at equal time (`equal_time`).
 //! - **Paired differences**: replicate r uses the same seed in every configuration, so two
 //!   configurations' RMSEs are compared replicate by replicate (`stats::paired_difference`).
 //! - **Rank agreement** of two runs: the check behind "two runs rank the rows' efficiency
 //!   identically wherever they differ by more than 3 combined spreads".
+//! - **Structure**: whether a configuration's error is structured (`is_structured`), the one test
+//!   every part of `run`'s report asks.
+//!
+//! Comparisons at equal time are in `equal_time`, the claims' verdicts in `claims`, the pooled cost
+//! of two configurations in `cost`.
 
 pub mod claims;
+pub mod cost;
+pub mod equal_time;
 
+use crate::metrics::STRUCTURED_RATIO;
 use crate::results::{Aggregate, JobResult};
 use crate::sampling::{SeedMode, Sequence};
 use crate::spec::Row;
@@ -26,6 +35,23 @@ pub fn per_pixel_unbiased(row: Row) -> bool {
         SeedMode::Rotation => row.sequence == Sequence::Random,
         SeedMode::Static => false,
     }
+}
+
+/// Whether a configuration's error is structured (bands, moiré: visible, not noise), from its
+/// records, each with a weight (the replicates of one ray count at 1/n each; at a budget between
+/// two ray counts, advise's interpolation: (1 − w)/n and w/n): the weighted mean low-frequency
+/// ratio above [`STRUCTURED_RATIO`] (`metrics::lowfreq`), the test advise's `AtBudget::structured`
+/// applies to the same numbers. Every structure decision of `run`'s answer, equal-time tables and claims goes through
+/// here, so that the structure measure is switched in one place. False with no weight.
+pub fn is_structured(records: &[(f64, &JobResult)]) -> bool {
+    let total: f64 = records.iter().map(|(w, _)| w).sum();
+    let ratio: f64 = records.iter().map(|(w, r)| w * r.lowfreq_ratio).sum();
+    total > 0.0 && ratio / total > STRUCTURED_RATIO
+}
+
+/// `records` at equal weights: the structure test of one configuration at one ray count.
+pub fn equally<'a>(records: impl IntoIterator<Item = &'a JobResult>) -> Vec<(f64, &'a JobResult)> {
+    records.into_iter().map(|r| (1.0, r)).collect()
 }
 
 /// The row of an aggregate, if its names parse.
@@ -52,8 +78,9 @@ pub struct Paired {
 }
 
 impl Paired {
-    /// The difference in paired standard errors (∞ when every replicate differs by the same).
-    pub fn z(&self) -> f64 {
+    /// The difference in paired standard errors, a Student's t with n − 1 degrees of freedom (∞ when
+    /// every replicate differs by the same).
+    pub fn t(&self) -> f64 {
         if self.se > 0.0 { self.diff / self.se } else { self.diff.signum() * f64::INFINITY }
     }
 }
@@ -114,6 +141,9 @@ pub struct Best<'a> {
     pub rays: u32,
     pub best: &'a Aggregate,
     pub runner_up: Option<&'a Aggregate>,
+    /// ln(best's efficiency / the runner-up's) in its paired standard errors
+    /// (`efficiency_log_ratio`); `None` without a runner-up or with fewer than two shared replicates.
+    pub margin_se: Option<f64>,
 }
 
 impl Best<'_> {
@@ -121,18 +151,42 @@ impl Best<'_> {
     pub fn ratio(&self) -> Option<f64> {
         self.runner_up.map(|r| self.best.efficiency / r.efficiency)
     }
+}
 
-    /// The margin in combined spreads.
-    pub fn spreads(&self) -> Option<f64> {
-        self.runner_up.map(|r| spreads_apart(self.best, r))
+/// Each replicate's MSE of one aggregate's configuration, by replicate.
+fn mse_by_replicate(results: &[JobResult], a: &Aggregate) -> Vec<(u32, f64)> {
+    let is = |r: &JobResult| {
+        r.config()
+            == (a.scene.as_str(), a.distribution.as_str(), a.sequence.as_str(), a.seed_mode.as_str(), a.rays)
+    };
+    results.iter().filter(|r| is(r)).map(|r| (r.replicate, r.rmse * r.rmse)).collect()
+}
+
+/// ln(E_a / E_b) of two configurations at the same ray count and its standard error. With
+/// E = 1 / (MSE · AO time), ln(E_a/E_b) = ln(MSE_b/MSE_a) + ln(T_b/T_a): the MSE part's error is
+/// paired over the replicates the two share (the same seeds: `stats::paired_log_ratio`), which the
+/// aggregates' own spreads, each from its replicates alone, would count twice; the time part's is
+/// the two times' relative spreads (separate renders), in quadrature. `None` with fewer than two
+/// shared replicates or without both AO times.
+pub fn efficiency_log_ratio(results: &[JobResult], a: &Aggregate, b: &Aggregate) -> Option<(f64, f64)> {
+    let (ra, rb) = (mse_by_replicate(results, a), mse_by_replicate(results, b));
+    let (xa, xb): (Vec<f64>, Vec<f64>) =
+        ra.iter().filter_map(|(r, x)| rb.iter().find(|(q, _)| q == r).map(|(_, y)| (*x, *y))).unzip();
+    let rel = |g: &Aggregate| g.time.map(|t| t.spread() / g.ao_time_s).filter(|x| x.is_finite());
+    let (ta, tb) = (rel(a)?, rel(b)?);
+    if xa.len() < 2 || !(a.ao_time_s > 0.0 && b.ao_time_s > 0.0) {
+        return None;
     }
+    let (ln_mse, se_mse) = crate::stats::paired_log_ratio(&xa, &xb);
+    Some((ln_mse + (b.ao_time_s / a.ao_time_s).ln(), se_mse.hypot(ta).hypot(tb)))
 }
 
 /// At each of `rays`, the candidate of highest efficiency among `aggs` of `scene` whose row
-/// passes `keep`; ray counts without two defined efficiencies give a `Best` without runner-up,
-/// or none at all.
+/// passes `keep`, with its margin over the runner-up in paired standard errors (`results` pair
+/// them); ray counts without two defined efficiencies give a `Best` without runner-up, or none at all.
 pub fn best_per_ray_count<'a>(
     aggs: &'a [Aggregate],
+    results: &[JobResult],
     scene: &str,
     rows: &[Row],
     rays: &[u32],
@@ -148,7 +202,11 @@ pub fn best_per_ray_count<'a>(
                 .collect();
             c.sort_by(|a, b| b.efficiency.total_cmp(&a.efficiency));
             let best = *c.first()?;
-            Some(Best { rays: n, best, runner_up: c.get(1).copied() })
+            let runner_up = c.get(1).copied();
+            let margin_se = runner_up
+                .and_then(|r| efficiency_log_ratio(results, best, r))
+                .map(|(v, se)| if se > 0.0 { v / se } else { v.signum() * f64::INFINITY });
+            Some(Best { rays: n, best, runner_up, margin_se })
         })
         .collect()
 }
@@ -288,18 +346,46 @@ mod tests {
         );
         let aggs =
             vec![agg(a, 8, 100.0, 3.0), agg(b, 8, 120.0, 4.0), agg(c, 8, 40.0, 1.0), agg(a, 16, 90.0, 1.0)];
-        let all = best_per_ray_count(&aggs, "k", &[a, b, c], &[8, 16, 32], |_| true);
+        let all = best_per_ray_count(&aggs, &[], "k", &[a, b, c], &[8, 16, 32], |_| true);
         assert_eq!(all.len(), 2, "no result at 32 rays: no entry");
         assert_eq!(
             (all[0].best.seed_mode.as_str(), all[0].runner_up.unwrap().seed_mode.as_str()),
             ("static", "shift")
         );
         assert!((all[0].ratio().unwrap() - 1.2).abs() < 1e-12);
-        assert!((all[0].spreads().unwrap() - 4.0).abs() < 1e-12, "20 apart, spreads 3 and 4 combine to 5");
+        assert_eq!(all[0].margin_se, None, "no records to pair");
         assert_eq!(all[1].runner_up, None);
-        let unbiased = best_per_ray_count(&aggs, "k", &[a, b, c], &[8], per_pixel_unbiased);
+        let unbiased = best_per_ray_count(&aggs, &[], "k", &[a, b, c], &[8], per_pixel_unbiased);
         assert_eq!(unbiased[0].best.seed_mode, "shift");
         assert_eq!(unbiased[0].runner_up.unwrap().sequence, "random");
+    }
+
+    #[test]
+    fn the_efficiency_margin_is_paired() {
+        let (a, b) =
+            (row(SC, Sequence::Fibonacci, SeedMode::Shift), row(SC, Sequence::Random, SeedMode::Rotation));
+        // Replicate noise ±20 % shared by both; b's RMSE is 1.1 × a's in every replicate.
+        let mut results = Vec::new();
+        for (rep, k) in [0.8, 1.0, 1.2, 0.9].into_iter().enumerate() {
+            results.push(JobResult::for_test("k", a, 8, rep as u32, 0.1 * k, 0.0));
+            results.push(JobResult::for_test("k", b, 8, rep as u32, 0.11 * k, 0.0));
+        }
+        let summary = |median: f64| crate::timing::Summary {
+            median,
+            min: median,
+            max: median,
+            n: 9,
+            ci_low: median,
+            ci_high: median,
+        };
+        let (mut ga, mut gb) = (agg(a, 8, 0.0, 0.0), agg(b, 8, 0.0, 0.0));
+        (ga.time, ga.ao_time_s, gb.time, gb.ao_time_s) =
+            (Some(summary(0.01)), 0.01, Some(summary(0.01)), 0.01);
+        let (v, se) = efficiency_log_ratio(&results, &ga, &gb).unwrap();
+        assert!((v - 1.21f64.ln()).abs() < 1e-12, "{v}");
+        // Only the run-to-run time scatter is left: the MSE ratio is exact.
+        let t = crate::timing::RUN_TO_RUN;
+        assert!((se - t.hypot(t)).abs() < 1e-9, "{se}");
     }
 
     #[test]
@@ -343,7 +429,7 @@ mod tests {
         assert_eq!(p.n, 3);
         assert!((p.diff - 0.005).abs() < 1e-12 && p.se < 1e-12, "{p:?}");
         assert!((p.relative - 0.05).abs() < 1e-9);
-        assert!(p.z() > 1e6, "the same difference in every replicate: {}", p.z());
+        assert!(p.t() > 1e6, "the same difference in every replicate: {}", p.t());
         assert!(paired_rmse(&results, "k", a, b, 16).is_none());
     }
 }

@@ -35,35 +35,63 @@ pub struct Page<'a> {
     pub collapsed: &'a [Table],
 }
 
+/// What opens a page before its lead tables, for a page that leads with its answer: the answer
+/// (paragraphs, plain text), the figures that show it, and the method text, folded in a
+/// `<details>` element after the lead tables and the page's intro — a reader who wants the answer
+/// should not scroll past how it was found. Empty parts are left out, so the default is no opening.
+#[derive(Default)]
+pub struct Opening<'a> {
+    pub answer: &'a str,
+    pub figures: &'a [Figure],
+    pub method: &'a str,
+}
+
+/// The summary line of the folded method text.
+pub const METHOD_SUMMARY: &str = "Method: how the numbers were measured and compared";
+
+fn paragraphs(text: &str) -> impl Iterator<Item = &str> {
+    text.split("\n\n").map(str::trim).filter(|p| !p.is_empty())
+}
+
 /// The page as HTML.
 pub fn html_page(page: &Page) -> String {
+    html_page_opened(page, &Opening::default())
+}
+
+/// The page as HTML, opened by `opening`: title, answer, key figures, lead tables, intro, the
+/// method folded, tables, figures, folded tables.
+pub fn html_page_opened(page: &Page, opening: &Opening) -> String {
     let Page { title, lead, intro, tables, figures, collapsed } = *page;
     let mut s = String::new();
     s += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
     s += &format!("<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n", esc(title));
     s += &format!("<h1>{}</h1>\n", esc(title));
+    for p in paragraphs(opening.answer) {
+        s += &format!("<p>{}</p>\n", esc(p));
+    }
+    opening.figures.iter().for_each(|f| s += &html_figure(f));
     for t in lead {
         s += &format!("<h2>{}</h2>\n", esc(&t.title));
         s += &html_table(t);
     }
-    for p in intro.split("\n\n").map(str::trim).filter(|p| !p.is_empty()) {
+    for p in paragraphs(intro) {
         s += &format!("<p>{}</p>\n", esc(p));
+    }
+    if !opening.method.trim().is_empty() {
+        s += &format!(
+            "<details>\n<summary><h2 style=\"display:inline\">{}</h2></summary>\n",
+            esc(METHOD_SUMMARY)
+        );
+        for p in paragraphs(opening.method) {
+            s += &format!("<p>{}</p>\n", esc(p));
+        }
+        s += "</details>\n";
     }
     for t in tables {
         s += &format!("<h2>{}</h2>\n", esc(&t.title));
         s += &html_table(t);
     }
-    for f in figures {
-        s += &format!(
-            "<figure>\n<a href=\"{0}\"><img src=\"{0}\" alt=\"{1}\"></a>\n<figcaption>{1}",
-            esc(&f.path),
-            esc(&f.caption)
-        );
-        for l in &f.links {
-            s += &format!(" <a href=\"{0}\">[{0}]</a>", esc(l));
-        }
-        s += "</figcaption>\n</figure>\n";
-    }
+    figures.iter().for_each(|f| s += &html_figure(f));
     for t in collapsed {
         s += &format!("<details>\n<summary><h2 style=\"display:inline\">{}</h2></summary>\n", esc(&t.title));
         s += &html_table(t);
@@ -71,6 +99,18 @@ pub fn html_page(page: &Page) -> String {
     }
     s += "</body>\n</html>\n";
     s
+}
+
+fn html_figure(f: &Figure) -> String {
+    let mut s = format!(
+        "<figure>\n<a href=\"{0}\"><img src=\"{0}\" alt=\"{1}\"></a>\n<figcaption>{1}",
+        esc(&f.path),
+        esc(&f.caption)
+    );
+    for l in &f.links {
+        s += &format!(" <a href=\"{0}\">[{0}]</a>", esc(l));
+    }
+    s + "</figcaption>\n</figure>\n"
 }
 
 fn html_table(t: &Table) -> String {
@@ -93,6 +133,11 @@ fn html_table(t: &Table) -> String {
 /// The same page as Markdown (renders on GitHub and in any Markdown viewer; GitHub folds the
 /// `<details>`).
 pub fn markdown_page(page: &Page) -> String {
+    markdown_page_opened(page, &Opening::default())
+}
+
+/// `html_page_opened` as Markdown.
+pub fn markdown_page_opened(page: &Page, opening: &Opening) -> String {
     let Page { title, lead, intro, tables, figures, collapsed } = *page;
     let cell = |c: &str| c.replace('|', "\\|").replace('\n', " ");
     let md_table = |t: &Table| {
@@ -103,25 +148,38 @@ pub fn markdown_page(page: &Page) -> String {
         }
         s
     };
+    let md_figure = |f: &Figure| {
+        let mut s =
+            format!("![{}]({})\n\n{}", f.caption.replace(['[', ']'], ""), md_path(&f.path), f.caption);
+        for l in &f.links {
+            s += &format!(" [{l}]({})", md_path(l));
+        }
+        s + "\n\n"
+    };
     let mut s = format!("# {title}\n\n");
+    for p in paragraphs(opening.answer) {
+        s += &format!("{p}\n\n");
+    }
+    opening.figures.iter().for_each(|f| s += &md_figure(f));
     for t in lead {
         s += &format!("## {}\n\n{}\n", t.title, md_table(t));
     }
-    for p in intro.split("\n\n").map(str::trim).filter(|p| !p.is_empty()) {
+    for p in paragraphs(intro) {
         s += &format!("{p}\n\n");
+    }
+    if !opening.method.trim().is_empty() {
+        s += &format!("<details>\n<summary>{METHOD_SUMMARY}</summary>\n\n");
+        for p in paragraphs(opening.method) {
+            s += &format!("{p}\n\n");
+        }
+        s += "</details>\n\n";
     }
     for t in tables {
         s += &format!("## {}\n\n", t.title);
         s += &md_table(t);
         s += "\n";
     }
-    for f in figures {
-        s += &format!("![{}]({})\n\n{}", f.caption.replace(['[', ']'], ""), md_path(&f.path), f.caption);
-        for l in &f.links {
-            s += &format!(" [{l}]({})", md_path(l));
-        }
-        s += "\n\n";
-    }
+    figures.iter().for_each(|f| s += &md_figure(f));
     for t in collapsed {
         s += &format!("<details>\n<summary>{}</summary>\n\n{}\n</details>\n\n", t.title, md_table(t));
     }
@@ -215,6 +273,30 @@ mod tests {
         assert!(md.contains("| configuration | 8 |\n|---|---|\n| random \\| sine-cosine | 0.0512 |"), "{md}");
         assert!(md.contains("![Table 2 <AO>](table2.png)"));
         assert!(md.contains("[convergence_rays.svg](convergence_rays.svg)"));
+    }
+
+    /// An opening puts the answer and its figure first, and folds the method after the intro.
+    #[test]
+    fn an_opening_leads_with_the_answer_and_folds_the_method() {
+        let (lead, f) = ([table()], figures());
+        let p = Page { lead: &lead, ..page("Paper", "Findings.", &[], &f[1..]) };
+        let o = Opening { answer: "The answer.\n\nAnother scene's.", figures: &f[..1], method: "How." };
+        let (html, md) = (html_page_opened(&p, &o), markdown_page_opened(&p, &o));
+        let at = |s: &str, x: &str| s.find(x).unwrap_or_else(|| panic!("{x} missing:\n{s}"));
+        assert!(at(&html, "<p>The answer.</p>") < at(&html, "table2.png"));
+        assert!(at(&html, "table2.png") < at(&html, "<td>0.0512</td>"));
+        assert!(at(&html, "<p>Findings.</p>") < at(&html, "<details>"));
+        assert!(at(&html, "<details>") < at(&html, "<p>How.</p>"));
+        assert!(
+            html.find("<p>").unwrap() == at(&html, "<p>The answer.</p>"),
+            "the answer is the first paragraph"
+        );
+        assert!(at(&md, "The answer.") < at(&md, "](table2.png)") && at(&md, "Findings.") < at(&md, "How."));
+        assert_eq!(
+            html_page(&p),
+            html_page_opened(&p, &Opening::default()),
+            "no opening: the page as before"
+        );
     }
 
     /// Lead tables come right under the title, before the intro.

@@ -22,7 +22,10 @@ pub mod run;
 
 pub use banding::banding_plot;
 pub use grid::{GridCell, error_grid, image_grid};
-pub use html::{Figure, Page, Table, html_page, markdown_page, referenced_files};
+pub use html::{
+    Figure, METHOD_SUMMARY, Opening, Page, Table, html_page, html_page_opened, markdown_page,
+    markdown_page_opened, referenced_files,
+};
 pub use plot::{Guide, Series, convergence_plot};
 pub use points::{PointSet, directions, figure_rows, point_panels};
 

@@ -1,5 +1,5 @@
-//! Leaf statistics module (imports nothing of the crate): ln Gamma and the mean with its standard
-//! error here; fits with confidence intervals, paired differences and medians in `stats/fit.rs`. The
+//! Leaf statistics module (imports nothing of the crate): ln Gamma, the mean with its standard
+//! error, the log ratio of two paired means and Holm's multiplicity adjustment here; fits with confidence intervals, paired differences and medians in `stats/fit.rs`. The
 //! distributions themselves come from the statrs crate. The tests' chi-square goodness of fit and
 //! "within k standard errors" bounds are in `tests/support/stats.rs`; the chi-square tail and the
 //! normal quantile they build on (unit tests here use them too) exist only for tests (`cfg(test)`
@@ -48,6 +48,46 @@ pub fn mean_and_standard_error(xs: &[f64]) -> (f64, f64) {
     (mean, (var / n).sqrt())
 }
 
+/// ln(mean(b) / mean(a)) over paired samples (a[i] and b[i] share a seed) and its standard error
+/// by the delta method: var ≈ (var(a)/ā² + var(b)/b̄² − 2 cov(a, b)/(ā b̄)) / n. Pairing takes out the
+/// variation the two share, which an unpaired √(se_a² + se_b²) would count twice. The error is
+/// NaN with fewer than two pairs (nothing to estimate a spread from).
+pub fn paired_log_ratio(a: &[f64], b: &[f64]) -> (f64, f64) {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let nf = n as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / nf, b.iter().sum::<f64>() / nf);
+    let value = (mb / ma).ln();
+    if n < 2 {
+        return (value, f64::NAN);
+    }
+    let cov = |x: &[f64], mx: f64, y: &[f64], my: f64| {
+        x.iter().zip(y).map(|(p, q)| (p - mx) * (q - my)).sum::<f64>() / (nf - 1.0)
+    };
+    let v =
+        cov(a, ma, a, ma) / (ma * ma) + cov(b, mb, b, mb) / (mb * mb) - 2.0 * cov(a, ma, b, mb) / (ma * mb);
+    (value, (v.max(0.0) / nf).sqrt())
+}
+
+/// Holm's step-down adjustment (Holm 1979) of a family of p-values: the i-th smallest (i from 1) is
+/// multiplied by m − i + 1, the products made non-decreasing in that order and capped at 1. Every
+/// hypothesis whose adjusted p-value is at most α is rejected, and then the chance of rejecting
+/// any true one is at most α whatever the dependence between the tests — Bonferroni's guarantee,
+/// never with fewer rejections than Bonferroni's m · p. NaN entries (nothing tested) stay NaN and
+/// are not counted in m.
+pub fn holm_adjusted(p: &[f64]) -> Vec<f64> {
+    let mut order: Vec<usize> = (0..p.len()).filter(|&i| !p[i].is_nan()).collect();
+    order.sort_by(|&i, &j| p[i].total_cmp(&p[j]));
+    let m = order.len();
+    let mut out = vec![f64::NAN; p.len()];
+    let mut running = 0.0f64;
+    for (k, &i) in order.iter().enumerate() {
+        running = running.max(((m - k) as f64 * p[i]).min(1.0));
+        out[i] = running;
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -57,5 +97,15 @@ mod tests {
         assert!((ln_gamma(1.0)).abs() < 1e-13);
         assert!((ln_gamma(5.0) - 24f64.ln()).abs() < 1e-12);
         assert!((ln_gamma(0.5) - std::f64::consts::PI.sqrt().ln()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn paired_log_ratio_takes_the_shared_variation_out() {
+        // b is exactly twice a in every pair: the ratio is known without error however much a varies.
+        let a = [1.0, 3.0, 2.0, 6.0];
+        let b: Vec<f64> = a.iter().map(|x| 2.0 * x).collect();
+        let (v, se) = paired_log_ratio(&a, &b);
+        assert!((v - 2f64.ln()).abs() < 1e-12 && se < 1e-9, "{v} {se}");
+        assert!(paired_log_ratio(&a[..1], &b[..1]).1.is_nan());
     }
 }

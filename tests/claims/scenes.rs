@@ -25,9 +25,11 @@ const MIN_SE: f64 = 5.0;
 /// seen. Cosine-weighted sampling has the least variance of the three distributions only then: for
 /// occlusion confined to a band near the horizon (cos θ < c, azimuth-uniform), the occluded fraction
 /// is p = c², and one ray's variance is p − p² with sine-cosine but 4c³/3 − p² with sine (weight
-/// 2 cos θ, cos θ uniform), which is *smaller* for c < 3/4 — and uniform-in-angles (weight
-/// π sin θ cos θ) is smaller still as c → 0. Open terrain is lit from the whole sky and occluded by
-/// slopes and boulders near the horizon, so theory does not back Table 2's ordering there.
+/// 2 cos θ, cos θ uniform), which is *smaller* for c < 3/4. Uniform-in-angles (weight π sin θ cos θ)
+/// has 2π ∫₀^c u² √(1 − u²) du − p², which tends to π/2 × sine's as c → 0: larger than sine's, though
+/// still below sine-cosine's for small c. Open terrain is lit from the
+/// whole sky and occluded by slopes and boulders near the horizon, so theory does not back Table 2's
+/// ordering there.
 const SCENES: [(&str, bool); 7] = [
     ("kitchen", true),
     ("cornell-box", true),

@@ -11,6 +11,7 @@ mod reference_adaptive;
 mod reference_dir;
 mod render;
 mod report_page;
+mod run_answer;
 mod run_errors;
 mod run_results;
 mod shard_merge;

@@ -131,11 +131,14 @@ sequences = ["random", "fibonacci"]
         assert!(html.contains(text), "index.html lacks '{text}'");
     }
     // The answer comes first: before every table and figure.
-    let answer =
-        html.find("Answer for &#39;cornell-box&#39;").or_else(|| html.find("Answer for 'cornell-box'"));
+    let answer = html
+        .find("At equal total render time on &#39;cornell-box&#39;")
+        .or_else(|| html.find("At equal total render time on 'cornell-box'"));
     let answer = answer.unwrap_or_else(|| panic!("no answer paragraph:\n{html}"));
     assert!(answer < html.find("<table").unwrap() && answer < html.find("<figure").unwrap());
-    assert!(html.contains("Answer: the most efficient configuration at each ray count"));
+    assert!(html.contains("Equal time (&#39;cornell-box&#39;") || html.contains("Equal time ('cornell-box'"));
+    assert!(html.contains("Efficiency at each ray count"));
+    assert!(out.join("equal_time.csv").is_file() && out.join("sweep_equal_time.png").is_file());
 }
 
 #[test]

@@ -5,6 +5,7 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod compare_equal_time;
 mod metrics_known;
 mod plan_order;
 mod plan_shard;

@@ -1,321 +1,392 @@
-//! The answer at the top of the page, generated from the run: for every `[[convergence]]` sweep,
-//! the configuration with the least error per unit of time (highest efficiency) at each ray count,
-//! overall and among per-pixel-unbiased ones, with its margin over the runner-up; and the paired
-//! comparisons of rows that differ in one choice. Every sentence quotes the tables below it.
+//! The answer at the top of the page, generated from the run. For every `[[convergence]]` sweep,
+//! one paragraph of at most three sentences: which configuration has the least MSE at equal total
+//! render time among those whose error is noise (advise's rule: a structured estimator is never
+//! the answer, it is named as rejected and why), and by how much; then, after the key figure, the
+//! findings behind it (the answer against its runner-up at equal rays, seeds whose expected error
+//! is identical by construction, the AO-time view); and the tables. Every sentence quotes a table
+//! below it.
 
-use crate::compare::{self, Best};
+use crate::advice::PAPER_DEFAULT;
+use crate::compare::cost::{pooled_time_ratio, same_expected_error};
+use crate::compare::equal_time::{AtTime, Entry, EqualTime, Ratio, TimeView};
+use crate::compare::{
+    self,
+    claims::{ALPHA, critical_se},
+};
 use crate::metrics::STRUCTURED_RATIO;
 use crate::report::Table;
-use crate::report::run::data::{ReportInput, agg_label, lowfreq_stat, row_label};
-use crate::results::lookup;
+use crate::report::run::data::{ReportInput, row_label};
+use crate::report::run::equal_time::{self as tables, ms, ms_range, range, se1, sig2};
+use crate::report::run::rays;
 use crate::spec::{Group, Row};
 
 /// The answer's paragraphs and its tables.
 pub struct Answer {
-    pub text: Vec<String>,
+    /// One paragraph per sweep and scene, at most three sentences each: the page's first.
+    pub lead: Vec<String>,
+    /// What follows the key figure.
+    pub findings: Vec<String>,
     pub tables: Vec<Table>,
+    /// Every sweep at equal time in both views, with the sweep's name: `equal_time.csv`.
+    pub equal_time: Vec<(String, EqualTime)>,
 }
 
 pub fn answer(data: &ReportInput) -> Answer {
-    let mut text = Vec::new();
-    let mut tables = Vec::new();
+    let mut a = Answer { lead: Vec::new(), findings: Vec::new(), tables: Vec::new(), equal_time: Vec::new() };
     for (g, _, scene) in data.sweeps() {
-        let all = compare::best_per_ray_count(&data.aggs, scene, &g.rows, &g.rays, |_| true);
-        let unbiased =
-            compare::best_per_ray_count(&data.aggs, scene, &g.rows, &g.rays, compare::per_pixel_unbiased);
-        if all.is_empty() {
-            continue;
+        let total = data.equal_time(g, scene, TimeView::Total, 1);
+        let ao = data.equal_time(g, scene, TimeView::Ao, 1);
+        a.lead.push(lead(&total, &g.name));
+        if let Some((w, r)) = answer_and_rival(&total) {
+            a.findings.push(rays::head_to_head(data, g, scene, w, r));
         }
-        text.push(format!(
-            "Answer for '{scene}' (sweep '{}'). The least error per unit of time — the highest efficiency, \
-             1 / (MSE · AO time) — at each of its {} ray counts: {}.",
-            g.name,
-            all.len(),
-            winners(data, scene, &all)
-        ));
-        if !unbiased.is_empty() {
-            text.push(format!(
-                "Among estimators that are unbiased in every pixel: {}.",
-                winners(data, scene, &unbiased)
-            ));
+        a.findings.extend(identities(data, g, scene));
+        a.findings.push(ao_view(&ao));
+        a.tables.push(tables::table(&total, &g.name));
+        if !ao.at.is_empty() {
+            a.tables.push(tables::table(&ao, &g.name));
         }
-        for set in [&all, &unbiased] {
-            if let Some((w, r)) = top_two(set) {
-                text.push(head_to_head(data, g, scene, w, r));
-            }
+        let pairs = tables::pairs_table(&total, &g.rows, &g.name);
+        if !pairs.rows.is_empty() {
+            a.tables.push(pairs);
         }
-        let p = "A margin is the winner's efficiency over the runner-up's at the same ray count; under 3 \
-                 combined spreads this run's timing does not resolve the order (tables below: the margin per \
-                 ray count, and the paired RMSE differences and time ratios behind it)."
-            .to_string();
-        text.push(p);
-        tables.push(best_table(g, scene, &all, &unbiased));
-        let paired = paired_table(data, g, scene);
+        a.tables.push(rays::best_table(data, g, scene));
+        let paired = rays::paired_table(data, g, scene);
         if !paired.rows.is_empty() {
-            tables.push(paired);
+            a.tables.push(paired);
         }
+        a.equal_time.push((g.name.clone(), total));
+        a.equal_time.push((g.name.clone(), ao));
     }
-    Answer { text, tables }
+    if a.lead.is_empty() {
+        a.lead.push(
+            "This run has no [[convergence]] sweep, so it compares no configurations at equal time: its \
+             tables compare RMSE at equal ray counts, and its verdicts the paper's claims."
+                .into(),
+        );
+    }
+    a
 }
 
-/// "A at 7 of 11 ray counts (4, 16–512; ×1.05–1.14 the runner-up's efficiency, by more than 3
-/// combined spreads at 2 of them); B at …", winners in order of how often they win ("at none of
-/// them by more than 3 combined spreads" when no margin is resolved), a winner whose error is
-/// structured (low-frequency ratio above `STRUCTURED_RATIO`, the verdict advise ships by) said so.
-fn winners(data: &ReportInput, scene: &str, best: &[Best]) -> String {
-    let mut groups: Vec<(String, Vec<&Best>)> = Vec::new();
-    for b in best {
-        let label = agg_label(b.best);
-        match groups.iter_mut().find(|(l, _)| *l == label) {
-            Some((_, v)) => v.push(b),
-            None => groups.push((label, vec![b])),
+/// Each budget's answer, grouped by configuration, most budgets first.
+fn winners(et: &EqualTime) -> Vec<(Row, Vec<&AtTime>)> {
+    let mut wins: Vec<(Row, Vec<&AtTime>)> = Vec::new();
+    for at in &et.at {
+        let Some(a) = at.answer() else { continue };
+        match wins.iter_mut().find(|(r, _)| *r == a.at.row) {
+            Some((_, v)) => v.push(at),
+            None => wins.push((a.at.row, vec![at])),
         }
     }
-    groups.sort_by_key(|(_, v)| std::cmp::Reverse(v.len()));
-    let parts: Vec<String> = groups
+    wins.sort_by_key(|(_, v)| std::cmp::Reverse(v.len()));
+    wins
+}
+
+/// ", sine-cosine, Fibonacci, shift at 2 (15–30 ms)" for every winner after the first.
+fn other_winners(wins: &[(Row, Vec<&AtTime>)]) -> String {
+    wins[1..]
         .iter()
-        .map(|(label, v)| {
-            let rays: Vec<u32> = v.iter().map(|b| b.rays).collect();
-            let ratios: Vec<f64> = v.iter().filter_map(|b| b.ratio()).collect();
-            let resolved = v.iter().filter(|b| b.spreads().is_some_and(|s| s > 3.0)).count();
-            let margin = if ratios.is_empty() {
-                String::new()
-            } else {
-                let lo = ratios.iter().copied().fold(f64::INFINITY, f64::min);
-                let hi = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-                let r = if (hi - lo) < 0.005 { format!("×{lo:.2}") } else { format!("×{lo:.2}–{hi:.2}") };
-                let resolved = match resolved {
-                    0 => "at none of them by more than 3 combined spreads".to_string(),
-                    n if n == v.len() => "by more than 3 combined spreads at every one".to_string(),
-                    n => format!("by more than 3 combined spreads at {n} of them"),
-                };
-                format!("; {r} the runner-up's efficiency, {resolved}")
-            };
-            let ratio = v
-                .iter()
-                .filter_map(|b| {
-                    compare::row_of(b.best).and_then(|r| lowfreq_stat(data.results, scene, r, b.rays))
-                })
-                .map(|(m, _)| m)
-                .fold(f64::NEG_INFINITY, f64::max);
-            let band = if ratio > STRUCTURED_RATIO {
-                format!(
-                    " — its error is structured (low-frequency ratio up to {ratio:.2}, above \
-                     {STRUCTURED_RATIO}: blotches or bands a blur keeps; table of all configurations)"
-                )
-            } else {
-                String::new()
-            };
-            format!(
-                "{label} at {} of {} ray counts ({}{margin}){band}",
-                v.len(),
-                best.len(),
-                ray_list(&rays, &best.iter().map(|b| b.rays).collect::<Vec<_>>())
-            )
+        .map(|(r, v)| {
+            format!(", {} at {} ({})", row_label(*r), v.len(), range(v.iter().map(|a| a.budget_s), ms))
         })
-        .collect();
-    parts.join("; ")
+        .collect()
 }
 
-/// `picked` as runs of consecutive entries of `all`: "1–4, 16, 64–1024".
-fn ray_list(picked: &[u32], all: &[u32]) -> String {
-    let mut runs: Vec<(u32, u32)> = Vec::new();
-    let mut prev: Option<usize> = None;
-    for (i, r) in all.iter().enumerate() {
-        if !picked.contains(r) {
-            continue;
+/// The runner-up's name, or the most frequent one's: "most often concentric-cosine, Fibonacci,
+/// shift" (a list of names that are themselves lists of words would not read).
+fn runner_names(rows: impl IntoIterator<Item = Row>) -> String {
+    let mut v: Vec<(Row, usize)> = Vec::new();
+    for r in rows {
+        match v.iter_mut().find(|(x, _)| *x == r) {
+            Some((_, n)) => *n += 1,
+            None => v.push((r, 1)),
         }
-        match (runs.last_mut(), prev) {
-            (Some(run), Some(p)) if p + 1 == i => run.1 = *r,
-            _ => runs.push((*r, *r)),
-        }
-        prev = Some(i);
     }
-    let runs: Vec<String> =
-        runs.iter().map(|&(a, b)| if a == b { a.to_string() } else { format!("{a}–{b}") }).collect();
-    runs.join(", ")
+    let Some(&(top, _)) = v.iter().max_by_key(|(_, n)| *n) else { return String::new() };
+    if v.len() == 1 { row_label(top) } else { format!("most often {}", row_label(top)) }
 }
 
-/// The most frequent winner and the row it most often beats or loses to: the pair the answer
-/// turns on. `None` when one row has no rival.
-fn top_two(best: &[Best]) -> Option<(Row, Row)> {
-    let mut wins: Vec<(Row, usize)> = Vec::new();
-    for b in best {
-        let r = compare::row_of(b.best)?;
-        match wins.iter_mut().find(|(x, _)| *x == r) {
-            Some((_, k)) => *k += 1,
-            None => wins.push((r, 1)),
-        }
-    }
-    let w = wins.iter().max_by_key(|(_, k)| *k)?.0;
-    let mut rivals: Vec<(Row, usize)> = Vec::new();
-    for b in best {
-        let (Some(x), Some(y)) = (compare::row_of(b.best), b.runner_up.and_then(compare::row_of)) else {
-            continue;
-        };
-        let other = if x == w {
-            y
-        } else if y == w {
-            x
-        } else {
-            continue;
-        };
-        match rivals.iter_mut().find(|(o, _)| *o == other) {
-            Some((_, k)) => *k += 1,
-            None => rivals.push((other, 1)),
-        }
-    }
-    Some((w, rivals.iter().max_by_key(|(_, k)| *k)?.0))
-}
-
-/// `w` against `r` at every ray count of the sweep, replicate by replicate: where w's RMSE is lower
-/// or higher by at least 5 paired standard errors, and the ratio of their median times.
-fn head_to_head(data: &ReportInput, g: &Group, scene: &str, w: Row, r: Row) -> String {
-    let (mut lower, mut higher, mut within) = (Vec::new(), Vec::new(), Vec::new());
-    let mut ratios = Vec::new();
-    for &n in &g.rays {
-        if let Some(p) = compare::paired_rmse(data.results, scene, r, w, n) {
-            let bucket = if p.z() <= -5.0 {
-                &mut lower
-            } else if p.z() >= 5.0 {
-                &mut higher
-            } else {
-                &mut within
-            };
-            bucket.push((n, 100.0 * p.relative));
-        }
-        let t = |x: Row| lookup(&data.aggs, scene, x, n).and_then(|a| a.time).map(|t| t.median);
-        if let (Some(tw), Some(tr)) = (t(w), t(r)) {
-            ratios.push(tw / tr);
-        }
-    }
-    let all: Vec<u32> = g.rays.clone();
-    let part = |v: &[(u32, f64)], what: &str| {
-        if v.is_empty() {
-            return None;
-        }
-        let lo = v.iter().map(|x| x.1.abs()).fold(f64::INFINITY, f64::min);
-        let hi = v.iter().map(|x| x.1.abs()).fold(f64::NEG_INFINITY, f64::max);
-        let rays: Vec<u32> = v.iter().map(|x| x.0).collect();
-        Some(format!(
-            "{lo:.1}–{hi:.1} % {what} at {} of {} ray counts ({})",
-            v.len(),
-            all.len(),
-            ray_list(&rays, &all)
-        ))
+/// The sweep's answer in at most three sentences.
+fn lead(et: &EqualTime, sweep: &str) -> String {
+    let k = et.at.len();
+    let scene = &et.scene;
+    let (Some(first), Some(last)) = (et.at.first(), et.at.last()) else {
+        return format!(
+            "The configurations of '{scene}' (sweep '{sweep}') share no measured time, so they are not \
+             compared at equal time; the tables below compare them at equal ray counts."
+        );
     };
-    let mut parts: Vec<String> =
-        [part(&lower, "lower"), part(&higher, "higher")].into_iter().flatten().collect();
-    if !within.is_empty() {
-        let rays: Vec<u32> = within.iter().map(|x| x.0).collect();
-        parts.push(format!(
-            "within 5 paired standard errors at {} ({})",
-            within.len(),
-            ray_list(&rays, &all)
-        ));
-    }
-    let time = if ratios.is_empty() {
+    let span = if k == 1 {
+        format!("a budget of {} per image", ms(first.budget_s))
+    } else {
+        format!("{k} budgets from {} to {} per image", ms(first.budget_s), ms(last.budget_s))
+    };
+    let wins = winners(et);
+    let Some((w, ats)) = wins.first() else {
+        return format!(
+            "At equal {} on '{scene}' ({span}; sweep '{sweep}'), every configuration measured has structured \
+             error, so none is an answer.",
+            et.view.name()
+        );
+    };
+    let mine = |at: &AtTime| at.answer().expect("a winner's budget has an answer").clone();
+    let at_n = if ats.len() == k {
         String::new()
     } else {
-        let lo = ratios.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        format!("; its median render time is ×{lo:.2}–{hi:.2} the other's")
+        format!(" at {} of {k} budgets ({})", ats.len(), ms_range(ats.iter().map(|a| a.budget_s)))
+    };
+    // With several winners the margins are the first's, at its budgets.
+    let its = if wins.len() > 1 { "; at the first's budgets its MSE is" } else { ": its MSE is" };
+    let margin: Vec<(Row, Ratio)> = ats
+        .iter()
+        .filter_map(|at| at.runner_up().map(|r| (r.at.row, Ratio::of(&mine(at).at, &r.at))))
+        .collect();
+    let runner = if margin.is_empty() {
+        String::new()
+    } else {
+        let se: Vec<f64> = margin.iter().map(|m| -m.1.in_se()).collect();
+        let unresolved =
+            if se.iter().all(|x| x.abs() < RESOLVED_SE) { ", which this run does not resolve" } else { "" };
+        format!(
+            "{its} ×{} the runner-up's ({}; {} SE{unresolved})",
+            range(margin.iter().map(|m| m.1.value), sig2),
+            runner_names(margin.iter().map(|m| m.0)),
+            range(se, se1)
+        )
+    };
+    let base_name = if et.baseline == PAPER_DEFAULT { "the paper default's" } else { "that of" };
+    let base: Vec<(f64, f64)> =
+        ats.iter().filter_map(|at| mine(at).vs_baseline.map(|r| (at.budget_s, r.value))).collect();
+    let runner_is_base = !margin.is_empty() && margin.iter().all(|m| m.0 == et.baseline);
+    let base = match (base.first(), base.last()) {
+        (Some(a), Some(b)) if *w != et.baseline && !runner_is_base => {
+            let join = if runner.is_empty() { its } else { " and" };
+            let values = if base.len() == 1 {
+                format!("×{} {base_name} ({})", sig2(a.1), row_label(et.baseline))
+            } else {
+                format!(
+                    "from ×{} {base_name} ({}) at {} to ×{} at {}",
+                    sig2(a.1),
+                    row_label(et.baseline),
+                    ms(a.0),
+                    sig2(b.1),
+                    ms(b.0)
+                )
+            };
+            format!("{join} {values}")
+        }
+        _ => String::new(),
+    };
+    let mut s = vec![format!(
+        "At equal {} on '{scene}' ({span}; sweep '{sweep}'), the estimator with the least MSE among those \
+         whose error is noise, not structure, is {}{at_n}{}{runner}{base}.",
+        et.view.name(),
+        row_label(*w),
+        other_winners(&wins)
+    )];
+    s.extend(rejected(et));
+    s.extend(unbiased(et, *w));
+    s.iter().map(|x| capitalized(x)).collect::<Vec<_>>().join(" ")
+}
+
+/// A margin below this many standard errors is said to be unresolved.
+const RESOLVED_SE: f64 = 2.0;
+
+/// A sentence that starts with a configuration's name ("sine-cosine, …") starts with a capital.
+fn capitalized(s: &str) -> String {
+    let mut c = s.chars();
+    c.next().map_or(String::new(), |f| f.to_uppercase().chain(c).collect())
+}
+
+/// The structured configurations with less MSE than a budget's answer: one sentence naming them
+/// as rejected, and why.
+fn rejected(et: &EqualTime) -> Option<String> {
+    // Per row, where it ranks above the answer: (budget, MSE over the answer's, low-frequency ratio).
+    type Above = (f64, f64, f64);
+    let mut by_row: Vec<(Row, Vec<Above>)> = Vec::new();
+    for at in &et.at {
+        let Some(a) = at.answer() else { continue };
+        for e in at.rejected() {
+            let x = (at.budget_s, Ratio::of(&e.at, &a.at).value, e.at.lowfreq_ratio);
+            match by_row.iter_mut().find(|(r, _)| *r == e.at.row) {
+                Some((_, v)) => v.push(x),
+                None => by_row.push((e.at.row, vec![x])),
+            }
+        }
+    }
+    if by_row.is_empty() {
+        return None;
+    }
+    let k = et.at.len();
+    let each: Vec<String> = by_row
+        .iter()
+        .map(|(r, v)| {
+            let at = if v.len() == k {
+                "at every budget".to_string()
+            } else {
+                format!("at {} of {k} budgets, {}", v.len(), ms_range(v.iter().map(|x| x.0)))
+            };
+            format!("{} ({at}: ×{} the answer's MSE)", row_label(*r), range(v.iter().map(|x| x.1), sig2))
+        })
+        .collect();
+    let z = range(by_row.iter().flat_map(|(_, v)| v.iter().map(|x| x.2)), |x| format!("{x:.1}"));
+    let (has, its) = if by_row.len() == 1 { ("has", "its error is") } else { ("have", "their error is") };
+    Some(format!(
+        "{} {has} less MSE still but {} rejected there: {its} structured (low-frequency ratio {z}, above \
+         {STRUCTURED_RATIO}), bands or moiré a renderer cannot ship as noise.",
+        each.join(" and "),
+        if by_row.len() == 1 { "is" } else { "are" }
+    ))
+}
+
+/// When the answer is not unbiased in every pixel, the best that is.
+fn unbiased(et: &EqualTime, answer: Row) -> Option<String> {
+    if compare::per_pixel_unbiased(answer) {
+        return None;
+    }
+    // At the budgets whose answer is not unbiased: the best unbiased, unstructured one.
+    let best = |at: &AtTime| -> Option<(Entry, Entry)> {
+        let a = at.answer().filter(|a| !a.unbiased)?;
+        let u = at.ranked.iter().find(|e| e.unbiased && !e.structured)?;
+        Some((u.clone(), a.clone()))
+    };
+    let pairs: Vec<(Entry, Entry)> = et.at.iter().filter_map(best).collect();
+    let mut rows: Vec<(Row, usize)> = Vec::new();
+    for (u, _) in &pairs {
+        match rows.iter_mut().find(|(r, _)| *r == u.at.row) {
+            Some((_, n)) => *n += 1,
+            None => rows.push((u.at.row, 1)),
+        }
+    }
+    let (u, n) = *rows.iter().max_by_key(|(_, n)| *n)?;
+    let ratios = pairs.iter().filter(|(x, _)| x.at.row == u).map(|(x, a)| Ratio::of(&x.at, &a.at).value);
+    let at =
+        if n == pairs.len() { String::new() } else { format!("at {n} of those {} budgets, ", pairs.len()) };
+    Some(format!(
+        "The answer is not unbiased in every pixel; of the estimators that are, the best is {} ({at}×{} the \
+         answer's MSE).",
+        row_label(u),
+        range(ratios, sig2)
+    ))
+}
+
+/// The answer and the runner-up it meets most often.
+fn answer_and_rival(et: &EqualTime) -> Option<(Row, Row)> {
+    let wins = winners(et);
+    let (w, ats) = wins.first()?;
+    let mut rivals: Vec<(Row, usize)> = Vec::new();
+    for r in ats.iter().filter_map(|at| at.runner_up()) {
+        match rivals.iter_mut().find(|(x, _)| *x == r.at.row) {
+            Some((_, n)) => *n += 1,
+            None => rivals.push((r.at.row, 1)),
+        }
+    }
+    Some((*w, rivals.iter().max_by_key(|(_, n)| *n)?.0))
+}
+
+/// Seeds whose expected MSE is identical by construction: said as what it is, with the pooled
+/// cost test that can resolve the difference between them.
+fn identities(data: &ReportInput, g: &Group, scene: &str) -> Vec<String> {
+    same_expected_error(&g.rows)
+        .into_iter()
+        .map(|(fixed, pixel)| {
+            let t: Vec<f64> = g
+                .rays
+                .iter()
+                .filter_map(|&n| compare::paired_rmse(data.results, scene, pixel, fixed, n))
+                .filter(|p| p.n >= 2)
+                .map(|p| p.t())
+                .collect();
+            let pairs = g.replicates as usize;
+            let same = format!(
+                "{} against {}: their expected MSE is identical by construction (each pixel's point set, an \
+                 index offset of the same set, has the same distribution under both seeds), so equal RMSE at \
+                 equal rays is an identity, not a finding (paired t {} over {} ray counts, significant beyond \
+                 ±{:.2}).",
+                row_label(fixed),
+                row_label(pixel),
+                t_range(&t),
+                t.len(),
+                critical_se(pairs)
+            );
+            let cost = match pooled_time_ratio(&data.aggs, scene, pixel, fixed, &g.rays) {
+                Some(p) => format!(
+                    " What differs is cost: pooled over {} ray counts (mean of the log time ratios), the static \
+                     seed's median total render time is ×{:.3} the per-pixel seed's (×{} at single ray counts; \
+                     standard error {:.1} %, t {:+.1} at {} degrees of freedom, p {:.1e}){}.",
+                    p.n,
+                    p.ratio,
+                    range([p.min, p.max], |x| format!("{x:.2}")),
+                    100.0 * p.se_log,
+                    p.t,
+                    p.n - 1,
+                    p.p,
+                    if p.p <= ALPHA {
+                        ": resolved pooled, where one ray count's time is within its spread"
+                    } else {
+                        ": not significant at 1 % even pooled"
+                    }
+                ),
+                None => String::new(),
+            };
+            capitalized(&same) + &cost
+        })
+        .collect()
+}
+
+/// "from −2.4 to +1.5", or one value.
+fn t_range(t: &[f64]) -> String {
+    let lo = t.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = t.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    match t.len() {
+        0 => "–".into(),
+        _ if format!("{lo:+.1}") == format!("{hi:+.1}") => format!("{lo:+.1}"),
+        _ => format!("from {lo:+.1} to {hi:+.1}"),
+    }
+}
+
+/// The AO-time view in one sentence.
+fn ao_view(ao: &EqualTime) -> String {
+    if ao.at.is_empty() {
+        return "By AO time (render time less the per-image overhead) the configurations share no measured \
+                time, so there is no second view."
+            .into();
+    }
+    let wins = winners(ao);
+    let Some((w, ats)) = wins.first() else {
+        return "By AO time (render time less the per-image overhead) every configuration measured has \
+                structured error."
+            .into();
     };
     format!(
-        "{} against {}, replicate by replicate (the same seeds): RMSE {}{time}.",
-        row_label(w),
-        row_label(r),
-        parts.join(", ")
+        "By AO time instead (render time less the per-image overhead, the second view: at low ray counts the \
+         overhead is most of a render and subtracting it magnifies time ratios), the answer is {} at {} of {} \
+         budgets{} (table below).",
+        row_label(*w),
+        ats.len(),
+        ao.at.len(),
+        other_winners(&wins)
     )
 }
 
-fn best_cells(b: Option<&Best>) -> [String; 3] {
-    let Some(b) = b else { return ["–".into(), "–".into(), "–".into()] };
-    let e = format!("{:.3e} ± {:.1e}", b.best.efficiency, b.best.efficiency_spread);
-    let margin = match (b.runner_up, b.ratio(), b.spreads()) {
-        (Some(r), Some(x), Some(s)) => format!("×{x:.3} over {} ({s:.1} spreads)", agg_label(r)),
-        _ => "no runner-up".into(),
-    };
-    [agg_label(b.best), e, margin]
-}
-
-fn best_table(g: &Group, scene: &str, all: &[Best], unbiased: &[Best]) -> Table {
-    let header = [
-        "rays",
-        "best per unit time",
-        "efficiency (1/(MSE·s))",
-        "margin",
-        "best per-pixel-unbiased",
-        "efficiency (1/(MSE·s))",
-        "margin",
-    ];
-    let rows = g
-        .rays
-        .iter()
-        .filter_map(|&n| {
-            let a = all.iter().find(|b| b.rays == n);
-            let u = unbiased.iter().find(|b| b.rays == n);
-            a?;
-            let mut cells = vec![n.to_string()];
-            cells.extend(best_cells(a));
-            cells.extend(best_cells(u));
-            Some(cells)
-        })
-        .collect();
-    Table {
-        title: format!(
-            "Answer: the most efficient configuration at each ray count ('{scene}', sweep '{}'); efficiency = \
-             1 / (MSE · AO time) ± spread",
-            g.name
-        ),
-        header: header.map(String::from).to_vec(),
-        rows,
-    }
-}
-
-/// Rows that differ in one choice, compared replicate by replicate (the same seeds): the RMSE
-/// difference in percent with its paired z, and the ratio of their median render times.
-fn paired_table(data: &ReportInput, g: &Group, scene: &str) -> Table {
-    let mut header = vec!["b vs a".to_string()];
-    header.extend(g.rays.iter().map(|r| format!("{r} rays")));
-    let rows = compare::one_factor_pairs(&g.rows)
-        .into_iter()
-        .map(|(a, b)| {
-            let mut cells = vec![format!("{} vs {}", row_label(b), row_label(a))];
-            cells.extend(g.rays.iter().map(|&n| paired_cell(data, scene, a, b, n)));
-            cells
-        })
-        .collect();
-    Table {
-        title: format!(
-            "Paired comparisons ('{scene}', sweep '{}'): RMSE of b relative to a, mean over replicates with the \
-             same seed (z = difference / paired standard error), and b's median render time over a's",
-            g.name
-        ),
-        header,
-        rows,
-    }
-}
-
-fn paired_cell(data: &ReportInput, scene: &str, a: Row, b: Row, n: u32) -> String {
-    let Some(p) = compare::paired_rmse(data.results, scene, a, b, n) else { return "–".into() };
-    let z = p.z();
-    let z = if z.is_finite() { format!("z {z:+.1}") } else { "every replicate".into() };
-    let time = |r: Row| lookup(&data.aggs, scene, r, n).and_then(|x| x.time).map(|t| t.median);
-    let ratio = match (time(a), time(b)) {
-        (Some(ta), Some(tb)) if ta > 0.0 => format!("; time ×{:.2}", tb / ta),
-        _ => String::new(),
-    };
-    format!("{:+.1} % ({z}){ratio}", 100.0 * p.relative)
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn ray_lists_read_as_runs() {
-        let all = [1, 2, 4, 8, 16, 32, 64];
-        assert_eq!(super::ray_list(&[1, 2, 4, 16, 32, 64], &all), "1–4, 16–64");
-        assert_eq!(super::ray_list(&[8], &all), "8");
-        assert_eq!(super::ray_list(&[1, 4], &all), "1, 4");
-    }
+/// How the answer is found, for the folded method text.
+pub fn method() -> String {
+    format!(
+        "How configurations are compared. At equal time, not at equal rays: each configuration's measured \
+         points (median total render time per image, mean MSE over replicates) are joined by straight lines \
+         in log time and log MSE, so at a time budget between two of its ray counts it has the MSE that line \
+         gives (advise's interpolation); outside its measured times it is not measured there, never \
+         extrapolated. The budgets are spaced a factor 2 apart over the times every configuration of the \
+         sweep was measured at. A ratio's ± is 1 σ: the replicates' spread of the MSE at the two \
+         neighbouring points, interpolated replicate by replicate and paired across configurations \
+         (replicate r has the same seed in every configuration), and each time's spread moving the budget \
+         along the line; a margin in SE is ln(ratio) over that error. Total render time is the default \
+         because it is what a renderer pays and what advise ranks by; AO time is the second view. \
+         Efficiency, 1 / (MSE · AO time), stays as a column: it orders two configurations as their MSE at \
+         equal time only where MSE ∝ 1/time, and the lattice's MSE falls faster (a 13 % time penalty is a \
+         29–36 % MSE penalty at equal time, which efficiency reports as 13 %). The answer follows advise's \
+         rule: the least MSE among estimators whose error is not structured (mean low-frequency ratio at \
+         most {STRUCTURED_RATIO}); a structured one is named as rejected, never as the answer. All equal-time numbers \
+         are in equal_time.csv."
+    )
 }

@@ -2,6 +2,7 @@
 //! readable name, a configuration's banding, a sweep's points and slopes). `figures` and `page`
 //! depend on this module and never on each other.
 
+use crate::compare::equal_time::{self, EqualTime, TimeView};
 use crate::load::Loaded;
 use crate::metrics::mean_sd;
 use crate::reference::store::Reference;
@@ -32,6 +33,12 @@ impl<'a> ReportInput<'a> {
         overhead: Vec<Option<Summary>>,
     ) -> Self {
         Self { loaded, references, results, aggs, protocol, overhead, notes: Vec::new() }
+    }
+
+    /// Sweep `g` on `scene` at equal time (`compare::equal_time`), `per_doubling` budgets to each
+    /// factor 2 of time: the answer's and the tables' (1), the figure's (4, a smooth line).
+    pub fn equal_time(&self, g: &Group, scene: &str, view: TimeView, per_doubling: usize) -> EqualTime {
+        equal_time::equal_time(self.results, scene, &g.rows, &g.rays, view, per_doubling)
     }
 
     /// The spec's `[[convergence]]` groups, with each scene they cover (index, name).

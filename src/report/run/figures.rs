@@ -1,9 +1,10 @@
 //! The run's figures, one function per figure: every `[[table]]` as AO images and signed-error
-//! grids (the paper's Tables 2 and 3), every `[[convergence]]` as RMSE against rays and against
-//! render time and its efficiency against rays, the banding metric of the tables' configurations,
+//! grids (the paper's Tables 2 and 3), every `[[convergence]]` as MSE at equal time (the key figure:
+//! what the answer says), RMSE against rays and against render time and its efficiency against rays, the banding metric of the tables' configurations,
 //! and the paper's point figures when the spec asks. Drawing is `report`'s job; this module picks
 //! the data from `data::ReportInput` and writes the bytes. The page (`page.rs`) lists what it returns.
 
+use crate::compare::equal_time::{Entry, TimeView};
 use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::io;
@@ -22,10 +23,18 @@ use std::path::Path;
 /// Point counts of the paper's Table 1 and Figures 2-4.
 const POINT_COUNTS: [u32; 3] = [500, 1000, 5000];
 
-/// Writes every figure of the run into `out` and returns them in page order.
-pub fn write_all(data: &ReportInput, out: &Path) -> Result<Vec<Figure>> {
+/// The run's figures: the key figure that shows the answer (the first sweep's MSE at equal time),
+/// and the others in page order.
+pub struct Figures {
+    pub key: Vec<Figure>,
+    pub other: Vec<Figure>,
+}
+
+/// Writes every figure of the run into `out`.
+pub fn write_all(data: &ReportInput, out: &Path) -> Result<Figures> {
     let spec = &data.loaded.spec;
     let mut figures = Vec::new();
+    let mut key = Vec::new();
     if spec.point_figures {
         figures.extend(point_figures(spec.seed, out)?);
     }
@@ -39,6 +48,12 @@ pub fn write_all(data: &ReportInput, out: &Path) -> Result<Vec<Figure>> {
             match g.kind {
                 GroupKind::Table => figures.extend(table_figures(data, g, si, &stem, out)?),
                 GroupKind::Convergence => {
+                    let et = equal_time_figure(data, g, si, &stem, out)?;
+                    if key.is_empty() {
+                        key = et
+                    } else {
+                        figures.extend(et)
+                    }
                     figures.extend(convergence_rays(data, g, si, &stem, out)?);
                     figures.extend(convergence_time(data, g, si, &stem, out)?);
                     figures.extend(efficiency_figure(data, g, si, &stem, out)?);
@@ -47,7 +62,7 @@ pub fn write_all(data: &ReportInput, out: &Path) -> Result<Vec<Figure>> {
         }
     }
     figures.extend(banding_figure(data, out)?);
-    Ok(figures)
+    Ok(Figures { key, other: figures })
 }
 
 fn drawn(path: &Path, r: std::result::Result<Vec<u8>, String>) -> Result<Vec<u8>> {
@@ -208,6 +223,58 @@ fn floor_guide(data: &ReportInput, si: usize) -> Vec<Guide> {
 
 fn size(data: &ReportInput, si: usize) -> String {
     format!("{}x{} px", data.references[si].mean.width, data.references[si].mean.height)
+}
+
+/// Each configuration's MSE at equal total render time over the baseline's, against the time budget
+/// (four budgets to each factor 2 of time, so the lines are the interpolation itself), ± 1 σ: the
+/// answer's picture. Structured configurations say so in the legend.
+fn equal_time_figure(
+    data: &ReportInput,
+    g: &Group,
+    si: usize,
+    stem: &str,
+    out: &Path,
+) -> Result<Vec<Figure>> {
+    let scene = &data.loaded.spec.scenes[si].name;
+    let et = data.equal_time(g, scene, TimeView::Total, 4);
+    let series: Vec<Series> = et
+        .curves
+        .iter()
+        .filter_map(|c| {
+            let entries: Vec<(f64, &Entry)> =
+                et.at.iter().filter_map(|at| at.entry(c.row).map(|e| (at.budget_s, e))).collect();
+            let points: Vec<(f64, f64, f64)> = entries
+                .iter()
+                .filter_map(|(b, e)| {
+                    e.vs_baseline.map(|r| (b * 1e3, r.value, if r.se.is_finite() { r.se } else { 0.0 }))
+                })
+                .filter(|p| p.1 > 0.0 && p.1.is_finite())
+                .collect();
+            let structured = entries.iter().filter(|(_, e)| e.structured).count();
+            let note = match structured {
+                0 => None,
+                n if n == entries.len() => Some("error structured: rejected".to_string()),
+                _ => Some("error structured at some budgets".to_string()),
+            };
+            (!points.is_empty()).then(|| Series { note, ..Series::new(row_label(c.row), points) })
+        })
+        .collect();
+    if series.is_empty() {
+        return Ok(vec![]);
+    }
+    let title = format!("MSE at equal time, relative to {} ('{scene}')", row_label(et.baseline));
+    let cap = format!(
+        "{}: {title}, {}. x: a time budget per image (total render time, one thread); y: each configuration's \
+         mean MSE at that budget over {}'s (below 1 = less error), its log MSE interpolated linearly in log \
+         time between its two measured ray counts around the budget (never extrapolated), ± 1 σ from the \
+         replicates (paired by seed) and both times' spread. Configurations whose error is structured \
+         (mean low-frequency ratio above {STRUCTURED_RATIO}) say so in the legend: they are never the answer.",
+        g.name,
+        size(data, si),
+        row_label(et.baseline)
+    );
+    let axes = ("time budget per image (ms, one thread)", "MSE over the baseline's at equal time");
+    Ok(vec![log_log(out, &format!("{stem}_equal_time"), &title, axes, &series, &[], cap)?])
 }
 
 /// RMSE against rays per pixel, mean ± sd over replicates, slope and its 95 % interval in the legend.

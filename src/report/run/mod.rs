@@ -3,9 +3,11 @@
 
 pub mod answer;
 pub mod data;
+pub mod equal_time;
 pub mod figures;
 pub mod page;
 pub mod quotes;
+pub mod rays;
 pub mod summary;
 pub mod verdicts;
 

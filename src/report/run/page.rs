@@ -1,9 +1,10 @@
-//! `report.md` and `index.html`: one offline page with the run's answer first (generated in
-//! `answer.rs`; with several scenes, the verdict on each claim per scene, `verdicts.rs`, comes
-//! before it), what a time is, then the
-//! numbers (references, each table's RMSE, convergence slopes and costs) and every figure
-//! `figures.rs` wrote, linked by relative paths; the long tables (verdict margins, every aggregate)
-//! folded at the end.
+//! `report.md` and `index.html`: one offline page that leads with the answer — one paragraph of
+//! at most three sentences per sweep (`answer.rs`), then the key figure (MSE at equal time), the
+//! equal-time table (with several scenes, the verdict on each claim per scene, `verdicts.rs`,
+//! beside it) and the findings — with the method (how configurations are compared, what a time
+//! is) folded after them; then the numbers (equal time, efficiency, references, each table's RMSE,
+//! convergence slopes and costs) and every other figure `figures.rs` wrote, linked by relative
+//! paths; the long tables (verdict margins, every aggregate) folded at the end.
 
 use crate::error::Result;
 use crate::metrics::whiteness::STRUCTURED_Z;
@@ -11,21 +12,26 @@ use crate::metrics::{LOWPASS_SIGMA, STRUCTURED_RATIO};
 use crate::outdir;
 use crate::report::run::answer;
 use crate::report::run::data::{ReportInput, agg_label, banding_stat, row_label, sweep_slope};
-use crate::report::{self, Figure, Table};
+use crate::report::run::figures::Figures;
+use crate::report::{self, Table};
 use crate::results::{self, SlopeFit, Stat};
 use crate::spec::{GroupKind, Row};
 use crate::timing;
 use std::path::Path;
 
-pub fn write(data: &ReportInput, figures: &[Figure], out: &Path) -> Result<()> {
+pub fn write(data: &ReportInput, figures: &Figures, out: &Path) -> Result<()> {
     let spec = &data.loaded.spec;
     let answer = answer::answer(data);
     let (mut lead, mut tables, mut collapsed) = (Vec::new(), Vec::new(), Vec::new());
-    // With several scenes the page opens with the verdict per scene and claim (the per-scene
-    // answers that follow are long), and the per-scene tables, which would push the figures down,
-    // are folded after them. With one scene the answer comes first.
+    // With several scenes the verdict per scene and claim comes right after the answer and its
+    // figure (the per-scene tables that follow are long), and the per-scene tables, which would
+    // push the figures down, are folded after them. With one scene it follows the answer's tables.
     let many = spec.scenes.len() > 1;
-    if let Some((summary, details)) = super::verdicts::tables(data) {
+    let verdicts = super::verdicts::tables(data);
+    let mut answer_tables = answer.tables.into_iter();
+    // The first sweep's equal-time table (total render time) leads: the answer's numbers.
+    lead.extend(answer_tables.next());
+    if let Some((summary, details)) = verdicts {
         if many {
             lead.push(summary)
         } else {
@@ -33,7 +39,7 @@ pub fn write(data: &ReportInput, figures: &[Figure], out: &Path) -> Result<()> {
         }
         collapsed.push(details);
     }
-    tables.extend(answer.tables);
+    tables.extend(answer_tables);
     tables.push(reference_table(data));
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
         for &si in &g.scenes {
@@ -46,11 +52,13 @@ pub fn write(data: &ReportInput, figures: &[Figure], out: &Path) -> Result<()> {
         if many { collapsed.push(slopes) } else { tables.push(slopes) }
     }
     collapsed.push(aggregate_table(data));
+    outdir::write_file(out, outdir::EQUAL_TIME_CSV, super::equal_time::csv(&answer.equal_time).as_bytes())?;
     let title = format!("hemilab: {}", spec.name);
-    let mut intro = answer.text;
-    intro.push(timing_text(data));
-    intro.extend(data.notes.iter().cloned());
-    intro.push(format!(
+    let mut findings = answer.findings;
+    findings.extend(super::verdicts::family_text(data));
+    let mut method = vec![answer::method(), timing_text(data)];
+    method.extend(data.notes.iter().cloned());
+    method.push(format!(
         "Spec {} ({} jobs). Every number is measured against the reference of its scene over the \
          pixels that see a surface; mean ± sd over independent replicates (different seeds; replicate r \
          has the same seed in every configuration, so differences are paired). ρ is the lag-1 \
@@ -71,21 +79,28 @@ pub fn write(data: &ReportInput, figures: &[Figure], out: &Path) -> Result<()> {
         spec.path.display(),
         data.results.len()
     ));
-    intro.push(
+    method.push(format!(
         "Raw numbers: results.csv, results.json (one record per image), aggregates.csv, slopes.json, \
-         timing.json."
-            .into(),
-    );
-    let intro = intro.join("\n\n");
+         timing.json, {}.",
+        outdir::EQUAL_TIME_CSV
+    ));
+    let (answer_text, findings, method) =
+        (answer.lead.join("\n\n"), findings.join("\n\n"), method.join("\n\n"));
     let page = report::Page {
         title: &title,
         lead: &lead,
-        intro: &intro,
+        intro: &findings,
         tables: &tables,
-        figures,
+        figures: &figures.other,
         collapsed: &collapsed,
     };
-    outdir::write_page(out, &report::html_page(&page), outdir::REPORT_MD, &report::markdown_page(&page))
+    let opening = report::Opening { answer: &answer_text, figures: &figures.key, method: &method };
+    outdir::write_page(
+        out,
+        &report::html_page_opened(&page, &opening),
+        outdir::REPORT_MD,
+        &report::markdown_page_opened(&page, &opening),
+    )
 }
 
 /// What a time is and how it was measured.

@@ -243,8 +243,14 @@ pub struct PointsArgs {
 
 #[derive(Debug, Args)]
 pub struct AdviseArgs {
-    /// Scene file (TOML).
-    pub scene: PathBuf,
+    /// Scene file (TOML); not with --from (the sweep's own is used).
+    #[arg(required_unless_present = "from", conflicts_with = "from")]
+    pub scene: Option<PathBuf>,
+    /// Re-analyse the finished sweep in DIR (an earlier advise's --out) at --budget-ms without
+    /// rendering anything; writes to --out, default DIR itself. A budget whose finalists DIR has not
+    /// measured is answered from the sweep's interpolation, and says so.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["rays", "only", "replicates", "resolution", "reference_dir"])]
+    pub from: Option<PathBuf>,
     /// Time budgets per image in ms, comma-separated: thread CPU time of a one-thread render of the
     /// whole image at the resolution (default: three spread over the paper default's measured times).
     #[arg(long, value_parser = parse_budget, value_delimiter = ',', value_name = "LIST")]
@@ -269,7 +275,8 @@ pub struct AdviseArgs {
     /// name or * (e.g. sine-cosine/fibonacci/*); the paper's default is always run.
     #[arg(long, value_parser = parse_pattern, value_delimiter = ',', value_name = "LIST")]
     pub only: Vec<hemilab::advice::Pattern>,
-    /// Output directory (default: out/advise-<scene>/).
+    /// Output directory (default: out/advise-<scene>/, or DIR with --from). Rewritten whole: absent,
+    /// empty or an earlier advise's; a rerun resumes from its records.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Where reference images and their manifests live (default: `reference/` beside the scene

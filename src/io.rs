@@ -96,6 +96,49 @@ pub fn link_or_copy(from: &Path, to: &Path) -> Result<()> {
     write_atomic(to, &read_bytes(from)?)
 }
 
+/// Swaps two directories in one step, where the system can (Linux `renameat2` with
+/// `RENAME_EXCHANGE`): whoever looks at either path sees the old directory or the new one, never
+/// neither or a mix. Elsewhere, or on a filesystem without it, two renames through a third name
+/// (`a` must not exist for that moment; a crash between them leaves both under their other names).
+pub fn exchange_dirs(a: &Path, b: &Path) -> Result<()> {
+    #[cfg(target_os = "linux")]
+    {
+        use std::ffi::CString;
+        use std::os::unix::ffi::OsStrExt;
+        let c = |p: &Path| CString::new(p.as_os_str().as_bytes()).map_err(|e| Error::io(p, e.into()));
+        let (ca, cb) = (c(a)?, c(b)?);
+        // SAFETY: two valid NUL-terminated paths; the call reads them and touches no memory of ours.
+        let rc = unsafe {
+            libc::renameat2(libc::AT_FDCWD, ca.as_ptr(), libc::AT_FDCWD, cb.as_ptr(), libc::RENAME_EXCHANGE)
+        };
+        if rc == 0 {
+            return Ok(());
+        }
+        let e = std::io::Error::last_os_error();
+        if !matches!(e.raw_os_error(), Some(libc::EINVAL) | Some(libc::ENOSYS) | Some(libc::EOPNOTSUPP)) {
+            return Err(Error::io(b, e));
+        }
+    }
+    let aside = a.with_extension("swap");
+    fs::rename(b, &aside).map_err(|e| Error::io(b, e))?;
+    fs::rename(a, b).map_err(|e| Error::io(a, e))?;
+    fs::rename(&aside, a).map_err(|e| Error::io(&aside, e))
+}
+
+/// Renames `from` to `to` (a directory or a file; `to` must not be a non-empty directory).
+pub fn rename(from: &Path, to: &Path) -> Result<()> {
+    fs::rename(from, to).map_err(|e| Error::io(from, e))
+}
+
+/// Removes a directory and everything in it; nothing when it does not exist.
+pub fn remove_dir_all_if_exists(dir: &Path) -> Result<()> {
+    match fs::remove_dir_all(dir) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(Error::io(dir, e)),
+    }
+}
+
 pub fn write_exr(path: &Path, channels: &[Channel]) -> Result<()> {
     let bytes =
         image::encode_exr(channels).map_err(|e| Error::input(path, format!("cannot encode EXR: {e}")))?;

@@ -34,6 +34,9 @@ pub const ADVICE_JSON: &str = "advice.json";
 pub const ADVICE_MD: &str = "advice.md";
 /// Every measured image, as EXR.
 pub const IMAGES: &str = "images";
+/// advise's sweep as asked (`advice::setup::Request`): what `advise --from` sets up again, and the
+/// mark of a directory advise may replace whole.
+pub const ADVISE_REQUEST: &str = "sweep.json";
 
 /// A job's image, relative to the output directory (the record's `image` column).
 pub fn image_rel(job: &Job) -> String {
@@ -60,9 +63,20 @@ pub fn write_image(out: &Path, job: &Job, output: &RenderOutput) -> Result<Strin
     Ok(image)
 }
 
-/// Whether the image a record names is on disk (a record without its image is not finished).
+/// The AO channel of an image `write_image` wrote (`image` as the record names it).
+pub fn read_image(out: &Path, image: &str) -> Result<crate::image::Image> {
+    let path = out.join(image);
+    io::read_exr(&path)?
+        .into_iter()
+        .find(|(name, _)| name == "Y")
+        .map(|(_, i)| i)
+        .ok_or_else(|| Error::input(&path, "has no Y channel"))
+}
+
+/// Whether the image a record names is on disk (a record without its image is not finished). A
+/// record that names none (advise's sweep: only its numbers are used) needs none.
 pub fn has_image(out: &Path, image: &str) -> bool {
-    io::exists(&out.join(image))
+    image.is_empty() || io::exists(&out.join(image))
 }
 
 /// `results.json` and `results.csv`, rewritten whole after every job.
@@ -138,4 +152,70 @@ pub fn write_page(out: &Path, html: &str, md_name: &str, md: &str) -> Result<()>
 /// The report's entry point, for the closing line.
 pub fn index(out: &Path) -> PathBuf {
     out.join(INDEX_HTML)
+}
+
+/// Where advise builds its output set before the set replaces `out` in one step
+/// ([`commit_advise_stage`]): a hidden sibling, `.<name>.partial`, on the same filesystem. A run
+/// killed before the end leaves it, and the next run resumes from its records.
+pub fn advise_stage(out: &Path) -> Result<PathBuf> {
+    let abs = std::path::absolute(out).map_err(|e| Error::io(out, e))?;
+    match (abs.parent(), abs.file_name()) {
+        (Some(parent), Some(name)) => Ok(parent.join(format!(".{}.partial", name.to_string_lossy()))),
+        _ => Err(Error::Usage(format!("--out {}: name a directory below another one", out.display()))),
+    }
+}
+
+/// Refuses, before any work, an `out` that advise may not replace whole: it must be absent, empty,
+/// or an earlier advise's (its `ADVISE_REQUEST` is there), and its parent writable.
+pub fn check_advise_out(out: &Path) -> Result<()> {
+    io::ensure_writable_dir(out)?;
+    let entries = io::list_dir(out)?;
+    if !entries.is_empty() && !io::exists(&out.join(ADVISE_REQUEST)) {
+        return Err(Error::input(
+            out,
+            format!(
+                "holds files advise did not write (no {ADVISE_REQUEST}); advise replaces its output directory \
+                 whole, so name a new or empty one, or an earlier advise's"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The stage, created if missing (a killed run's is kept: its records resume), with every image
+/// under `sources`' `images/` linked in where the stage lacks it, so that their records resume.
+pub fn begin_advise_stage(out: &Path, sources: &[&Path]) -> Result<PathBuf> {
+    let stage = advise_stage(out)?;
+    io::create_dir_all(&stage.join(IMAGES))?;
+    for dir in sources {
+        for image in io::list_dir(&dir.join(IMAGES))? {
+            let Some(name) = image.file_name() else { continue };
+            let to = stage.join(IMAGES).join(name);
+            if !io::exists(&to) && image.extension().is_some_and(|e| e == "exr") {
+                io::link_or_copy(&image, &to)?;
+            }
+        }
+    }
+    Ok(stage)
+}
+
+/// Puts the finished stage in place of `out` in one step (`io::exchange_dirs`), then removes the
+/// old set (now at the stage's path); a reader sees the old set or the new one, never a mix.
+pub fn commit_advise_stage(stage: &Path, out: &Path) -> Result<()> {
+    if io::exists(out) {
+        io::exchange_dirs(stage, out)?;
+        io::remove_dir_all_if_exists(stage)
+    } else {
+        io::rename(stage, out)
+    }
+}
+
+/// `ADVISE_REQUEST`'s text in `dir`.
+pub fn read_advise_request(dir: &Path) -> Result<String> {
+    io::read_string(&dir.join(ADVISE_REQUEST))
+}
+
+/// `ADVISE_REQUEST` in `dir`.
+pub fn write_advise_request(dir: &Path, text: &str) -> Result<()> {
+    io::write_atomic(&dir.join(ADVISE_REQUEST), text.as_bytes())
 }

@@ -1,9 +1,11 @@
-//! advise's analysis: the measured records → each configuration's ladder (`Curve`) → the budgets'
-//! rankings (`advice`) → the winner maps. `report::advise` draws and writes what it finds.
+//! advise's analysis: the sweep's records → each configuration's ladder (`Curve`) → the budgets'
+//! interpolated rankings (`advice`) → the finalists to measure → the answers from their records
+//! (`advice::answer`) → the winner maps. `report::advise` draws and writes what it finds.
 
+use crate::advice::answer::{self, Answer};
 use crate::advice::setup::Setup;
 use crate::advice::winner::{self, Pixel};
-use crate::advice::{self, AtBudget, Curve, Metric, PAPER_DEFAULT, Point, Ranking};
+use crate::advice::{self, Curve, Metric, PAPER_DEFAULT, Point, model, structure};
 use crate::jobs::executor::Session;
 use crate::metrics::covered;
 use crate::reference::store::Reference;
@@ -11,33 +13,48 @@ use crate::results::JobResult;
 use crate::spec::Row;
 use crate::timing::{Protocol, Summary};
 use std::collections::HashMap;
+use std::path::PathBuf;
 
 /// What advise measured.
 pub struct Measured<'a> {
     pub setup: &'a Setup,
     pub reference: &'a Reference,
-    /// By plan index.
+    /// The sweep's records, by plan index.
     pub results: Vec<JobResult>,
-    /// By (configuration, rays, replicate): image − reference on covered pixels (0 elsewhere), for
-    /// every timed job and every extra replicate rendered for the winner map.
+    /// The finalists' records (`setup::verify_jobs`), every budget's.
+    pub verified: Vec<JobResult>,
+    /// By (configuration, rays, replicate): a finalist's image − reference on covered pixels (0
+    /// elsewhere), for the winner map.
     pub errors: HashMap<(Row, u32, u32), Vec<f32>>,
-    /// Replicates the winner map uses (the timed ones and extra ones, `MAP_REPLICATES` at least).
-    pub map_replicates: u32,
+    /// Replicates of every finalist (`verify_replicates`).
+    pub replicates: u32,
+    /// The sweep's session and the finalists' (`None`: nothing rendered for them).
     pub session: Session,
+    pub verify_session: Option<Session>,
     pub protocol: Protocol,
+    /// Jobs rendered and reused (an earlier run's records, `jobs::executor::resumed`).
+    pub rendered: usize,
+    pub reused: usize,
+    /// Re-analysed from this directory's records without rendering (`advise --from`).
+    pub from: Option<PathBuf>,
 }
 
-/// The winner map compares, per budget, this many of the best configurations (and the paper's
-/// default): beyond them the image-level gap is large, and a legend of 50 colours unreadable.
-pub const MAP_CANDIDATES: usize = 6;
-/// Replicates per pixel comparison, at least: with a handful, a pixel's MSE is too noisy to order
-/// anything (the timed replicates are reused; the rest are rendered untimed, for the map only).
-pub const MAP_REPLICATES: u32 = 16;
+/// Replicates of each finalist at least: the winner map's per-pixel test splits them in halves
+/// (one picks, one tests), and its power grows with them — on the kitchen at 64x48 the map resolved
+/// 6, 0 and 0 % of the pixels at the three default budgets with 16, 14, 7 and 51 % with 32, for
+/// 2.5 and 7 s more render CPU time than the sweep alone (20 s) — while the shipped numbers' σ
+/// shrinks too. The sweep's replicates count when they are more.
+pub const VERIFY_REPLICATES: u32 = 24;
+
+/// The finalists' replicates for a sweep of `replicates`.
+pub fn verify_replicates(replicates: u32) -> u32 {
+    replicates.max(VERIFY_REPLICATES)
+}
 
 /// The winner map at one budget.
 pub struct Map {
     pub budget_s: f64,
-    /// The compared configurations, in ranking order; `Pixel::Won(i)` indexes this.
+    /// The compared configurations, least MSE first; `Pixel::Won(i)` indexes this.
     pub rows: Vec<Row>,
     pub pixels: Vec<Pixel>,
 }
@@ -48,63 +65,53 @@ pub struct Analysis {
     pub budgets_s: Vec<f64>,
     /// The budgets were chosen by advise (`advice::default_budgets`), not given.
     pub default_budgets: bool,
-    /// Per budget: by RMSE and by low-pass RMSE.
-    pub rankings: Vec<(Ranking, Ranking)>,
+    /// Per budget.
+    pub answers: Vec<Answer>,
     pub maps: Vec<Map>,
     /// Configurations coloured in the winner map, most pixels first, with their colours.
     pub colours: Vec<(Row, [u8; 3])>,
-    /// Paired standard errors a pixel's win must exceed.
-    pub threshold: f64,
+    /// The finalists' session's median times over the sweep's at the counts both measured
+    /// (geometric mean): how much slower (> 1) the machine ran then. `None`: nothing in common.
+    pub session_ratio: Option<f64>,
 }
 
-/// Ladders, budgets and rankings (no maps yet).
-pub fn analyse(m: &Measured, budgets_ms: &[f64]) -> Analysis {
-    let curves = curves(m);
+/// Ladders, budgets, rankings and the sweep's (interpolated) answers; no maps yet.
+pub fn analyse(setup: &Setup, results: &[JobResult], budgets_ms: &[f64]) -> Analysis {
+    let curves = curves(setup, results);
     let default = curves.iter().find(|c| c.row == PAPER_DEFAULT).expect("the paper default is always run");
     let (budgets_s, defaulted) = if budgets_ms.is_empty() {
         (advice::default_budgets(default), true)
     } else {
         (budgets_ms.iter().map(|b| b * 1e-3).collect(), false)
     };
-    let rankings: Vec<(Ranking, Ranking)> = budgets_s
+    let answers = budgets_s
         .iter()
-        .map(|&b| (advice::rank(&curves, b, Metric::Rmse), advice::rank(&curves, b, Metric::Lowpass)))
+        .map(|&b| {
+            Answer::interpolated(
+                advice::rank(&curves, b, Metric::Rmse),
+                advice::rank(&curves, b, Metric::Lowpass),
+            )
+        })
         .collect();
-    let threshold = winner::threshold(m.map_replicates as usize);
     Analysis {
         curves,
         budgets_s,
         default_budgets: defaulted,
-        rankings,
+        answers,
         maps: vec![],
         colours: vec![],
-        threshold,
+        session_ratio: None,
     }
 }
 
-/// The configurations a budget's map compares: its `MAP_CANDIDATES` best by RMSE, and the paper's
-/// default; none when fewer than two are inside their measured times.
-fn candidates(r: &Ranking) -> Vec<&AtBudget> {
-    if r.ranked.len() < 2 {
-        return Vec::new();
-    }
-    let mut c: Vec<&AtBudget> = r.ranked.iter().take(MAP_CANDIDATES).collect();
-    if let Some(d) = r.ranked.iter().skip(MAP_CANDIDATES).find(|a| a.row == PAPER_DEFAULT) {
-        c.push(d);
-    }
-    c
-}
-
-/// (configuration, rays) the maps need at `MAP_REPLICATES` replicates: the two measured ray counts
-/// around each budget of each candidate.
-pub fn map_needs(a: &Analysis) -> Vec<(Row, u32)> {
+/// Every (configuration, ray count) some budget's answer measures (`answer::counts`), each once.
+pub fn finalists(a: &Analysis) -> Vec<(Row, u32)> {
     let mut out = Vec::new();
-    for (r, _) in &a.rankings {
-        for c in candidates(r) {
-            let curve = a.curves.iter().find(|x| x.row == c.row).expect("ranked rows have curves");
-            for p in [&curve.points[c.lo], &curve.points[c.lo + 1]] {
-                if !out.contains(&(c.row, p.rays)) {
-                    out.push((c.row, p.rays));
+    for ans in &a.answers {
+        for f in answer::finalists(&ans.ranking, &ans.lowpass) {
+            for n in answer::counts(f) {
+                if !out.contains(&(f.row, n)) {
+                    out.push((f.row, n));
                 }
             }
         }
@@ -112,31 +119,55 @@ pub fn map_needs(a: &Analysis) -> Vec<(Row, u32)> {
     out
 }
 
-/// Each configuration's ladder from its records: per ray count, the median of every timed render
-/// of it and that median's spread, and each replicate's MSE and low-pass MSE.
-fn curves(m: &Measured) -> Vec<Curve> {
+/// Each budget's answer from the finalists' records, where they are all there (`Answer::measure`).
+pub fn measure(a: &mut Analysis, verified: &[JobResult], replicates: u32) {
+    let records = |row: Row, rays: u32| -> Vec<&JobResult> {
+        let mut v: Vec<&JobResult> = verified.iter().filter(|r| r.rays == rays && r.is_row(row)).collect();
+        v.sort_by_key(|r| r.replicate);
+        v
+    };
+    let mut logs = Vec::new();
+    for c in &a.curves {
+        for p in &c.points {
+            let times: Vec<f64> =
+                records(c.row, p.rays).iter().flat_map(|r| r.times.iter().copied()).collect();
+            if let Some(t) = Summary::of(&times) {
+                logs.push((t.median / p.time_s).ln());
+            }
+        }
+    }
+    a.session_ratio = (!logs.is_empty()).then(|| mean(&logs).exp());
+    let ratio = a.session_ratio.unwrap_or(1.0);
+    a.answers = std::mem::take(&mut a.answers)
+        .into_iter()
+        .map(|x| x.measure(&records, replicates as usize, ratio))
+        .collect();
+}
+
+/// Each configuration's ladder from the sweep's records: per ray count, the median of every
+/// timed render of it and that median's σ, and each replicate's MSE, low-pass MSE and structure.
+fn curves(setup: &Setup, results: &[JobResult]) -> Vec<Curve> {
     let is = |r: &JobResult, row: Row, n: u32| r.rays == n && r.is_row(row);
-    m.setup
+    setup
         .rows
         .iter()
         .map(|&row| {
-            let points = m
-                .setup
+            let points = setup
                 .rays
                 .iter()
                 .filter_map(|&n| {
-                    let rs: Vec<&JobResult> = m.results.iter().filter(|r| is(r, row, n)).collect();
+                    let rs: Vec<&JobResult> = results.iter().filter(|r| is(r, row, n)).collect();
                     let times: Vec<f64> = rs.iter().flat_map(|r| r.times.iter().copied()).collect();
                     let t = Summary::of(&times)?;
                     Some(Point {
                         rays: n,
                         time_s: t.median,
-                        time_spread_s: t.spread(),
+                        time_sigma_ln: model::median_sigma_ln(&times),
+                        timings: t.n,
                         replicates: rs.iter().map(|r| r.replicate).collect(),
                         mse: rs.iter().map(|r| r.rmse * r.rmse).collect(),
                         lowpass_mse: rs.iter().map(|r| r.lowpass_rmse * r.lowpass_rmse).collect(),
-                        whiteness_z: rs.iter().map(|r| r.whiteness_z).collect(),
-                        lowfreq_ratio: rs.iter().map(|r| r.lowfreq_ratio).collect(),
+                        structure: rs.iter().map(|r| structure::of(r)).collect(),
                     })
                 })
                 .collect();
@@ -145,40 +176,33 @@ fn curves(m: &Measured) -> Vec<Curve> {
         .collect()
 }
 
-/// Per budget with at least two configurations inside their measured times: every pixel's
-/// winner by MSE among the budget's candidates (see `advice::winner`), at `map_replicates`
-/// replicates, from the two measured ray counts around the budget.
-pub fn winner_maps(m: &Measured, curves: &[Curve], rankings: &[(Ranking, Ranking)]) -> Vec<Map> {
+/// Per measured budget: every pixel's winner by MSE among its finalists, each at its own ray
+/// count, over their replicates (see `advice::winner`). A budget answered by interpolation has no
+/// per-pixel measurement, and so no map.
+pub fn winner_maps(m: &Measured, a: &Analysis) -> Vec<Map> {
     let reference = &m.reference.coverage;
     let cov: Vec<bool> = (0..reference.len()).map(|i| covered(reference, i)).collect();
     let width = reference.width as usize;
-    let mut pooled: HashMap<(Row, u32, u32), Vec<f64>> = HashMap::new();
-    let threshold = winner::threshold(m.map_replicates as usize);
     let mut maps = Vec::new();
-    for (r, _) in rankings {
-        let chosen = candidates(r);
-        if chosen.is_empty() {
-            continue;
-        }
-        let mut mse = Vec::new();
-        for a in &chosen {
-            let c = curves.iter().find(|c| c.row == a.row).expect("ranked rows have curves");
-            let (lo, hi) = (c.points[a.lo].rays, c.points[a.lo + 1].rays);
-            let mut pool = |rays: u32, rep: u32| -> Vec<f64> {
-                let key = (a.row, rays, rep);
-                let pooled_of = || match m.errors.get(&key) {
-                    Some(err) => winner::pooled_squared_error(err, &cov, width),
-                    None => vec![f64::NAN; cov.len()], // never rendered: no winner from it
-                };
-                pooled.entry(key).or_insert_with(pooled_of).clone()
-            };
-            let per_replicate: Vec<Vec<f64>> = (0..m.map_replicates)
-                .map(|rep| winner::interpolate(&pool(lo, rep), &pool(hi, rep), a.w))
-                .collect();
-            mse.push(per_replicate);
-        }
-        let pixels = winner::winners(&mse, &cov, threshold);
-        maps.push(Map { budget_s: r.budget_s, rows: chosen.iter().map(|a| a.row).collect(), pixels });
+    for ans in a.answers.iter().filter(|x| x.measured && x.finalists.len() >= 2) {
+        let mse: Vec<Vec<Vec<f64>>> = ans
+            .finalists
+            .iter()
+            .map(|c| {
+                (0..m.replicates)
+                    .map(|rep| match m.errors.get(&(c.row, c.rays, rep)) {
+                        Some(err) => winner::pooled_squared_error(err, &cov, width),
+                        None => vec![f64::NAN; cov.len()], // not measured: no winner from it
+                    })
+                    .collect()
+            })
+            .collect();
+        let pixels = winner::winners(&mse, &cov, winner::FDR);
+        maps.push(Map {
+            budget_s: ans.budget_s,
+            rows: ans.finalists.iter().map(|c| c.row).collect(),
+            pixels,
+        });
     }
     maps
 }

@@ -8,19 +8,23 @@
 //!   exact; a budget outside a configuration's measured times is never extrapolated, only reported
 //!   as outside (`Place::Below` / `Place::Above`).
 //! - **Replicates**: each replicate's MSE is interpolated on its own (the same weight for all), so
-//!   the configuration's mean MSE at the budget has a standard error from their spread; replicate r
-//!   has the same seed in every configuration, so two configurations are compared replicate by
-//!   replicate (`gain`, `paired_z`).
+//!   a configuration's mean MSE at the budget has a σ from their spread; replicate r has the same
+//!   seed in every configuration, so two configurations are compared replicate by replicate. Every
+//!   ± and margin is 1 σ of the one error model of `advice/model.rs` (replicates and times).
 //! - **Which configurations**: every distribution × sequence × seed mode that is a distinct,
 //!   sensible estimator (`sensible_rows`), or the subset `--only` patterns select (`select`).
 //!
-//! The per-pixel winner map is in `advice/winner.rs`.
+//! What is shipped — each budget's finalists measured at the integer ray count that fits it — is in
+//! `advice/answer.rs`; whether an error is structured in `advice/structure.rs`; the per-pixel winner
+//! map in `advice/winner.rs`.
 
 pub mod analysis;
+pub mod answer;
+pub mod model;
 pub mod setup;
+pub mod structure;
 pub mod winner;
 
-use crate::metrics::STRUCTURED_RATIO;
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use crate::spec::Row;
 
@@ -89,6 +93,17 @@ impl Pattern {
         })
     }
 
+    /// The pattern as `parse` reads it back.
+    pub fn to_text(&self) -> String {
+        let show = |o: Option<&str>| o.unwrap_or("*").to_string();
+        format!(
+            "{}/{}/{}",
+            show(self.distribution.map(|d| d.name())),
+            show(self.sequence.map(|s| s.name())),
+            show(self.seed_mode.map(|m| m.name()))
+        )
+    }
+
     fn exact(&self) -> Option<Row> {
         Some(Row::new(self.distribution?, self.sequence?, self.seed_mode?).canonical())
     }
@@ -116,13 +131,10 @@ pub fn select(patterns: &[Pattern]) -> Result<Vec<Row>, String> {
             None => all.iter().copied().filter(|r| p.matches(*r)).collect(),
         };
         if hits.is_empty() {
-            let show = |o: Option<&str>| o.unwrap_or("*").to_string();
             return Err(format!(
-                "'{}/{}/{}' matches no configuration of the default set (which leaves out random × static \
+                "'{}' matches no configuration of the default set (which leaves out random × static \
                  and concentric-cosine × rotation of a lattice, scramble or jitter; name one in full to run it)",
-                show(p.distribution.map(|d| d.name())),
-                show(p.sequence.map(|s| s.name())),
-                show(p.seed_mode.map(|m| m.name()))
+                p.to_text()
             ));
         }
         for r in hits {
@@ -138,18 +150,17 @@ pub fn select(patterns: &[Pattern]) -> Result<Vec<Row>, String> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Point {
     pub rays: u32,
-    /// Median time per image (seconds, the timing protocol's) and its spread (`Summary::spread`).
+    /// Median time per image (seconds, the timing protocol's), the σ of its ln within the session
+    /// (`model::median_sigma_ln`) and how many timed renders it is the median of.
     pub time_s: f64,
-    pub time_spread_s: f64,
+    pub time_sigma_ln: f64,
+    pub timings: usize,
     /// Replicate ids and, for each, the image's MSE and low-pass MSE (squared low-pass RMSE).
     pub replicates: Vec<u32>,
     pub mse: Vec<f64>,
     pub lowpass_mse: Vec<f64>,
-    /// Each replicate's whiteness z-score (`metrics::whiteness`), reported: a test of any
-    /// correlation, which blue noise fails too.
-    pub whiteness_z: Vec<f64>,
-    /// Each replicate's low-frequency ratio (`metrics::lowfreq`): what "structured" is judged by.
-    pub lowfreq_ratio: Vec<f64>,
+    /// Each replicate's value of the structure measure (`structure::of`).
+    pub structure: Vec<f64>,
 }
 
 /// A configuration's ladder, points in increasing ray count.
@@ -246,44 +257,46 @@ pub struct AtBudget {
     /// d ln(mean MSE) / d ln(time) on the segment, and the same for the low-pass MSE.
     pub slope: f64,
     pub lowpass_slope: f64,
-    /// The time's relative spread there (spread / median, interpolated).
-    pub time_rel_spread: f64,
-    /// Mean whiteness z-score over the replicates, interpolated linearly between the two points.
-    pub whiteness_z: f64,
-    /// Mean low-frequency ratio over the replicates, interpolated the same way.
-    pub lowfreq_ratio: f64,
-    /// The two measured points the budget lies between, and the weight.
+    /// σ of ln(time) within the session there (the two points' `time_sigma_ln`, interpolated).
+    pub time_sigma_ln: f64,
+    /// Mean of the structure measure over the replicates, interpolated linearly between the points.
+    pub structure: f64,
+    /// The two measured points the budget lies between, and the weight; the ray count of the
+    /// first (the sweep measured it within the budget).
     pub lo: usize,
     pub w: f64,
+    pub lo_rays: u32,
 }
 
 impl AtBudget {
-    /// Whether its error is structured — clumped in blotches or bands that a blur keeps — rather
-    /// than noise: mean low-frequency ratio above [`STRUCTURED_RATIO`]. Not the whiteness z, which
-    /// flags any correlation, blue noise's negative one included, and grows with the pixel count.
+    /// Whether its error is structured (bands, moiré) rather than noise (`structure::structured`).
     pub fn structured(&self) -> bool {
-        self.lowfreq_ratio > STRUCTURED_RATIO
+        structure::structured(self.structure)
     }
 
-    fn values(&self, m: Metric) -> &[f64] {
-        match m {
-            Metric::Rmse => &self.mse,
-            Metric::Lowpass => &self.lowpass_mse,
+    /// What a comparison under the error model needs of it.
+    pub fn side(&self, m: Metric) -> model::Side<'_> {
+        let (values, slope) = match m {
+            Metric::Rmse => (&self.mse, self.slope),
+            Metric::Lowpass => (&self.lowpass_mse, self.lowpass_slope),
+        };
+        model::Side {
+            row: self.row,
+            replicates: &self.replicates,
+            values,
+            slope,
+            time_sigma_ln: self.time_sigma_ln,
         }
     }
 
-    /// Mean MSE (or low-pass MSE) over replicates ± its standard error (sd / √n).
+    /// Mean MSE (or low-pass MSE) at the budget ± 1 σ (replicates and time, `model::mean_mse`).
     pub fn mean_mse(&self, m: Metric) -> Estimate {
-        let (value, sd) = crate::metrics::mean_sd(self.values(m));
-        let n = self.values(m).len() as f64;
-        Estimate { value, se: if n > 1.0 { sd / n.sqrt() } else { f64::NAN } }
+        model::mean_mse(&self.side(m), true)
     }
 
-    /// √(mean MSE) ± its standard error (delta method: se(MSE) / (2 RMSE)).
+    /// √(mean MSE) ± 1 σ.
     pub fn rmse(&self, m: Metric) -> Estimate {
-        let e = self.mean_mse(m);
-        let value = e.value.sqrt();
-        Estimate { value, se: e.se / (2.0 * value) }
+        model::rmse(self.mean_mse(m))
     }
 }
 
@@ -315,79 +328,12 @@ pub fn at_budget(curve: &Curve, budget_s: f64) -> Result<AtBudget, Place> {
         lowpass_mse,
         slope: slope(mean(&a.mse), mean(&b.mse)),
         lowpass_slope: slope(mean(&a.lowpass_mse), mean(&b.lowpass_mse)),
-        time_rel_spread: (1.0 - w) * a.time_spread_s / a.time_s + w * b.time_spread_s / b.time_s,
-        whiteness_z: (1.0 - w) * mean(&a.whiteness_z) + w * mean(&b.whiteness_z),
-        lowfreq_ratio: (1.0 - w) * mean(&a.lowfreq_ratio) + w * mean(&b.lowfreq_ratio),
+        time_sigma_ln: (1.0 - w) * a.time_sigma_ln + w * b.time_sigma_ln,
+        structure: (1.0 - w) * mean(&a.structure) + w * mean(&b.structure),
         lo,
         w,
+        lo_rays: a.rays,
     })
-}
-
-/// A ratio of mean MSEs with its standard error and that error's two parts.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Gain {
-    pub value: f64,
-    pub se: f64,
-    /// From the replicates, paired (their covariance taken out).
-    pub se_replicates: f64,
-    /// From the spread of the two configurations' times: a time off by δ moves the budget's MSE by
-    /// the local slope × δ.
-    pub se_timing: f64,
-}
-
-/// How many times less (low-pass) MSE `better` has than `baseline` at the same budget: mean MSE of
-/// `baseline` / mean MSE of `better`. Its standard error by the delta method over the shared
-/// replicates, paired: var(ln ratio) ≈ var(ā)/ā² + var(b̄)/b̄² − 2 cov(ā, b̄)/(ā b̄), with the means'
-/// (co)variances the replicates' / n; plus the timing part. 1 ± 0 for a configuration against itself.
-pub fn gain(baseline: &AtBudget, better: &AtBudget, m: Metric) -> Gain {
-    let (xa, xb) = shared(baseline, better, m);
-    let n = xa.len() as f64;
-    let (ma, mb) = (xa.iter().sum::<f64>() / n, xb.iter().sum::<f64>() / n);
-    let value = ma / mb;
-    let rel2 = if n > 1.0 {
-        let cov = |x: &[f64], mx: f64, y: &[f64], my: f64| {
-            x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum::<f64>() / (n - 1.0)
-        };
-        let v = cov(&xa, ma, &xa, ma) / (ma * ma) + cov(&xb, mb, &xb, mb) / (mb * mb)
-            - 2.0 * cov(&xa, ma, &xb, mb) / (ma * mb);
-        v.max(0.0) / n
-    } else {
-        f64::NAN
-    };
-    let se_timing = if baseline.row == better.row {
-        0.0
-    } else {
-        let k = |a: &AtBudget| match m {
-            Metric::Rmse => a.slope,
-            Metric::Lowpass => a.lowpass_slope,
-        };
-        value * (k(baseline) * baseline.time_rel_spread).hypot(k(better) * better.time_rel_spread)
-    };
-    let se_replicates = value * rel2.sqrt();
-    Gain { value, se: se_replicates.hypot(se_timing), se_replicates, se_timing }
-}
-
-/// The two configurations' values over the replicates both have, in the same order.
-fn shared(a: &AtBudget, b: &AtBudget, m: Metric) -> (Vec<f64>, Vec<f64>) {
-    let (mut xa, mut xb) = (Vec::new(), Vec::new());
-    for (i, r) in a.replicates.iter().enumerate() {
-        if let Some(j) = b.replicates.iter().position(|x| x == r) {
-            xa.push(a.values(m)[i]);
-            xb.push(b.values(m)[j]);
-        }
-    }
-    (xa, xb)
-}
-
-/// `other`'s mean MSE minus `best`'s, in paired standard errors over the shared replicates (∞ when
-/// every replicate differs by the same; NaN with fewer than two shared).
-pub fn paired_z(best: &AtBudget, other: &AtBudget, m: Metric) -> f64 {
-    let (xa, xb) = shared(best, other, m);
-    if xa.len() < 2 {
-        return f64::NAN;
-    }
-    let (diff, se) = crate::stats::paired_difference(&xa, &xb);
-    if se > 0.0 { diff / se } else { diff.signum() * f64::INFINITY }
 }
 
 /// Every configuration at one budget: those inside their measured times, least error first, and
@@ -400,11 +346,9 @@ pub struct Ranking {
     pub outside: Vec<(Row, Place)>,
 }
 
-/// What to ship at a budget: the best-ranked configuration whose error is not structured
-/// (low-frequency ratio at most [`STRUCTURED_RATIO`]), because a sampler with visible blotches or
-/// bands is not an answer a renderer can ship however low its RMSE; the best overall when every one
-/// is structured. Blue noise (ratio below 1: the error pushed to high frequencies, which a blur or
-/// the eye removes) is shippable.
+/// What the sweep alone would ship at a budget: the best-ranked configuration whose error is not
+/// structured (`structure::structured`), because a sampler with visible bands or moiré is not an
+/// answer a renderer can ship however low its RMSE; the best overall when every one is structured.
 pub fn recommended(r: &Ranking) -> Option<&AtBudget> {
     r.ranked.iter().find(|a| !a.structured()).or_else(|| r.ranked.first())
 }
@@ -440,6 +384,20 @@ pub fn default_budgets(paper_default: &Curve) -> Vec<f64> {
         out
     };
     (2..=6).map(spread).find(|b| b.len() == 3).unwrap_or_else(|| spread(2))
+}
+
+/// How far below the calibrated cheapest render (`jobs::calibrate::cheapest`) a budget must be to
+/// be refused before the sweep. The calibration is a fraction of a second of renders with a short
+/// warm-up and over-predicts: the sweep's measured cheapest render was 1.17× below it on the
+/// kitchen (1.37 against 1.6 ms at 64x48) and 1.33× on the Cornell box (0.21 against 0.28 ms at
+/// 32x32), 2026-12-01 at load 9. A budget between this and the cheapest render is swept, and
+/// where it is below every measured time the answer says so.
+pub const REFUSE_BELOW: f64 = 0.5;
+
+/// The budgets (seconds) no configuration can render an image in: below [`REFUSE_BELOW`] × the
+/// calibrated cheapest render.
+pub fn impossible(budgets_s: &[f64], cheapest_s: f64) -> Vec<f64> {
+    budgets_s.iter().copied().filter(|&b| b < REFUSE_BELOW * cheapest_s).collect()
 }
 
 /// `x` rounded to `digits` (≥ 1) significant digits, as the nearest double to that decimal (so

@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::io;
 use crate::jobs::runner::Geometry;
 use crate::load::{Loaded, check_pixels, dropped_warning, load_scene};
-use crate::plan::{self, Job, Plan};
+use crate::plan::{self, Plan};
 use crate::reference::Manifest;
 use crate::reference::store as refs;
 use crate::scene::Scene;
@@ -21,7 +21,10 @@ use std::path::{Path, PathBuf};
 /// well under a minute of CPU time, and the kitchen's committed 64×48 reference (docs/advise.md).
 pub const DEFAULT_MAX_PIXELS: u64 = 64 * 48;
 
-/// What the user asked advise for (`hemilab advise`'s flags).
+/// What the user asked advise for (`hemilab advise`'s flags), less the budgets: the sweep. Stored
+/// in the output directory (`to_json`, outdir's `ADVISE_REQUEST`) so that `advise --from` can set
+/// the same sweep up again without the flags.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Request {
     pub scene: PathBuf,
     pub rays: Vec<u32>,
@@ -29,6 +32,48 @@ pub struct Request {
     pub replicates: u32,
     pub resolution: Option<(u32, u32)>,
     pub reference_dir: Option<PathBuf>,
+}
+
+impl Request {
+    /// As JSON, the paths made absolute (a later `--from` may run from another directory).
+    pub fn to_json(&self) -> String {
+        let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf()).display().to_string();
+        let v = serde_json::json!({
+            "scene": abs(&self.scene),
+            "rays": self.rays,
+            "only": self.only.iter().map(advice::Pattern::to_text).collect::<Vec<_>>(),
+            "replicates": self.replicates,
+            "resolution": self.resolution.map(|(w, h)| [w, h]),
+            "reference_dir": self.reference_dir.as_deref().map(abs),
+        });
+        let mut text = serde_json::to_string_pretty(&v).unwrap_or_default();
+        text.push('\n');
+        text
+    }
+
+    /// Reads `to_json`'s text back; the message says what is missing or wrong.
+    pub fn from_json(text: &str) -> std::result::Result<Self, String> {
+        let v: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        let field = |k: &str| v.get(k).ok_or_else(|| format!("no '{k}'"));
+        let de = |k: &str| -> std::result::Result<serde_json::Value, String> { field(k).cloned() };
+        let scene: String = serde_json::from_value(de("scene")?).map_err(|e| format!("scene: {e}"))?;
+        let rays: Vec<u32> = serde_json::from_value(de("rays")?).map_err(|e| format!("rays: {e}"))?;
+        let only: Vec<String> = serde_json::from_value(de("only")?).map_err(|e| format!("only: {e}"))?;
+        let replicates: u32 =
+            serde_json::from_value(de("replicates")?).map_err(|e| format!("replicates: {e}"))?;
+        let resolution: Option<[u32; 2]> =
+            serde_json::from_value(de("resolution")?).map_err(|e| format!("resolution: {e}"))?;
+        let reference_dir: Option<String> =
+            serde_json::from_value(de("reference_dir")?).map_err(|e| format!("reference_dir: {e}"))?;
+        Ok(Self {
+            scene: scene.into(),
+            rays,
+            only: only.iter().map(|p| advice::Pattern::parse(p)).collect::<std::result::Result<_, _>>()?,
+            replicates,
+            resolution: resolution.map(|[w, h]| (w, h)),
+            reference_dir: reference_dir.map(PathBuf::from),
+        })
+    }
 }
 
 /// Everything a run of advise needs, checked.
@@ -245,16 +290,20 @@ fn default_resolution(
     (r, format!("the scene's {w}x{h} scaled to at most {DEFAULT_MAX_PIXELS} pixels"))
 }
 
-/// The winner map's extra replicates: the spec's jobs for each needed (configuration, rays) at
-/// `replicates` replicates (`plan` gives them the same seeds as any run would), less those the
-/// timed stage rendered.
-pub fn map_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Vec<Job> {
+/// Base seed of the finalists' replicates; the sweep's is 1 (`AdviseSpec::spec`). Their own, so
+/// that what is shipped is measured on replicates that had no say in picking it (and so that their
+/// jobs and images never coincide with the sweep's).
+pub const VERIFY_SEED: u64 = 2;
+
+/// The finalists' jobs: every (configuration, rays) of `needs` at `replicates` replicates, seeded
+/// from [`VERIFY_SEED`] (replicate r still has the same seed in every configuration: paired).
+pub fn verify_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Plan {
     let groups = needs
         .iter()
         .enumerate()
         .map(|(i, &(row, rays))| Group {
             kind: GroupKind::Table,
-            name: format!("map{i}"),
+            name: format!("finalist{i}"),
             rows: vec![row],
             rays: vec![rays],
             replicates,
@@ -262,6 +311,5 @@ pub fn map_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Vec<Job> 
             line: 0,
         })
         .collect();
-    let wider = Spec { groups, ..spec.clone() };
-    plan::plan(&wider).jobs.into_iter().filter(|j| j.replicate >= spec.replicates).collect()
+    plan::plan(&Spec { groups, seed: VERIFY_SEED, replicates, ..spec.clone() })
 }

@@ -13,12 +13,12 @@ fn curve(r: Row, c: f64, noise: &[f64]) -> Curve {
         .map(|&n| Point {
             rays: n,
             time_s: 1e-3 + 1e-4 * n as f64,
-            time_spread_s: 3e-5 * (1.0 + 0.1 * n as f64),
+            time_sigma_ln: 0.01 * (1.0 + 0.1 * n as f64),
+            timings: 15,
             replicates: (0..noise.len() as u32).collect(),
             mse: noise.iter().map(|k| k * c / n as f64).collect(),
             lowpass_mse: noise.iter().map(|k| k * c / (4.0 * n as f64)).collect(),
-            whiteness_z: noise.iter().map(|_| n as f64).collect(),
-            lowfreq_ratio: noise.iter().map(|_| 1.0 + 0.01 * n as f64).collect(),
+            structure: noise.iter().map(|_| n as f64).collect(),
         })
         .collect();
     Curve { row: r, points }
@@ -119,16 +119,15 @@ fn interpolation_is_exact_for_a_power_law_in_time() {
     assert!((a.mse[0] - 2e-6 / 0.55e-3).abs() < 1e-9 && (a.mse[1] - 2.4e-6 / 0.55e-3).abs() < 1e-9);
     assert!((a.slope + 1.0).abs() < 1e-12);
     let z = 4.0 + 4.0 * (5.5f64 / 4.0).ln() / 2f64.ln();
-    assert!((a.whiteness_z - z).abs() < 1e-9, "z 4 and 8 at rays 4 and 8, linear in w: {}", a.whiteness_z);
-    let ratio = 1.0 + 0.01 * z;
-    assert!(
-        (a.lowfreq_ratio - ratio).abs() < 1e-12,
-        "the ratio interpolates the same way: {}",
-        a.lowfreq_ratio
-    );
+    assert!((a.structure - z).abs() < 1e-9, "4 and 8 at rays 4 and 8, linear in w: {}", a.structure);
+    assert_eq!(a.lo_rays, 4);
     let m = a.mean_mse(Metric::Rmse);
     assert!((m.value - 2.2e-6 / 0.55e-3).abs() < 1e-9);
-    assert!((m.se - 0.2e-6 / 0.55e-3).abs() < 1e-9, "sd 0.28e-6/t over two replicates: se 0.2e-6/t");
+    // At a budget: the replicates' σ (sd 0.28e-6/t over two: 0.2e-6/t, relative 1/11) and the
+    // time's, through the slope −1 (session factor and the interpolated median σ).
+    let e = a.time_sigma_ln;
+    let rel = (1.0f64 / 11.0).hypot(model::RUN_FACTOR.hypot(e));
+    assert!((m.se / m.value - rel).abs() < 1e-9, "{} vs {rel}", m.se / m.value);
     let r = a.rmse(Metric::Rmse);
     assert!((r.value - m.value.sqrt()).abs() < 1e-12 && (r.se - m.se / (2.0 * r.value)).abs() < 1e-12);
 }
@@ -161,45 +160,88 @@ fn ranking_gain_and_paired_margins() {
     let values: Vec<f64> = r.ranked.iter().map(|a| a.mean_mse(Metric::Rmse).value).collect();
     assert!(values.windows(2).all(|w| w[0] <= w[1]), "{values:?}");
 
-    let own = gain(&r.ranked[2], &r.ranked[2], Metric::Rmse);
+    let side = |i: usize| r.ranked[i].side(Metric::Rmse);
+    let own = model::gain(&side(2), &side(2));
     assert_eq!((own.value, own.se), (1.0, 0.0), "the default against itself");
-    let g = gain(&r.ranked[2], &r.ranked[0], Metric::Rmse);
+    let g = model::gain(&side(2), &side(0));
     assert!((g.value - 4.0).abs() < 1e-9, "{g:?}");
     assert!(g.se_replicates < 1e-9, "the same noise in both: the ratio is exact per replicate: {g:?}");
     assert!(g.se_timing > 0.0 && (g.se - g.se_timing).abs() < 1e-12);
-    let z = paired_z(&r.ranked[0], &r.ranked[1], Metric::Rmse);
-    assert!(z > 10.0, "a 4 % difference in every replicate is resolved when paired: {z}");
+    // A 4 % difference in every replicate, but the times' σ (about 2 % each, times the slopes:
+    // −1.9, and −0.08 for `close`, whose next point is 10 s away) is in the margin too, and the
+    // session factor through the slopes' difference.
+    let z = model::margin(&side(0), &side(1));
+    let (a0, a1) = (&r.ranked[0], &r.ranked[1]);
+    let (k0, k1) = (a0.slope, a1.slope);
+    let timing = ((k0 - k1) * model::RUN_FACTOR).hypot(k0 * a0.time_sigma_ln).hypot(k1 * a1.time_sigma_ln);
+    let want = 1.04f64.ln() / timing;
+    assert!((z - want).abs() < 0.01 * want && z < 1.0, "{z} vs {want}");
     let low = rank(&curves, budget, Metric::Lowpass);
     assert_eq!(low.ranked[0].row, lattice.row);
 }
 
-/// `c` with every replicate's low-frequency ratio and whiteness z set.
-fn textured(mut c: Curve, ratio: f64, z: f64) -> Curve {
-    for p in &mut c.points {
-        p.lowfreq_ratio = vec![ratio; p.mse.len()];
-        p.whiteness_z = vec![z; p.mse.len()];
-    }
-    c
-}
-
 #[test]
-fn blue_noise_ships_and_clumped_error_does_not() {
-    // The best RMSE is clumped (ratio 3, z 40: the static seed's look); the next is blue noise
-    // (ratio 0.55 but z 17: the whiteness test flags its negative correlation); the default is white.
+fn finalists_are_measured_where_the_budget_fits_and_answer_from_measurements() {
+    use crate::advice::answer::{Answer, FINALISTS, counts, finalists, rays_for};
+    use crate::results::JobResult;
     let noise = [0.9, 1.0, 1.1, 1.05];
-    let clumped = textured(curve(row(Sequence::Fibonacci, SeedMode::Static), 0.2, &noise), 3.0, 40.0);
-    let blue = textured(curve(row(Sequence::Random, SeedMode::BlueNoise), 0.5, &noise), 0.55, 17.0);
-    let base = textured(curve(PAPER_DEFAULT, 1.0, &noise), 1.0, 0.0);
-    let r = rank(&[base.clone(), blue.clone(), clumped.clone()], 1.8e-3, Metric::Rmse);
-    assert_eq!(r.ranked[0].row, clumped.row);
-    assert!(r.ranked[0].structured() && !r.ranked[1].structured());
-    assert!(r.ranked[1].whiteness_z > crate::metrics::whiteness::STRUCTURED_Z, "z alone would refuse it");
-    assert_eq!(recommended(&r).map(|a| a.row), Some(blue.row), "blue noise is shippable where it wins");
-    // Just above the threshold is structured; when every configuration is, the best is returned.
-    let edge = textured(clumped.clone(), STRUCTURED_RATIO + 1e-9, 0.0);
-    let only = rank(&[edge], 1.8e-3, Metric::Rmse);
-    assert!(only.ranked[0].structured());
-    assert_eq!(recommended(&only).map(|a| a.row), Some(clumped.row));
+    let mut curves = vec![curve(PAPER_DEFAULT, 1.0, &noise)];
+    for (i, s) in [Sequence::Fibonacci, Sequence::Sobol, Sequence::Stratified].into_iter().enumerate() {
+        for (j, m) in [SeedMode::Shift, SeedMode::BlueNoise, SeedMode::Static].into_iter().enumerate() {
+            curves.push(curve(row(s, m), 0.2 + 0.01 * (3 * i + j) as f64, &noise));
+        }
+    }
+    let budget = 2.0e-3; // between 8 and 16 rays on every ladder: 9.76 interpolated
+    let (r, low) = (rank(&curves, budget, Metric::Rmse), rank(&curves, budget, Metric::Lowpass));
+    let f = finalists(&r, &low);
+    assert_eq!(f.len(), FINALISTS + 1, "the six best, and the default");
+    assert!(f.iter().any(|a| a.row == PAPER_DEFAULT));
+    assert_eq!(counts(f[0]), [9, 8], "the interpolated count and the sweep's below");
+    let mut wide = f[0].clone();
+    (wide.rays, wide.lo_rays) = (41.7, 32);
+    assert_eq!(counts(&wide), [41, 32], "above 32 rays the packet multiple is the ladder's here");
+    (wide.rays, wide.lo_rays) = (70.2, 64);
+    assert_eq!(counts(&wide), [70, 64]);
+    (wide.rays, wide.lo_rays) = (100.0, 64);
+    assert_eq!(counts(&wide), [100, 96, 64]);
+
+    // Measurements: the best-ranked is structured (z 10 > 5) and 20 % better measured; the
+    // second is measured at 9 rays over the budget (by 10 %, more than 2 σ of the session
+    // factor) and so shipped at 8; every time is proportional to the rays, 9 rays at the budget.
+    let interpolated = Answer::interpolated(r.clone(), low.clone());
+    assert!(!interpolated.measured && interpolated.finalists.len() == f.len());
+    let mut records: Vec<JobResult> = Vec::new();
+    for a in &f {
+        for n in counts(a) {
+            for rep in 0..4u32 {
+                let mse = a.mse[rep as usize] * 10.0 / n as f64;
+                let z = if a.row == r.ranked[0].row { 10.0 } else { 1.0 };
+                let mut rec = JobResult::for_test("s", a.row, n, rep, mse.sqrt(), z);
+                let slow = if a.row == r.ranked[1].row && n == 9 { 1.1 } else { 1.0 };
+                rec.add_time(budget * slow * n as f64 / rays_for(a) as f64, 0.0);
+                records.push(rec);
+            }
+        }
+    }
+    let by = |row: Row, n: u32| records.iter().filter(|x| x.rays == n && x.is_row(row)).collect::<Vec<_>>();
+    let ans = interpolated.clone().measure(&by, 4, 1.0);
+    assert!(ans.measured);
+    let best = ans.recommended().unwrap();
+    assert_ne!(best.row, r.ranked[0].row, "structured: never recommended while another is measured");
+    assert_eq!(ans.least_structured().unwrap().row, r.ranked[0].row);
+    let second = ans.finalists.iter().find(|c| c.row == r.ranked[1].row).unwrap();
+    assert_eq!((second.rays, second.others[0].0), (8, 9), "9 rays measured over the budget: 8 shipped");
+    assert!(ans.fits(second) && ans.finalists.iter().all(|c| c.measured && ans.fits(c)));
+    // Put on the sweep's scale, a session 10 % slower throughout fits again.
+    let slow = interpolated.clone().measure(&by, 4, 1.1);
+    assert_eq!(slow.finalists.iter().find(|c| c.row == r.ranked[1].row).unwrap().rays, 9);
+    // A missing replicate: the budget stays interpolated.
+    assert!(!interpolated.measure(&by, 5, 1.0).measured);
+    // Measured MSE carries the replicates' σ only; the gain the model's.
+    let d = ans.paper_default().unwrap();
+    let g = ans.gain(best, Metric::Rmse).unwrap();
+    assert!((g.value - d.mean_mse(Metric::Rmse).value / best.mean_mse(Metric::Rmse).value).abs() < 1e-9);
+    assert!(g.se_timing > 0.0 && g.se >= g.se_replicates);
 }
 
 #[test]

@@ -1,113 +1,294 @@
 //! `hemilab advise SCENE.toml`: which configuration to ship for this scene at a time budget.
 //!
-//! The same stages as `run`, from an in-memory spec instead of a file (`advice::setup`): `plan` →
-//! the scene's reference (`reference::store::obtain`, the same manifest rules) → the jobs under the
-//! timing protocol (`jobs::executor`) → metrics → `advice` (equal-time ranking, paired gains, the
-//! winner map) → advice.json, advice.md, index.html, figures. No image is written: each job's error
-//! image stays in memory for the winner map. Nothing is written before every input has been
-//! checked, and the outputs are written at the end, each atomically; advise does not resume (its
-//! default run is about a minute).
+//! The same stages as `run`, from an in-memory spec instead of a file (`advice::setup`): every input
+//! checked → given budgets checked against a calibrated cheapest render (`jobs::calibrate`; an
+//! impossible one is refused in seconds) → the scene's reference (`reference::store::obtain`) →
+//! the sweep under the timing protocol (`jobs::executor`) → the interpolated rankings → each
+//! budget's finalists rendered and timed at the integer ray count that fits it (`advice::answer`)
+//! → the answers, the winner maps → advice.json, advice.md, index.html, figures.
+//!
+//! Output set: built in a hidden sibling of `--out` (`outdir::advise_stage`) that then replaces
+//! `--out` in one step, so a reader (or a kill) never sees old and new files mixed. Resume: the
+//! records (results.json, rewritten every few seconds) and the finalists' images live there, and a
+//! rerun reuses every record `jobs::executor::resumed` accepts — those of `--out`, of a killed
+//! run's stage, and of `--from`'s directory. `--from DIR` renders nothing: the sweep must be
+//! complete in DIR, and a budget whose finalists DIR lacks is answered by interpolation.
 
 use crate::cli::AdviseArgs;
 use hemilab::advice::analysis::{self, Measured};
-use hemilab::advice::setup::{Request, map_jobs, setup};
+use hemilab::advice::setup::{self, Request, Setup};
 use hemilab::error::{Error, Result};
-use hemilab::jobs::executor;
-use hemilab::jobs::runner::{Geometry, JobRunner};
-use hemilab::metrics;
-use hemilab::plan::Job;
+use hemilab::jobs::calibrate;
+use hemilab::jobs::executor::{self, Session};
+use hemilab::jobs::runner::JobRunner;
+use hemilab::plan::Plan;
 use hemilab::reference::store::{self as refs, Policy, Reference};
-use hemilab::render::RenderOutput;
-use hemilab::scene::Scene;
+use hemilab::results::JobResult;
 use hemilab::spec::Row;
 use hemilab::timing::Protocol;
+use hemilab::{advice, metrics, outdir};
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 pub fn run(args: AdviseArgs) -> Result<()> {
-    let setup = setup(&Request {
-        scene: args.scene.clone(),
-        rays: args.rays.clone(),
-        only: args.only.clone(),
-        replicates: args.replicates,
-        resolution: args.resolution,
-        reference_dir: args.reference_dir.clone(),
-    })?;
-    let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(format!("advise-{}", setup.stem)));
-    hemilab::outdir::prepare(&out, false)?;
-    let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
-    let (spec, scene) = (&setup.loaded.spec, &setup.loaded.scenes[0]);
-    let reference = refs::obtain(spec, 0, scene, &setup.reference_dir, Policy::ReuseOrBuild, &runner)?;
+    let request = match &args.from {
+        Some(dir) => Request::from_json(&outdir::read_advise_request(dir)?)
+            .map_err(|e| Error::input(&dir.join(outdir::ADVISE_REQUEST), e))?,
+        None => Request {
+            scene: args.scene.clone().expect("clap requires a scene without --from"),
+            rays: args.rays.clone(),
+            only: args.only.clone(),
+            replicates: args.replicates,
+            resolution: args.resolution,
+            reference_dir: args.reference_dir.clone(),
+        },
+    };
+    let setup = setup::setup(&request)?;
+    let default_out = || Path::new("out").join(format!("advise-{}", setup.stem));
+    let out = args.out.clone().or_else(|| args.from.clone()).unwrap_or_else(default_out);
+    outdir::check_advise_out(&out)?;
+    let stage_at = outdir::advise_stage(&out)?;
     let workers = match args.common.threads {
         Some(t) => t as usize,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
+    let spec = &setup.loaded.spec;
     let protocol = Protocol::new(spec.timing.repeats, spec.timing.seed, workers);
+    if args.from.is_none() && !args.budget_ms.is_empty() {
+        refuse_impossible(&setup, &args.budget_ms, workers)?;
+    }
+    let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
+    let policy = if args.from.is_some() { Policy::ReuseOnly } else { Policy::ReuseOrBuild };
+    let reference = refs::obtain(spec, 0, &setup.loaded.scenes[0], &setup.reference_dir, policy, &runner)?;
 
-    let n = setup.plan.jobs.len();
-    let errors: Mutex<Vec<Option<Vec<f32>>>> = Mutex::new(vec![None; n]);
-    let keep = |i: usize, job: &Job, output: &RenderOutput| -> Result<String> {
-        let e = error_of(job, output, &reference)?;
-        errors.lock().map_err(|_| Error::Refused("a render worker failed".into()))?[i] = Some(e);
-        Ok(String::new())
+    // Earlier records: --from's directory, the output directory's, a killed run's stage.
+    let mut sources: Vec<PathBuf> = Vec::new();
+    for dir in [args.from.clone(), Some(out.clone()), Some(stage_at.clone())].into_iter().flatten() {
+        if hemilab::io::exists(&dir) && !sources.contains(&dir) {
+            sources.push(dir);
+        }
+    }
+    let mut previous: HashMap<String, JobResult> = HashMap::new();
+    for dir in &sources {
+        previous.extend(outdir::previous_results(dir)?);
+    }
+    let stage = outdir::begin_advise_stage(&out, &sources.iter().map(PathBuf::as_path).collect::<Vec<_>>())?;
+    outdir::write_advise_request(&stage, &request.to_json())?;
+    let store = Store::new(&stage, &previous);
+
+    let (results, mut session) = match &args.from {
+        Some(dir) => stored(&setup, &setup.plan, &reference, &previous, &stage, dir)?,
+        None => {
+            let none =
+                |_: usize, _: &hemilab::plan::Job, _: &hemilab::render::RenderOutput| Ok(String::new());
+            let write = |r: &[JobResult]| store.write(r, false);
+            let ran = executor::measure_jobs(
+                &setup.loaded,
+                &setup.plan,
+                std::slice::from_ref(&reference),
+                &previous,
+                &stage,
+                protocol,
+                &runner.bar,
+                &write,
+                &none,
+            )?;
+            (ran.0, ran.1)
+        }
     };
-    let none = HashMap::new();
-    let (results, session) = executor::measure_jobs(
-        &setup.loaded,
-        &setup.plan,
-        std::slice::from_ref(&reference),
-        &none,
-        &out,
-        protocol,
-        &runner.bar,
-        &|_| Ok(()),
-        &keep,
-    )?;
-    let errors = errors.into_inner().map_err(|_| Error::Refused("a render worker failed".into()))?;
-    let errors = setup
-        .plan
-        .jobs
-        .iter()
-        .zip(errors)
-        .filter_map(|(j, e)| Some(((j.row().canonical(), j.rays, j.replicate), e?)))
-        .collect();
-    let map_replicates = spec.replicates.max(analysis::MAP_REPLICATES);
-    let mut measured =
-        Measured { setup: &setup, reference: &reference, results, errors, map_replicates, session, protocol };
-    let analysis = analysis::analyse(&measured, &args.budget_ms);
-    let extra = map_jobs(spec, &analysis::map_needs(&analysis), map_replicates);
-    render_extra(&extra, scene, &reference, &runner, &mut measured.errors)?;
+    store.add(&results)?;
+    if session.renders == 0 {
+        session.overhead = outdir::previous_overhead(sources.first().map_or(&stage, |d| d), spec);
+    }
+    let mut analysis = analysis::analyse(&setup, &results, &args.budget_ms);
+    let replicates = analysis::verify_replicates(spec.replicates);
+    let vplan = setup::verify_jobs(spec, &analysis::finalists(&analysis), replicates);
+    let (verified, verify_session) = if args.from.is_some() {
+        (present(&setup, &vplan, &reference, &previous, &stage), None)
+    } else {
+        let keep = |_: usize, job: &hemilab::plan::Job, o: &hemilab::render::RenderOutput| {
+            outdir::write_image(&stage, job, o)
+        };
+        let write = |r: &[JobResult]| store.write(r, false);
+        let (r, s) = executor::measure_jobs(
+            &setup.loaded,
+            &vplan,
+            std::slice::from_ref(&reference),
+            &previous,
+            &stage,
+            protocol,
+            &runner.bar,
+            &write,
+            &keep,
+        )?;
+        (r.into_iter().map(Some).collect(), Some(s))
+    };
     runner.bar.finish_and_clear();
-    let summary = hemilab::report::advise::write(&measured, analysis, &out)?;
+    let errors = error_images(&vplan, &verified, &reference, &stage)?;
+    let verified: Vec<JobResult> = verified.into_iter().flatten().collect();
+    store.add(&verified)?;
+    // Rendered: what the sessions rendered; with --from nothing is (the records are all reused).
+    let rendered = results.len() - session.reused
+        + verify_session.as_ref().map_or(0, |s| verified.len().saturating_sub(s.reused));
+    let reused = results.len() + verified.len() - rendered;
+    analysis::measure(&mut analysis, &verified, replicates);
+    outdir::write_timing(&stage, &session.timing_json(spec, protocol))?;
+    let measured = Measured {
+        setup: &setup,
+        reference: &reference,
+        rendered,
+        reused,
+        results,
+        verified,
+        errors,
+        replicates,
+        session,
+        verify_session,
+        protocol,
+        from: args.from.clone(),
+    };
+    let summary = hemilab::report::advise::write(&measured, analysis, &stage, &out)?;
+    outdir::commit_advise_stage(&stage, &out)?;
     print!("{summary}");
     Ok(())
 }
 
-/// image − reference on covered pixels.
-fn error_of(job: &Job, output: &RenderOutput, reference: &Reference) -> Result<Vec<f32>> {
-    metrics::error_image(&output.ao, &reference.mean, &reference.coverage)
-        .map(|e| e.data)
-        .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))
+/// Refuses (exit 2, in seconds) budgets no configuration can render an image in, naming the
+/// cheapest render: a calibration of a fraction of a second instead of a sweep that would only
+/// find out at its end.
+fn refuse_impossible(setup: &Setup, budgets_ms: &[f64], workers: usize) -> Result<()> {
+    let (cheapest_s, job) = calibrate::cheapest(&setup.loaded, &setup.plan, workers)?;
+    let budgets_s: Vec<f64> = budgets_ms.iter().map(|b| b * 1e-3).collect();
+    let low = advice::impossible(&budgets_s, cheapest_s);
+    if low.is_empty() {
+        return Ok(());
+    }
+    let [w, h] = setup.loaded.spec.resolution.unwrap_or([0, 0]);
+    let ms = |s: f64| advice::round_significant(s * 1e3, 2);
+    Err(Error::Usage(format!(
+        "--budget-ms {}: below the cheapest render here — {} at {} ray{} per pixel takes about {} ms per \
+         image at {w}x{h} (a calibration on this machine, now, which tends to over-predict by up to a \
+         third); advise can answer budgets from about {} ms (or ask for a smaller --resolution)",
+        low.iter().map(|&b| ms(b).to_string()).collect::<Vec<_>>().join(","),
+        job.row().label(),
+        job.rays,
+        if job.rays == 1 { "" } else { "s" },
+        ms(cheapest_s),
+        ms(cheapest_s),
+    )))
 }
 
-/// Renders `jobs` on every thread (untimed: only their error images are used) into `errors`.
-fn render_extra(
-    jobs: &[Job],
-    scene: &Scene,
+/// `--from`: the sweep's records from `dir` (by run key, as a resume would take them); refused
+/// unless every job is there.
+fn stored(
+    setup: &Setup,
+    plan: &Plan,
     reference: &Reference,
-    runner: &JobRunner,
-    errors: &mut HashMap<(Row, u32, u32), Vec<f32>>,
-) -> Result<()> {
-    let g = |j: &Job| Geometry::of(j.resolution, j.ao_distance, scene).pixels() * j.rays as u64;
-    runner.bar.reset();
-    runner.bar.set_length(jobs.iter().map(g).sum());
-    for job in jobs {
-        let done = runner.render(job, scene, "winner map")?;
-        errors.insert(
-            (job.row().canonical(), job.rays, job.replicate),
-            error_of(job, &done.output, reference)?,
-        );
+    previous: &HashMap<String, JobResult>,
+    stage: &Path,
+    dir: &Path,
+) -> Result<(Vec<JobResult>, Session)> {
+    let found: Vec<Option<JobResult>> = present(setup, plan, reference, previous, stage);
+    let have = found.iter().flatten().count();
+    if have < found.len() {
+        return Err(Error::input(
+            dir,
+            format!(
+                "its sweep is unfinished or of other settings: {have} of {} jobs have records for this scene, \
+                 reference and version; run `hemilab advise` with --out {} to finish it",
+                found.len(),
+                dir.display()
+            ),
+        ));
     }
-    Ok(())
+    let overhead = vec![None; setup.loaded.spec.scenes.len()];
+    let session = Session { overhead, renders: 0, cpu_s: 0.0, wall_s: 0.0, reused: have };
+    Ok((found.into_iter().flatten().collect(), session))
+}
+
+/// The records `previous` holds for `plan`'s jobs, in plan order (`None`: not there).
+fn present(
+    setup: &Setup,
+    plan: &Plan,
+    reference: &Reference,
+    previous: &HashMap<String, JobResult>,
+    stage: &Path,
+) -> Vec<Option<JobResult>> {
+    let scene = &setup.loaded.scenes[0];
+    plan.jobs
+        .iter()
+        .map(|j| executor::resumed(previous, &executor::run_key(j, scene, reference), stage).cloned())
+        .collect()
+}
+
+/// Each finalist record's image − reference on covered pixels, by (configuration, rays,
+/// replicate), read back from the images the finalists' renders wrote.
+fn error_images(
+    plan: &Plan,
+    records: &[Option<JobResult>],
+    reference: &Reference,
+    stage: &Path,
+) -> Result<HashMap<(Row, u32, u32), Vec<f32>>> {
+    let mut out = HashMap::new();
+    for (job, record) in plan.jobs.iter().zip(records) {
+        let Some(r) = record else { continue };
+        let ao = outdir::read_image(stage, &r.image)?;
+        let e = metrics::error_image(&ao, &reference.mean, &reference.coverage)
+            .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
+        out.insert((job.row().canonical(), job.rays, job.replicate), e.data);
+    }
+    Ok(out)
+}
+
+/// How often the records are rewritten while jobs finish: rewriting every record after every one
+/// of a sweep's ~1,500 jobs would cost more than the renders; a killed run loses at most this.
+const WRITE_EVERY: Duration = Duration::from_secs(2);
+
+/// The stage's results.json: every earlier record and this run's, rewritten every `WRITE_EVERY`.
+struct Store<'a> {
+    dir: &'a Path,
+    /// Finished phases' records, then the earlier ones they do not replace.
+    kept: Mutex<Vec<JobResult>>,
+    last: Mutex<Instant>,
+}
+
+impl<'a> Store<'a> {
+    fn new(dir: &'a Path, previous: &HashMap<String, JobResult>) -> Self {
+        let mut kept: Vec<JobResult> = previous.values().cloned().collect();
+        kept.sort_by(|a, b| a.key.cmp(&b.key));
+        Self { dir, kept: Mutex::new(kept), last: Mutex::new(Instant::now()) }
+    }
+
+    fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+        m.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// `current` (a running phase's records so far) and the kept ones, if `now` or it is time.
+    fn write(&self, current: &[JobResult], now: bool) -> Result<()> {
+        let mut last = Self::lock(&self.last);
+        if !now && last.elapsed() < WRITE_EVERY {
+            return Ok(());
+        }
+        let kept = Self::lock(&self.kept);
+        let mine: std::collections::HashSet<&str> = current.iter().map(|r| r.key.as_str()).collect();
+        let all: Vec<JobResult> =
+            current.iter().chain(kept.iter().filter(|r| !mine.contains(r.key.as_str()))).cloned().collect();
+        outdir::write_results(self.dir, &all)?;
+        *last = Instant::now();
+        Ok(())
+    }
+
+    /// A finished phase's records join the kept ones (replacing theirs), and all are written.
+    fn add(&self, done: &[JobResult]) -> Result<()> {
+        {
+            let mut kept = Self::lock(&self.kept);
+            let mine: std::collections::HashSet<&str> = done.iter().map(|r| r.key.as_str()).collect();
+            let rest: Vec<JobResult> =
+                kept.iter().filter(|r| !mine.contains(r.key.as_str())).cloned().collect();
+            *kept = done.iter().cloned().chain(rest).collect();
+        }
+        self.write(&[], true)
+    }
 }

@@ -53,7 +53,7 @@ impl TimeView {
 
 /// One configuration's ladder on `scene` from the run's records: per ray count of `rays`, the
 /// median of every timed render (less the overhead in the AO view; a point whose AO time is not
-/// positive is left out) and that median's spread, and each replicate's MSE, whiteness z and low-frequency ratio.
+/// positive is left out) and that median's spread, and each replicate's MSE and structure measure (`advice::structure`).
 pub fn curve(results: &[JobResult], scene: &str, row: Row, rays: &[u32], view: TimeView) -> Curve {
     let points = rays
         .iter()
@@ -68,12 +68,12 @@ pub fn curve(results: &[JobResult], scene: &str, row: Row, rays: &[u32], view: T
             (time_s > 0.0 && time_s.is_finite()).then(|| Point {
                 rays: n,
                 time_s,
-                time_spread_s: t.spread(),
+                time_sigma_ln: advice::model::median_sigma_ln(&times),
+                timings: times.len(),
                 replicates: rs.iter().map(|r| r.replicate).collect(),
                 mse: rs.iter().map(|r| r.rmse * r.rmse).collect(),
                 lowpass_mse: rs.iter().map(|r| r.lowpass_rmse * r.lowpass_rmse).collect(),
-                whiteness_z: rs.iter().map(|r| r.whiteness_z).collect(),
-                lowfreq_ratio: rs.iter().map(|r| r.lowfreq_ratio).collect(),
+                structure: rs.iter().map(|r| advice::structure::of(r)).collect(),
             })
         })
         .collect();
@@ -129,7 +129,7 @@ pub struct Ratio {
 
 impl Ratio {
     pub fn of(a: &AtBudget, b: &AtBudget) -> Self {
-        let g = advice::gain(a, b, Metric::Rmse);
+        let g = advice::model::gain(&a.side(Metric::Rmse), &b.side(Metric::Rmse));
         Self { value: g.value, se: g.se }
     }
 

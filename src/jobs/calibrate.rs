@@ -270,6 +270,20 @@ pub fn calibrate(
     })
 }
 
+/// The cheapest render of `plan` on this machine now, from `calibrate` (a fraction of a second of
+/// renders, no reference needed): every estimator's line at the plan's fewest rays, the least of
+/// them, with its job. What `advise` checks a budget against before its sweep.
+pub fn cheapest(loaded: &Loaded, plan: &Plan, workers: usize) -> Result<(f64, Job)> {
+    let cal = calibrate(loaded, plan, &vec![None; loaded.scenes.len()], workers)?;
+    let fewest = plan.jobs.iter().map(|j| j.rays).min().unwrap_or(1);
+    plan.jobs
+        .iter()
+        .filter(|j| j.rays == fewest && j.replicate == 0)
+        .map(|j| (cal.render_s(loaded, j), j.clone()))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .ok_or_else(|| Error::Refused("nothing to calibrate: the plan has no job".into()))
+}
+
 /// Rays per covered pixel of an adaptive reference's renders after its pilot, on average: its
 /// budget, or for `rays = "auto"` (settled only by the pilot) the rays an even reference would
 /// need, which the adaptive allocation is there to undercut.

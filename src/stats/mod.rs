@@ -3,7 +3,8 @@
 //! distributions themselves come from the statrs crate. The tests' chi-square goodness of fit and
 //! "within k standard errors" bounds are in `tests/support/stats.rs`; the chi-square tail and the
 //! normal quantile they build on (unit tests here use them too) exist only for tests (`cfg(test)`
-//! or the `testing` feature, which this package's dev-dependency on itself turns on).
+//! or the `testing` feature, which this package's dev-dependency on itself turns on), except the
+//! normal quantile, which advise's error model also uses to turn an interval into a σ.
 
 mod fit;
 
@@ -28,7 +29,6 @@ pub fn chi2_p_value(statistic: f64, dof: usize) -> f64 {
 }
 
 /// The standard normal quantile Φ⁻¹(p) (statrs), for p in (0, 1).
-#[cfg(any(test, feature = "testing"))]
 pub fn normal_quantile(p: f64) -> f64 {
     use statrs::distribution::{ContinuousCDF, Normal};
     Normal::standard().inverse_cdf(p)

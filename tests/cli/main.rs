@@ -5,6 +5,7 @@
 mod support;
 
 mod advise;
+mod advise_runs;
 mod plan_estimate;
 mod points;
 mod reference_adaptive;

@@ -1,12 +1,12 @@
-//! advice.json: the recommendation per budget (what to ship, its rays, RMSE and gain over the
-//! paper's default, with their standard errors), both full rankings, every measured point with each
-//! replicate's MSE (so the advice can be recomputed), and the winner map's counts.
+//! advice.json: per budget what to ship — measured at the integer ray count it names, with every
+//! replicate's values so the answer, its gains and their σ can be recomputed — the finalists
+//! measured beside it, both interpolated rankings, every point of the sweep (each replicate's MSE
+//! and structure value), the error model every ± is 1 σ of, and the winner map's counts.
 
-use super::text::{advice_line, default_at, outside_note, shipped_rays, status};
-use crate::advice::analysis::mean;
-use crate::advice::analysis::{Analysis, Measured};
-use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking, winner};
-use crate::metrics::{LOWPASS_SIGMA, STRUCTURED_RATIO};
+use super::text::{advice_line, outside_note, status};
+use crate::advice::analysis::{Analysis, Measured, mean};
+use crate::advice::answer::{Answer, Candidate, FINALISTS};
+use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking, model, setup, structure, winner};
 use crate::spec::Row;
 use crate::timing;
 use serde_json::{Value, json};
@@ -17,16 +17,6 @@ fn ms_value(s: f64) -> f64 {
     advice::round_significant(s * 1e3, 15)
 }
 
-/// What "structured" means in advice.json, for a reader without the source.
-fn structured_rule() -> String {
-    format!(
-        "mean lowfreq_ratio over the replicates (interpolated to the budget) above {STRUCTURED_RATIO}: the \
-         error's low-pass energy (Gaussian, sigma {LOWPASS_SIGMA} px) over what independent per-pixel errors \
-         of the same sizes would have; 1 = white noise, < 1 = blue noise, > 1 = blotches or bands. \
-         whiteness_z is reported as a test of any correlation, not used here"
-    )
-}
-
 fn conf(row: Row) -> Value {
     json!({
         "distribution": row.distribution.name(),
@@ -35,31 +25,70 @@ fn conf(row: Row) -> Value {
     })
 }
 
-fn entry(a: &AtBudget, r: &Ranking) -> Value {
-    let (e, l) = (a.rmse(Metric::Rmse), a.rmse(Metric::Lowpass));
-    let g = default_at(r).map(|d| advice::gain(d, a, Metric::Rmse));
-    let lg = default_at(r).map(|d| advice::gain(d, a, Metric::Lowpass));
+/// A finalist: measured at `rays` (or interpolated at the budget, `measured` false), with what a
+/// recomputation needs: per-replicate values, its time's σ parts, its slopes.
+fn entry(c: &Candidate, a: &Answer) -> Value {
+    let (e, l) = (c.rmse(Metric::Rmse), c.rmse(Metric::Lowpass));
+    let g = a.gain(c, Metric::Rmse);
+    let lg = a.gain(c, Metric::Lowpass);
+    let t = super::text::time_ms(c);
     json!({
-        "configuration": conf(a.row),
-        "rays": shipped_rays(a),
-        "rays_interpolated": a.rays,
+        "configuration": conf(c.row),
+        "measured": c.measured,
+        "rays": c.rays,
+        "rays_interpolated": c.rays_interpolated,
+        "time_ms": c.measured.then_some(t.value),
+        "time_sigma_ms": c.measured.then_some(t.se),
+        "time_sigma_ln": c.time_sigma_ln,
+        "timings": c.timings,
+        "fits_budget": c.measured.then_some(a.fits(c)),
+        "also_measured": c.others.iter().map(|&(rays, t, mse)| json!({"rays": rays, "time_ms": t * 1e3, "rmse": mse.sqrt()})).collect::<Vec<_>>(),
+        "replicates": c.replicates,
+        "mse": c.mse,
+        "lowpass_mse": c.lowpass_mse,
+        "structure": c.structure,
+        "structure_mean": c.structure_mean(),
+        "structured": c.structured(),
+        "slope": c.slope,
+        "lowpass_slope": c.lowpass_slope,
         "rmse": e.value,
         "rmse_se": e.se,
         "lowpass_rmse": l.value,
         "lowpass_rmse_se": l.se,
-        "whiteness_z": a.whiteness_z,
-        "lowfreq_ratio": a.lowfreq_ratio,
         "gain_vs_paper_default": g.map(|g| g.value),
         "gain_vs_paper_default_se": g.map(|g| g.se),
         "gain_se_replicates": g.map(|g| g.se_replicates),
         "gain_se_timing": g.map(|g| g.se_timing),
         "lowpass_gain_vs_paper_default": lg.map(|g| g.value),
         "lowpass_gain_vs_paper_default_se": lg.map(|g| g.se),
-        "z_vs_best": r.ranked.first().map(|b| advice::paired_z(b, a, r.metric)),
+        "sigma_behind_recommended": a.margin(c).filter(|_| a.recommended().is_some_and(|b| b.row != c.row)),
     })
 }
 
-fn recommendation(r: &Ranking, low: &Ranking) -> Value {
+/// A configuration in the sweep's interpolated ranking at the budget.
+fn ranked(x: &AtBudget, r: &Ranking) -> Value {
+    let (e, l) = (x.rmse(Metric::Rmse), x.rmse(Metric::Lowpass));
+    let default = r.ranked.iter().find(|d| d.row == PAPER_DEFAULT);
+    let g = default.map(|d| model::gain(&d.side(r.metric), &x.side(r.metric)));
+    let best = r.ranked.first().filter(|b| b.row != x.row);
+    json!({
+        "configuration": conf(x.row),
+        "rays_interpolated": x.rays,
+        "rays": advice::answer::rays_for(x),
+        "rmse": e.value,
+        "rmse_se": e.se,
+        "lowpass_rmse": l.value,
+        "lowpass_rmse_se": l.se,
+        "structure_mean": x.structure,
+        "structured": x.structured(),
+        "gain_vs_paper_default": g.map(|g| g.value),
+        "gain_vs_paper_default_se": g.map(|g| g.se),
+        "sigma_behind_best": best.map(|b| model::margin(&b.side(r.metric), &x.side(r.metric))),
+    })
+}
+
+fn recommendation(a: &Answer) -> Value {
+    let r = &a.ranking;
     let outside: Vec<Value> = r
         .outside
         .iter()
@@ -73,26 +102,25 @@ fn recommendation(r: &Ranking, low: &Ranking) -> Value {
             Place::Inside { .. } => json!({"configuration": conf(*row), "where": "inside"}),
         })
         .collect();
-    let mut v = match advice::recommended(r) {
-        Some(best) => entry(best, r),
+    let mut v = match a.recommended() {
+        Some(best) => entry(best, a),
         None => json!({ "configuration": null, "rays": null, "rmse": null, "gain_vs_paper_default": null }),
     };
-    let note = if r.ranked.is_empty() { outside_note(r) } else { advice_line(r, low) };
+    let note = if r.ranked.is_empty() { outside_note(r) } else { advice_line(a) };
+    let or_null = |c: Option<&Candidate>| c.map_or(Value::Null, |c| entry(c, a));
     let o = v.as_object_mut().expect("an object");
-    o.insert("budget_ms".into(), json!(ms_value(r.budget_s)));
+    o.insert("budget_ms".into(), json!(ms_value(a.budget_s)));
     o.insert("status".into(), json!(status(r)));
     o.insert("note".into(), json!(note));
-    o.insert("paper_default".into(), default_at(r).map_or(Value::Null, |d| entry(d, r)));
-    o.insert("structured".into(), json!(advice::recommended(r).is_some_and(|b| b.structured())));
-    o.insert("structured_rule".into(), json!(structured_rule()));
-    let shipped = advice::recommended(r).map(|b| b.row);
-    let least_structured = r.ranked.first().filter(|t| Some(t.row) != shipped);
-    o.insert("least_rmse_structured".into(), least_structured.map_or(Value::Null, |t| entry(t, r)));
-    let runner_up = r.ranked.iter().find(|a| Some(a.row) != shipped && !a.structured());
-    o.insert("runner_up".into(), runner_up.map_or(Value::Null, |s| entry(s, r)));
-    o.insert("best_lowpass".into(), low.ranked.first().map_or(Value::Null, |b| entry(b, low)));
-    o.insert("ranking".into(), Value::Array(r.ranked.iter().map(|a| entry(a, r)).collect()));
-    o.insert("lowpass_ranking".into(), Value::Array(low.ranked.iter().map(|a| entry(a, low)).collect()));
+    o.insert("measured".into(), json!(a.measured && a.recommended().is_some()));
+    o.insert("paper_default".into(), or_null(a.paper_default()));
+    o.insert("least_rmse_structured".into(), or_null(a.least_structured()));
+    o.insert("runner_up".into(), or_null(a.runner_up()));
+    o.insert("best_lowpass".into(), or_null(a.best_lowpass()));
+    o.insert("finalists".into(), Value::Array(a.finalists.iter().map(|c| entry(c, a)).collect()));
+    o.insert("ranking".into(), Value::Array(r.ranked.iter().map(|x| ranked(x, r)).collect()));
+    let low = &a.lowpass;
+    o.insert("lowpass_ranking".into(), Value::Array(low.ranked.iter().map(|x| ranked(x, low)).collect()));
     o.insert("outside".into(), Value::Array(outside));
     v
 }
@@ -110,14 +138,15 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
                     json!({
                         "rays": p.rays,
                         "time_ms": p.time_s * 1e3,
-                        "time_spread_ms": p.time_spread_s * 1e3,
+                        "time_sigma_ms": p.time_s * 1e3 * model::time_sigma_ln(p.time_sigma_ln),
+                        "time_sigma_ln": p.time_sigma_ln,
+                        "timings": p.timings,
                         "replicates": p.replicates,
                         "mse": p.mse,
                         "lowpass_mse": p.lowpass_mse,
+                        "structure": p.structure,
                         "rmse": mean(&p.mse).sqrt(),
                         "lowpass_rmse": mean(&p.lowpass_mse).sqrt(),
-                        "whiteness_z": p.whiteness_z,
-                        "lowfreq_ratio": p.lowfreq_ratio,
                     })
                 })
                 .collect();
@@ -140,16 +169,15 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
         })
         .collect();
     let manifest = &m.reference.manifest;
+    let [w, h] = spec.resolution.unwrap_or([0, 0]);
     json!({
         "hemilab_version": env!("CARGO_PKG_VERSION"),
         "scene": m.setup.stem,
         "scene_file": spec.scenes[0].path.display().to_string(),
         "resolution": spec.resolution,
         "time_per_image": format!(
-            "{}, of one thread rendering the whole image at {}x{}: {}",
+            "{}, of one thread rendering the whole image at {w}x{h}: {}",
             timing::clock::NAME,
-            spec.resolution.map_or(0, |r| r[0]),
-            spec.resolution.map_or(0, |r| r[1]),
             timing::TIME_INCLUDES
         ),
         "protocol": m.protocol,
@@ -157,6 +185,27 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
         "replicates": spec.replicates,
         "rays": m.setup.rays,
         "setup": m.setup.choice,
+        "from": m.from.as_ref().map(|d| d.display().to_string()),
+        "jobs": { "rendered": m.rendered, "reused": m.reused },
+        "finalists_session_time_ratio": a.session_ratio,
+        "error_model": {
+            "sigma": "every ± and margin is 1 σ of this model",
+            "run_factor_sigma_ln": model::RUN_FACTOR,
+            "text": super::page::model_text(),
+        },
+        "structure": { "measure": structure::MEASURE, "threshold": structure::THRESHOLD, "rule": structure::rule() },
+        "finalists": {
+            "best_by_interpolation": FINALISTS,
+            "replicates": m.replicates,
+            "seed": setup::VERIFY_SEED,
+            "rule": "per budget: the best by interpolated RMSE, the best two unstructured, the best by low-pass \
+                     RMSE and the paper default, each rendered and timed at the count where its time line crosses \
+                     the budget rounded down, the multiple of 32 below it (rays are traced in packets of 32, so \
+                     time steps there) and the sweep's count below the budget; each is shipped at the most of \
+                     those whose measured time, on the sweep's time scale, is not above the budget by more than \
+                     2 σ of the session factor; the answer is decided on those measurements",
+            "fits_sigma": advice::answer::FITS_SIGMA,
+        },
         "reference": {
             "file": m.reference.exr.display().to_string(),
             "noise_floor": m.reference.noise_floor(),
@@ -167,18 +216,21 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
         "paper_default": conf(PAPER_DEFAULT),
         "budgets_ms": a.budgets_s.iter().map(|&b| ms_value(b)).collect::<Vec<_>>(),
         "budgets_chosen_by_advise": a.default_budgets,
-        "recommendations": a.rankings.iter().map(|(r, l)| recommendation(r, l)).collect::<Vec<_>>(),
+        "recommendations": a.answers.iter().map(recommendation).collect::<Vec<_>>(),
         "winner_map": {
             "file": (!a.maps.is_empty()).then_some("winner_map.png"),
             "significance": format!(
-                "per pixel, the runner-up's MSE (3x3 pooled, at the budget) minus the winner's, paired over the \
-                 replicates, above {:.3} standard errors (Student's t, one-sided {} %, n - 1 dof)",
-                a.threshold,
-                winner::LEVEL * 100.0
+                "per pixel (3x3 pooled squared error), the finalist with the least mean over the first half of \
+                 the replicates wins and the next is its runner-up; on the second half the runner-up's minus the \
+                 winner's, paired by replicate, gives a one-sided p (Student's t); coloured: Benjamini-Hochberg \
+                 over the map's covered pixels at false discovery rate {}",
+                winner::FDR
             ),
+            "fdr": winner::FDR,
             "budgets": maps,
         },
         "configurations": configurations,
         "session": { "timed_renders": m.session.renders, "cpu_s": m.session.cpu_s, "wall_s": m.session.wall_s },
+        "finalists_session": m.verify_session.as_ref().map(|s| json!({ "timed_renders": s.renders, "cpu_s": s.cpu_s, "wall_s": s.wall_s })),
     })
 }

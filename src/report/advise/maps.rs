@@ -2,9 +2,9 @@
 //! maps (which configuration has the least error in each pixel at each budget).
 
 use super::text::label;
-use crate::advice::analysis::{Analysis, MAP_CANDIDATES, Map, Measured};
+use crate::advice::analysis::{Analysis, Map, Measured};
 use crate::advice::winner::{self, Pixel};
-use crate::advice::{self, Metric, PAPER_DEFAULT, Point};
+use crate::advice::{self, Metric, PAPER_DEFAULT, Point, model};
 use crate::error::{Error, Result};
 use crate::metrics::covered;
 use crate::outdir;
@@ -43,10 +43,11 @@ pub fn colours(maps: &[Map]) -> Vec<(Row, [u8; 3])> {
 pub fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
     let [w, h] = m.setup.loaded.spec.resolution.unwrap_or([0, 0]);
     let mut highlight: Vec<Row> = vec![PAPER_DEFAULT];
-    for (r, l) in &a.rankings {
-        for best in [advice::recommended(r), r.ranked.first(), l.ranked.first()].into_iter().flatten() {
-            if !highlight.contains(&best.row) {
-                highlight.push(best.row);
+    for x in &a.answers {
+        let rows = [x.recommended().map(|c| c.row), x.ranking.ranked.first().map(|b| b.row)];
+        for row in rows.into_iter().chain([x.lowpass.ranked.first().map(|b| b.row)]).flatten() {
+            if !highlight.contains(&row) {
+                highlight.push(row);
             }
         }
     }
@@ -73,9 +74,11 @@ pub fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
         figs.push(Figure {
             path: file.into(),
             caption: format!(
-                "{what} (mean ± sd over the replicates) against the median time per image of every \
-                 configuration at 1 … {} rays; the paper's default and each budget's best in colour, the \
-                 rest grey; dashed: the budgets.",
+                "{what} (± 1 σ over the replicates) against the median time per image of every \
+                 configuration at {} … {} rays (the sweep); the paper's default and each budget's best in \
+                 colour, the rest grey; dashed: the budgets. What is shipped is measured again at its own ray \
+                 count (the tables).",
+                m.setup.rays.first().copied().unwrap_or(0),
                 m.setup.rays.last().copied().unwrap_or(0)
             ),
             links: vec![],
@@ -87,30 +90,39 @@ pub fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
     } else {
         let png = winner_png(m, a)?;
         outdir::write_file(out, WINNER_MAP, &png)?;
-        figs.push(Figure { path: WINNER_MAP.into(), caption: winner_note(m, a), links: vec![] });
+        figs.push(Figure { path: WINNER_MAP.into(), caption: winner_note(m), links: vec![] });
     }
     Ok(figs)
 }
-/// (median time in ms, √(mean MSE), its sd over replicates by the delta method).
+/// (median time in ms, √(mean MSE), its σ over the replicates: `model::mean_mse` at a ray count).
 fn point(p: &Point, metric: Metric) -> (f64, f64, f64) {
-    let v = match metric {
+    let values = match metric {
         Metric::Rmse => &p.mse,
         Metric::Lowpass => &p.lowpass_mse,
     };
-    let (mean, sd) = crate::metrics::mean_sd(v);
-    let rmse = mean.sqrt();
-    (p.time_s * 1e3, rmse, if rmse > 0.0 { sd / (2.0 * rmse) } else { 0.0 })
+    let side = model::Side {
+        row: PAPER_DEFAULT,
+        replicates: &p.replicates,
+        values,
+        slope: 0.0,
+        time_sigma_ln: p.time_sigma_ln,
+    };
+    let e = model::rmse(model::mean_mse(&side, false));
+    (p.time_s * 1e3, e.value, if e.se.is_finite() { e.se } else { 0.0 })
 }
-/// What "significant" means on the map.
-pub fn winner_note(m: &Measured, a: &Analysis) -> String {
+/// What a coloured pixel means on the map.
+pub fn winner_note(m: &Measured) -> String {
     format!(
-        "Winner map: per pixel, which of the budget's {MAP_CANDIDATES} best configurations and the paper's default \
-         has the least MSE at the budget over {} replicates (squared error pooled over the pixel's 3x3 neighbourhood, interpolated between the \
-         two measured ray counts around the budget). Coloured where the runner-up's MSE is higher by \
-         more than {:.2} paired standard errors (Student's t, one-sided 1 %, replicates paired by \
-         seed); grey where no win is that clear (equal configurations colour 0.2-1.4 % of pixels by \
-         chance); slate: no surface. The first panel is the reference.",
-        m.map_replicates, a.threshold
+        "Winner map: per pixel, which of the budget's finalists (each measured at its own ray count, {} \
+         replicates) has the least MSE, the squared error pooled over the pixel's 3x3 neighbourhood. The first \
+         half of the replicates picks each pixel's winner and runner-up; the second half tests them (paired by \
+         seed, one-sided Student's t); a pixel is coloured when Benjamini-Hochberg over the map's pixels keeps \
+         it at a false discovery rate of {:.0} % — at most that share of the coloured pixels are expected to \
+         be chance, and where no configuration differs nothing is coloured in at least {:.0} % of maps. Grey: \
+         no discovery; slate: no surface. The first panel is the reference.",
+        m.replicates,
+        100.0 * winner::FDR,
+        100.0 * (1.0 - winner::FDR)
     )
 }
 fn winner_png(m: &Measured, a: &Analysis) -> Result<Vec<u8>> {
@@ -157,13 +169,14 @@ fn winner_png(m: &Measured, a: &Analysis) -> Result<Vec<u8>> {
         legend
             .push((format!("{} other configurations", a.colours.len() - WINNER_COLOURS.len()), OTHER_WINNER));
     }
-    legend.push(("no significant winner".into(), UNRESOLVED));
+    legend.push(("no discovery".into(), UNRESOLVED));
     legend.push(("no surface".into(), BACKGROUND));
     let title = format!("Where each configuration wins: {} at {w}x{h}, equal time per image", m.setup.stem);
     let note = format!(
-        "Least MSE among each budget's {MAP_CANDIDATES} best and the paper default, over {} replicates (3x3 pooled); \
-         coloured if ahead of the runner-up by > {:.2} paired SE.",
-        m.map_replicates, a.threshold
+        "Least MSE among each budget's finalists at their ray counts, {} replicates (3x3 pooled; half pick, \
+         half test); coloured: Benjamini-Hochberg discoveries at FDR {:.0} %.",
+        m.replicates,
+        100.0 * winner::FDR
     );
     fig::winner_map(&title, &panels, &legend, &note).map_err(Error::Refused)
 }

@@ -9,14 +9,13 @@ pub mod text;
 
 use crate::advice::analysis::{self, Analysis, Measured};
 use crate::error::Result;
-use crate::outdir;
 use std::path::Path;
 
-/// The winner maps, then figures, advice.json, the pages and the records; returns the text to print.
-pub fn write(m: &Measured, mut a: Analysis, out: &Path) -> Result<String> {
-    a.maps = analysis::winner_maps(m, &a.curves, &a.rankings);
+/// The winner maps, then figures, advice.json and the pages, into `dir`; returns the text to
+/// print, which names `shown` (where the output set will be) as the page's place.
+pub fn write(m: &Measured, mut a: Analysis, dir: &Path, shown: &Path) -> Result<String> {
+    a.maps = analysis::winner_maps(m, &a);
     a.colours = maps::colours(&a.maps);
-    let figures = maps::figures(m, &a, out)?;
-    outdir::write_results(out, &m.results)?;
-    page::write(m, &a, &figures, out)
+    let figures = maps::figures(m, &a, dir)?;
+    page::write(m, &a, &figures, dir, shown)
 }

@@ -1,12 +1,13 @@
-//! advice.md and index.html from advise's analysis (advice.json is `json`), and the lines
-//! it prints: the answer per budget first, then what a time is, the rankings, and every measured point.
+//! advice.md and index.html from advise's analysis (advice.json is `json`), and the lines it
+//! prints: the answer per budget first, then the error model and what a time is, the finalists
+//! measured, the interpolated rankings, and every measured point.
 
 use super::maps::winner_note;
-use super::text::{advice_line, default_at, label, ms, pm, shipped_rays, status};
+use super::text::{advice_line, label, ms, pm, status, time_ms};
 use crate::advice::analysis::{Analysis, Measured, mean};
-use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Ranking};
+use crate::advice::answer::{Answer, FINALISTS};
+use crate::advice::{self, Metric, PAPER_DEFAULT, Ranking, model, structure};
 use crate::error::Result;
-use crate::metrics::{LOWPASS_SIGMA, STRUCTURED_RATIO};
 use crate::outdir;
 use crate::report::{self, Figure, Table};
 use crate::timing;
@@ -16,51 +17,79 @@ use std::path::Path;
 /// Rows of a budget's ranking table shown in the page (all are in advice.json).
 const SHOWN: usize = 10;
 
-pub fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) -> Result<String> {
+/// The error model, once, as the page and advice.json state it (`advice::model`).
+pub fn model_text() -> String {
+    format!(
+        "Every ± and margin is 1 σ of one error model. Replicates: replicate r has the same seed in every \
+         configuration, so an MSE is the mean over replicates (σ = sd/√n) and two configurations are compared \
+         replicate by replicate. Times: a time is the median of its timed renders, ln t = ln T + u + e, with u \
+         the session's factor shared by every configuration timed together (σ {:.0} %, measured between runs) \
+         and e the median's own scatter (σ from its samples: their order-statistic interval at its coverage). \
+         At a budget an MSE moves with its time by the local slope k = d ln MSE / d ln t (a longer time fits \
+         fewer rays), so a gain's or margin's σ² is the paired replicate part plus (k₁ − k₂)² σ_u² + k₁² σ_e₁² + \
+         k₂² σ_e₂²: the shared factor cancels but for the slopes' difference. What is shipped is measured at \
+         its ray count: its RMSE carries the replicates' σ, its time √(σ_u² + σ_e²).",
+        100.0 * model::RUN_FACTOR
+    )
+}
+
+/// Writes advice.json, advice.md and index.html into `dir`; returns the lines to print, naming
+/// `shown` (where the output set will be) as the page's place.
+pub fn write(m: &Measured, a: &Analysis, figures: &[Figure], dir: &Path, shown: &Path) -> Result<String> {
     let json = crate::report::advise::json::advice_json(m, a);
     let mut text = serde_json::to_string_pretty(&json).unwrap_or_default();
     text.push('\n');
-    let lines: Vec<String> = a.rankings.iter().map(|(r, l)| advice_line(r, l)).collect();
+    let lines: Vec<String> = a.answers.iter().map(advice_line).collect();
     let [w, h] = m.setup.loaded.spec.resolution.unwrap_or([0, 0]);
     let title = format!("hemilab advise: {} at {w}x{h}", m.setup.stem);
     let mut intro = lines.clone();
+    intro.push(model_text());
     intro.push(time_text(m));
     intro.push(format!(
-        "Configurations: {} (every distribution × sequence × seed mode that is a distinct, sensible \
-         estimator, or the --only subset), each at {} rays per pixel, {} replicates (seeds; replicate r \
-         has the same seed in every configuration, so comparisons are paired). At a budget each \
-         configuration's RMSE is interpolated along its log-error against log-time line between the two \
-         measured ray counts around it; a budget outside a configuration's measured times leaves it \
-         unranked there (never extrapolated). ± are standard errors over the replicates; a gain is the \
-         paper default's MSE over the configuration's at the same time, its ± also counting both \
-         times' spread. {}. Reference noise floor {:.2e} ({}).",
+        "Configurations: {} (every distribution × sequence × seed mode that is a distinct, sensible estimator, \
+         or the --only subset), swept at {} rays per pixel, {} replicates. At a budget each configuration's \
+         RMSE is interpolated along its log-error against log-time line between the two measured ray counts \
+         around it (a budget outside its measured times leaves it unranked there, never extrapolated). Then \
+         each budget's finalists — the {FINALISTS} best by that interpolation, the best two unstructured, the \
+         best by low-pass RMSE and the paper default — are rendered again, {} replicates each with seeds of \
+         their own, timed together, at the interpolated count rounded down, the multiple of 32 below it \
+         (rays are traced in packets of 32, so a render's time steps up there and the line under-predicts \
+         it) and the sweep's count below the budget; each is shipped at the most of those that fit (its \
+         measured time, put on the sweep's time scale, not above the budget by more than 2 σ of the \
+         session factor). The answer is decided on those measurements: the least RMSE whose error is not \
+         structured ({}). A gain is the paper default's MSE over the configuration's at the same budget. {}. Reference \
+         noise floor {:.2e} ({}).",
         a.curves.len(),
         m.setup.rays.iter().map(u32::to_string).collect::<Vec<_>>().join(", "),
         m.setup.loaded.spec.replicates,
+        m.replicates,
+        structure::rule(),
         m.setup.choice,
         m.reference.noise_floor(),
         m.reference.exr.display()
     ));
-    intro.push(format!(
-        "What is shipped is the best-ranked configuration whose error is not structured: its low-frequency \
-         ratio — the error's energy after a Gaussian blur of σ = {LOWPASS_SIGMA} px over the energy \
-         independent per-pixel errors of the same sizes would keep, mean over the replicates — at most \
-         {STRUCTURED_RATIO}. 1 is white noise, below 1 blue noise (neighbouring errors cancel; shippable), \
-         above {STRUCTURED_RATIO} blotches or bands that a blur or a denoiser keeps (a static seed reads \
-         1.7 to 19 on the committed scenes). The whiteness z in advice.json tests for any correlation, \
-         blue noise's negative one included, and is not used for this."
-    ));
+    if let Some(dir) = &m.from {
+        intro.push(format!(
+            "Re-analysed from {} without rendering (advise --from): budgets whose finalists were not measured \
+             there are answered from the sweep's interpolation, and say so.",
+            dir.display()
+        ));
+    }
     if !a.maps.is_empty() {
-        intro.push(winner_note(m, a));
+        intro.push(winner_note(m));
     }
     intro.push(
-        "Raw numbers: advice.json (every ranking), results.csv / results.json (one record per image).".into(),
+        "Raw numbers: advice.json (every answer with each replicate's values, every ranking and point), \
+         results.csv / results.json (one record per image: the sweep's and the finalists')."
+            .into(),
     );
     let intro = intro.join("\n\n");
     let mut tables = vec![summary_table(a)];
-    tables.extend(a.rankings.iter().filter(|(r, _)| !r.ranked.is_empty()).map(|(r, _)| ranking_table(r)));
+    tables.extend(a.answers.iter().filter(|x| !x.finalists.is_empty()).map(finalists_table));
+    tables
+        .extend(a.answers.iter().filter(|x| !x.ranking.ranked.is_empty()).map(|x| ranking_table(&x.ranking)));
     let collapsed = vec![ladder_table(a)];
-    outdir::write_file(out, outdir::ADVICE_JSON, text.as_bytes())?;
+    outdir::write_file(dir, outdir::ADVICE_JSON, text.as_bytes())?;
     let page = report::Page {
         title: &title,
         lead: &[],
@@ -69,7 +98,7 @@ pub fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) -> Resu
         figures,
         collapsed: &collapsed,
     };
-    outdir::write_page(out, &report::html_page(&page), outdir::ADVICE_MD, &report::markdown_page(&page))?;
+    outdir::write_page(dir, &report::html_page(&page), outdir::ADVICE_MD, &report::markdown_page(&page))?;
     let mut s = String::new();
     for l in &lines {
         let _ = writeln!(s, "{l}");
@@ -83,53 +112,57 @@ pub fn write(m: &Measured, a: &Analysis, figures: &[Figure], out: &Path) -> Resu
              ({smallest:.2e}); errors near it are not resolved"
         );
     }
+    let cpu: f64 = [Some(&m.session), m.verify_session.as_ref()].iter().flatten().map(|s| s.cpu_s).sum();
+    let renders: usize =
+        [Some(&m.session), m.verify_session.as_ref()].iter().flatten().map(|s| s.renders).sum();
     let _ = writeln!(
         s,
-        "timing: {} timed renders, {:.1} s of render CPU time in {:.1} s of wall time → {}",
-        m.session.renders,
-        m.session.cpu_s,
-        m.session.wall_s,
-        outdir::index(out).display()
+        "jobs: {} rendered, {} reused; timing: {renders} timed renders, {cpu:.1} s of render CPU time → {}",
+        m.rendered,
+        m.reused,
+        outdir::index(shown).display()
     );
     Ok(s)
 }
 
 fn summary_table(a: &Analysis) -> Table {
     let rows = a
-        .rankings
+        .answers
         .iter()
-        .map(|(r, l)| {
-            let b = ms(r.budget_s);
-            let Some(best) = advice::recommended(r) else {
-                return vec![b, status(r).into(), String::new(), String::new(), String::new(), String::new()];
+        .map(|x| {
+            let b = ms(x.budget_s);
+            let Some(best) = x.recommended() else {
+                let mut row = vec![b, status(&x.ranking).into()];
+                row.resize(8, String::new());
+                return row;
             };
-            let gain = default_at(r)
-                .map_or("—".into(), |d| pm(advice::gain(d, best, Metric::Rmse).into_estimate(), 2));
-            let low = l.ranked.first().map_or(String::new(), |x| {
-                let g = default_at(l).map_or(String::new(), |d| {
-                    format!(" (×{:.2})", advice::gain(d, x, Metric::Lowpass).value)
-                });
-                format!("{}{g}", label(x.row))
+            let gain = x.gain(best, Metric::Rmse).map_or("—".into(), |g| pm(g.estimate(), 2));
+            let second = x.runner_up().map_or(String::new(), |r| {
+                format!("{} ({:.1} σ)", label(r.row), x.margin(r).unwrap_or(f64::NAN))
             });
             vec![
                 b,
                 label(best.row),
-                shipped_rays(best).to_string(),
+                best.rays.to_string(),
+                if x.measured { pm(time_ms(best), 2) } else { "not measured".into() },
                 pm(best.rmse(Metric::Rmse), 4),
                 gain,
-                low,
+                second,
+                x.best_lowpass().map_or(String::new(), |l| label(l.row)),
             ]
         })
         .collect();
     Table {
-        title: "Advice per budget".into(),
+        title: "Advice per budget (measured at the ray count shipped)".into(),
         header: [
             "budget (ms)",
             "ship",
             "rays",
+            "time (ms)",
             "RMSE",
             "MSE gain vs paper default",
-            "least low-pass RMSE (gain)",
+            "runner-up (σ behind)",
+            "least low-pass RMSE",
         ]
         .map(String::from)
         .to_vec(),
@@ -137,31 +170,72 @@ fn summary_table(a: &Analysis) -> Table {
     }
 }
 
-trait IntoEstimate {
-    fn into_estimate(self) -> advice::Estimate;
-}
-
-impl IntoEstimate for advice::Gain {
-    fn into_estimate(self) -> advice::Estimate {
-        advice::Estimate { value: self.value, se: self.se }
+fn finalists_table(x: &Answer) -> Table {
+    let best = x.recommended().map(|b| b.row);
+    let rows = x
+        .finalists
+        .iter()
+        .map(|c| {
+            vec![
+                format!("{}{}", label(c.row), if Some(c.row) == best { " ← ship" } else { "" }),
+                c.rays.to_string(),
+                if c.measured { pm(time_ms(c), 2) } else { "—".into() },
+                pm(c.rmse(Metric::Rmse), 4),
+                pm(c.rmse(Metric::Lowpass), 4),
+                format!("{:.1}{}", c.structure_mean(), if c.structured() { " (structured)" } else { "" }),
+                x.gain(c, Metric::Rmse).map_or("—".into(), |g| pm(g.estimate(), 2)),
+                if Some(c.row) == best {
+                    String::new()
+                } else {
+                    format!("{:.1}", x.margin(c).unwrap_or(f64::NAN))
+                },
+            ]
+        })
+        .collect();
+    Table {
+        title: format!(
+            "At {} ms per image: the finalists {}",
+            ms(x.budget_s),
+            if x.measured {
+                "measured at the ray count that fits the budget".to_string()
+            } else {
+                "(not measured: interpolated from the sweep)".to_string()
+            }
+        ),
+        header: [
+            "configuration",
+            "rays",
+            "time (ms)",
+            "RMSE",
+            "low-pass RMSE",
+            structure::MEASURE,
+            "MSE gain vs paper default",
+            "σ behind the shipped",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
     }
 }
 
 fn ranking_table(r: &Ranking) -> Table {
-    let mut shown: Vec<(usize, &AtBudget)> = r.ranked.iter().enumerate().take(SHOWN).collect();
+    let mut shown: Vec<usize> = (0..r.ranked.len().min(SHOWN)).collect();
     if let Some(i) = r.ranked.iter().position(|a| a.row == PAPER_DEFAULT).filter(|&i| i >= SHOWN) {
-        shown.push((i, &r.ranked[i]));
+        shown.push(i);
     }
+    let default = r.ranked.iter().find(|a| a.row == PAPER_DEFAULT);
     let best = &r.ranked[0];
     let rows = shown
         .into_iter()
-        .map(|(i, a)| {
-            let gain = default_at(r)
-                .map_or("—".into(), |d| pm(advice::gain(d, a, Metric::Rmse).into_estimate(), 2));
+        .map(|i| {
+            let a = &r.ranked[i];
+            let gain = default.map_or("—".into(), |d| {
+                pm(model::gain(&d.side(Metric::Rmse), &a.side(Metric::Rmse)).estimate(), 2)
+            });
             let z = if i == 0 {
                 String::new()
             } else {
-                format!("{:+.1}", advice::paired_z(best, a, Metric::Rmse))
+                format!("{:.1}", model::margin(&best.side(Metric::Rmse), &a.side(Metric::Rmse)))
             };
             vec![
                 (i + 1).to_string(),
@@ -169,7 +243,6 @@ fn ranking_table(r: &Ranking) -> Table {
                 format!("{:.1}", a.rays),
                 pm(a.rmse(Metric::Rmse), 4),
                 pm(a.rmse(Metric::Lowpass), 4),
-                ratio_cell(a.lowfreq_ratio),
                 gain,
                 z,
             ]
@@ -177,7 +250,7 @@ fn ranking_table(r: &Ranking) -> Table {
         .collect();
     Table {
         title: format!(
-            "At {} ms per image: {} configurations ranked by RMSE{}",
+            "At {} ms per image, interpolated from the sweep: {} configurations ranked by RMSE{}",
             ms(r.budget_s),
             r.ranked.len(),
             if r.outside.is_empty() {
@@ -192,9 +265,8 @@ fn ranking_table(r: &Ranking) -> Table {
             "rays",
             "RMSE",
             "low-pass RMSE",
-            "low-freq ratio",
             "MSE gain vs paper default",
-            "paired z vs #1",
+            "σ behind #1",
         ]
         .map(String::from)
         .to_vec(),
@@ -202,31 +274,31 @@ fn ranking_table(r: &Ranking) -> Table {
     }
 }
 
-/// A mean low-frequency ratio, marked when it makes the configuration structured.
-fn ratio_cell(r: f64) -> String {
-    if r > STRUCTURED_RATIO { format!("{r:.2} (structured)") } else { format!("{r:.2}") }
-}
-
 fn ladder_table(a: &Analysis) -> Table {
     let mut rows = Vec::new();
     for c in &a.curves {
         for p in &c.points {
-            let sd = |v: &[f64]| crate::metrics::mean_sd(&v.iter().map(|x| x.sqrt()).collect::<Vec<_>>());
-            let (e, esd) = sd(&p.mse);
-            let (l, lsd) = sd(&p.lowpass_mse);
-            rows.push(vec![
-                label(c.row),
-                p.rays.to_string(),
-                format!("{:.3} ± {:.3}", p.time_s * 1e3, p.time_spread_s * 1e3),
-                format!("{e:.4} ± {esd:.4}"),
-                format!("{l:.4} ± {lsd:.4}"),
-                ratio_cell(mean(&p.lowfreq_ratio)),
-            ]);
+            let at = |values: &[f64]| {
+                let side = model::Side {
+                    row: c.row,
+                    replicates: &p.replicates,
+                    values,
+                    slope: 0.0,
+                    time_sigma_ln: 0.0,
+                };
+                model::rmse(model::mean_mse(&side, false))
+            };
+            let (e, l) = (at(&p.mse), at(&p.lowpass_mse));
+            let t = advice::Estimate {
+                value: p.time_s * 1e3,
+                se: p.time_s * 1e3 * model::time_sigma_ln(p.time_sigma_ln),
+            };
+            rows.push(vec![label(c.row), p.rays.to_string(), pm(t, 3), pm(e, 4), pm(l, 4)]);
         }
     }
     Table {
-        title: "Every measured point (time: median ± spread; errors: mean ± sd over replicates)".into(),
-        header: ["configuration", "rays", "time per image (ms)", "RMSE", "low-pass RMSE", "low-freq ratio"]
+        title: "Every point of the sweep (time: median ± σ; errors ± σ over the replicates)".into(),
+        header: ["configuration", "rays", "time per image (ms)", "RMSE", "low-pass RMSE"]
             .map(String::from)
             .to_vec(),
         rows,

@@ -1,80 +1,100 @@
-//! The sentences and small facts advise's page and advice.json share: the answer per budget, what
-//! is shipped, why a budget has no answer.
+//! The sentences and small facts advise's page and advice.json share: the answer per budget, why a
+//! budget has no answer, how numbers print.
 
-use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking};
-use crate::metrics::STRUCTURED_RATIO;
+use crate::advice::answer::{Answer, Candidate};
+use crate::advice::{self, Metric, PAPER_DEFAULT, Place, Ranking, structure};
 use crate::spec::Row;
 use std::fmt::Write as _;
 
 pub fn ms(s: f64) -> String {
     format!("{}", advice::round_significant(s * 1e3, 3))
 }
-/// One sentence per budget: what to ship and what it gains, or why there is no answer.
-pub fn advice_line(r: &Ranking, low: &Ranking) -> String {
-    let b = ms(r.budget_s);
-    let Some(best) = advice::recommended(r) else {
-        return format!("At {b} ms per image: {}.", outside_note(r));
+
+fn rays(n: u32) -> String {
+    if n == 1 { "1 ray".into() } else { format!("{n} rays") }
+}
+
+/// One sentence per budget: what to ship, measured at its ray count, and what it gains; or why
+/// there is no answer. Every ± and margin is 1 σ of advise's error model (`advice::model`).
+pub fn advice_line(a: &Answer) -> String {
+    let b = ms(a.budget_s);
+    let Some(best) = a.recommended() else {
+        return format!("At {b} ms per image: {}.", outside_note(&a.ranking));
     };
     let e = best.rmse(Metric::Rmse);
-    let mut s = format!(
-        "At {b} ms per image: ship {} with {} per pixel (RMSE {})",
-        label(best.row),
-        match shipped_rays(best) {
-            1 => "1 ray".to_string(),
-            n => format!("{n} rays"),
-        },
-        pm(e, 4)
-    );
+    let mut s = format!("At {b} ms per image: ship {} with {} per pixel", label(best.row), rays(best.rays));
+    if a.measured {
+        let _ = write!(s, " (measured there: RMSE {}, {} ms per image)", pm(e, 4), pm(time_ms(best), 2));
+        if !a.fits(best) {
+            let _ = write!(
+                s,
+                " — over the budget by {:.0} % even at its fewest measured count",
+                100.0 * (best.time_s / a.budget_s - 1.0)
+            );
+        }
+    } else {
+        let _ = write!(
+            s,
+            " (RMSE {} interpolated from the sweep, not measured at {}: this budget's finalists were not \
+             rendered; run advise on this directory without --from to measure them)",
+            pm(e, 4),
+            rays(best.rays)
+        );
+    }
     if best.structured() {
         let _ = write!(
             s,
-            " — its error is structured (low-frequency ratio {:.2} > {STRUCTURED_RATIO}: blotches or bands \
-             that a blur keeps and RMSE does not show), as is every configuration measured here",
-            best.lowfreq_ratio
+            " — its error is structured ({} {:.1}: bands or moiré that RMSE does not show), as is every \
+             finalist's",
+            structure::MEASURE,
+            best.structure_mean()
         );
     }
-    match default_at(r) {
+    match a.paper_default() {
         Some(d) if d.row == best.row => s += ": the paper's default is the best here",
         Some(d) => {
-            let g = advice::gain(d, best, Metric::Rmse);
+            let g = a.gain(best, Metric::Rmse).expect("the default is there");
             let _ = write!(
                 s,
-                ": {:.2} ± {:.2} × less MSE than the paper's default at the same time",
-                g.value, g.se
+                ": {} × less MSE than the paper's default with {} at the same budget",
+                pm(g.estimate(), 2),
+                rays(d.rays)
             );
         }
         None => s += "; the paper's default is outside its measured times here",
     }
-    if let Some(second) = r.ranked.iter().find(|a| a.row != best.row && !a.structured()) {
-        let z = advice::paired_z(best, second, Metric::Rmse);
-        let _ = write!(s, "; runner-up {} ({:+.1} paired SE)", label(second.row), z);
+    if let Some(second) = a.runner_up() {
+        let z = a.margin(second).unwrap_or(f64::NAN);
+        let _ = write!(s, "; runner-up {} with {} ({z:.1} σ behind)", label(second.row), rays(second.rays));
     }
-    if let Some(top) = r.ranked.first().filter(|t| t.row != best.row) {
+    if let Some(top) = a.least_structured() {
         let _ = write!(
             s,
-            "; {} has {:.0} % less RMSE but its error is structured (low-frequency ratio {:.2} > \
-             {STRUCTURED_RATIO}), so it is not advised",
+            "; {} has {:.0} % less RMSE but its error is structured ({} {:.1}), so it is not advised",
             label(top.row),
             100.0 * (1.0 - top.rmse(Metric::Rmse).value / e.value),
-            top.lowfreq_ratio
+            structure::MEASURE,
+            top.structure_mean()
         );
     }
-    if let Some(lb) = low.ranked.first().filter(|l| l.row != best.row) {
+    if let Some(lb) = a.best_lowpass().filter(|l| l.row != best.row) {
         let _ = write!(s, "; least low-pass RMSE: {}", label(lb.row));
     }
-    if !r.outside.is_empty() {
-        let _ =
-            write!(s, " ({} configurations outside their measured times here, unranked)", r.outside.len());
+    if !a.ranking.outside.is_empty() {
+        let _ = write!(
+            s,
+            " ({} configurations outside their measured times here, unranked)",
+            a.ranking.outside.len()
+        );
     }
     s + "."
 }
-/// The rays to ship: the interpolated count, rounded down (at least 1).
-pub fn shipped_rays(a: &AtBudget) -> u32 {
-    (a.rays.floor() as u32).max(1)
+
+/// A candidate's time per image in ms ± 1 σ (the session's factor and the median's scatter).
+pub fn time_ms(c: &Candidate) -> advice::Estimate {
+    advice::Estimate { value: c.time_s * 1e3, se: c.time_s * 1e3 * c.time_sigma_ln_total() }
 }
-pub fn default_at(r: &Ranking) -> Option<&AtBudget> {
-    r.ranked.iter().find(|a| a.row == PAPER_DEFAULT)
-}
+
 /// Why a budget has no ranked configuration.
 pub fn outside_note(r: &Ranking) -> String {
     let below: Vec<f64> = r
@@ -103,6 +123,7 @@ pub fn outside_note(r: &Ranking) -> String {
         "outside every configuration's measured times".into()
     }
 }
+
 pub fn status(r: &Ranking) -> &'static str {
     if !r.ranked.is_empty() {
         return "inside";
@@ -116,12 +137,14 @@ pub fn status(r: &Ranking) -> &'static str {
         "outside"
     }
 }
+
 /// A configuration's name in tables and legends.
 pub fn label(row: Row) -> String {
     let l = row.name();
     if row == PAPER_DEFAULT { format!("{l} (paper default)") } else { l }
 }
-/// "value ± se" with at least `digits` decimals, and more where the ± would round to zero (it
+
+/// "value ± σ" with at least `digits` decimals, and more where the ± would round to zero (it
 /// shows its first significant digit: "0.03330 ± 0.00004", not "0.0333 ± 0.0000").
 pub fn pm(e: advice::Estimate, digits: usize) -> String {
     let need =

@@ -207,7 +207,7 @@ fn rejected(et: &EqualTime) -> Option<String> {
     for at in &et.at {
         let Some(a) = at.answer() else { continue };
         for e in at.rejected() {
-            let x = (at.budget_s, Ratio::of(&e.at, &a.at).value, e.at.lowfreq_ratio);
+            let x = (at.budget_s, Ratio::of(&e.at, &a.at).value, e.at.structure);
             match by_row.iter_mut().find(|(r, _)| *r == e.at.row) {
                 Some((_, v)) => v.push(x),
                 None => by_row.push((e.at.row, vec![x])),

@@ -151,7 +151,7 @@ fn advice_json_validates_and_its_recommendations_recompute() {
     let run_factor = num(&a["error_model"]["run_factor_sigma_ln"]);
     assert!(run_factor > 0.0 && a["error_model"]["text"].as_str().unwrap().contains("1 σ"));
     let threshold = num(&a["structure"]["threshold"]);
-    assert_eq!(a["structure"]["measure"], "whiteness_z");
+    assert_eq!(a["structure"]["measure"], "lowfreq_ratio");
     let replicates = a["finalists"]["replicates"].as_u64().unwrap() as usize;
     assert_eq!(replicates, 24, "the finalists' replicates: the sweep's 3, 24 at least");
     // Every point lists each replicate's structure value beside its MSE.

@@ -19,18 +19,15 @@ use hemilab::advice::analysis::{self, Measured};
 use hemilab::advice::setup::{self, Request, Setup};
 use hemilab::error::{Error, Result};
 use hemilab::jobs::calibrate;
-use hemilab::jobs::executor::{self, Session};
+use hemilab::jobs::executor;
 use hemilab::jobs::runner::JobRunner;
-use hemilab::plan::Plan;
-use hemilab::reference::store::{self as refs, Policy, Reference};
+use hemilab::jobs::sweep;
+use hemilab::reference::store::{self as refs, Policy};
 use hemilab::results::JobResult;
-use hemilab::spec::Row;
 use hemilab::timing::Protocol;
-use hemilab::{advice, metrics, outdir};
+use hemilab::{advice, outdir};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::time::{Duration, Instant};
 
 pub fn run(args: AdviseArgs) -> Result<()> {
     let request = match &args.from {
@@ -76,10 +73,10 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     }
     let stage = outdir::begin_advise_stage(&out, &sources.iter().map(PathBuf::as_path).collect::<Vec<_>>())?;
     outdir::write_advise_request(&stage, &request.to_json())?;
-    let store = Store::new(&stage, &previous);
+    let store = sweep::Store::new(&stage, &previous);
 
     let (results, mut session) = match &args.from {
-        Some(dir) => stored(&setup, &setup.plan, &reference, &previous, &stage, dir)?,
+        Some(dir) => sweep::stored(&setup.loaded, &setup.plan, &reference, &previous, &stage, dir)?,
         None => {
             let none =
                 |_: usize, _: &hemilab::plan::Job, _: &hemilab::render::RenderOutput| Ok(String::new());
@@ -106,7 +103,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let replicates = analysis::verify_replicates(spec.replicates);
     let vplan = setup::verify_jobs(spec, &analysis::finalists(&analysis), replicates);
     let (verified, verify_session) = if args.from.is_some() {
-        (present(&setup, &vplan, &reference, &previous, &stage), None)
+        (sweep::present(&setup.loaded, &vplan, &reference, &previous, &stage), None)
     } else {
         let keep = |_: usize, job: &hemilab::plan::Job, o: &hemilab::render::RenderOutput| {
             outdir::write_image(&stage, job, o)
@@ -126,7 +123,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         (r.into_iter().map(Some).collect(), Some(s))
     };
     runner.bar.finish_and_clear();
-    let errors = error_images(&vplan, &verified, &reference, &stage)?;
+    let errors = sweep::error_images(&vplan, &verified, &reference, &stage)?;
     let verified: Vec<JobResult> = verified.into_iter().flatten().collect();
     store.add(&verified)?;
     // Rendered: what the sessions rendered; with --from nothing is (the records are all reused).
@@ -178,117 +175,4 @@ fn refuse_impossible(setup: &Setup, budgets_ms: &[f64], workers: usize) -> Resul
         ms(cheapest_s),
         ms(cheapest_s),
     )))
-}
-
-/// `--from`: the sweep's records from `dir` (by run key, as a resume would take them); refused
-/// unless every job is there.
-fn stored(
-    setup: &Setup,
-    plan: &Plan,
-    reference: &Reference,
-    previous: &HashMap<String, JobResult>,
-    stage: &Path,
-    dir: &Path,
-) -> Result<(Vec<JobResult>, Session)> {
-    let found: Vec<Option<JobResult>> = present(setup, plan, reference, previous, stage);
-    let have = found.iter().flatten().count();
-    if have < found.len() {
-        return Err(Error::input(
-            dir,
-            format!(
-                "its sweep is unfinished or of other settings: {have} of {} jobs have records for this scene, \
-                 reference and version; run `hemilab advise` with --out {} to finish it",
-                found.len(),
-                dir.display()
-            ),
-        ));
-    }
-    let overhead = vec![None; setup.loaded.spec.scenes.len()];
-    let session = Session { overhead, renders: 0, cpu_s: 0.0, wall_s: 0.0, reused: have };
-    Ok((found.into_iter().flatten().collect(), session))
-}
-
-/// The records `previous` holds for `plan`'s jobs, in plan order (`None`: not there).
-fn present(
-    setup: &Setup,
-    plan: &Plan,
-    reference: &Reference,
-    previous: &HashMap<String, JobResult>,
-    stage: &Path,
-) -> Vec<Option<JobResult>> {
-    let scene = &setup.loaded.scenes[0];
-    plan.jobs
-        .iter()
-        .map(|j| executor::resumed(previous, &executor::run_key(j, scene, reference), stage).cloned())
-        .collect()
-}
-
-/// Each finalist record's image − reference on covered pixels, by (configuration, rays,
-/// replicate), read back from the images the finalists' renders wrote.
-fn error_images(
-    plan: &Plan,
-    records: &[Option<JobResult>],
-    reference: &Reference,
-    stage: &Path,
-) -> Result<HashMap<(Row, u32, u32), Vec<f32>>> {
-    let mut out = HashMap::new();
-    for (job, record) in plan.jobs.iter().zip(records) {
-        let Some(r) = record else { continue };
-        let ao = outdir::read_image(stage, &r.image)?;
-        let e = metrics::error_image(&ao, &reference.mean, &reference.coverage)
-            .map_err(|e| Error::Refused(format!("job {}: {e}", job.file_stem())))?;
-        out.insert((job.row().canonical(), job.rays, job.replicate), e.data);
-    }
-    Ok(out)
-}
-
-/// How often the records are rewritten while jobs finish: rewriting every record after every one
-/// of a sweep's ~1,500 jobs would cost more than the renders; a killed run loses at most this.
-const WRITE_EVERY: Duration = Duration::from_secs(2);
-
-/// The stage's results.json: every earlier record and this run's, rewritten every `WRITE_EVERY`.
-struct Store<'a> {
-    dir: &'a Path,
-    /// Finished phases' records, then the earlier ones they do not replace.
-    kept: Mutex<Vec<JobResult>>,
-    last: Mutex<Instant>,
-}
-
-impl<'a> Store<'a> {
-    fn new(dir: &'a Path, previous: &HashMap<String, JobResult>) -> Self {
-        let mut kept: Vec<JobResult> = previous.values().cloned().collect();
-        kept.sort_by(|a, b| a.key.cmp(&b.key));
-        Self { dir, kept: Mutex::new(kept), last: Mutex::new(Instant::now()) }
-    }
-
-    fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-        m.lock().unwrap_or_else(|e| e.into_inner())
-    }
-
-    /// `current` (a running phase's records so far) and the kept ones, if `now` or it is time.
-    fn write(&self, current: &[JobResult], now: bool) -> Result<()> {
-        let mut last = Self::lock(&self.last);
-        if !now && last.elapsed() < WRITE_EVERY {
-            return Ok(());
-        }
-        let kept = Self::lock(&self.kept);
-        let mine: std::collections::HashSet<&str> = current.iter().map(|r| r.key.as_str()).collect();
-        let all: Vec<JobResult> =
-            current.iter().chain(kept.iter().filter(|r| !mine.contains(r.key.as_str()))).cloned().collect();
-        outdir::write_results(self.dir, &all)?;
-        *last = Instant::now();
-        Ok(())
-    }
-
-    /// A finished phase's records join the kept ones (replacing theirs), and all are written.
-    fn add(&self, done: &[JobResult]) -> Result<()> {
-        {
-            let mut kept = Self::lock(&self.kept);
-            let mine: std::collections::HashSet<&str> = done.iter().map(|r| r.key.as_str()).collect();
-            let rest: Vec<JobResult> =
-                kept.iter().filter(|r| !mine.contains(r.key.as_str())).cloned().collect();
-            *kept = done.iter().cloned().chain(rest).collect();
-        }
-        self.write(&[], true)
-    }
 }

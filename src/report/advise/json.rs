@@ -191,7 +191,7 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
         "error_model": {
             "sigma": "every ± and margin is 1 σ of this model",
             "run_factor_sigma_ln": model::RUN_FACTOR,
-            "text": super::page::model_text(),
+            "text": super::text::model_text(),
         },
         "structure": { "measure": structure::MEASURE, "threshold": structure::THRESHOLD, "rule": structure::rule() },
         "finalists": {

@@ -3,7 +3,7 @@
 //! measured, the interpolated rankings, and every measured point.
 
 use super::maps::winner_note;
-use super::text::{advice_line, label, ms, pm, status, time_ms};
+use super::text::{advice_line, label, model_text, ms, pm, status, time_ms};
 use crate::advice::analysis::{Analysis, Measured, mean};
 use crate::advice::answer::{Answer, FINALISTS};
 use crate::advice::{self, Metric, PAPER_DEFAULT, Ranking, model, structure};
@@ -16,22 +16,6 @@ use std::path::Path;
 
 /// Rows of a budget's ranking table shown in the page (all are in advice.json).
 const SHOWN: usize = 10;
-
-/// The error model, once, as the page and advice.json state it (`advice::model`).
-pub fn model_text() -> String {
-    format!(
-        "Every ± and margin is 1 σ of one error model. Replicates: replicate r has the same seed in every \
-         configuration, so an MSE is the mean over replicates (σ = sd/√n) and two configurations are compared \
-         replicate by replicate. Times: a time is the median of its timed renders, ln t = ln T + u + e, with u \
-         the session's factor shared by every configuration timed together (σ {:.0} %, measured between runs) \
-         and e the median's own scatter (σ from its samples: their order-statistic interval at its coverage). \
-         At a budget an MSE moves with its time by the local slope k = d ln MSE / d ln t (a longer time fits \
-         fewer rays), so a gain's or margin's σ² is the paired replicate part plus (k₁ − k₂)² σ_u² + k₁² σ_e₁² + \
-         k₂² σ_e₂²: the shared factor cancels but for the slopes' difference. What is shipped is measured at \
-         its ray count: its RMSE carries the replicates' σ, its time √(σ_u² + σ_e²).",
-        100.0 * model::RUN_FACTOR
-    )
-}
 
 /// Writes advice.json, advice.md and index.html into `dir`; returns the lines to print, naming
 /// `shown` (where the output set will be) as the page's place.

@@ -2,7 +2,7 @@
 //! budget has no answer, how numbers print.
 
 use crate::advice::answer::{Answer, Candidate};
-use crate::advice::{self, Metric, PAPER_DEFAULT, Place, Ranking, structure};
+use crate::advice::{self, Metric, PAPER_DEFAULT, Place, Ranking, model, structure};
 use crate::spec::Row;
 use std::fmt::Write as _;
 
@@ -151,4 +151,20 @@ pub fn pm(e: advice::Estimate, digits: usize) -> String {
         if e.se > 0.0 && e.se.is_finite() { (-e.se.log10()).ceil().clamp(0.0, 8.0) as usize } else { 0 };
     let d = digits.max(need);
     format!("{:.d$} ± {:.d$}", e.value, e.se)
+}
+
+/// The error model, once, as the page and advice.json state it (`advice::model`).
+pub fn model_text() -> String {
+    format!(
+        "Every ± and margin is 1 σ of one error model. Replicates: replicate r has the same seed in every \
+         configuration, so an MSE is the mean over replicates (σ = sd/√n) and two configurations are compared \
+         replicate by replicate. Times: a time is the median of its timed renders, ln t = ln T + u + e, with u \
+         the session's factor shared by every configuration timed together (σ {:.0} %, measured between runs) \
+         and e the median's own scatter (σ from its samples: their order-statistic interval at its coverage). \
+         At a budget an MSE moves with its time by the local slope k = d ln MSE / d ln t (a longer time fits \
+         fewer rays), so a gain's or margin's σ² is the paired replicate part plus (k₁ − k₂)² σ_u² + k₁² σ_e₁² + \
+         k₂² σ_e₂²: the shared factor cancels but for the slopes' difference. What is shipped is measured at \
+         its ray count: its RMSE carries the replicates' σ, its time √(σ_u² + σ_e²).",
+        100.0 * model::RUN_FACTOR
+    )
 }

@@ -90,18 +90,29 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
     });
     let hash = scene::content_hash(&[text.as_bytes(), &bytes]);
     let res = (spec.resolution.0, spec.resolution.1);
-    Scene::new(name, spec.camera.camera(), res, spec.ao_distance.0, hash, mesh)
-        .map_err(|e| Error::input(path, e))
+    Scene::new(name, spec.camera.camera(), res, spec.ao_distance.0, hash, mesh).map_err(|e| {
+        // Its camera and distance were checked with the file; an empty mesh is the mesh's fault.
+        Error::input(if e.starts_with(scene::EMPTY_MESH) { &mesh_path } else { path }, e)
+    })
 }
 
-/// The one-line warning for triangles dropped at load, if any.
+/// The warnings of a scene's load, if any, one line each: triangles dropped (zero area or
+/// non-finite), and mesh elements skipped because they are not faces (AO renders surfaces only).
 pub fn dropped_warning(scene: &Scene) -> Option<String> {
-    (scene.dropped_triangles > 0).then(|| {
-        format!(
+    let mut lines = Vec::new();
+    if scene.dropped_triangles > 0 {
+        lines.push(format!(
             "warning: scene '{}': dropped {} triangles with zero area or non-finite vertices",
             scene.name, scene.dropped_triangles
-        )
-    })
+        ));
+    }
+    if let Some(s) = &scene.skipped_elements {
+        lines.push(format!(
+            "warning: scene '{}': skipped mesh elements that are not faces: {s}; AO renders faces only",
+            scene.name
+        ));
+    }
+    (!lines.is_empty()).then(|| lines.join("\n"))
 }
 
 /// An image size outside the one limit (`spec::resolution_ok`: what specs, scene files and the

@@ -72,8 +72,8 @@ impl CameraFile {
     }
 }
 
-/// `[x, y, z]`: exactly three finite numbers, in f64 as written (toml would drop a fourth silently
-/// into an array).
+/// `[x, y, z]`: exactly three finite numbers within ±`MAX_COORDINATE` (as a mesh's vertices), in
+/// f64 as written (toml would drop a fourth silently into an array).
 #[derive(Debug, Clone, Copy)]
 pub struct Point(pub DVec3);
 
@@ -81,8 +81,11 @@ impl<'de> Deserialize<'de> for Point {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let v = Vec::<f64>::deserialize(d)?;
         match v[..] {
-            [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Point(DVec3::new(x, y, z))),
-            _ => Err(de::Error::custom(format!("must be [x, y, z], three finite numbers, got {v:?}"))),
+            [x, y, z] if v.iter().all(|c| c.abs() <= super::MAX_COORDINATE) => Ok(Point(DVec3::new(x, y, z))),
+            _ => Err(de::Error::custom(format!(
+                "must be [x, y, z], three finite numbers within ±{:e}, got {v:?}",
+                super::MAX_COORDINATE
+            ))),
         }
     }
 }
@@ -241,5 +244,11 @@ mod tests {
         assert!(e.contains("line 3") && e.contains("ao_distance"), "{e}");
         let e = parse(&GOOD.replace("[4, 3]", "[0, 3]")).unwrap_err();
         assert!(e.contains("line 2") && e.contains("resolution"), "{e}");
+    }
+
+    #[test]
+    fn camera_coordinates_are_bounded_as_a_mesh_is() {
+        let e = parse(&GOOD.replace("eye = [0, 0, 1]", "eye = [0, 0, 1e30]")).unwrap_err();
+        assert!(e.contains("line 5") && e.contains("within ±1e18"), "{e}");
     }
 }

@@ -127,6 +127,17 @@ fn bad_scene_files_name_the_line_and_key() {
         ),
         ("missing-key", TOML.replace("resolution = [8, 8]\n", ""), vec!["resolution"]),
         ("eye-is-target", TOML.replace("[0.0, 0.0, 5.0]", "[0.0, 0.0, 0.0]"), vec!["camera", "eye"]),
+        // `up` along the view once rendered an image rolled by rounding error.
+        (
+            "up-along-the-view",
+            TOML.replace("up = [0.0, 1.0, 0.0]", "up = [0.0, 0.0, -2.0]"),
+            vec!["line 8, key `camera.perspective.up`: [0, 0, -2]: up is parallel", "at least 0.057°"],
+        ),
+        (
+            "up-nearly-along-the-view",
+            TOML.replace("up = [0.0, 1.0, 0.0]", "up = [0.0, 0.0001, 1.0]"),
+            vec!["line 8, key `camera.perspective.up`", "from parallel"],
+        ),
         ("not-obj", TOML.replace("m.obj", "m.ply"), vec!["`mesh`", ".obj"]),
         (
             "a-spec",

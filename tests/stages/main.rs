@@ -5,6 +5,7 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod fuzz_inputs;
 mod metrics_known;
 mod plan_order;
 mod plan_shard;

@@ -138,6 +138,13 @@ fn bad_scene_files_name_the_line_and_key() {
             TOML.replace("up = [0.0, 1.0, 0.0]", "up = [0.0, 0.0001, 1.0]"),
             vec!["line 8, key `camera.perspective.up`", "from parallel"],
         ),
+        // A camera that sees nothing once rendered "0 AO rays" and exited 0 (and `run` failed only
+        // after building a reference).
+        (
+            "camera-sees-nothing",
+            TOML.replace("target = [0.0, 0.0, 0.0]", "target = [0.0, 0.0, 10.0]"),
+            vec!["camera: sees no triangle of the mesh (none of the 8x8 primary rays", "aim `target`"],
+        ),
         ("not-obj", TOML.replace("m.obj", "m.ply"), vec!["`mesh`", ".obj"]),
         (
             "a-spec",

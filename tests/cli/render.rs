@@ -56,6 +56,27 @@ fn render_writes_exr_and_png_preview() {
     assert!(y.data.iter().zip(&a.data).any(|(&v, &c)| c == 1.0 && v > 0.0 && v < 1.0));
     let png = std::fs::read(dir.join("sub/box.png")).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    // Where the image came from, in its header (OpenImageIO's `iinfo -v` shows it).
+    let p = hemilab::image::decode_exr_provenance(&std::fs::read(&exr).unwrap()).unwrap().unwrap();
+    let want = serde_json::json!({
+        "image": "render",
+        "hemilab_version": env!("CARGO_PKG_VERSION"),
+        "scene": "scenes/cornell-box.toml",
+        "scene_name": "cornell-box",
+        "scene_hash": p.json["scene_hash"],
+        "distribution": "sine-cosine",
+        "sequence": "fibonacci",
+        "seed_mode": "rotation",
+        "rays": 4,
+        "seed": 1,
+        "resolution": [24, 16],
+        "ao_distance": "150",
+    });
+    assert_eq!(p.json, want);
+    assert_eq!(p.json["scene_hash"].as_str().map(str::len), Some(32));
+    assert!(
+        p.summary.contains("render of scenes/cornell-box.toml") && p.summary.contains("4 rays per pixel")
+    );
     let mut listing = entries(&dir.join("sub"));
     listing.sort();
     assert_eq!(listing, ["box.exr", "box.png"], "no temporary files left behind");

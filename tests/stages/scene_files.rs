@@ -224,6 +224,30 @@ fn polylines_points_and_comments_in_a_mesh() {
 }
 
 #[test]
+fn committed_references_record_the_cameras_the_scenes_have() {
+    // A manifest written before the camera was JSON holds it as a debug string; the JSON form
+    // reproduces that string, so each committed reference keeps its file name and is reused.
+    use hemilab::reference::{CameraRecord, Manifest};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut scenes = std::collections::HashMap::new();
+    let mut checked = 0;
+    for e in std::fs::read_dir(root.join("reference")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_none_or(|x| x != "json") {
+            continue;
+        }
+        let m = Manifest::from_json(&std::fs::read_to_string(&p).unwrap()).unwrap();
+        assert_eq!(m.file_stem(), p.file_stem().unwrap().to_string_lossy(), "{}", p.display());
+        let view = *scenes.entry(m.scene.clone()).or_insert_with(|| {
+            load_scene(&root.join("experiments").join(&m.scene)).unwrap_or_else(|e| panic!("{e}")).view
+        });
+        assert_eq!(CameraRecord::of(&view).legacy(), m.camera.legacy(), "{}", p.display());
+        checked += 1;
+    }
+    assert!(checked >= 7, "{checked} manifests");
+}
+
+#[test]
 fn shipped_validation_scene_matches_the_one_built_in_code() {
     use hemilab::render::{RenderJob, render};
     use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};

@@ -29,6 +29,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
     io::ensure_writable_dir(&dir)?;
     io::ensure_writable_file(out)?;
     io::ensure_writable_file(&png)?;
+    // Made by the first write below; said afterwards, so that a mistyped path does not go unseen.
+    let creates_dir = !io::exists(&dir);
 
     let job = RenderJob {
         distribution: args.sampling.distribution,
@@ -54,6 +56,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
         .map_err(|e| Error::input(&png, format!("cannot encode PNG: {e}")))?;
     io::write_atomic(out, &exr)?;
     io::write_atomic(&png, &preview)?;
+    if creates_dir {
+        eprintln!("note: created the directory {} for --output (it did not exist)", dir.display());
+    }
     if !args.common.quiet {
         println!(
             "{}: {width}x{height}, {} rays/pixel, {} AO rays in {secs:.2} s ({:.2} M rays/s) -> {}, {}",

@@ -258,7 +258,7 @@ fn build(
         let label = format!("reference {}/{}", i + 1, jobs.len());
         let done = match &counts {
             Some(c) => runner.render_counts(job, scene, c, &label)?,
-            None => runner.render(job, scene, &label)?,
+            None => runner.render_pass(job, scene, &label)?,
         };
         coverage.get_or_insert(done.output.coverage);
         images.push(done.output.ao);
@@ -379,8 +379,11 @@ fn allocation(
     let mut jobs = plan::reference_jobs(spec, si, manifest.rays);
     for (i, job) in jobs.iter_mut().enumerate() {
         job.seed = plan::reference_seed(spec.reference.seed ^ PILOT_STREAM, job.replicate);
-        let done =
-            runner.render(job, scene, &format!("reference pilot {}/{}", i + 1, spec.reference.replicates))?;
+        let done = runner.render_pass(
+            job,
+            scene,
+            &format!("reference pilot {}/{}", i + 1, spec.reference.replicates),
+        )?;
         coverage.get_or_insert(done.output.coverage);
         pilots.push(done.output.ao);
     }

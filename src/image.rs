@@ -43,9 +43,44 @@ pub struct Channel<'a> {
     pub image: &'a Image,
 }
 
+/// Where an image came from, for its EXR header: a sentence for people (the standard `comments`
+/// attribute, which viewers such as OpenImageIO's `iinfo -v` show) and the same facts as a JSON
+/// object for programs (the `hemilab` attribute); `software` names the version. One custom
+/// attribute only: the exr crate keeps them in a hash map and writes them in its (random) order,
+/// and an image's bytes must not change from one run to the next.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Provenance {
+    pub summary: String,
+    pub json: serde_json::Value,
+}
+
+/// The name of the JSON attribute.
+pub const PROVENANCE_ATTRIBUTE: &str = "hemilab";
+
+/// EXR text attributes hold bytes, not Unicode: JSON with every non-ASCII character escaped
+/// (`\u00e9`, surrogate pairs beyond the basic plane), and a summary with `?` in their place.
+fn ascii_json(v: &serde_json::Value) -> String {
+    let mut out = String::new();
+    for c in v.to_string().chars() {
+        if c.is_ascii() {
+            out.push(c);
+        } else {
+            for unit in c.encode_utf16(&mut [0; 2]) {
+                out.push_str(&format!("\\u{unit:04x}"));
+            }
+        }
+    }
+    out
+}
+
 /// Encodes single-precision channels losslessly (round trips bit-exactly).
 /// Viewers show "Y" as grey and "A" as alpha, so AO goes in Y and coverage in A.
 pub fn encode_exr(channels: &[Channel]) -> Result<Vec<u8>, String> {
+    encode_exr_with(channels, None)
+}
+
+/// `encode_exr`, with the image's provenance in its header.
+pub fn encode_exr_with(channels: &[Channel], provenance: Option<&Provenance>) -> Result<Vec<u8>, String> {
     use exr::prelude::*;
     let first = channels.first().ok_or("an EXR needs at least one channel")?;
     let (w, h) = (first.image.width as usize, first.image.height as usize);
@@ -54,12 +89,17 @@ pub fn encode_exr(channels: &[Channel]) -> Result<Vec<u8>, String> {
     if channels.iter().any(|c| c.image.width as usize != w || c.image.height as usize != h) {
         return Err("EXR channels differ in size".into());
     }
-    let layer = Layer::new(
-        (w, h),
-        LayerAttributes::named("hemilab"),
-        Encoding::SMALL_LOSSLESS,
-        AnyChannels::sort(list),
-    );
+    let mut attributes = LayerAttributes::named("hemilab");
+    if let Some(p) = provenance {
+        let summary: String = p.summary.chars().map(|c| if c.is_ascii() { c } else { '?' }).collect();
+        attributes.comments = Some(Text::from(summary.as_str()));
+        attributes.software_name = Some(Text::from(concat!("hemilab ", env!("CARGO_PKG_VERSION"))));
+        attributes.other.insert(
+            Text::from(PROVENANCE_ATTRIBUTE),
+            AttributeValue::Text(Text::from(ascii_json(&p.json).as_str())),
+        );
+    }
+    let layer = Layer::new((w, h), attributes, Encoding::SMALL_LOSSLESS, AnyChannels::sort(list));
     let mut bytes = Cursor::new(Vec::new());
     exr::prelude::Image::from_layer(layer).write().to_buffered(&mut bytes).map_err(|e| e.to_string())?;
     Ok(bytes.into_inner())
@@ -87,6 +127,22 @@ pub fn decode_exr(bytes: &[u8]) -> Result<Vec<(String, Image)>, String> {
             (c.name.to_string(), crate::image::Image::from_vec(size.0 as u32, size.1 as u32, data))
         })
         .collect())
+}
+
+/// The provenance an EXR's header holds (`encode_exr_with`): its summary and its JSON, if it has
+/// them.
+pub fn decode_exr_provenance(bytes: &[u8]) -> Result<Option<Provenance>, String> {
+    use exr::meta::attribute::AttributeValue;
+    let meta =
+        exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false).map_err(|e| e.to_string())?;
+    let Some(header) = meta.headers.first() else { return Ok(None) };
+    let a = &header.own_attributes;
+    let json = match a.other.get(&exr::meta::attribute::Text::from(PROVENANCE_ATTRIBUTE)) {
+        Some(AttributeValue::Text(t)) => serde_json::from_str(&t.to_string()).map_err(|e| e.to_string())?,
+        _ => return Ok(None),
+    };
+    let summary = a.comments.as_ref().map(|t| t.to_string()).unwrap_or_default();
+    Ok(Some(Provenance { summary, json }))
 }
 
 /// 8-bit grey PNG of values in [0,1] (clamped), for previews.
@@ -137,6 +193,24 @@ mod tests {
             a.data.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
         );
         assert_eq!(al, &m);
+    }
+
+    #[test]
+    fn provenance_is_in_the_header_and_leaves_the_pixels_alone() {
+        let a = Image::from_vec(2, 1, vec![0.5, 1.0]);
+        let p = Provenance {
+            summary: "hemilab: 4 rays, scene 'café'".into(),
+            json: serde_json::json!({ "rays": 4, "scene": "café", "far": "𝄞" }),
+        };
+        let plain = encode_exr(&[Channel { name: "Y", image: &a }]).unwrap();
+        let tagged = encode_exr_with(&[Channel { name: "Y", image: &a }], Some(&p)).unwrap();
+        assert_eq!(decode_exr(&plain).unwrap(), decode_exr(&tagged).unwrap());
+        let back = decode_exr_provenance(&tagged).unwrap().unwrap();
+        assert_eq!(back.json, p.json, "non-ASCII survives as JSON escapes");
+        assert_eq!(back.summary, "hemilab: 4 rays, scene 'caf?'");
+        assert_eq!(decode_exr_provenance(&plain).unwrap(), None);
+        let again = encode_exr_with(&[Channel { name: "Y", image: &a }], Some(&p)).unwrap();
+        assert_eq!(tagged, again, "the same bytes every time");
     }
 
     #[test]

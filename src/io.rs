@@ -140,8 +140,17 @@ pub fn remove_dir_all_if_exists(dir: &Path) -> Result<()> {
 }
 
 pub fn write_exr(path: &Path, channels: &[Channel]) -> Result<()> {
-    let bytes =
-        image::encode_exr(channels).map_err(|e| Error::input(path, format!("cannot encode EXR: {e}")))?;
+    write_exr_with(path, channels, None)
+}
+
+/// `write_exr` with the image's provenance in its header (`image::Provenance`).
+pub fn write_exr_with(
+    path: &Path,
+    channels: &[Channel],
+    provenance: Option<&image::Provenance>,
+) -> Result<()> {
+    let bytes = image::encode_exr_with(channels, provenance)
+        .map_err(|e| Error::input(path, format!("cannot encode EXR: {e}")))?;
     write_atomic(path, &bytes)
 }
 

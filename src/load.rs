@@ -1,12 +1,18 @@
 //! A spec with every scene it names, loaded and validated before any work: every command that
-//! takes a spec (`run`, `plan`, `reference`) starts here, and the report reads the same `Loaded`.
+//! takes a spec (`run`, `plan`, `reference`) starts here, and the report reads the same `Loaded`;
+//! the commands that take a scene file (`render`, `bench`, `advise`) load it here too.
 
 use crate::error::{Error, Result};
 use crate::io;
+use crate::jobs::executor::overhead_job;
 use crate::jobs::runner::Geometry;
+use crate::metrics;
 use crate::plan::Job;
-use crate::scene::{self, Scene, file, mesh};
+use crate::render::{self, RenderJob};
+use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use crate::scene::{self, Camera, Scene, file, mesh};
 use crate::spec::{self, SceneRef, Spec};
+use glam::DVec3;
 use std::path::Path;
 
 /// A spec with every scene it names loaded: all bad input is found here, before any work.
@@ -54,6 +60,9 @@ fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
     let g = Geometry::of(spec.resolution, spec.ao_distance, &scene);
     check_pixels(g.width, g.height)
         .map_err(|e| Error::input(&spec.path, format!("key `resolution`: scene '{}': {e}", s.name)))?;
+    if (g.width, g.height) != scene.resolution {
+        check_view(&s.path, &scene, g.width, g.height)?;
+    }
     Ok(scene)
 }
 
@@ -90,18 +99,100 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
     });
     let hash = scene::content_hash(&[text.as_bytes(), &bytes]);
     let res = (spec.resolution.0, spec.resolution.1);
-    Scene::new(name, spec.camera.camera(), res, spec.ao_distance.0, hash, mesh)
-        .map_err(|e| Error::input(path, e))
+    let scene = Scene::new(name, spec.camera.camera(), res, spec.ao_distance.0, hash, mesh).map_err(|e| {
+        // Its camera and distance were checked with the file; an empty mesh is the mesh's fault.
+        Error::input(if e.starts_with(scene::EMPTY_MESH) { &mesh_path } else { path }, e)
+    })?;
+    check_view(path, &scene, res.0, res.1)?;
+    Ok(scene)
 }
 
-/// The one-line warning for triangles dropped at load, if any.
-pub fn dropped_warning(scene: &Scene) -> Option<String> {
-    (scene.dropped_triangles > 0).then(|| {
+/// Refuses a camera that sees no triangle at `width` x `height`: every image of it would be
+/// background, with nothing to measure, and a run would find out only after building a reference.
+/// The primary rays are traced once (a render with no AO rays, as the executor's overhead render:
+/// milliseconds, against the seconds of any real work), and the message says where the mesh is.
+pub fn check_view(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<()> {
+    let base = RenderJob {
+        distribution: Distribution::SineCosine,
+        sampler: SamplerConfig::new(Sequence::Random, SeedMode::Rotation, 1, 0)
+            .map_err(|e| Error::Refused(e.to_string()))?,
+        width,
+        height,
+        ao_distance: scene.ao_distance,
+    };
+    let out = render::render(scene, &overhead_job(&base), &|_| {});
+    if (0..out.coverage.len()).any(|i| metrics::covered(&out.coverage, i)) {
+        return Ok(());
+    }
+    Err(Error::input(
+        path,
         format!(
+            "camera: sees no triangle of the mesh (none of the {width}x{height} primary rays hits it): {}",
+            where_is_the_mesh(scene)
+        ),
+    ))
+}
+
+/// Where the mesh is from the camera, and what to change: its extent, and how far and how many
+/// degrees off the view direction its centre is.
+fn where_is_the_mesh(scene: &Scene) -> String {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for prim in 0..scene.accel.len() as u32 {
+        for v in scene.accel.triangle(prim) {
+            let w = scene.origin + v.as_dvec3();
+            (lo, hi) = (lo.min(w), hi.max(w));
+        }
+    }
+    let centre = (lo + hi) * 0.5;
+    let (eye, target) = match scene.view {
+        Camera::Perspective { eye, target, .. } | Camera::Orthographic { eye, target, .. } => (eye, target),
+    };
+    let (to_mesh, view) = (centre - eye, target - eye);
+    let angle = to_mesh.angle_between(view).to_degrees();
+    let p = |v: DVec3| format!("[{}, {}, {}]", num(v.x), num(v.y), num(v.z));
+    format!(
+        "the mesh spans {} to {}; its centre {} is {} from the eye {} and {angle:.0}° off the view toward \
+         target {}; aim `target` at the mesh (e.g. its centre), or move `eye`",
+        p(lo),
+        p(hi),
+        p(centre),
+        num(to_mesh.length()),
+        p(eye),
+        p(target)
+    )
+}
+
+/// A coordinate for a message: 4 significant digits, in the notation that reads best.
+fn num(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else if (1e-3..1e6).contains(&x.abs()) {
+        let decimals = (3 - x.abs().log10().floor() as i32).clamp(0, 6) as usize;
+        let s = format!("{x:.decimals$}");
+        let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.') } else { &s };
+        if s == "-0" { "0".into() } else { s.into() }
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+/// The warnings of a scene's load, if any, one line each: triangles dropped (zero area or
+/// non-finite), and mesh elements skipped because they are not faces (AO renders surfaces only).
+pub fn dropped_warning(scene: &Scene) -> Option<String> {
+    let mut lines = Vec::new();
+    if scene.dropped_triangles > 0 {
+        lines.push(format!(
             "warning: scene '{}': dropped {} triangles with zero area or non-finite vertices",
             scene.name, scene.dropped_triangles
-        )
-    })
+        ));
+    }
+    if let Some(s) = &scene.skipped_elements {
+        lines.push(format!(
+            "warning: scene '{}': skipped mesh elements that are not faces: {s}; AO renders faces only",
+            scene.name
+        ));
+    }
+    (!lines.is_empty()).then(|| lines.join("\n"))
 }
 
 /// An image size outside the one limit (`spec::resolution_ok`: what specs, scene files and the
@@ -127,5 +218,8 @@ pub fn scene_at(path: &Path, resolution: Option<(u32, u32)>) -> Result<(Scene, u
     }
     let (width, height) = resolution.unwrap_or(scene.resolution);
     check_pixels(width, height).map_err(usage)?;
+    if (width, height) != scene.resolution {
+        check_view(path, &scene, width, height)?;
+    }
     Ok((scene, width, height))
 }

@@ -3,7 +3,7 @@
 //! what is where.
 
 use crate::error::{Error, Result};
-use crate::image::Channel;
+use crate::image::{Channel, Provenance};
 use crate::io;
 use crate::plan::Job;
 use crate::render::RenderOutput;
@@ -53,12 +53,14 @@ pub fn prepare(out: &Path, images: bool) -> Result<()> {
     Ok(())
 }
 
-/// A measured job's image (AO and coverage) as `images/<job>.exr`; returns its relative path.
-pub fn write_image(out: &Path, job: &Job, output: &RenderOutput) -> Result<String> {
+/// A measured job's image (AO and coverage) as `images/<job>.exr`, with its provenance in the
+/// header; returns its relative path.
+pub fn write_image(out: &Path, job: &Job, output: &RenderOutput, provenance: &Provenance) -> Result<String> {
     let image = image_rel(job);
-    io::write_exr(
+    io::write_exr_with(
         &out.join(&image),
         &[Channel { name: "Y", image: &output.ao }, Channel { name: "A", image: &output.coverage }],
+        Some(provenance),
     )?;
     Ok(image)
 }

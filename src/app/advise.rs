@@ -106,7 +106,9 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         (sweep::present(&setup.loaded, &vplan, &reference, &previous, &stage), None)
     } else {
         let keep = |_: usize, job: &hemilab::plan::Job, o: &hemilab::render::RenderOutput| {
-            outdir::write_image(&stage, job, o)
+            let (_, scene) = setup.loaded.scene_of(job);
+            let p = executor::provenance(&setup.loaded.spec.name, job, scene, &reference, o);
+            outdir::write_image(&stage, job, o, &p)
         };
         let write = |r: &[JobResult]| store.write(r, false);
         let (r, s) = executor::measure_jobs(

@@ -2,12 +2,13 @@
 
 use crate::cli::RenderArgs;
 use hemilab::error::{Error, Result};
-use hemilab::image::{self, Channel, Image};
+use hemilab::image::{self, Channel, Image, Provenance};
 use hemilab::io;
 use hemilab::load::scene_at;
 use hemilab::progress;
 use hemilab::render::{self, RenderJob, RenderOutput};
 use hemilab::sampling::SamplerConfig;
+use hemilab::scene::Scene;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -28,6 +29,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
     io::ensure_writable_dir(&dir)?;
     io::ensure_writable_file(out)?;
     io::ensure_writable_file(&png)?;
+    // Made by the first write below; said afterwards, so that a mistyped path does not go unseen.
+    let creates_dir = !io::exists(&dir);
 
     let job = RenderJob {
         distribution: args.sampling.distribution,
@@ -43,15 +46,19 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let secs = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
 
-    let exr = image::encode_exr(&[
-        Channel { name: "Y", image: &result.ao },
-        Channel { name: "A", image: &result.coverage },
-    ])
+    let provenance = provenance(&args, &scene, &job);
+    let exr = image::encode_exr_with(
+        &[Channel { name: "Y", image: &result.ao }, Channel { name: "A", image: &result.coverage }],
+        Some(&provenance),
+    )
     .map_err(|e| Error::input(out, format!("cannot encode EXR: {e}")))?;
     let preview = image::encode_png_gray(&preview(&result))
         .map_err(|e| Error::input(&png, format!("cannot encode PNG: {e}")))?;
     io::write_atomic(out, &exr)?;
     io::write_atomic(&png, &preview)?;
+    if creates_dir {
+        eprintln!("note: created the directory {} for --output (it did not exist)", dir.display());
+    }
     if !args.common.quiet {
         println!(
             "{}: {width}x{height}, {} rays/pixel, {} AO rays in {secs:.2} s ({:.2} M rays/s) -> {}, {}",
@@ -64,6 +71,41 @@ pub fn run(args: RenderArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// What the EXR's header says about where it came from (`image::Provenance`).
+fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
+    let s = &args.sampling;
+    let d = if job.ao_distance.is_finite() { job.ao_distance.to_string() } else { "infinite".into() };
+    let file = args.scene.to_string_lossy();
+    let json = serde_json::json!({
+        "image": "render",
+        "hemilab_version": env!("CARGO_PKG_VERSION"),
+        "scene": file,
+        "scene_name": scene.name,
+        "scene_hash": scene.content_hash,
+        "distribution": s.distribution.name(),
+        "sequence": s.sequence.name(),
+        "seed_mode": s.seed_mode.name(),
+        "rays": args.rays,
+        "seed": s.seed,
+        "resolution": [job.width, job.height],
+        "ao_distance": d,
+    });
+    let summary = format!(
+        "hemilab {} render of {file} ('{}', {}x{}, d = {d}, hash {}): {} / {} / {}, {} rays per pixel, seed {}",
+        env!("CARGO_PKG_VERSION"),
+        scene.name,
+        job.width,
+        job.height,
+        scene.content_hash,
+        s.distribution.name(),
+        s.sequence.name(),
+        s.seed_mode.name(),
+        args.rays,
+        s.seed
+    );
+    Provenance { summary, json }
 }
 
 /// The PNG preview: AO clamped to [0, 1] by the encoder, background black so it stands out.

@@ -5,6 +5,7 @@
 //! written as soon as it is rendered, so a killed run resumes where it stopped.
 
 use crate::error::{Error, Result};
+use crate::image::Provenance;
 use crate::load::Loaded;
 use crate::metrics;
 use crate::outdir;
@@ -65,7 +66,10 @@ const WARMUP_RAYS: u32 = 16;
 /// content, reference, hemilab version). The reference's measured fields (its render time, noise
 /// floor) are left out: a rebuilt identical reference must not invalidate finished jobs.
 pub fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
-    let manifest = refmath::Manifest { noise_floor: None, time_s: None, ..reference.manifest.clone() };
+    // The camera in the form manifests had before it was JSON, so keys do not depend on the form.
+    let camera = refmath::CameraRecord::Legacy(reference.manifest.camera.legacy());
+    let manifest =
+        refmath::Manifest { noise_floor: None, time_s: None, camera, ..reference.manifest.clone() };
     let what = format!(
         "{};{};{};{}",
         job.canonical(),
@@ -170,8 +174,59 @@ pub fn run_jobs(
     bar: &ProgressBar,
     write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
 ) -> Result<(Vec<JobResult>, Session)> {
-    let keep = |_: usize, job: &Job, output: &RenderOutput| outdir::write_image(out, job, output);
+    let keep = |_: usize, job: &Job, output: &RenderOutput| {
+        let (si, scene) = loaded.scene_of(job);
+        let provenance = provenance(&loaded.spec.name, job, scene, &references[si], output);
+        outdir::write_image(out, job, output, &provenance)
+    };
     measure_jobs(loaded, plan, references, previous, out, protocol, bar, write, &keep)
+}
+
+/// A measured image's provenance, for its EXR header: the configuration, rays, seed, scene and
+/// reference it was measured against, and the version (everything its run key covers, readable).
+pub fn provenance(
+    spec: &str,
+    job: &Job,
+    scene: &Scene,
+    reference: &Reference,
+    output: &RenderOutput,
+) -> Provenance {
+    let (w, h) = (output.ao.width, output.ao.height);
+    let d = super::runner::Geometry::of(job.resolution, job.ao_distance, scene).distance.canonical();
+    let reference_file =
+        reference.exr.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    let json = serde_json::json!({
+        "image": "job",
+        "hemilab_version": env!("CARGO_PKG_VERSION"),
+        "spec": spec,
+        "scene": job.scene_id,
+        "scene_name": job.scene_name,
+        "scene_hash": scene.content_hash,
+        "distribution": job.distribution.name(),
+        "sequence": job.sequence.name(),
+        "seed_mode": job.seed_mode.name(),
+        "rays": job.rays,
+        "replicate": job.replicate,
+        "seed": job.seed,
+        "resolution": [w, h],
+        "ao_distance": d,
+        "reference": reference_file,
+        "reference_noise_floor": reference.noise_floor(),
+    });
+    let summary = format!(
+        "hemilab {} job of spec '{spec}': {} / {} / {}, {} rays per pixel, replicate {}, seed {}; scene {} \
+         ({w}x{h}, d = {d}, hash {}); measured against reference {reference_file}",
+        env!("CARGO_PKG_VERSION"),
+        job.distribution.name(),
+        job.sequence.name(),
+        job.seed_mode.name(),
+        job.rays,
+        job.replicate,
+        job.seed,
+        job.scene_id,
+        scene.content_hash,
+    );
+    Provenance { summary, json }
 }
 
 /// `run_jobs` with the image handed to `keep` instead of written.

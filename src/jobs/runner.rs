@@ -50,17 +50,32 @@ impl JobRunner {
         Ok(Self { pool: render::pool(threads)?, bar: progress::bar(0, "", quiet) })
     }
 
-    /// `job` with `counts[i]` rays in pixel i instead of `job.rays` (adaptive references); the bar
-    /// advances by the rays cast.
+    /// `job` with `counts[i]` rays in pixel i instead of `job.rays` (adaptive references), as a
+    /// pass of its own: the bar goes from 0 to 100 % by the rays cast.
     pub fn render_counts(&self, job: &Job, scene: &Scene, counts: &[u32], label: &str) -> Result<Rendered> {
         let rj = render_job(job, scene, job.rays)?;
-        self.bar.set_message(label.to_string());
+        self.start_pass(counts.iter().map(|&n| n as u64).sum(), label);
         let output = self
             .pool
             .install(|| crate::render::adaptive::render_counts(scene, &rj, counts, &|n| self.bar.inc(n)));
         Ok(Rendered { output })
     }
 
+    /// `render` as a pass of its own (a reference's replicate or pilot): the bar shows this render
+    /// alone, from 0 to 100 %, so a long reference shows its progress and not a full bar.
+    pub fn render_pass(&self, job: &Job, scene: &Scene, label: &str) -> Result<Rendered> {
+        let g = Geometry::of(job.resolution, job.ao_distance, scene);
+        self.start_pass(g.pixels() * job.rays as u64, label);
+        self.render(job, scene, label)
+    }
+
+    fn start_pass(&self, length: u64, label: &str) {
+        self.bar.reset();
+        self.bar.set_length(length);
+        self.bar.set_message(label.to_string());
+    }
+
+    /// `job`, advancing the bar by its rays (the caller sets the bar's length for a series).
     pub fn render(&self, job: &Job, scene: &Scene, label: &str) -> Result<Rendered> {
         let g = Geometry::of(job.resolution, job.ao_distance, scene);
         let rj = render_job(job, scene, job.rays)?;

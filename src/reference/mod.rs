@@ -5,7 +5,10 @@
 //! standard error, whose RMS over covered pixels is the *noise floor*: no RMSE measured against this
 //! reference means anything below it.
 
+mod camera;
 pub mod store;
+
+pub use camera::{CameraJson, CameraRecord};
 
 use crate::image::Image;
 use crate::metrics::covered;
@@ -24,8 +27,8 @@ pub struct Manifest {
     pub scene: String,
     /// Hash of the scene file and mesh bytes, as the scene loader reports it.
     pub scene_hash: String,
-    /// The camera, as the scene loader describes it (position, target, fov …).
-    pub camera: String,
+    /// The camera as the scene file places it (`CameraRecord`: JSON, or the older debug string).
+    pub camera: CameraRecord,
     pub resolution: [u32; 2],
     /// `AoDistance::canonical()` of the distance actually used.
     pub ao_distance: String,
@@ -131,7 +134,7 @@ impl Manifest {
     pub fn wanted(
         scene: &SceneRef,
         scene_hash: &str,
-        camera: &str,
+        camera: CameraRecord,
         resolution: [u32; 2],
         ao_distance: AoDistance,
         estimator: Row,
@@ -143,7 +146,7 @@ impl Manifest {
             hemilab_version: env!("CARGO_PKG_VERSION").into(),
             scene: scene.id.clone(),
             scene_hash: scene_hash.into(),
-            camera: camera.into(),
+            camera,
             resolution,
             ao_distance: ao_distance.canonical(),
             distribution: estimator.distribution.name().into(),
@@ -180,7 +183,7 @@ impl Manifest {
         cmp("hemilab_version", self.hemilab_version.clone(), wanted.hemilab_version.clone());
         cmp("scene", self.scene.clone(), wanted.scene.clone());
         cmp("scene_hash", self.scene_hash.clone(), wanted.scene_hash.clone());
-        cmp("camera", self.camera.clone(), wanted.camera.clone());
+        cmp("camera", self.camera.legacy(), wanted.camera.legacy());
         cmp("resolution", format!("{:?}", self.resolution), format!("{:?}", wanted.resolution));
         cmp("ao_distance", self.ao_distance.clone(), wanted.ao_distance.clone());
         cmp("distribution", self.distribution.clone(), wanted.distribution.clone());
@@ -226,7 +229,8 @@ impl Manifest {
         let name = std::path::Path::new(&self.scene)
             .file_stem()
             .map_or("scene".to_string(), |s| s.to_string_lossy().into_owned());
-        let what = format!("{};{};{:?};{}", self.scene, self.camera, self.resolution, self.ao_distance);
+        let what =
+            format!("{};{};{:?};{}", self.scene, self.camera.legacy(), self.resolution, self.ao_distance);
         let h = crate::plan::fnv1a64(what.as_bytes());
         format!("{name}-{}x{}-{:08x}", self.resolution[0], self.resolution[1], h as u32)
     }
@@ -395,7 +399,7 @@ mod manifest_tests {
         Manifest::wanted(
             &scene,
             "fnv:0123",
-            "eye 0 1 2; at 0 0 0; fov 60",
+            CameraRecord::Legacy("eye 0 1 2; at 0 0 0; fov 60".into()),
             [160, 120],
             AoDistance::Finite(1.0),
             est,

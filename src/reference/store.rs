@@ -3,7 +3,7 @@
 //! an unbiased estimator; their spread gives the per-pixel standard error and so the noise floor.
 
 use crate::error::{Error, Result};
-use crate::image::{Channel, Image};
+use crate::image::{Channel, Image, Provenance};
 use crate::io;
 use crate::jobs::runner::{Geometry, JobRunner};
 use crate::plan;
@@ -83,7 +83,7 @@ pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry
     let mut m = Manifest::wanted(
         &spec.scenes[si],
         &scene.content_hash,
-        &scene.camera_description(),
+        reference::CameraRecord::of(&scene.view),
         [geometry.width, geometry.height],
         geometry.distance,
         spec.reference.estimator,
@@ -258,7 +258,7 @@ fn build(
         let label = format!("reference {}/{}", i + 1, jobs.len());
         let done = match &counts {
             Some(c) => runner.render_counts(job, scene, c, &label)?,
-            None => runner.render(job, scene, &label)?,
+            None => runner.render_pass(job, scene, &label)?,
         };
         coverage.get_or_insert(done.output.coverage);
         images.push(done.output.ao);
@@ -273,13 +273,14 @@ fn build(
     manifest.noise_floor = Some(reference::noise_floor(&stderr, &coverage));
     manifest.time_s = Some(start.elapsed().as_secs_f64());
     // Image first, manifest last: a crash in between leaves no manifest, so nothing stale is reused.
-    io::write_exr(
+    io::write_exr_with(
         exr,
         &[
             Channel { name: "Y", image: &mean },
             Channel { name: "stderr", image: &stderr },
             Channel { name: "A", image: &coverage },
         ],
+        Some(&provenance(&manifest)),
     )?;
     io::write_atomic(json, manifest.to_json().as_bytes())?;
     let rays = match &manifest.adaptive {
@@ -311,6 +312,35 @@ fn build(
         );
     }
     Ok(Reference { mean, stderr, coverage, manifest, exr: exr.to_path_buf() })
+}
+
+/// A reference image's provenance: its manifest (what determines it, and its noise floor), without
+/// its render time, which would make the image's bytes differ from one build to the next.
+fn provenance(m: &Manifest) -> Provenance {
+    // Through the manifest's text, so an f32 reads as the manifest writes it (39.3077, not
+    // 39.307701110839844).
+    let mut json: serde_json::Value = serde_json::from_str(&m.to_json()).unwrap_or_default();
+    if let Some(o) = json.as_object_mut() {
+        o.remove("time_s");
+        o.insert("image".into(), "reference".into());
+    }
+    let summary = format!(
+        "hemilab {} reference of {} ({}x{}, d = {}): mean of {} replicates of {} rays per pixel of {} / {} / \
+         {}, seed {}; noise floor {:.3e}",
+        m.hemilab_version,
+        m.scene,
+        m.resolution[0],
+        m.resolution[1],
+        m.ao_distance,
+        m.replicates,
+        if m.adaptive.is_some() { format!("adaptive (pilot {})", m.rays) } else { m.rays.to_string() },
+        m.distribution,
+        m.sequence,
+        m.seed_mode,
+        m.seed,
+        m.noise_floor.unwrap_or(f64::NAN)
+    );
+    Provenance { summary, json }
 }
 
 /// The stems of the other references of `m`'s scene file in `dir` (older views, other sizes): a
@@ -349,8 +379,11 @@ fn allocation(
     let mut jobs = plan::reference_jobs(spec, si, manifest.rays);
     for (i, job) in jobs.iter_mut().enumerate() {
         job.seed = plan::reference_seed(spec.reference.seed ^ PILOT_STREAM, job.replicate);
-        let done =
-            runner.render(job, scene, &format!("reference pilot {}/{}", i + 1, spec.reference.replicates))?;
+        let done = runner.render_pass(
+            job,
+            scene,
+            &format!("reference pilot {}/{}", i + 1, spec.reference.replicates),
+        )?;
         coverage.get_or_insert(done.output.coverage);
         pilots.push(done.output.ao);
     }

@@ -6,6 +6,33 @@
 
 use glam::{DVec3, Vec3};
 
+/// The least sine of the angle between `up` and the view direction (target − eye) a camera may have:
+/// 1e-3, about 0.057°. Closer to parallel, the image's roll is decided by rounding error rather
+/// than by the scene file (in f32, the renderer's precision, the cross product that fixes "right" is
+/// then mostly rounding), so such a camera is refused rather than rendered rolled.
+pub const MIN_UP_SINE: f64 = 1e-3;
+
+/// Why `up` cannot orient a camera looking along `dir`, if it cannot: zero, or within
+/// `MIN_UP_SINE` of parallel to `dir` (a relative test: |dir × up| against |dir| |up|).
+pub fn up_problem(dir: DVec3, up: DVec3) -> Option<String> {
+    let (d, u) = (dir.length(), up.length());
+    if u == 0.0 || !u.is_finite() {
+        return Some("up must not be zero".into());
+    }
+    let sine = dir.cross(up).length() / (d * u);
+    if sine.is_finite() && sine >= MIN_UP_SINE {
+        return None;
+    }
+    let degrees = sine.clamp(0.0, 1.0).asin().to_degrees();
+    Some(format!(
+        "up is {} to the view direction (target - eye); up must be at least {:.3}° from it (|up × \
+         (target - eye)| ≥ {MIN_UP_SINE:e} |up| |target - eye|), so that it decides which way is up in \
+         the image",
+        if sine == 0.0 { "parallel".to_string() } else { format!("{degrees:.2e}° from parallel") },
+        MIN_UP_SINE.asin().to_degrees()
+    ))
+}
+
 /// `V`: `Vec3` for the renderer's camera-relative camera, `DVec3` for the world placement.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Camera<V = Vec3> {
@@ -66,8 +93,8 @@ impl Camera {
         if forward == Vec3::ZERO {
             return Some("eye and target must differ".into());
         }
-        if forward.cross(up).normalize_or_zero() == Vec3::ZERO {
-            return Some("up must not be zero or parallel to the view direction (target - eye)".into());
+        if let Some(p) = up_problem(forward.as_dvec3(), up.as_dvec3()) {
+            return Some(p);
         }
         match *self {
             Camera::Perspective { fov_y_deg, .. } if !(fov_y_deg > 0.0 && fov_y_deg < 180.0) => {
@@ -168,5 +195,15 @@ mod tests {
         assert!(cam.problem().is_none());
         let bad = Camera::Perspective { eye: Vec3::ZERO, target: Vec3::Z, up: Vec3::Y, fov_y_deg: 180.0 };
         assert!(bad.problem().unwrap().contains("fov_y_deg"));
+    }
+
+    #[test]
+    fn up_nearly_parallel_to_the_view_is_refused() {
+        let look = |up: Vec3| Camera::Perspective { eye: Vec3::ZERO, target: Vec3::Z, up, fov_y_deg: 45.0 };
+        assert!(look(Vec3::Z).problem().unwrap().contains("parallel"));
+        assert!(look(Vec3::new(0.0, 1e-4, 1.0)).problem().unwrap().contains("from parallel"));
+        assert!(look(Vec3::ZERO).problem().unwrap().contains("zero"));
+        assert!(look(Vec3::new(0.0, 2e-3, 1.0)).problem().is_none(), "0.11° away is enough");
+        assert!(look(-Vec3::Y).problem().is_none());
     }
 }

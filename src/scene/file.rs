@@ -12,11 +12,12 @@
 //! fov_y_deg = 39.3
 //! ```
 
-use super::camera::{Camera, WorldCamera};
-use crate::spec::position::describe;
+use super::camera::{Camera, WorldCamera, up_problem};
+use crate::spec::position::{describe, line_of};
 use crate::spec::{RESOLUTION_RULE, resolution_ok};
 use glam::DVec3;
 use serde::{Deserialize, Deserializer, de};
+use toml::Spanned;
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -39,18 +40,18 @@ pub enum CameraFile {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PerspectiveFile {
-    pub eye: Point,
-    pub target: Point,
-    pub up: Point,
+    pub eye: Spanned<Point>,
+    pub target: Spanned<Point>,
+    pub up: Spanned<Point>,
     pub fov_y_deg: FovDeg,
 }
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OrthographicFile {
-    pub eye: Point,
-    pub target: Point,
-    pub up: Point,
+    pub eye: Spanned<Point>,
+    pub target: Spanned<Point>,
+    pub up: Spanned<Point>,
     pub view_width: Positive,
 }
 
@@ -58,22 +59,57 @@ impl CameraFile {
     /// The camera in world coordinates, in f64 as written (a scene far from the origin keeps its
     /// precision until `Scene::new` re-centres it on the eye).
     pub fn camera(&self) -> WorldCamera {
+        let [eye, target, up] = self.pose().map(|p| p.get_ref().0);
         match self {
-            CameraFile::Perspective(p) => {
-                Camera::Perspective { eye: p.eye.0, target: p.target.0, up: p.up.0, fov_y_deg: p.fov_y_deg.0 }
+            CameraFile::Perspective(p) => Camera::Perspective { eye, target, up, fov_y_deg: p.fov_y_deg.0 },
+            CameraFile::Orthographic(o) => {
+                Camera::Orthographic { eye, target, up, view_width: o.view_width.0 }
             }
-            CameraFile::Orthographic(o) => Camera::Orthographic {
-                eye: o.eye.0,
-                target: o.target.0,
-                up: o.up.0,
-                view_width: o.view_width.0,
-            },
+        }
+    }
+
+    /// Eye, target and up, with where each is written.
+    fn pose(&self) -> [&Spanned<Point>; 3] {
+        match self {
+            CameraFile::Perspective(p) => [&p.eye, &p.target, &p.up],
+            CameraFile::Orthographic(o) => [&o.eye, &o.target, &o.up],
+        }
+    }
+
+    /// The table's dotted key, for messages.
+    fn key(&self) -> &'static str {
+        match self {
+            CameraFile::Perspective(_) => "camera.perspective",
+            CameraFile::Orthographic(_) => "camera.orthographic",
         }
     }
 }
 
-/// `[x, y, z]`: exactly three finite numbers, in f64 as written (toml would drop a fourth silently
-/// into an array).
+/// What no single value's check can see: a camera whose target is its eye, or whose `up` is zero
+/// or (nearly) parallel to its view (`camera::up_problem`, a relative tolerance), which would
+/// render rolled by rounding error. Blamed on the line and key of `target` or `up`.
+fn check_camera(text: &str, camera: &CameraFile) -> Result<(), String> {
+    let [eye, target, up] = camera.pose();
+    let at = |v: &Spanned<Point>, name: &str, what: String| {
+        format!("line {}, key `{}.{name}`: {what}", line_of(text, v.span().start), camera.key())
+    };
+    let dir = target.get_ref().0 - eye.get_ref().0;
+    if dir.length() == 0.0 {
+        return Err(at(
+            target,
+            "target",
+            "target is the eye; the camera looks from eye toward target".into(),
+        ));
+    }
+    if let Some(p) = up_problem(dir, up.get_ref().0) {
+        let [x, y, z] = up.get_ref().0.to_array();
+        return Err(at(up, "up", format!("[{x}, {y}, {z}]: {p}")));
+    }
+    Ok(())
+}
+
+/// `[x, y, z]`: exactly three finite numbers within ±`MAX_COORDINATE` (as a mesh's vertices), in
+/// f64 as written (toml would drop a fourth silently into an array).
 #[derive(Debug, Clone, Copy)]
 pub struct Point(pub DVec3);
 
@@ -81,8 +117,11 @@ impl<'de> Deserialize<'de> for Point {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let v = Vec::<f64>::deserialize(d)?;
         match v[..] {
-            [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Point(DVec3::new(x, y, z))),
-            _ => Err(de::Error::custom(format!("must be [x, y, z], three finite numbers, got {v:?}"))),
+            [x, y, z] if v.iter().all(|c| c.abs() <= super::MAX_COORDINATE) => Ok(Point(DVec3::new(x, y, z))),
+            _ => Err(de::Error::custom(format!(
+                "must be [x, y, z], three finite numbers within ±{:e}, got {v:?}",
+                super::MAX_COORDINATE
+            ))),
         }
     }
 }
@@ -182,7 +221,9 @@ impl<'de> Deserialize<'de> for AoDistance {
 /// Parses the scene TOML; the error is one line, `line N, key K: what` (without the file name), as
 /// a spec's are.
 pub fn parse(text: &str) -> Result<SceneFile, String> {
-    toml::from_str(text).map_err(|e| describe(text, &e, &hint))
+    let file: SceneFile = toml::from_str(text).map_err(|e| describe(text, &e, &hint))?;
+    check_camera(text, &file.camera)?;
+    Ok(file)
 }
 
 /// The two ways to write the camera, said whenever the camera is missing or malformed.
@@ -241,5 +282,22 @@ mod tests {
         assert!(e.contains("line 3") && e.contains("ao_distance"), "{e}");
         let e = parse(&GOOD.replace("[4, 3]", "[0, 3]")).unwrap_err();
         assert!(e.contains("line 2") && e.contains("resolution"), "{e}");
+    }
+
+    #[test]
+    fn camera_coordinates_are_bounded_as_a_mesh_is() {
+        let e = parse(&GOOD.replace("eye = [0, 0, 1]", "eye = [0, 0, 1e30]")).unwrap_err();
+        assert!(e.contains("line 5") && e.contains("within ±1e18"), "{e}");
+    }
+
+    #[test]
+    fn up_along_the_view_is_refused_at_its_line() {
+        let e = parse(&GOOD.replace("up = [0, 1, 0]", "up = [0, 0, -3]")).unwrap_err();
+        assert!(e.starts_with("line 7, key `camera.orthographic.up`: [0, 0, -3]: up is parallel"), "{e}");
+        let e = parse(&GOOD.replace("up = [0, 1, 0]", "up = [0, 1e-4, 1]")).unwrap_err();
+        assert!(e.contains("line 7") && e.contains("from parallel"), "{e}");
+        assert!(parse(&GOOD.replace("up = [0, 1, 0]", "up = [0, 1, 1]")).is_ok(), "45° is fine");
+        let e = parse(&GOOD.replace("eye = [0, 0, 1]", "eye = [0, 0, 0]")).unwrap_err();
+        assert!(e.starts_with("line 6, key `camera.orthographic.target`: target is the eye"), "{e}");
     }
 }

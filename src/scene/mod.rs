@@ -8,6 +8,7 @@ pub mod file;
 pub mod generate;
 pub mod mesh;
 mod node;
+mod obj;
 pub mod packet;
 #[cfg(any(test, feature = "testing"))]
 pub mod procedural;
@@ -17,6 +18,15 @@ pub use camera::{Camera, WorldCamera};
 pub use mesh::Mesh;
 
 use glam::{DVec3, Vec3};
+
+/// The largest coordinate (of a mesh vertex or a camera position) a scene may have, in magnitude:
+/// the renderer works in f32 relative to the camera, and a triangle's edge cross product (up to
+/// about 12 × this squared between two points at ±this) stays below f32's 3.4e38 only up to here.
+pub const MAX_COORDINATE: f64 = 1e18;
+
+/// How `Scene::new`'s error starts when no triangle survives rounding to f32 (a fault of the mesh
+/// file, not of the scene file, so the loader names the mesh).
+pub const EMPTY_MESH: &str = "empty mesh";
 
 /// A scene ready to render. Everything the renderer sees is relative to `origin`, the camera's eye:
 /// the world coordinates (f64) have the eye subtracted before they are rounded to f32, as large-world
@@ -38,6 +48,9 @@ pub struct Scene {
     pub triangle_count: usize,
     /// Triangles dropped at load (zero area or non-finite), for one warning.
     pub dropped_triangles: usize,
+    /// Mesh elements skipped because they are not faces (`Mesh::skipped_description`), for one
+    /// warning.
+    pub skipped_elements: Option<String>,
     /// Core BVH build time (obvhs's own measure, without input conversion).
     pub bvh_build_s: f64,
     pub accel: Accel,
@@ -67,6 +80,7 @@ impl Scene {
             return Err(format!("ao_distance must be positive or \"infinite\", got {ao_distance}"));
         }
         let local = |v: DVec3| (v - origin).as_vec3();
+        let skipped_elements = mesh.skipped_description();
         let (mut triangles, mut dropped) = (Vec::with_capacity(mesh.triangles.len()), mesh.dropped);
         for t in &mesh.triangles {
             let t = [local(t[0]), local(t[1]), local(t[2])];
@@ -77,7 +91,11 @@ impl Scene {
             }
         }
         if triangles.is_empty() {
-            return Err("empty mesh: no usable triangles".into());
+            return Err(format!(
+                "{EMPTY_MESH}: all {dropped} triangles lose their area when moved next to the camera and \
+                 rounded to f32 (the renderer's precision): they are too small for their distance from \
+                 the eye, or too large for f32"
+            ));
         }
         let (accel, bvh_build_s) = Accel::build(&triangles);
         Ok(Scene {
@@ -90,6 +108,7 @@ impl Scene {
             content_hash,
             triangle_count: triangles.len(),
             dropped_triangles: dropped,
+            skipped_elements,
             bvh_build_s,
             accel,
         })
@@ -117,7 +136,7 @@ impl Scene {
         }
         let hash = content_hash(&[&bytes]);
         let (keep, drop): (Vec<_>, Vec<_>) = triangles.into_iter().partition(mesh::usable);
-        let mesh = Mesh { triangles: keep, dropped: drop.len() };
+        let mesh = Mesh { triangles: keep, dropped: drop.len(), skipped: Vec::new() };
         Scene::new(name.to_string(), view, resolution, ao_distance, hash, mesh)
     }
 }

@@ -57,6 +57,40 @@ fn missing_spec_or_scene_file_is_named() {
 }
 
 #[test]
+fn a_camera_that_sees_nothing_stops_every_command_before_any_work() {
+    // Once: `render` exited 0 with "0 AO rays", and `run` built and wrote a reference, then failed
+    // with a job's key ("no pixel is covered").
+    let t = Tmp::new("blind");
+    let box_scene = std::fs::read_to_string(scene("cornell-box.toml")).unwrap();
+    let blind = box_scene
+        .replace("target = [278.0, 273.0, 0.0]", "target = [278.0, 273.0, -1600.0]")
+        .replace("cornell-box.obj", &scene("cornell-box.obj"));
+    let scene_file = t.spec("blind.toml", &blind);
+    let spec = t.spec("s.toml", &tiny_spec(16, "").replace(&scene("cornell-box.toml"), "blind.toml"));
+    let before = t.listing();
+    let name = scene_file.display().to_string();
+    let runs: [&[&str]; 5] = [
+        &["run", "s.toml", "--out", "out", "--reference-dir", "ref", "--quiet"],
+        &["plan", "s.toml"],
+        &["reference", "s.toml", "--reference-dir", "ref"],
+        &["advise", &name, "--out", "out", "--reference-dir", "ref"],
+        &["render", &name, "--rays", "4", "--output", "out/x.exr"],
+    ];
+    for args in runs {
+        let e = assert_error(
+            &t.hemilab(args),
+            if args[0] == "advise" || args[0] == "render" { &name } else { "blind.toml" },
+        );
+        assert!(
+            e.contains("camera: sees no triangle of the mesh") && e.contains("aim `target`"),
+            "{args:?}: {e}"
+        );
+        assert_eq!(t.listing(), before, "{args:?}: nothing is written");
+    }
+    assert!(spec.exists());
+}
+
+#[test]
 fn unwritable_output_directory_fails_before_rendering() {
     let t = Tmp::new("unwritable");
     let spec = t.spec("tiny.toml", &tiny_spec(16, ""));

@@ -56,7 +56,7 @@ fn good_scene_with_degenerate_triangles_drops_and_counts_them() {
     let dir = temp_dir("degenerate");
     std::fs::write(dir.join("s.toml"), TOML.replace("ao_distance = 1.0", "ao_distance = \"infinite\""))
         .unwrap();
-    std::fs::write(dir.join("m.obj"), format!("{QUAD}v 2 2 2\nv nan 0 0\nf 1 2 2\nf 5 6 1\n")).unwrap();
+    std::fs::write(dir.join("m.obj"), format!("{QUAD}v 2 2 2\nv 4 4 4\nf 1 2 2\nf 5 6 1\n")).unwrap();
     let scene = load_scene(&dir.join("s.toml")).unwrap();
     assert_eq!((scene.triangle_count, scene.dropped_triangles), (2, 2));
     assert_eq!(scene.ao_distance, f32::INFINITY);
@@ -87,6 +87,24 @@ fn bad_meshes_name_the_mesh_file_and_line() {
         ("bad-vertex", "v 0 0 0\nv 1 zero 0\n", "line 2"),
         ("all-degenerate", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "its one triangle has zero area"),
         ("binary", "\u{0}\u{1}\u{2}", "empty mesh"),
+        // Once read as f64, then collapsed in f32: "empty mesh: no usable triangles", blamed on the
+        // scene file, with no reason.
+        (
+            "huge-coordinate",
+            "v 0 0 0\nv 1e30 0 0\nv 0 1 0\nf 1 2 3\n",
+            "line 2: vertex coordinate 1e30 is beyond",
+        ),
+        (
+            "infinite-coordinate",
+            "v 0 0 0\nv 1 0 0\nv 0 1e999 0\nf 1 2 3\n",
+            "line 3: vertex coordinate '1e999'",
+        ),
+        ("nan-coordinate", "v nan 0 0\n", "line 1: vertex coordinate 'nan' is not a finite number"),
+        (
+            "only-polylines",
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n",
+            "no faces (AO needs at least one triangle); skipped 1 `l`",
+        ),
     ] {
         let (dir, e) = load_error(name, TOML, Some(obj));
         assert!(e.contains(&dir.join("m.obj").display().to_string()), "{name}: {e}");
@@ -109,6 +127,24 @@ fn bad_scene_files_name_the_line_and_key() {
         ),
         ("missing-key", TOML.replace("resolution = [8, 8]\n", ""), vec!["resolution"]),
         ("eye-is-target", TOML.replace("[0.0, 0.0, 5.0]", "[0.0, 0.0, 0.0]"), vec!["camera", "eye"]),
+        // `up` along the view once rendered an image rolled by rounding error.
+        (
+            "up-along-the-view",
+            TOML.replace("up = [0.0, 1.0, 0.0]", "up = [0.0, 0.0, -2.0]"),
+            vec!["line 8, key `camera.perspective.up`: [0, 0, -2]: up is parallel", "at least 0.057°"],
+        ),
+        (
+            "up-nearly-along-the-view",
+            TOML.replace("up = [0.0, 1.0, 0.0]", "up = [0.0, 0.0001, 1.0]"),
+            vec!["line 8, key `camera.perspective.up`", "from parallel"],
+        ),
+        // A camera that sees nothing once rendered "0 AO rays" and exited 0 (and `run` failed only
+        // after building a reference).
+        (
+            "camera-sees-nothing",
+            TOML.replace("target = [0.0, 0.0, 0.0]", "target = [0.0, 0.0, 10.0]"),
+            vec!["camera: sees no triangle of the mesh (none of the 8x8 primary rays", "aim `target`"],
+        ),
         ("not-obj", TOML.replace("m.obj", "m.ply"), vec!["`mesh`", ".obj"]),
         (
             "a-spec",
@@ -157,6 +193,58 @@ fn bad_scene_files_name_the_line_and_key() {
             assert!(e.contains(w), "{name}: want '{w}' in: {e}");
         }
     }
+}
+
+#[test]
+fn polylines_points_and_comments_in_a_mesh() {
+    // Once an `l` of three corners became a triangle (changing the image by up to 0.75), and a
+    // comment after a vertex was a "color parse error" with no line.
+    use hemilab::render::{RenderJob, render};
+    use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+    let dir = temp_dir("polylines");
+    std::fs::write(dir.join("s.toml"), TOML).unwrap();
+    let obj = "v 0 0 0 # corner\nv 1 0 0\nv 1 1 0\nv 0 1 0\n# the quad\nf 1 2 3 4 # two triangles\n\
+               l 1 3 4\nl 1 2\np 2\nl -1 -2 -3\n";
+    std::fs::write(dir.join("m.obj"), obj).unwrap();
+    let with = load_scene(&dir.join("s.toml")).unwrap();
+    assert_eq!((with.triangle_count, with.dropped_triangles), (2, 0));
+    let w = dropped_warning(&with).unwrap();
+    assert_eq!(
+        w,
+        "warning: scene 's': skipped mesh elements that are not faces: 3 `l` (polylines; first on line 7), \
+         1 `p` (points; line 9); AO renders faces only"
+    );
+    std::fs::write(dir.join("m.obj"), QUAD).unwrap();
+    let plain = load_scene(&dir.join("s.toml")).unwrap();
+    assert!(dropped_warning(&plain).is_none());
+    let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 8, 1).unwrap();
+    let job = RenderJob { distribution: Distribution::Sine, sampler, width: 8, height: 8, ao_distance: 1.0 };
+    let (a, b) = (render(&with, &job, &|_| {}), render(&plain, &job, &|_| {}));
+    assert_eq!((a.ao, a.coverage), (b.ao, b.coverage), "skipped elements change nothing");
+}
+
+#[test]
+fn committed_references_record_the_cameras_the_scenes_have() {
+    // A manifest written before the camera was JSON holds it as a debug string; the JSON form
+    // reproduces that string, so each committed reference keeps its file name and is reused.
+    use hemilab::reference::{CameraRecord, Manifest};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut scenes = std::collections::HashMap::new();
+    let mut checked = 0;
+    for e in std::fs::read_dir(root.join("reference")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_none_or(|x| x != "json") {
+            continue;
+        }
+        let m = Manifest::from_json(&std::fs::read_to_string(&p).unwrap()).unwrap();
+        assert_eq!(m.file_stem(), p.file_stem().unwrap().to_string_lossy(), "{}", p.display());
+        let view = *scenes.entry(m.scene.clone()).or_insert_with(|| {
+            load_scene(&root.join("experiments").join(&m.scene)).unwrap_or_else(|e| panic!("{e}")).view
+        });
+        assert_eq!(CameraRecord::of(&view).legacy(), m.camera.legacy(), "{}", p.display());
+        checked += 1;
+    }
+    assert!(checked >= 7, "{checked} manifests");
 }
 
 #[test]

@@ -4,7 +4,6 @@
 
 use crate::error::{Error, Result};
 use crate::io;
-use crate::jobs::executor::overhead_job;
 use crate::jobs::runner::Geometry;
 use crate::metrics;
 use crate::plan::Job;
@@ -120,7 +119,7 @@ pub fn check_view(path: &Path, scene: &Scene, width: u32, height: u32) -> Result
         height,
         ao_distance: scene.ao_distance,
     };
-    let out = render::render(scene, &overhead_job(&base), &|_| {});
+    let out = render::render(scene, &render::overhead_job(&base), &|_| {});
     if (0..out.coverage.len()).any(|i| metrics::covered(&out.coverage, i)) {
         return Ok(());
     }

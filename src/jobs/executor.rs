@@ -14,7 +14,6 @@ use crate::reference as refmath;
 use crate::reference::store::Reference;
 use crate::render::{self, RenderJob, RenderOutput};
 use crate::results::{self, JobResult};
-use crate::sampling::{SamplerConfig, SeedMode, Sequence};
 use crate::scene::Scene;
 use crate::spec::Row;
 use crate::timing::{self, Need, Protocol, Slot, Summary, Time};
@@ -90,14 +89,7 @@ pub fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
     super::runner::render_job(job, loaded.scene_of(job).1, rays)
 }
 
-/// The overhead render: `job`'s image with no AO rays, i.e. primary rays, hit points, frames and
-/// the image itself. (Built directly: `SamplerConfig::new` refuses zero points, which would
-/// have no estimate; this render's image is never used, only its time.)
-pub fn overhead_job(base: &RenderJob) -> RenderJob {
-    let sampler =
-        SamplerConfig { sequence: Sequence::Random, seed_mode: SeedMode::Rotation, count: 0, seed: 0 };
-    RenderJob { sampler, ..*base }
-}
+pub use crate::render::overhead_job;
 
 /// Whatever a worker hands back for one slot.
 struct Done {

@@ -323,6 +323,20 @@ pub fn trace_pixel(
         scene.accel.occluded_from(origin, Some(normal), dirs, tmax, blocked, &mut c.borrow_mut());
     });
 }
+/// The overhead render: `base`'s image with no AO rays, i.e. primary rays, hit points, frames and
+/// the image itself: what the timing protocol subtracts, and what shows whether a camera sees
+/// anything. (Built directly: `SamplerConfig::new` refuses zero points, which would have no
+/// estimate; this render's AO image is never used.)
+pub fn overhead_job(base: &RenderJob) -> RenderJob {
+    let sampler = crate::sampling::SamplerConfig {
+        sequence: crate::sampling::Sequence::Random,
+        seed_mode: crate::sampling::SeedMode::Rotation,
+        count: 0,
+        seed: 0,
+    };
+    RenderJob { sampler, ..*base }
+}
+
 /// A pool of `threads` worker threads (default: one per core).
 pub fn pool(threads: Option<u32>) -> crate::error::Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()

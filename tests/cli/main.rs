@@ -5,6 +5,7 @@
 mod support;
 
 mod advise;
+mod interrupt;
 mod plan_estimate;
 mod points;
 mod reference_adaptive;

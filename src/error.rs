@@ -1,5 +1,6 @@
 //! User-facing errors: each names the file, key or job it concerns, so the message alone says what
-//! to fix. Every variant is a bad input or an unusable environment, and exits with status 2.
+//! to fix. Every variant but one is a bad input or an unusable environment, and exits with status 2;
+//! `Interrupted` is a signal's stop, with the shell's status for it (130 for Ctrl-C).
 
 use std::path::{Path, PathBuf};
 
@@ -17,6 +18,9 @@ pub enum Error {
     /// The work could not be done as asked (e.g. a reference that does not match and may not be rebuilt).
     #[error("{0}")]
     Refused(String),
+    /// SIGINT or SIGTERM stopped the work: what is saved, and how to resume (`interrupt`).
+    #[error("{0}")]
+    Interrupted(String),
 }
 
 impl Error {
@@ -28,9 +32,13 @@ impl Error {
         Error::Io { path: path.to_path_buf(), source }
     }
 
-    /// Everything here is the user's to fix, so all of it exits with 2 (clap's usage code too).
+    /// Everything but a signal's stop is the user's to fix, so it exits with 2 (clap's usage code
+    /// too); a stop exits with 128 + the signal's number, as a killed command does.
     pub fn exit_code(&self) -> i32 {
-        2
+        match self {
+            Error::Interrupted(_) => crate::interrupt::exit_code(),
+            _ => 2,
+        }
     }
 }
 

@@ -79,6 +79,56 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     Ok(())
 }
 
+/// Removes the temporary files that `write_atomic` and `link_or_copy` of a process that is gone left
+/// in `dir` (a `kill -9`, a power cut: `.NAME.tmp-HOST-PID`, `.NAME.link-HOST-PID`), and returns
+/// them. Only that pattern, and only where no writer can still be at work: on this host, a PID that
+/// is not running (or is this process, which has not written yet when it cleans up); on another
+/// host (a shared filesystem), a file untouched for `STALE_ELSEWHERE_S`.
+pub fn remove_stale_temp_files(dir: &Path) -> Result<Vec<PathBuf>> {
+    let here = host_tag();
+    let mut removed = Vec::new();
+    for path in list_dir(dir)? {
+        let Some((host, pid)) = path.file_name().and_then(|n| temp_owner(&n.to_string_lossy())) else {
+            continue;
+        };
+        let stale = if host == here {
+            pid == std::process::id() || !process_runs(pid)
+        } else {
+            fs::metadata(&path)
+                .and_then(|m| m.modified())
+                .ok()
+                .and_then(|t| t.elapsed().ok())
+                .is_some_and(|age| age.as_secs() >= STALE_ELSEWHERE_S)
+        };
+        if stale && fs::symlink_metadata(&path).is_ok_and(|m| m.is_file()) {
+            remove_file_if_exists(&path)?;
+            removed.push(path);
+        }
+    }
+    Ok(removed)
+}
+
+/// A temporary file of another host is stale after a day: no single write takes that long.
+const STALE_ELSEWHERE_S: u64 = 24 * 3600;
+
+/// The writer (host tag, PID) of a temporary file name `write_atomic` or `link_or_copy` makes.
+fn temp_owner(name: &str) -> Option<(String, u32)> {
+    let rest = name.strip_prefix('.')?;
+    let (_, tail) = rest.rsplit_once(".tmp-").or_else(|| rest.rsplit_once(".link-"))?;
+    let (host, pid) = tail.rsplit_once('-')?;
+    let valid = !host.is_empty()
+        && host.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '.' || c == '_');
+    Some((host.to_string(), pid.parse().ok()?)).filter(|_| valid && pid.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Whether a process with this PID runs on this host (`kill(pid, 0)`: EPERM means it runs, as
+/// another user's).
+fn process_runs(pid: u32) -> bool {
+    let Ok(pid) = libc::pid_t::try_from(pid) else { return false };
+    // SAFETY: signal 0 sends nothing; it only checks that the process exists.
+    unsafe { libc::kill(pid, 0) == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM) }
+}
+
 /// Puts a copy of `from` at `to` atomically: a hard link where the filesystem allows (no bytes
 /// copied), else a copy; either way through a temporary sibling and a rename.
 pub fn link_or_copy(from: &Path, to: &Path) -> Result<()> {
@@ -193,7 +243,7 @@ pub fn hostname() -> String {
 }
 
 /// The host name with only letters, digits, '-' and '.', for file names.
-fn host_tag() -> String {
+pub fn host_tag() -> String {
     hostname()
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' })
@@ -290,6 +340,41 @@ mod tests {
         rx.recv_timeout(std::time::Duration::from_secs(10)).expect("released on drop");
         let told = waiter.join().unwrap();
         assert!(told.contains(&format!("pid {}", std::process::id())), "{told}");
+        let _ = fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn stale_temp_files_of_dead_writers_go_and_nothing_else() {
+        let dir = std::env::temp_dir().join(format!("hemilab-stale-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        let host = host_tag();
+        // PID 4194304 is above Linux's largest (pid_max is at most 2^22): never running.
+        let dead = [format!(".a.exr.tmp-{host}-4194304"), format!(".results.json.link-{host}-4194304")];
+        let me = format!(".b.exr.tmp-{host}-{}", std::process::id());
+        let keep = [
+            format!(".c.exr.tmp-{host}-1"), // PID 1 always runs
+            ".d.exr.tmp-other-host-4194304".to_string(),
+            "a.exr".to_string(),
+            format!("x.tmp-{host}-4194304"),
+            format!(".e.exr.tmp-{host}-12x"),
+        ];
+        for n in dead.iter().chain([&me]).chain(&keep) {
+            fs::write(dir.join(n), b"").unwrap();
+        }
+        let mut gone: Vec<String> = remove_stale_temp_files(&dir)
+            .unwrap()
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        gone.sort();
+        let mut want = vec![dead[0].clone(), dead[1].clone(), me];
+        want.sort();
+        assert_eq!(gone, want);
+        for n in &keep {
+            assert!(dir.join(n).exists(), "{n} kept");
+        }
+        assert_eq!(temp_owner(".x.tmp-my-host.lan-77"), Some(("my-host.lan".into(), 77)));
         let _ = fs::remove_dir_all(&dir);
     }
 

@@ -54,8 +54,10 @@ pub mod shard;
 
 pub mod report;
 
-// The shell around the pipeline: errors, the filesystem, progress.
+// The shell around the pipeline: errors, signals, the filesystem, progress.
 pub mod error;
+
+pub mod interrupt;
 
 pub mod io;
 

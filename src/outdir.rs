@@ -44,11 +44,22 @@ pub fn image_rel(job: &Job) -> String {
 }
 
 /// The output directory, and its `images/` when images are written; refused before any work if
-/// either cannot be written.
+/// either cannot be written. The temporary files a killed run left there (`kill -9`: its atomic
+/// writes never renamed) are removed, and said so.
 pub fn prepare(out: &Path, images: bool) -> Result<()> {
     io::ensure_writable_dir(out)?;
     if images {
         io::ensure_writable_dir(&out.join(IMAGES))?;
+    }
+    let mut removed = io::remove_stale_temp_files(out)?;
+    removed.extend(io::remove_stale_temp_files(&out.join(IMAGES))?);
+    if !removed.is_empty() {
+        eprintln!(
+            "note: removed {} temporary file(s) an interrupted run left in {} (e.g. {})",
+            removed.len(),
+            out.display(),
+            removed[0].display()
+        );
     }
     Ok(())
 }

@@ -9,6 +9,7 @@ use hemilab::progress;
 use hemilab::render::{self, RenderJob, RenderOutput};
 use hemilab::sampling::SamplerConfig;
 use hemilab::scene::Scene;
+use hemilab::spec::AoDistance;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -76,7 +77,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
 /// What the EXR's header says about where it came from (`image::Provenance`).
 fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
     let s = &args.sampling;
-    let d = if job.ao_distance.is_finite() { job.ao_distance.to_string() } else { "infinite".into() };
+    // Written as a run's images and the references write it (`AoDistance::canonical`).
+    let d = match job.ao_distance {
+        d if d.is_finite() => AoDistance::Finite(d as f64),
+        _ => AoDistance::Infinite,
+    }
+    .canonical();
     let file = args.scene.to_string_lossy();
     let json = serde_json::json!({
         "image": "render",

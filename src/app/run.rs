@@ -40,6 +40,8 @@ pub fn run(args: RunArgs) -> Result<()> {
         shard::Manifest::new(&loaded, &full, s, plan.jobs.len(), protocol).write(&out)?;
     }
     let write = |r: &[hemilab::results::JobResult]| outdir::write_results(&out, r);
+    // After a signal the message says the finished jobs are here, for a rerun to resume.
+    hemilab::interrupt::saves_to(&out);
     let (results, mut session) =
         executor::run_jobs(&loaded, &plan, &references, &previous, &out, protocol, &runner.bar, &write)?;
     runner.bar.finish_and_clear();

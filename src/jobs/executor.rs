@@ -2,10 +2,12 @@
 //! replicates, and re-renders where it has fewer than `repeats`, in seeded interleaved passes
 //! across one-thread workers; each scene's no-AO-ray render timed alongside as the overhead; a
 //! warm-up before a worker's first timed render on a scene. Each job's image and record are
-//! written as soon as it is rendered, so a killed run resumes where it stopped.
+//! written as soon as it is rendered, so a killed run resumes where it stopped; a signal
+//! (`interrupt`) stops the queue between jobs, once the renders in progress are saved.
 
 use crate::error::{Error, Result};
 use crate::image::Provenance;
+use crate::interrupt;
 use crate::load::Loaded;
 use crate::metrics;
 use crate::outdir;
@@ -91,6 +93,15 @@ pub fn render_job(loaded: &Loaded, job: &Job, rays: u32) -> Result<RenderJob> {
 
 pub use crate::render::overhead_job;
 
+/// After a queue: a signal's stop, with what is saved (`interrupt::message`), once the renders in
+/// progress have finished; the stop is a stop even if the queue happened to finish.
+fn stop_if_interrupted() -> Result<()> {
+    if interrupt::requested() {
+        return Err(Error::Interrupted(interrupt::message()));
+    }
+    Ok(())
+}
+
 /// Whatever a worker hands back for one slot.
 struct Done {
     time: Time,
@@ -133,6 +144,7 @@ impl State {
                 }
                 *r = Some(rec);
                 write(&self.records.iter().flatten().cloned().collect::<Vec<_>>())?;
+                interrupt::jobs_done(self.records.iter().flatten().count());
             }
             (None, Some(rec)) => rec.add_time(d.time.cpu_s, d.time.wall_s),
             (None, None) => self.pending.entry(slot.job).or_default().push(d.time),
@@ -247,6 +259,8 @@ pub fn measure_jobs(
         .collect();
     let records: Vec<Option<JobResult>> = keys.iter().map(|k| resumed(previous, k, out).cloned()).collect();
     let reused = records.iter().flatten().count();
+    // From here a signal lets the renders in progress finish (and be saved) before the run stops.
+    let _phase = interrupt::jobs_phase(reused, n);
 
     // One unit per configuration: its replicates cost the same.
     let mut unit_of: HashMap<(String, Row, u32), usize> = HashMap::new();
@@ -298,6 +312,10 @@ pub fn measure_jobs(
     bar.set_message("jobs");
 
     let work = |worker: &timing::Worker, slot: &Slot| -> Result<Done> {
+        // Checked between jobs: a stopped queue hands out no more, and the jobs in flight finish.
+        if interrupt::requested() {
+            return Err(Error::Interrupted(String::new()));
+        }
         let si = scene_of_id(slot.job);
         let scene = &loaded.scenes[si];
         if let Some(w) = &warm[si] {
@@ -331,7 +349,9 @@ pub fn measure_jobs(
         cpu_s: 0.0,
     };
     let workers = timing::workers(protocol.workers).map_err(Error::Refused)?;
-    timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write))?;
+    let queued = timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write));
+    stop_if_interrupted()?;
+    queued?;
     // Second round: more samples for the units whose samples add up to little time.
     if state.renders > 0 {
         let mut members: Vec<Vec<usize>> = vec![Vec::new(); needs.len()];
@@ -350,7 +370,9 @@ pub fn measure_jobs(
         let slots = timing::schedule(&extra, protocol.seed ^ 0x5eed_0002);
         bar.set_length(bar.length().unwrap_or(0) + cost(&slots));
         let workers = timing::workers(protocol.workers).map_err(Error::Refused)?;
-        timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write))?;
+        let queued = timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write));
+        stop_if_interrupted()?;
+        queued?;
     }
     let State { records, overhead_samples, renders, cpu_s, .. } = state;
 

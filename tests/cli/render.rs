@@ -78,7 +78,7 @@ fn render_writes_exr_and_png_preview() {
         "rays": 4,
         "seed": 1,
         "resolution": [24, 16],
-        "ao_distance": "150",
+        "ao_distance": "150.0",
     });
     assert_eq!(p.json, want);
     assert_eq!(p.json["scene_hash"].as_str().map(str::len), Some(32));

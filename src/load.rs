@@ -35,6 +35,9 @@ pub fn load(spec_path: &Path) -> Result<Loaded> {
     for w in scenes.iter().filter_map(dropped_warning) {
         eprintln!("{w}");
     }
+    if let Some(w) = single_replicate_warning(&spec) {
+        eprintln!("{w}");
+    }
     Ok(Loaded { spec, scenes })
 }
 
@@ -173,6 +176,21 @@ fn num(x: f64) -> String {
     } else {
         format!("{x:.3e}")
     }
+}
+
+/// A group run with one replicate has no spread: its "± 0" would read as a certainty, so say it once.
+pub fn single_replicate_warning(spec: &Spec) -> Option<String> {
+    let single: Vec<&str> =
+        spec.groups.iter().filter(|g| g.replicates == 1).map(|g| g.name.as_str()).collect();
+    (!single.is_empty()).then(|| {
+        format!(
+            "warning: {}: {} one replicate ({}): no spread, so no standard error and every ± reads 0; \
+             replicates = 4 (the default) gives one",
+            spec.path.display(),
+            if single.len() == 1 { "this group has" } else { "these groups have" },
+            single.join(", ")
+        )
+    })
 }
 
 /// The warnings of a scene's load, if any, one line each: triangles dropped (zero area or

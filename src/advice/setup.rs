@@ -8,7 +8,7 @@ use crate::compare::per_pixel_unbiased;
 use crate::error::{Error, Result};
 use crate::io;
 use crate::jobs::runner::Geometry;
-use crate::load::{Loaded, check_pixels, dropped_warning, load_scene};
+use crate::load::{Loaded, check_pixels, check_view, dropped_warning, load_scene};
 use crate::plan::{self, Plan};
 use crate::reference::Manifest;
 use crate::reference::store as refs;
@@ -124,6 +124,10 @@ pub fn setup(args: &Request) -> Result<Setup> {
         }
         None => default_resolution(&stored, &scene, &usable),
     };
+    // The scene's own size was checked with the file; a thin mesh may be missed by a coarser grid.
+    if (resolution[0], resolution[1]) != scene.resolution {
+        check_view(&args.scene, &scene, resolution[0], resolution[1])?;
+    }
     let mut at_size: Vec<&(Manifest, PathBuf)> =
         stored.iter().filter(|(m, _)| m.resolution == resolution && usable(m)).collect();
     at_size.sort_by(|a, b| {

@@ -6,7 +6,7 @@
 //! resolution = [160, 120]               # optional override of the scenes' own; sides 1..=16384,
 //!                                       # at most 67108864 pixels (8192x8192)
 //! ao_distance = 1.0                     # optional override: a number > 0 or "infinite" ("inf")
-//! replicates = 4                        # independent seeds per (row, rays); 1..=1000; default 1
+//! replicates = 4                        # independent seeds per (row, rays); 1..=1000; default 4
 //! seed = 1                              # base seed, 0..=4294967295; default 1
 //! point_figures = true                  # optional: also draw Table 1 and Figures 2-4; default false
 //!
@@ -66,6 +66,10 @@ pub const MAX_RAYS: u32 = 65_536;
 /// References may go higher: they are rendered once and committed.
 pub const MAX_REFERENCE_RAYS: u32 = 1 << 22;
 pub const MAX_REPLICATES: u32 = 1000;
+
+/// Replicates of a spec that names none: enough for a standard error (one replicate has no
+/// spread, and a table of "± 0.0000" reads as a certainty it is not).
+pub const DEFAULT_REPLICATES: u32 = 4;
 /// Image sides are 1..=MAX_SIDE, and an image holds at most MAX_PIXELS pixels (8192x8192, or
 /// e.g. 16384x4096): beyond that its AO and coverage channels and their EXR encoding need several
 /// GB. Command line, scene files and specs all check both, with `RESOLUTION_RULE` as the text.

@@ -240,8 +240,10 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         Some([w, h])
     });
     let ao_distance = raw.ao_distance.as_ref().and_then(|v| distance(v, p));
-    let replicates =
-        raw.replicates.as_ref().map_or(Some(1), |r| p.int(r, "replicates", 1, MAX_REPLICATES as i64));
+    let replicates = raw
+        .replicates
+        .as_ref()
+        .map_or(Some(DEFAULT_REPLICATES), |r| p.int(r, "replicates", 1, MAX_REPLICATES as i64));
     let seed = raw.seed.as_ref().map_or(1, |s| p.seed(s, "seed"));
     let reference = reference(raw.reference.as_ref(), seed, p);
     let reference_dir = match raw.reference.as_ref().and_then(|r| r.dir.as_ref()) {
@@ -287,7 +289,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         }
     }
     for (kind, g) in all {
-        if let Some(group) = group(kind, g, &scenes, replicates.unwrap_or(1), p) {
+        if let Some(group) = group(kind, g, &scenes, replicates.unwrap_or(DEFAULT_REPLICATES), p) {
             let key = format!("{}.name", kind_key(kind));
             if groups.iter().any(|o: &Group| o.name == group.name) {
                 p.add(
@@ -322,7 +324,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         scenes,
         resolution,
         ao_distance,
-        replicates: replicates.unwrap_or(1),
+        replicates: replicates.unwrap_or(DEFAULT_REPLICATES),
         seed,
         point_figures,
         reference,

@@ -91,6 +91,28 @@ fn a_camera_that_sees_nothing_stops_every_command_before_any_work() {
 }
 
 #[test]
+fn advise_checks_the_view_at_the_resolution_it_renders() {
+    // A small triangle off the image centre: seen by the scene's own 64x48 pixel centres, missed by
+    // every centre of a 2x2 image (at ±1/2 of the half-extent). advise once checked the view at the
+    // scene's size only, then failed mid-run at --resolution's.
+    let t = Tmp::new("advise-view");
+    std::fs::write(t.path("tri.obj"), "v 0.05 0.05 -1\nv 0.2 0.05 -1\nv 0.05 0.2 -1\nf 1 2 3\n").unwrap();
+    let scene_file = t.spec(
+        "tri.toml",
+        "mesh = \"tri.obj\"\nresolution = [64, 48]\nao_distance = 1.0\n[camera.perspective]\n\
+         eye = [0.0, 0.0, 0.0]\ntarget = [0.0, 0.0, -1.0]\nup = [0.0, 1.0, 0.0]\nfov_y_deg = 60.0\n",
+    );
+    let name = scene_file.display().to_string();
+    let ok = t.hemilab(&["render", &name, "--rays", "1", "--output", "seen.exr", "--quiet"]);
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    let before = t.listing();
+    let args = ["advise", &name, "--resolution", "2x2", "--out", "out", "--reference-dir", "ref"];
+    let e = assert_error(&t.hemilab(&args), &name);
+    assert!(e.contains("camera: sees no triangle of the mesh") && e.contains("2x2"), "{e}");
+    assert_eq!(t.listing(), before, "nothing is written");
+}
+
+#[test]
 fn unwritable_output_directory_fails_before_rendering() {
     let t = Tmp::new("unwritable");
     let spec = t.spec("tiny.toml", &tiny_spec(16, ""));

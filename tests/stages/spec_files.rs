@@ -186,3 +186,20 @@ fn blue_noise_spec_pairs_every_sequence_with_its_per_pixel_seed() {
         assert!(t.rows.contains(&Row::new(D::SineCosine, q, per_pixel)), "{q} {per_pixel}");
     }
 }
+
+#[test]
+fn replicates_default_to_four_and_one_is_warned_about() {
+    // One replicate printed "± 0.0000" everywhere without a word; the default now gives a spread.
+    let path = Path::new("/tmp/hemilab-replicates.toml");
+    let text = "scenes = [\"s.toml\"]\n[[table]]\nname = \"t\"\nrays = [4]\nrows = [{ distribution = \"sine\", sequence = \"random\" }]\n";
+    let s = parse_spec(text, path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.replicates, hemilab::spec::DEFAULT_REPLICATES);
+    assert_eq!(s.group("t").unwrap().replicates, 4);
+    assert_eq!(hemilab::load::single_replicate_warning(&s), None);
+    let one = parse_spec(&text.replace("rays = [4]", "rays = [4]\nreplicates = 1"), path).unwrap();
+    let w = hemilab::load::single_replicate_warning(&one).expect("one replicate is warned about");
+    assert!(
+        w.contains("/tmp/hemilab-replicates.toml") && w.contains("(t)") && w.contains("replicates = 4"),
+        "{w}"
+    );
+}

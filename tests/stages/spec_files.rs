@@ -92,7 +92,7 @@ seed_modes = ["rotation", "shift"]
             Row::new(D::SineCosine, Q::Fibonacci, M::Shift),
         ]
     );
-    assert_eq!(s.groups[0].replicates, 1);
+    assert_eq!(s.groups[0].replicates, hemilab::spec::DEFAULT_REPLICATES);
 }
 
 #[test]

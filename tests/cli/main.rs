@@ -6,6 +6,7 @@ mod support;
 
 mod advise;
 mod advise_runs;
+mod help_readme;
 mod interrupt;
 mod plan_estimate;
 mod points;

@@ -16,6 +16,7 @@ pub mod frame;
 pub mod hash;
 mod names;
 pub mod random;
+pub mod schedule;
 pub mod seed;
 pub mod sobol;
 pub mod stratified;
@@ -24,9 +25,11 @@ pub mod warp;
 
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
+pub use schedule::Schedule;
 pub use seed::SeedMode;
 pub use warp::{DirSample, Distribution};
 
+use hash::fix_add;
 use seed::PixelSeed;
 
 use glam::Vec2;
@@ -65,6 +68,10 @@ pub struct SamplerConfig {
     pub seed_mode: SeedMode,
     pub count: u32,
     pub seed: u64,
+    /// Which frame of a static camera's sequence of frames (0 = the single image of today).
+    pub frame: u32,
+    /// How the randomization changes from frame to frame ([`schedule`]).
+    pub schedule: Schedule,
 }
 
 impl SamplerConfig {
@@ -77,7 +84,17 @@ impl SamplerConfig {
         if count == 0 {
             return Err(SamplingError::ZeroCount);
         }
-        Ok(Self { sequence, seed_mode, count, seed })
+        Ok(Self { sequence, seed_mode, count, seed, frame: 0, schedule: Schedule::Independent })
+    }
+
+    /// The same configuration at frame `frame`.
+    pub fn with_frame(self, frame: u32) -> Self {
+        Self { frame, ..self }
+    }
+
+    /// The same configuration under `schedule`.
+    pub fn with_schedule(self, schedule: Schedule) -> Self {
+        Self { schedule, ..self }
     }
 
     /// Writes the points of pixel (`x`, `y`), index `pixel` (= y · width + x, which keys its
@@ -90,23 +107,27 @@ impl SamplerConfig {
         let n = self.count.max(1);
         let len = (self.count as usize).min(out.len());
         let out = &mut out[..len];
-        let ps = PixelSeed::new(self.seed, pixel);
+        // The frame's run seed and the schedule's offsets on top of the mode's (all 0 at frame 0).
+        let scalar = self.seed_mode == SeedMode::Rotation && self.sequence != Sequence::Random;
+        let (seed, (fx, fy)) = schedule::epoch(self.schedule, self.seed, self.frame as u64, scalar);
+        let ps = PixelSeed::new(seed, pixel);
         let (dx, dy) = ps.offsets(self.seed_mode, x, y);
         let fresh = self.seed_mode == SeedMode::Shift;
         // Shift of a set that is already fresh per pixel (stratified, sobol): no offset on top.
         let (sx, sy) = if fresh { (0, 0) } else { (dx, dy) };
+        let (dx, dy, sx, sy) = (fix_add(dx, fx), fix_add(dy, fy), fix_add(sx, fx), fix_add(sy, fy));
         match self.sequence {
             // Fresh numbers per pixel for both rotation and shift: the paper's pseudo-random row.
             Sequence::Random => match self.seed_mode {
                 SeedMode::BlueNoise => random::fill(ps.run_key, dx, dy, out),
-                m => random::fill(ps.set_key(m != SeedMode::Static), 0, 0, out),
+                m => random::fill(ps.set_key(m != SeedMode::Static), fx, fy, out),
             },
             Sequence::Fibonacci => {
                 // The paper's seed is an index offset: static = one per run, rotation = + one per pixel.
                 let run_offset = ps.run_key >> 24;
                 match self.seed_mode {
-                    SeedMode::Static => fibonacci::fill(n, run_offset, 0, 0, out),
-                    SeedMode::Rotation => fibonacci::fill(n, run_offset + (ps.pixel_key >> 24), 0, 0, out),
+                    SeedMode::Static => fibonacci::fill(n, run_offset, fx, fy, out),
+                    SeedMode::Rotation => fibonacci::fill(n, run_offset + (ps.pixel_key >> 24), fx, fy, out),
                     SeedMode::Shift | SeedMode::BlueNoise => fibonacci::fill(n, run_offset, dx, dy, out),
                 }
             }

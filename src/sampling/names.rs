@@ -75,6 +75,7 @@ named!(SeedMode, "seed mode", [
     Rotation => "rotation",
     Shift => "shift",
     BlueNoise => "blue-noise",
+    Stbn => "stbn",
 ], words [
     "per-pixel" => Rotation,
     "per-pixel seed" => Rotation,
@@ -83,6 +84,8 @@ named!(SeedMode, "seed mode", [
     "static seed" => Static,
     "blue noise" => BlueNoise,
     "bluenoise" => BlueNoise,
+    "spatiotemporal blue noise" => Stbn,
+    "spatiotemporal blue-noise" => Stbn,
 ]);
 
 named!(Schedule, "schedule", [

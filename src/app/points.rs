@@ -5,8 +5,8 @@ use crate::cli::PointsArgs;
 use hemilab::error::{Error, Result};
 use hemilab::io;
 use hemilab::report::directions_of;
-use hemilab::sampling::SamplerConfig;
 use hemilab::report::{self, Format, PointSet};
+use hemilab::sampling::SamplerConfig;
 use hemilab::spec::Row;
 
 pub fn run(args: &PointsArgs) -> Result<()> {
@@ -31,6 +31,12 @@ pub fn run(args: &PointsArgs) -> Result<()> {
         .map_err(|e| Error::Refused(format!("{}: cannot draw the points: {e}", path.display())))?;
     io::write_atomic(path, &bytes)?;
     // As `render` does: what was drawn, and where.
-    println!("{} points, {}, run seed {}{frame} (pixel 0) -> {}", args.count, row.name(), args.seed, path.display());
+    println!(
+        "{} points, {}, run seed {}{frame} (pixel 0) -> {}",
+        args.count,
+        row.name(),
+        args.seed,
+        path.display()
+    );
     Ok(())
 }

@@ -20,6 +20,7 @@ mod sampling_estimators;
 mod sampling_frame;
 mod sampling_schedule;
 mod sampling_sequences;
+mod sampling_stbn;
 mod sampling_warps;
 mod scene_bvh;
 mod scene_files;

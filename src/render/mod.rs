@@ -4,6 +4,7 @@
 
 pub mod adaptive;
 pub mod bench;
+mod clearance;
 mod gbuffer;
 mod offset;
 
@@ -16,6 +17,7 @@ use crate::sampling::batch::Directions;
 use crate::sampling::{Distribution, Frame, SamplerConfig};
 use crate::scene::Scene;
 use crate::scene::accel::{Hit, Ray};
+use crate::scene::camera::Raster;
 use crate::scene::packet::{Occluders, PACKET, Soa};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -67,6 +69,8 @@ pub struct PixelRays {
     /// The last hit triangle's plane, keyed by (BVH id, triangle): neighbouring pixels mostly hit
     /// the same triangle (kept here, not in a thread-local, so that it is read in place).
     plane: Option<(u64, u32, Plane)>,
+    /// Scratch of `clearance` (the triangles around the origin).
+    near: clearance::Near,
 }
 
 /// A tile's covered pixels as (index, AO value), its AO rays and its occluded rays.
@@ -150,11 +154,12 @@ fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
     let (w, n) = (job.width as usize, job.sampler.count as usize);
     let mut done = Vec::with_capacity((TILE * TILE) as usize);
     let (mut rays, mut occluded) = (0u64, 0u64);
-    tile_primaries(scene, (job.width, job.height), t, &mut s.primaries);
+    let raster = tile_primaries(scene, (job.width, job.height), t, &mut s.primaries);
     for p in &s.primaries {
         let Some(hit) = p.hit else { continue };
         let pixel = p.y as u64 * w as u64 + p.x as u64;
-        rays_from_hit(scene, job, (p.x, p.y, pixel), p.dir, hit, &mut s.points, &mut s.rays);
+        let from = raster.origin(p.x, p.y);
+        rays_from_hit(scene, job, (p.x, p.y, pixel), (from, p.dir), hit, &mut s.points, &mut s.rays);
         let (r, b) = (&s.rays, &s.rays.batch);
         let dirs = Soa { x: &b.x[..n], y: &b.y[..n], z: &b.z[..n] };
         trace_soa(scene, r.origin, r.normal, dirs, job.ao_distance, &mut s.masks);
@@ -218,7 +223,7 @@ pub fn pixel_rays(
     let Some(hit) = scene.accel.closest(&Ray::new(primary.origin, primary.dir, f32::INFINITY)) else {
         return false;
     };
-    rays_from_hit(scene, job, (x, y, pixel), primary.dir, hit, points, out);
+    rays_from_hit(scene, job, (x, y, pixel), (primary.origin, primary.dir), hit, points, out);
     let b = &out.batch;
     out.dirs.clear();
     out.dirs.extend((0..b.len()).map(|i| b.get(i)));
@@ -237,11 +242,12 @@ pub(crate) struct Primary {
 }
 
 /// The primary rays of tile `t`'s pixels (in `tile_pixels` order) of a `width` × `height` image into
-/// `out` (what `render` and `gbuffer` share). Rays that share
-/// their origin (a pinhole camera's: the eye) are traced 32 at a time, 8 × 4 pixels
-/// (`Accel::closest_from`), others one by one; the hits are the same bits either way.
+/// `out` (what `render` and `gbuffer` share); returns the camera's rays for the image (the pixels'
+/// ray origins are read from it later). Rays that share their origin (a pinhole camera's: the eye)
+/// are traced 32 at a time, 8 × 4 pixels (`Accel::closest_from`), others one by one; the hits are
+/// the same bits either way.
 #[inline(always)]
-pub(crate) fn tile_primaries(scene: &Scene, (width, height): (u32, u32), t: u32, out: &mut Vec<Primary>) {
+pub(crate) fn tile_primaries(scene: &Scene, (width, height): (u32, u32), t: u32, out: &mut Vec<Primary>) -> Raster {
     out.clear();
     let raster = scene.camera.raster(width, height);
     for (x, y) in tile_pixels(t, width, height) {
@@ -267,16 +273,18 @@ pub(crate) fn tile_primaries(scene: &Scene, (width, height): (u32, u32), t: u32,
             p.hit = scene.accel.closest(&Ray::new(r.origin, r.dir, f32::INFINITY));
         }
     }
+    raster
 }
 
-/// The AO rays of pixel (x, y, index) from its primary ray's direction and hit: offset origin, the
+/// The AO rays of pixel (x, y, index) from its primary ray (origin, direction) and hit: offset
+/// origin (off the hit triangle, then off every neighbour it still lies on: `clearance`), the
 /// sampler's directions and weights. `points` must hold `job.sampler.count` entries.
 #[inline(always)]
 fn rays_from_hit(
     scene: &Scene,
     job: &RenderJob,
     (x, y, pixel): (u32, u32, u64),
-    dir: Vec3,
+    (from, dir): (Vec3, Vec3),
     hit: Hit,
     points: &mut [Vec2],
     out: &mut PixelRays,
@@ -289,8 +297,10 @@ fn rays_from_hit(
             &out.plane.insert((key.0, key.1, plane)).2
         }
     };
-    let (origin, n) = plane.ao_origin(hit.bary_b, hit.bary_c, dir);
-    out.origin = origin;
+    let lift = plane.lift(hit.bary_b, hit.bary_c, dir);
+    let n = lift.normal;
+    out.origin =
+        clearance::clear(&scene.accel, hit.prim, (hit.bary_b, hit.bary_c), plane, &lift, from, &mut out.near);
     out.normal = n;
     let basis = Frame::from_normal(n);
     job.sampler.fill_pixel(x, y, pixel, points);

@@ -33,11 +33,34 @@ pub fn ao_origin(tri: [Vec3; 3], bary_b: f32, bary_c: f32, incoming: Vec3) -> (V
 /// the renderer keeps the last one (the square roots and the division are most of the work).
 #[derive(Debug, Clone, Copy)]
 pub struct Plane {
-    a: DVec3,
-    e1: DVec3,
-    e2: DVec3,
-    n64: DVec3,
-    dir_err: f64,
+    pub(super) a: DVec3,
+    pub(super) e1: DVec3,
+    pub(super) e2: DVec3,
+    pub(super) n64: DVec3,
+    /// Bound on |ν - n|, ν the exact plane's unit normal, n its f32 rounding.
+    pub(super) dir_err: f64,
+    /// M / |N| (M: the magnitudes N is made of): how the triangle test's rounding bound on the
+    /// plane's distance grows with the distance from vertex a (`clearance::band`).
+    pub(super) m_over_n: DVec3,
+    /// The farthest `clearance` looks around an origin on it (`scene::near::reach_cap`).
+    pub(super) cap: f64,
+    /// Within 8 `cap` of an edge (16 times the greatest reach) `clearance` looks around the
+    /// origin, beyond it only at the triangle's contacts. The hit point's distance from the edge
+    /// opposite vertex k is its barycentric k times the vertex's height h_k: this holds
+    /// (8 cap / h_k)², for k = a, b, c, to compare the squared barycentrics with (no root a pixel).
+    pub(super) edge_zone: DVec3,
+}
+
+/// An AO origin with what `clearance` needs to clear it of the neighbouring triangles too.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Lift {
+    /// The hit point (f64, on the plane up to `err`).
+    pub p: DVec3,
+    /// The origin (on the normal's side of the plane) and the unit normal, facing the incoming ray.
+    pub origin: Vec3,
+    pub normal: Vec3,
+    /// The normal in f64, facing the incoming ray.
+    pub n64: DVec3,
 }
 
 impl Plane {
@@ -53,12 +76,25 @@ impl Plane {
             Some(n) => (n, gamma(8.0) * m.length() / normal.length() + 1.0 / 16_777_216.0),
             None => (DVec3::Z, 2.0),
         };
-        Self { a, e1, e2, n64, dir_err }
+        let area2 = normal.length_squared();
+        let m_over_n = m / area2.sqrt().max(f64::MIN_POSITIVE);
+        let cap = crate::scene::near::reach_cap([a, b, c]);
+        // (8 cap / h_k)² = 64 cap² |opposite edge|² / |N|².
+        let edges2 = DVec3::new((c - b).length_squared(), e2.length_squared(), e1.length_squared());
+        let edge_zone = edges2 * (64.0 * cap * cap / area2);
+        Self { a, e1, e2, n64, dir_err, m_over_n, cap, edge_zone }
     }
 
     /// `ao_origin` of this triangle.
     #[inline(always)]
     pub fn ao_origin(&self, bary_b: f32, bary_c: f32, incoming: Vec3) -> (Vec3, Vec3) {
+        let l = self.lift(bary_b, bary_c, incoming);
+        (l.origin, l.normal)
+    }
+
+    /// `ao_origin` with the hit point, the f64 normal and the lift.
+    #[inline(always)]
+    pub(super) fn lift(&self, bary_b: f32, bary_c: f32, incoming: Vec3) -> Lift {
         let (a, dir_err) = (self.a, self.dir_err);
         let (wb, wc) = (self.e1 * bary_b as f64, self.e2 * bary_c as f64);
         // On the plane for any barycentrics (their error moves the point along the surface, not off
@@ -81,17 +117,22 @@ impl Plane {
                 + dir_err * (err.element_sum() + ulps)
                 + gamma(3.0) * p.abs().element_sum());
         let o = p + n.as_dvec3() * h;
-        let away = |x: f64, dir: f32| {
-            let r = x as f32;
-            if dir > 0.0 && (r as f64) < x {
-                r.next_up()
-            } else if dir < 0.0 && (r as f64) > x {
-                r.next_down()
-            } else {
-                r
-            }
-        };
-        (Vec3::new(away(o.x, n.x), away(o.y, n.y), away(o.z, n.z)), n)
+        let origin = Vec3::new(away(o.x, n.x), away(o.y, n.y), away(o.z, n.z));
+        Lift { p, origin, normal: n, n64 }
+    }
+}
+
+/// `x` rounded to f32, away from the surface: up if `dir` > 0, down if `dir` < 0 (pbrt-v4's
+/// `OffsetRayOrigin` rounds so), to nearest if `dir` = 0.
+#[inline(always)]
+pub(super) fn away(x: f64, dir: f32) -> f32 {
+    let r = x as f32;
+    if dir > 0.0 && (r as f64) < x {
+        r.next_up()
+    } else if dir < 0.0 && (r as f64) > x {
+        r.next_down()
+    } else {
+        r
     }
 }
 

@@ -29,11 +29,11 @@ use std::cmp::Ordering;
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(64))]
 pub(crate) struct Tri {
-    a: Vec4,
+    pub(super) a: Vec4,
     b: Vec4,
     c: Vec4,
     /// (b - a) × (c - a), for an accurate distance.
-    n: Vec4,
+    pub(super) n: Vec4,
 }
 
 /// The BVH and the triangles in BVH order, so a leaf's primitives are read contiguously.
@@ -44,6 +44,8 @@ pub struct Accel {
     source: Vec<obvhs::triangle::Triangle>,
     /// Unique per build in this process (never 0), so caches can tell scenes apart.
     pub(crate) id: u64,
+    /// Each triangle's contacts, found on first use (`near::contacts`).
+    pub(crate) contacts: super::near::contacts::Table,
 }
 
 /// A closest hit: distance, triangle (BVH order) and the barycentrics of `b` and `c`.
@@ -91,7 +93,8 @@ impl Accel {
         }
         static BUILDS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
         let id = BUILDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        (Self { bvh, tris, source: soup, id }, core.as_secs_f64())
+        let contacts = tris.iter().map(|_| Default::default()).collect();
+        (Self { bvh, tris, source: soup, id, contacts }, core.as_secs_f64())
     }
 
     /// Unique per build in this process (never 0): lets caches tell scenes apart.
@@ -106,8 +109,7 @@ impl Accel {
     }
 
     /// The index in `source_triangles` of the triangle in BVH slot `prim` (spatial splits put one
-    /// input triangle in several slots). Only tests need it.
-    #[cfg(any(test, feature = "testing"))]
+    /// input triangle in several slots). `render::clearance` tells a wall's slots apart by it.
     pub fn source_index(&self, prim: u32) -> u32 {
         self.bvh.primitive_indices[prim as usize]
     }
@@ -230,7 +232,7 @@ pub(crate) struct Seen {
 /// A' = a - o is off by u|A| and the three-term dot adds 3u, so |T' - T| <= 8u Σ|A_i| M_i, and for
 /// |d_i| <= 1, |d·N' - d·N| <= 7u Σ M_i (first order). The constants add half again for the
 /// rounding of the bounds themselves and the second-order terms.
-const T_ERR: f32 = 12.0 / 16_777_216.0;
+pub(crate) const T_ERR: f32 = 12.0 / 16_777_216.0;
 const DN_ERR: f32 = 10.5 / 16_777_216.0;
 
 #[inline(always)]
@@ -249,6 +251,12 @@ fn lex_less(p: Vec3A, q: Vec3A) -> bool {
 }
 
 impl Tri {
+    /// N = (b - a) × (c - a), as `seen_from` uses it.
+    #[inline(always)]
+    pub(crate) fn normal(&self) -> [f32; 3] {
+        Vec3A::from_vec4(self.n).to_array()
+    }
+
     /// The edge normals from the lexicographically smaller end of each edge, (p-o)×(q-p): accurate
     /// (q-p is short and exact-ish, unlike q-o) and watertight, as every triangle that shares the
     /// edge p–q computes exactly this value (the sign test does not care which way it walks it).

@@ -171,6 +171,20 @@ impl Raster {
         }
     }
 
+    /// Where the ray through the centre of pixel (x, y) starts: `ray(x, y).origin`, without the
+    /// direction.
+    #[inline]
+    pub fn origin(&self, x: u32, y: u32) -> Vec3 {
+        match self.lens {
+            Lens::Perspective { .. } => self.eye,
+            Lens::Orthographic { half_w, half_h } => {
+                let sx = 2.0 * (x as f32 + 0.5) / self.width as f32 - 1.0;
+                let sy = 1.0 - 2.0 * (y as f32 + 0.5) / self.height as f32;
+                self.eye + self.right * (sx * half_w) + self.true_up * (sy * half_h)
+            }
+        }
+    }
+
     /// True if every ray starts at the same point (a pinhole camera's eye).
     pub fn shared_origin(&self) -> bool {
         matches!(self.lens, Lens::Perspective { .. })

@@ -7,6 +7,7 @@ pub mod file;
 #[cfg(any(test, feature = "testing"))]
 pub mod generate;
 pub mod mesh;
+pub(crate) mod near;
 mod node;
 mod obj;
 pub mod packet;

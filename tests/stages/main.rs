@@ -12,6 +12,7 @@ mod metrics_known;
 mod plan_order;
 mod plan_shard;
 mod render_closed_form;
+mod render_closed_room;
 mod render_determinism;
 mod render_exact;
 mod render_robust;

@@ -6,6 +6,9 @@ pub mod camera;
 pub mod file;
 #[cfg(any(test, feature = "testing"))]
 pub mod generate;
+pub mod gltf_mesh;
+#[cfg(any(test, feature = "testing"))]
+pub mod gltf_write;
 pub mod mesh;
 mod node;
 mod obj;

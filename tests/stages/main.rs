@@ -22,6 +22,7 @@ mod sampling_sequences;
 mod sampling_warps;
 mod scene_bvh;
 mod scene_files;
+mod scene_gltf;
 mod scene_primary_packets;
 mod spec_errors;
 mod spec_files;

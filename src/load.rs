@@ -227,6 +227,9 @@ pub fn dropped_warning(scene: &Scene) -> Option<String> {
             scene.name
         ));
     }
+    for n in &scene.notes {
+        lines.push(format!("warning: scene '{}': {n}", scene.name));
+    }
     (!lines.is_empty()).then(|| lines.join("\n"))
 }
 

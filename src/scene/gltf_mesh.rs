@@ -70,6 +70,9 @@ pub fn parse_gltf(
     let mut stack: Vec<(::gltf::Node, DMat4)> =
         roots.into_iter().rev().map(|n| (n, DMat4::IDENTITY)).collect();
     let mut visited = 0usize;
+    // Images decoded so far (alpha-masked materials' base colour), and primitives drawn with a mask.
+    let mut decoded = vec![false; document.images().len()];
+    let mut masked = 0usize;
     while let Some((node, parent)) = stack.pop() {
         visited += 1;
         if visited > 1 << 24 {
@@ -81,6 +84,24 @@ pub fn parse_gltf(
             for p in m.primitives() {
                 let what = || format!("mesh {} primitive {}", m.index(), p.index());
                 primitive(&p, &buffers, world, &mut mesh).map_err(|e| format!("{}: {e}", what()))?;
+                let material = p.material();
+                if material.alpha_mode() != ::gltf::material::AlphaMode::Mask {
+                    continue;
+                }
+                masked += 1;
+                let Some(info) = material.pbr_metallic_roughness().base_color_texture() else { continue };
+                let image = info.texture().source();
+                if !std::mem::replace(&mut decoded[image.index()], true) {
+                    let bytes = image_bytes(&image, &buffers, fetch, &mut external)
+                        .map_err(|e| format!("{}: image {}: {e}", what(), image.index()))?;
+                    image::load_from_memory(&bytes).map_err(|e| {
+                        format!(
+                            "{}: image {}: the base colour texture does not decode as PNG: {e}",
+                            what(),
+                            image.index()
+                        )
+                    })?;
+                }
             }
         }
         if camera.is_none() {
@@ -89,6 +110,12 @@ pub fn parse_gltf(
         for child in node.children().collect::<Vec<_>>().into_iter().rev() {
             stack.push((child, world));
         }
+    }
+    if masked > 0 {
+        mesh.notes.push(format!(
+            "{masked} glTF primitives have `alphaMode: MASK`; their alpha masks are not applied yet, so they \
+             render as solid surfaces"
+        ));
     }
     if mesh.triangles.is_empty() {
         return Err(if mesh.dropped > 0 {
@@ -158,6 +185,32 @@ fn primitive(
         }
     }
     Ok(())
+}
+
+/// The encoded bytes of an image: from a buffer view, a `data:` URI, or a file beside the glTF.
+fn image_bytes(
+    image: &::gltf::Image,
+    buffers: &[Vec<u8>],
+    fetch: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
+    external: &mut Vec<Vec<u8>>,
+) -> Result<Vec<u8>, String> {
+    match image.source() {
+        ::gltf::image::Source::View { view, .. } => {
+            let (start, len) = (view.offset(), view.length());
+            buffers[view.buffer().index()]
+                .get(start..start + len)
+                .map(<[u8]>::to_vec)
+                .ok_or_else(|| format!("buffer view {} lies outside its buffer", view.index()))
+        }
+        ::gltf::image::Source::Uri { uri, .. } => {
+            let bytes = match uri.strip_prefix("data:") {
+                Some(rest) => data_uri(rest).map_err(|e| format!("data URI: {e}"))?,
+                None => fetch(uri).map_err(|e| format!("'{uri}': {e}"))?,
+            };
+            external.push(bytes.clone());
+            Ok(bytes)
+        }
+    }
 }
 
 /// A glTF camera looks down its node's −Z with +Y up (section 3.10.1). The image's aspect comes from

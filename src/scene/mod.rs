@@ -54,6 +54,8 @@ pub struct Scene {
     /// Mesh elements skipped because they are not faces (`Mesh::skipped_description`), for one
     /// warning.
     pub skipped_elements: Option<String>,
+    /// The mesh's other load warnings (`Mesh::notes`), one sentence each.
+    pub notes: Vec<String>,
     /// Core BVH build time (obvhs's own measure, without input conversion).
     pub bvh_build_s: f64,
     pub accel: Accel,
@@ -84,6 +86,7 @@ impl Scene {
         }
         let local = |v: DVec3| (v - origin).as_vec3();
         let skipped_elements = mesh.skipped_description();
+        let notes = mesh.notes.clone();
         let (mut triangles, mut dropped) = (Vec::with_capacity(mesh.triangles.len()), mesh.dropped);
         for t in &mesh.triangles {
             let t = [local(t[0]), local(t[1]), local(t[2])];
@@ -112,6 +115,7 @@ impl Scene {
             triangle_count: triangles.len(),
             dropped_triangles: dropped,
             skipped_elements,
+            notes,
             bvh_build_s,
             accel,
         })
@@ -139,7 +143,7 @@ impl Scene {
         }
         let hash = content_hash(&[&bytes]);
         let (keep, drop): (Vec<_>, Vec<_>) = triangles.into_iter().partition(mesh::usable);
-        let mesh = Mesh { triangles: keep, dropped: drop.len(), skipped: Vec::new() };
+        let mesh = Mesh { triangles: keep, dropped: drop.len(), ..Mesh::default() };
         Scene::new(name.to_string(), view, resolution, ao_distance, hash, mesh)
     }
 }

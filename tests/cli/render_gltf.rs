@@ -3,7 +3,7 @@
 //! and the reason, exit 2, and nothing is written.
 
 use super::support::common::{Tmp, assert_error};
-use hemilab::scene::gltf_write::{Doc, Node, soup};
+use hemilab::scene::gltf_write::{Doc, Material, Node, soup};
 
 /// Two triangles of a unit square at z = 0, and a camera 3 in front of it (yfov 0.8 rad).
 fn square(mode: u32) -> Doc {
@@ -42,6 +42,7 @@ fn bad_gltf_files_exit_2_naming_the_file_and_write_nothing() {
         ("m.gltf", json.into_bytes(), "buffer 0 ('m.bin'): file not found"),
         ("m.glb", square(0).to_glb(), "mode Points is not supported"),
         ("m.glb", b"{ not json".to_vec(), "not a readable glTF 2.0 file"),
+        ("m.glb", bad_texture(), "image 0: the base colour texture does not decode as PNG"),
     ];
     for (mesh, bytes, want) in cases {
         std::fs::write(t.path(mesh), bytes).unwrap();
@@ -51,4 +52,14 @@ fn bad_gltf_files_exit_2_naming_the_file_and_write_nothing() {
         assert!(e.contains(want), "want '{want}' in: {e}");
         assert!(!t.path("out").exists(), "{mesh}: wrote output");
     }
+}
+
+/// The square with an alpha-masked material whose texture is not an image.
+fn bad_texture() -> Vec<u8> {
+    let mut doc = square(4);
+    doc.meshes[0][0].uvs = Some(vec![[0.0; 2]; 6]);
+    doc.meshes[0][0].material = Some(0);
+    doc.materials = vec![Material { base_color_factor: [1.0; 4], texture: Some(0), alpha_cutoff: Some(0.5) }];
+    doc.images = vec![b"not a png".to_vec()];
+    doc.to_glb()
 }

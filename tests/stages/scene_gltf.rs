@@ -7,7 +7,7 @@ use super::support::common::Tmp;
 use hemilab::load::load_scene;
 use hemilab::render::{RenderJob, render};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
-use hemilab::scene::gltf_write::{Doc, Node, Prim, soup};
+use hemilab::scene::gltf_write::{Doc, Material, Node, Prim, soup};
 use hemilab::scene::{Camera, Scene};
 use std::path::Path;
 
@@ -245,4 +245,43 @@ fn bad_gltf_files_are_one_error_naming_the_file_and_the_reason() {
     std::fs::write(t.path("m.bin"), &bin).unwrap();
     std::fs::write(t.path("s.toml"), toml("m.gltf", "")).unwrap();
     assert_load_error(&t, "s.toml", &["key `camera`: missing", "has no camera", "[camera.perspective]"]);
+}
+
+/// A 2×2 RGBA PNG: left column opaque, right column transparent.
+fn half_mask_png() -> Vec<u8> {
+    let img =
+        image::RgbaImage::from_fn(2, 2, |x, _| image::Rgba([200, 200, 200, if x == 0 { 255 } else { 0 }]));
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+    out.into_inner()
+}
+
+/// A square whose material is `MASK` with the given image bytes as its base colour texture.
+fn masked_square(png: Vec<u8>) -> Doc {
+    let mut prims =
+        soup(&[[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]], [[0.0; 3], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]]]);
+    prims[0].uvs = Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
+    prims[0].material = Some(0);
+    Doc {
+        meshes: vec![prims],
+        nodes: vec![Node { mesh: Some(0), ..Node::default() }],
+        roots: vec![0],
+        materials: vec![Material { base_color_factor: [1.0; 4], texture: Some(0), alpha_cutoff: Some(0.5) }],
+        images: vec![png],
+        ..Doc::default()
+    }
+}
+
+#[test]
+fn alpha_masked_textures_are_decoded_and_a_bad_one_is_an_error() {
+    let t = Tmp::new("gltf-mask");
+    let own = "[camera.perspective]\neye = [0.5, 0.5, 3.0]\ntarget = [0.5, 0.5, 0.0]\nup = [0.0, 1.0, 0.0]\n\
+        fov_y_deg = 45.0\n";
+    std::fs::write(t.path("s.toml"), toml("m.glb", own)).unwrap();
+    std::fs::write(t.path("m.glb"), masked_square(half_mask_png()).to_glb()).unwrap();
+    let s = load_scene(&t.path("s.toml")).unwrap();
+    let w = hemilab::load::dropped_warning(&s).unwrap_or_default();
+    assert!(w.contains("1 glTF primitives have `alphaMode: MASK`") && w.contains("solid"), "{w}");
+    std::fs::write(t.path("m.glb"), masked_square(b"\x89PNG but not really".to_vec()).to_glb()).unwrap();
+    assert_load_error(&t, "m.glb", &["mesh 0 primitive 0: image 0", "does not decode as PNG"]);
 }

@@ -74,39 +74,75 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
     let text = io::read_string(path)?;
     let spec = file::parse(&text).map_err(|e| Error::input(path, e))?;
     let lower = spec.mesh.to_ascii_lowercase();
-    if !(lower.ends_with(".obj") || lower.ends_with(".obj.zst")) {
-        return Err(Error::input(
-            path,
-            format!("key `mesh`: '{}' must be a Wavefront .obj or .obj.zst file", spec.mesh),
-        ));
-    }
-    let mesh_path = path.parent().unwrap_or(Path::new("")).join(&spec.mesh);
-    if !io::exists(&mesh_path) {
-        let looked = std::path::absolute(&mesh_path)
-            .map_or(spec.mesh.clone(), |p| crate::spec::normalize(&p.to_string_lossy()));
+    let gltf = file::is_gltf(&spec.mesh);
+    if !(gltf || lower.ends_with(".obj") || lower.ends_with(".obj.zst")) {
         return Err(Error::input(
             path,
             format!(
-                "key `mesh`: mesh file '{}' not found (looked for {looked}); mesh paths are relative to the \
-                 scene file",
+                "key `mesh`: '{}' must be a Wavefront .obj or .obj.zst file, or a glTF 2.0 .gltf or .glb file",
                 spec.mesh
             ),
         ));
     }
+    let mesh_path = path.parent().unwrap_or(Path::new("")).join(&spec.mesh);
+    if !io::exists(&mesh_path) {
+        return Err(Error::input(
+            path,
+            format!(
+                "key `mesh`: mesh file '{}' not found (looked for {}); mesh paths are relative to the scene file",
+                spec.mesh,
+                looked_for(&mesh_path, &spec.mesh)
+            ),
+        ));
+    }
     let bytes = io::read_bytes(&mesh_path).map_err(|e| Error::input(path, format!("key `mesh`: {e}")))?;
-    let mesh = mesh::parse_obj(&bytes).map_err(|e| Error::input(&mesh_path, e))?;
+    let (mesh, file_camera, external) = if gltf {
+        let dir = mesh_path.parent().unwrap_or(Path::new("")).to_path_buf();
+        let mut fetch = |uri: &str| {
+            let p = dir.join(scene::gltf_mesh::uri_path(uri));
+            if !io::exists(&p) {
+                return Err(format!("file not found (looked for {})", looked_for(&p, uri)));
+            }
+            io::read_bytes(&p).map_err(|e| e.to_string())
+        };
+        let g = scene::gltf_mesh::parse_gltf(&bytes, &mut fetch).map_err(|e| Error::input(&mesh_path, e))?;
+        (g.mesh, g.camera, g.external)
+    } else {
+        (mesh::parse_obj(&bytes).map_err(|e| Error::input(&mesh_path, e))?, None, Vec::new())
+    };
+    let view = match (&spec.camera.0, file_camera) {
+        (Some(c), _) => c.camera(),
+        (None, Some(c)) => c,
+        (None, None) => {
+            return Err(Error::input(
+                path,
+                format!(
+                    "key `camera`: missing, and the glTF file '{}' has no camera placed by a node of its scene; {}",
+                    spec.mesh,
+                    file::MISSING_CAMERA
+                ),
+            ));
+        }
+    };
     let name = spec.name.clone().unwrap_or_else(|| {
         let stem = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         stem.strip_suffix(".toml").unwrap_or(&stem).to_string()
     });
-    let hash = scene::content_hash(&[text.as_bytes(), &bytes]);
+    let mut parts: Vec<&[u8]> = vec![text.as_bytes(), &bytes];
+    parts.extend(external.iter().map(|b| &b[..]));
+    let hash = scene::content_hash(&parts);
     let res = (spec.resolution.0, spec.resolution.1);
-    let scene = Scene::new(name, spec.camera.camera(), res, spec.ao_distance.0, hash, mesh).map_err(|e| {
+    let scene = Scene::new(name, view, res, spec.ao_distance.0, hash, mesh).map_err(|e| {
         // Its camera and distance were checked with the file; an empty mesh is the mesh's fault.
         Error::input(if e.starts_with(scene::EMPTY_MESH) { &mesh_path } else { path }, e)
     })?;
     check_view(path, &scene, res.0, res.1)?;
     Ok(scene)
+}
+
+/// The absolute, normalized form of a path for "looked for" in messages (`fallback` if it has none).
+fn looked_for(p: &Path, fallback: &str) -> String {
+    std::path::absolute(p).map_or(fallback.to_string(), |p| crate::spec::normalize(&p.to_string_lossy()))
 }
 
 /// Refuses a camera that sees no triangle at `width` x `height`: every image of it would be
@@ -208,6 +244,9 @@ pub fn dropped_warning(scene: &Scene) -> Option<String> {
             "warning: scene '{}': skipped mesh elements that are not faces: {s}; AO renders faces only",
             scene.name
         ));
+    }
+    for n in &scene.notes {
+        lines.push(format!("warning: scene '{}': {n}", scene.name));
     }
     (!lines.is_empty()).then(|| lines.join("\n"))
 }

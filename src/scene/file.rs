@@ -2,7 +2,7 @@
 //! column and key of the bad value; unknown keys are refused for the same reason.
 //!
 //! ```toml
-//! mesh = "cornell-box.obj"          # .obj or .obj.zst, relative to this file
+//! mesh = "cornell-box.obj"          # .obj, .obj.zst, .gltf or .glb, relative to this file
 //! resolution = [320, 240]           # default image size
 //! ao_distance = 1.0                 # or "infinite" ("inf")
 //! [camera.perspective]              # or [camera.orthographic] with view_width instead of fov_y_deg
@@ -11,6 +11,8 @@
 //! up = [0.0, 1.0, 0.0]
 //! fov_y_deg = 39.3
 //! ```
+//!
+//! A glTF mesh may leave out the camera: the file's first camera is used (`load` checks it has one).
 
 use super::camera::{Camera, WorldCamera, up_problem};
 use crate::spec::position::{describe, line_of};
@@ -25,9 +27,24 @@ pub struct SceneFile {
     /// Defaults to the file stem.
     pub name: Option<String>,
     pub mesh: String,
-    pub camera: CameraFile,
+    /// Optional only for a glTF mesh, whose first camera stands in.
+    #[serde(default)]
+    pub camera: CameraEntry,
     pub resolution: Resolution,
     pub ao_distance: AoDistance,
+}
+
+/// The `[camera.*]` table if the file has one (`parse` refuses a file without one unless its mesh
+/// is glTF).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(transparent)]
+pub struct CameraEntry(pub Option<CameraFile>);
+
+impl CameraEntry {
+    /// The file's camera; only for a file that gives one (any file whose mesh is not glTF).
+    pub fn camera(&self) -> WorldCamera {
+        self.0.as_ref().expect("the scene file gives a camera").camera()
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -222,9 +239,24 @@ impl<'de> Deserialize<'de> for AoDistance {
 /// a spec's are.
 pub fn parse(text: &str) -> Result<SceneFile, String> {
     let file: SceneFile = toml::from_str(text).map_err(|e| describe(text, &e, &hint))?;
-    check_camera(text, &file.camera)?;
+    match &file.camera.0 {
+        Some(c) => check_camera(text, c)?,
+        None if !is_gltf(&file.mesh) => return Err(format!("key `camera`: missing; {}", MISSING_CAMERA)),
+        None => {}
+    }
     Ok(file)
 }
+
+/// Whether a mesh path names a glTF 2.0 file (JSON `.gltf` or binary `.glb`), by its extension.
+pub fn is_gltf(mesh: &str) -> bool {
+    let lower = mesh.to_ascii_lowercase();
+    lower.ends_with(".gltf") || lower.ends_with(".glb")
+}
+
+/// What a scene without a camera is told: write one (or, for glTF, give the file one).
+pub const MISSING_CAMERA: &str = "add a camera: write `[camera.perspective]` (eye, target, up, fov_y_deg) or \
+                                  `[camera.orthographic]` (eye, target, up, view_width); a glTF mesh's own \
+                                  first camera is used when the scene file gives none";
 
 /// The two ways to write the camera, said whenever the camera is missing or malformed.
 const CAMERA: &str = "write `[camera.perspective]` (eye, target, up, fov_y_deg) or `[camera.orthographic]` \
@@ -250,7 +282,7 @@ fn hint(key: &str, message: &str) -> Option<String> {
     let field = key.rsplit('.').next().unwrap_or(key);
     Some(match field {
         "camera" => format!("add a camera: {CAMERA}"),
-        "mesh" => "add `mesh = \"file.obj\"` (.obj or .obj.zst, relative to this file)".into(),
+        "mesh" => "add `mesh = \"file.obj\"` (.obj, .obj.zst, .gltf or .glb, relative to this file)".into(),
         "resolution" => format!("add `resolution = [width, height]`, {RESOLUTION_RULE}"),
         "ao_distance" => "add `ao_distance = d`, a positive number or \"infinite\"".into(),
         "eye" | "target" | "up" => format!("add `{field} = [x, y, z]`"),
@@ -272,6 +304,16 @@ mod tests {
         let f = parse(GOOD).unwrap();
         assert_eq!(f.ao_distance.0, f32::INFINITY);
         assert!(matches!(f.camera.camera(), Camera::Orthographic { view_width: 2.0, .. }));
+    }
+
+    #[test]
+    fn only_a_gltf_mesh_may_leave_out_the_camera() {
+        let bare = GOOD.split("[camera").next().unwrap();
+        let e = parse(bare).unwrap_err();
+        assert!(e.starts_with("key `camera`: missing; add a camera: write `[camera.perspective]`"), "{e}");
+        for mesh in ["a.glb", "a.GLTF"] {
+            assert!(parse(&bare.replace("a.obj", mesh)).unwrap().camera.0.is_none(), "{mesh}");
+        }
     }
 
     #[test]

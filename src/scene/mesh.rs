@@ -17,6 +17,8 @@ pub struct Mesh {
     pub dropped: usize,
     /// Elements with no surface (`p`, `l`, `curv`, `curv2`, `surf`): keyword, count, first line.
     pub skipped: Vec<(&'static str, usize, usize)>,
+    /// Other things a load warns about, one sentence each (e.g. glTF alpha masks rendered solid).
+    pub notes: Vec<String>,
 }
 
 impl Mesh {

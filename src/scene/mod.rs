@@ -6,6 +6,9 @@ pub mod camera;
 pub mod file;
 #[cfg(any(test, feature = "testing"))]
 pub mod generate;
+pub mod gltf_mesh;
+#[cfg(any(test, feature = "testing"))]
+pub mod gltf_write;
 pub mod mesh;
 pub(crate) mod near;
 mod node;
@@ -52,6 +55,8 @@ pub struct Scene {
     /// Mesh elements skipped because they are not faces (`Mesh::skipped_description`), for one
     /// warning.
     pub skipped_elements: Option<String>,
+    /// The mesh's other load warnings (`Mesh::notes`), one sentence each.
+    pub notes: Vec<String>,
     /// Core BVH build time (obvhs's own measure, without input conversion).
     pub bvh_build_s: f64,
     pub accel: Accel,
@@ -82,6 +87,7 @@ impl Scene {
         }
         let local = |v: DVec3| (v - origin).as_vec3();
         let skipped_elements = mesh.skipped_description();
+        let notes = mesh.notes.clone();
         let (mut triangles, mut dropped) = (Vec::with_capacity(mesh.triangles.len()), mesh.dropped);
         for t in &mesh.triangles {
             let t = [local(t[0]), local(t[1]), local(t[2])];
@@ -110,6 +116,7 @@ impl Scene {
             triangle_count: triangles.len(),
             dropped_triangles: dropped,
             skipped_elements,
+            notes,
             bvh_build_s,
             accel,
         })
@@ -137,7 +144,7 @@ impl Scene {
         }
         let hash = content_hash(&[&bytes]);
         let (keep, drop): (Vec<_>, Vec<_>) = triangles.into_iter().partition(mesh::usable);
-        let mesh = Mesh { triangles: keep, dropped: drop.len(), skipped: Vec::new() };
+        let mesh = Mesh { triangles: keep, dropped: drop.len(), ..Mesh::default() };
         Scene::new(name.to_string(), view, resolution, ao_distance, hash, mesh)
     }
 }

@@ -13,6 +13,7 @@ mod points;
 mod reference_adaptive;
 mod reference_dir;
 mod render;
+mod render_gltf;
 mod report_page;
 mod run_answer;
 mod run_errors;

@@ -26,6 +26,7 @@ mod sampling_stbn;
 mod sampling_warps;
 mod scene_bvh;
 mod scene_files;
+mod scene_gltf;
 mod scene_primary_packets;
 mod spec_errors;
 mod spec_files;

@@ -1,0 +1,297 @@
+//! glTF 2.0 (Khronos, "glTF 2.0 Specification", 2021) to the same triangle soup an OBJ gives: the
+//! default scene's node tree walked with each node's transform composed in f64, every triangle
+//! primitive of every mesh a node instances (indexed or not; `TRIANGLES`, `TRIANGLE_STRIP` and
+//! `TRIANGLE_FAN` unrolled as the specification's section 3.7.2.1 orders their vertices), and the
+//! file's first camera where a node places it. Points and lines have no surface to occlude with, and
+//! are refused rather than dropped: a glTF file says exactly what it draws, so an unsupported mode is
+//! a file this renderer cannot show faithfully.
+//!
+//! No IO here: `fetch` hands over the bytes of a buffer's URI (relative to the .gltf file, or a
+//! `data:` URI decoded here), so every fault is a message the caller prefixes with the file name.
+
+use super::MAX_COORDINATE;
+use super::camera::{Camera, WorldCamera};
+use super::mesh::{Mesh, usable};
+use ::gltf::mesh::Mode;
+use glam::{DMat4, DVec3};
+
+/// A glTF file's geometry, its first camera (if a node of the scene places it), and the bytes of
+/// every external buffer it read (for the scene's content hash).
+pub struct Parsed {
+    pub mesh: Mesh,
+    pub camera: Option<WorldCamera>,
+    pub external: Vec<Vec<u8>>,
+}
+
+/// Reads a `.gltf` (JSON) or `.glb` (binary) file. `fetch(uri)` returns the bytes of a buffer's
+/// external file, or why not (e.g. "not found, looked for /abs/path").
+pub fn parse_gltf(
+    bytes: &[u8],
+    fetch: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
+) -> Result<Parsed, String> {
+    let ::gltf::Gltf { document, blob } =
+        ::gltf::Gltf::from_slice(bytes).map_err(|e| format!("not a readable glTF 2.0 file: {e}"))?;
+    let mut buffers = Vec::new();
+    let mut external = Vec::new();
+    for b in document.buffers() {
+        let data = match b.source() {
+            ::gltf::buffer::Source::Bin => blob.clone().ok_or_else(|| {
+                format!("buffer {}: refers to the GLB binary chunk, which the file lacks", b.index())
+            })?,
+            ::gltf::buffer::Source::Uri(uri) => {
+                let data = match uri.strip_prefix("data:") {
+                    Some(rest) => {
+                        data_uri(rest).map_err(|e| format!("buffer {}: data URI: {e}", b.index()))?
+                    }
+                    None => fetch(uri).map_err(|e| format!("buffer {} ('{uri}'): {e}", b.index()))?,
+                };
+                external.push(data.clone());
+                data
+            }
+        };
+        if data.len() < b.length() {
+            return Err(format!(
+                "buffer {}: holds {} bytes, the file declares {} (truncated?)",
+                b.index(),
+                data.len(),
+                b.length()
+            ));
+        }
+        buffers.push(data);
+    }
+    let mut mesh = Mesh::default();
+    let mut camera = None;
+    let roots: Vec<::gltf::Node> = match document.default_scene().or_else(|| document.scenes().next()) {
+        Some(s) => s.nodes().collect(),
+        None => return Err("no scene: the file lists no `scenes`, so it draws nothing".into()),
+    };
+    // Depth-first in file order, so the triangles (and which node's camera is "first") are the same
+    // on every load.
+    let mut stack: Vec<(::gltf::Node, DMat4)> =
+        roots.into_iter().rev().map(|n| (n, DMat4::IDENTITY)).collect();
+    let mut visited = 0usize;
+    // Images decoded so far (alpha-masked materials' base colour), and primitives drawn with a mask.
+    let mut decoded = vec![false; document.images().len()];
+    let mut masked = 0usize;
+    while let Some((node, parent)) = stack.pop() {
+        visited += 1;
+        if visited > 1 << 24 {
+            return Err("node tree: more than 2^24 node visits (a cycle among `children`?)".into());
+        }
+        let local = node.transform().matrix().map(|c| c.map(f64::from));
+        let world = parent * DMat4::from_cols_array_2d(&local);
+        if let Some(m) = node.mesh() {
+            for p in m.primitives() {
+                let what = || format!("mesh {} primitive {}", m.index(), p.index());
+                primitive(&p, &buffers, world, &mut mesh).map_err(|e| format!("{}: {e}", what()))?;
+                let material = p.material();
+                if material.alpha_mode() != ::gltf::material::AlphaMode::Mask {
+                    continue;
+                }
+                masked += 1;
+                let Some(info) = material.pbr_metallic_roughness().base_color_texture() else { continue };
+                let image = info.texture().source();
+                if !std::mem::replace(&mut decoded[image.index()], true) {
+                    let bytes = image_bytes(&image, &buffers, fetch, &mut external)
+                        .map_err(|e| format!("{}: image {}: {e}", what(), image.index()))?;
+                    image::load_from_memory(&bytes).map_err(|e| {
+                        format!(
+                            "{}: image {}: the base colour texture does not decode as PNG: {e}",
+                            what(),
+                            image.index()
+                        )
+                    })?;
+                }
+            }
+        }
+        if camera.is_none() {
+            camera = node.camera().filter(|c| c.index() == 0).map(|c| place_camera(&c, world));
+        }
+        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
+            stack.push((child, world));
+        }
+    }
+    if masked > 0 {
+        mesh.notes.push(format!(
+            "{masked} glTF primitives have `alphaMode: MASK`; their alpha masks are not applied yet, so they \
+             render as solid surfaces"
+        ));
+    }
+    if mesh.triangles.is_empty() {
+        return Err(if mesh.dropped > 0 {
+            format!("empty mesh: all {} triangles have zero area or non-finite vertices", mesh.dropped)
+        } else {
+            "empty mesh: no node of the scene draws a triangle (AO needs at least one)".into()
+        });
+    }
+    Ok(Parsed { mesh, camera, external })
+}
+
+/// Appends one primitive's triangles, in world coordinates.
+fn primitive(
+    p: &::gltf::Primitive,
+    buffers: &[Vec<u8>],
+    world: DMat4,
+    mesh: &mut Mesh,
+) -> Result<(), String> {
+    let mode = p.mode();
+    if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        return Err(format!(
+            "primitive mode {mode:?} is not supported (AO renders surfaces: use TRIANGLES, TRIANGLE_STRIP or \
+             TRIANGLE_FAN)"
+        ));
+    }
+    let reader = p.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
+    let positions: Vec<DVec3> = reader
+        .read_positions()
+        .ok_or("POSITION: missing, or its data lies outside its buffer")?
+        .map(|v| world.transform_point3(DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)))
+        .collect();
+    if let Some(c) = positions.iter().flat_map(|v| v.to_array()).find(|c| c.abs() > MAX_COORDINATE) {
+        return Err(format!(
+            "a vertex coordinate ({c:e} after the node transforms) is beyond ±{MAX_COORDINATE:e}"
+        ));
+    }
+    let indices: Vec<u32> = match p.indices() {
+        None => (0..positions.len() as u32).collect(),
+        Some(_) => {
+            reader.read_indices().ok_or("indices: their data lies outside its buffer")?.into_u32().collect()
+        }
+    };
+    if let Some(&i) = indices.iter().find(|&&i| i as usize >= positions.len()) {
+        return Err(format!("index {i} out of range (the primitive has {} vertices)", positions.len()));
+    }
+    let n = indices.len();
+    let corners: Vec<[u32; 3]> = match mode {
+        Mode::Triangles => {
+            if !n.is_multiple_of(3) {
+                return Err(format!("TRIANGLES with {n} vertices (not a multiple of 3)"));
+            }
+            indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+        }
+        // Section 3.7.2.1: p_i = {v_i, v_{i+(1+i%2)}, v_{i+(2-i%2)}}, which keeps the winding.
+        Mode::TriangleStrip => (0..n.saturating_sub(2))
+            .map(|i| [indices[i], indices[i + 1 + i % 2], indices[i + 2 - i % 2]])
+            .collect(),
+        // Section 3.7.2.1: p_i = {v_{i+1}, v_{i+2}, v_0}.
+        _ => (0..n.saturating_sub(2)).map(|i| [indices[i + 1], indices[i + 2], indices[0]]).collect(),
+    };
+    for c in corners {
+        let tri = c.map(|i| positions[i as usize]);
+        if usable(&tri) {
+            mesh.triangles.push(tri);
+        } else {
+            mesh.dropped += 1;
+        }
+    }
+    Ok(())
+}
+
+/// The encoded bytes of an image: from a buffer view, a `data:` URI, or a file beside the glTF.
+fn image_bytes(
+    image: &::gltf::Image,
+    buffers: &[Vec<u8>],
+    fetch: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
+    external: &mut Vec<Vec<u8>>,
+) -> Result<Vec<u8>, String> {
+    match image.source() {
+        ::gltf::image::Source::View { view, .. } => {
+            let (start, len) = (view.offset(), view.length());
+            buffers[view.buffer().index()]
+                .get(start..start + len)
+                .map(<[u8]>::to_vec)
+                .ok_or_else(|| format!("buffer view {} lies outside its buffer", view.index()))
+        }
+        ::gltf::image::Source::Uri { uri, .. } => {
+            let bytes = match uri.strip_prefix("data:") {
+                Some(rest) => data_uri(rest).map_err(|e| format!("data URI: {e}"))?,
+                None => fetch(uri).map_err(|e| format!("'{uri}': {e}"))?,
+            };
+            external.push(bytes.clone());
+            Ok(bytes)
+        }
+    }
+}
+
+/// A glTF camera looks down its node's −Z with +Y up (section 3.10.1). The image's aspect comes from
+/// the scene's resolution, as for a TOML camera; an orthographic camera's width is twice its `xmag`.
+fn place_camera(c: &::gltf::Camera, world: DMat4) -> WorldCamera {
+    let eye = world.transform_point3(DVec3::ZERO);
+    let target = eye + world.transform_vector3(DVec3::NEG_Z);
+    let up = world.transform_vector3(DVec3::Y);
+    match c.projection() {
+        ::gltf::camera::Projection::Perspective(p) => {
+            Camera::Perspective { eye, target, up, fov_y_deg: p.yfov().to_degrees() }
+        }
+        ::gltf::camera::Projection::Orthographic(o) => {
+            let scale = world.transform_vector3(DVec3::X).length();
+            Camera::Orthographic { eye, target, up, view_width: (2.0 * o.xmag() as f64 * scale) as f32 }
+        }
+    }
+}
+
+/// `data:[<mediatype>][;base64],<data>` (RFC 2397), the part after `data:`.
+fn data_uri(rest: &str) -> Result<Vec<u8>, String> {
+    let (head, data) = rest.split_once(',').ok_or("no ',' before the data")?;
+    if !head.ends_with(";base64") {
+        return Err("only base64 data URIs are supported".into());
+    }
+    base64(data)
+}
+
+/// Standard base64 (RFC 4648, section 4), padding optional.
+fn base64(s: &str) -> Result<Vec<u8>, String> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => Some(c - b'A'),
+        b'a'..=b'z' => Some(c - b'a' + 26),
+        b'0'..=b'9' => Some(c - b'0' + 52),
+        b'+' => Some(62),
+        b'/' => Some(63),
+        _ => None,
+    };
+    let (mut out, mut acc, mut bits) = (Vec::with_capacity(s.len() * 3 / 4), 0u32, 0);
+    for &c in s.trim_end_matches('=').as_bytes() {
+        let v = value(c).ok_or_else(|| format!("'{}' is not a base64 character", c as char))?;
+        acc = (acc << 6) | v as u32;
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            out.push((acc >> bits) as u8);
+        }
+    }
+    Ok(out)
+}
+
+/// A relative URI as a file path: percent-escapes decoded (RFC 3986, section 2.1).
+pub fn uri_path(uri: &str) -> String {
+    let b = uri.as_bytes();
+    let (mut out, mut i) = (Vec::with_capacity(b.len()), 0);
+    while i < b.len() {
+        let hex = |j: usize| b.get(j).and_then(|&c| (c as char).to_digit(16));
+        match (b[i], hex(i + 1), hex(i + 2)) {
+            (b'%', Some(h), Some(l)) => {
+                out.push((h * 16 + l) as u8);
+                i += 3;
+            }
+            (c, _, _) => {
+                out.push(c);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_and_uris_decode() {
+        assert_eq!(base64("aGVsbG8=").unwrap(), b"hello");
+        assert_eq!(base64("aGVsbG8").unwrap(), b"hello");
+        assert!(base64("a*").is_err());
+        assert_eq!(uri_path("my%20mesh.bin"), "my mesh.bin");
+        assert_eq!(uri_path("100%"), "100%");
+    }
+}

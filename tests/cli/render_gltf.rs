@@ -1,0 +1,65 @@
+//! `hemilab render` on glTF scenes: a good .glb renders with the file's own camera; a bad file
+//! (missing .bin, unsupported primitive mode, unreadable bytes) is one error naming the mesh file
+//! and the reason, exit 2, and nothing is written.
+
+use super::support::common::{Tmp, assert_error};
+use hemilab::scene::gltf_write::{Doc, Material, Node, soup};
+
+/// Two triangles of a unit square at z = 0, and a camera 3 in front of it (yfov 0.8 rad).
+fn square(mode: u32) -> Doc {
+    let mut prims =
+        soup(&[[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]], [[0.0; 3], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]]]);
+    prims[0].mode = mode;
+    Doc {
+        meshes: vec![prims],
+        nodes: vec![
+            Node { mesh: Some(0), ..Node::default() },
+            Node { camera: Some(0), translation: Some([0.5, 0.5, 3.0]), ..Node::default() },
+        ],
+        roots: vec![0, 1],
+        cameras: vec![0.8],
+        ..Doc::default()
+    }
+}
+
+const SCENE: &str = "mesh = \"m.glb\"\nresolution = [16, 12]\nao_distance = 1.0\n";
+
+#[test]
+fn a_glb_renders_with_its_own_camera() {
+    let t = Tmp::new("gltf-render");
+    std::fs::write(t.path("m.glb"), square(4).to_glb()).unwrap();
+    std::fs::write(t.path("s.toml"), SCENE).unwrap();
+    let o = t.hemilab(&["render", "s.toml", "--rays", "4", "--output", "out/x.exr"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(t.path("out/x.exr").exists() && t.path("out/x.png").exists());
+}
+
+#[test]
+fn bad_gltf_files_exit_2_naming_the_file_and_write_nothing() {
+    let t = Tmp::new("gltf-render-bad");
+    let (json, _) = square(4).to_gltf("m.bin");
+    let cases: Vec<(&str, Vec<u8>, &str)> = vec![
+        ("m.gltf", json.into_bytes(), "buffer 0 ('m.bin'): file not found"),
+        ("m.glb", square(0).to_glb(), "mode Points is not supported"),
+        ("m.glb", b"{ not json".to_vec(), "not a readable glTF 2.0 file"),
+        ("m.glb", bad_texture(), "image 0: the base colour texture does not decode as PNG"),
+    ];
+    for (mesh, bytes, want) in cases {
+        std::fs::write(t.path(mesh), bytes).unwrap();
+        std::fs::write(t.path("s.toml"), SCENE.replace("m.glb", mesh)).unwrap();
+        let o = t.hemilab(&["render", "s.toml", "--rays", "4", "--output", "out/x.exr"]);
+        let e = assert_error(&o, mesh);
+        assert!(e.contains(want), "want '{want}' in: {e}");
+        assert!(!t.path("out").exists(), "{mesh}: wrote output");
+    }
+}
+
+/// The square with an alpha-masked material whose texture is not an image.
+fn bad_texture() -> Vec<u8> {
+    let mut doc = square(4);
+    doc.meshes[0][0].uvs = Some(vec![[0.0; 2]; 6]);
+    doc.meshes[0][0].material = Some(0);
+    doc.materials = vec![Material { base_color_factor: [1.0; 4], texture: Some(0), alpha_cutoff: Some(0.5) }];
+    doc.images = vec![b"not a png".to_vec()];
+    doc.to_glb()
+}

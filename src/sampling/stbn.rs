@@ -105,7 +105,7 @@ impl StbnShift {
     /// Derived from the run key only: the same for every pixel and frame of a run.
     #[inline]
     pub fn new(run_key: u64) -> Self {
-        let h = [hash(run_key, 0x57B_0E_5E), hash(run_key, 0x57B_0E_5F)];
+        let h = [hash(run_key, 0x057B_0E5E), hash(run_key, 0x057B_0E5F)];
         // Disjoint bits of one hash: 16 each for x, y and t shift (2^16 is a multiple of 64 and
         // 32: uniform), the top 16 for the jitter (CELL = 2^12 divides 2^16: uniform).
         let shift = h.map(|h| {

@@ -61,7 +61,11 @@ fn every_filter_keeps_a_constant_and_leaves_the_background() {
     assert!(bg > 0, "the Cornell box's open front shows background");
     for c in [0.37f32, 1.0, 0.0, 2.5e-3] {
         // Background holds another value, which must neither leak in nor change.
-        let img = Image::from_vec(w, h, (0..w * h).map(|i| if g.is_covered(i as usize) { c } else { 9.0 }).collect());
+        let img = Image::from_vec(
+            w,
+            h,
+            (0..w * h).map(|i| if g.is_covered(i as usize) { c } else { 9.0 }).collect(),
+        );
         let filtered = [
             ("gauss", gaussian(&img, &g.coverage, GAUSS_SIGMA)),
             ("atrous", atrous(&img, &g, &AtrousParams::default())),
@@ -73,7 +77,11 @@ fn every_filter_keeps_a_constant_and_leaves_the_background() {
             for i in 0..img.len() {
                 let want = img.data[i];
                 let tol = 2.0 * f32::EPSILON * want.abs();
-                assert!((out.data[i] - want).abs() <= tol, "{name}, c = {c}, pixel {i}: {} vs {want}", out.data[i]);
+                assert!(
+                    (out.data[i] - want).abs() <= tol,
+                    "{name}, c = {c}, pixel {i}: {} vs {want}",
+                    out.data[i]
+                );
             }
         }
     }
@@ -102,7 +110,14 @@ fn correlation_sum(k: &[f64]) -> f64 {
 
 /// The variance of `filter(white noise of sd 1)` over the pixels at least `margin` from every border,
 /// pooled over `seeds` images; with the expected value Σ K² (K = k ⊗ k, normalized) and its sd.
-fn variance_ratio(w: u32, h: u32, k: &[f64], margin: u32, seeds: u64, filter: impl Fn(&Image) -> Image) -> (f64, f64, f64) {
+fn variance_ratio(
+    w: u32,
+    h: u32,
+    k: &[f64],
+    margin: u32,
+    seeds: u64,
+    filter: impl Fn(&Image) -> Image,
+) -> (f64, f64, f64) {
     let sum: f64 = k.iter().sum();
     let k: Vec<f64> = k.iter().map(|v| v / sum).collect();
     let expected = k.iter().map(|v| v * v).sum::<f64>().powi(2);
@@ -153,7 +168,8 @@ fn atrous_on_a_flat_plane_reduces_white_noise_variance_by_its_kernels_sum_of_squ
         k = next;
     }
     let margin = (k.len() / 2) as u32;
-    let (got, want, sd) = variance_ratio(w, h, &k, margin, 8, |img| atrous(img, &g, &AtrousParams::default()));
+    let (got, want, sd) =
+        variance_ratio(w, h, &k, margin, 32, |img| atrous(img, &g, &AtrousParams::default()));
     eprintln!("atrous on a plane: variance × {got:.6}, Σ K² = {want:.6} ± {sd:.6}");
     assert!((got - want).abs() < 4.0 * sd, "{got} vs {want} ± {sd}");
     assert!(got < 0.01, "variance down by more than 100×: {got}");
@@ -235,7 +251,8 @@ fn atrous_keeps_the_rendered_rectangle_apart_from_the_floor() {
     let (w, h) = (64, 64);
     let g = gbuffer(&scene, w, h);
     let on_rect = |i: usize| g.depth.data[i] < 9.5;
-    let img = Image::from_vec(w, h, (0..(w * h) as usize).map(|i| if on_rect(i) { 1.0 } else { 0.0 }).collect());
+    let img =
+        Image::from_vec(w, h, (0..(w * h) as usize).map(|i| if on_rect(i) { 1.0 } else { 0.0 }).collect());
     let out = atrous(&img, &g, &AtrousParams::default());
     let worst = (0..img.len()).map(|i| (out.data[i] - img.data[i]).abs()).fold(0.0, f32::max);
     assert!(worst < 1e-6, "leak across the rendered step: {worst:e}");
@@ -251,7 +268,7 @@ fn running_mean_and_ema_match_their_closed_forms() {
         for k in 0..frames {
             acc.push(&frame(k));
             let got = acc.image();
-            for i in 0..(w * h) as usize {
+            for (i, &g) in got.data.iter().enumerate() {
                 let x = |j: usize| xs[j][i] as f32 as f64;
                 let want = match mode {
                     Temporal::Mean => (0..=k).map(x).sum::<f64>() / (k + 1) as f64,
@@ -262,7 +279,7 @@ fn running_mean_and_ema_match_their_closed_forms() {
                             + (1..=k).map(|j| a * (1.0 - a).powi((k - j) as i32) * x(j)).sum::<f64>()
                     }
                 };
-                assert!((got.data[i] as f64 - want).abs() < 1e-6, "{mode:?} frame {k} pixel {i}");
+                assert!((g as f64 - want).abs() < 1e-6, "{mode:?} frame {k} pixel {i}");
             }
         }
     }

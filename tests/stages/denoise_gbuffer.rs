@@ -27,7 +27,13 @@ fn fingerprint(o: &RenderOutput) -> u64 {
     h
 }
 
-fn job(scene: &hemilab::scene::Scene, d: Distribution, q: Sequence, m: SeedMode, res: (u32, u32)) -> RenderJob {
+fn job(
+    scene: &hemilab::scene::Scene,
+    d: Distribution,
+    q: Sequence,
+    m: SeedMode,
+    res: (u32, u32),
+) -> RenderJob {
     RenderJob {
         distribution: d,
         sampler: SamplerConfig::new(q, m, 16, 3).unwrap(),
@@ -44,7 +50,13 @@ fn render_is_bit_identical_to_mains() {
     let cases = [
         ("scenes/kitchen.toml", (64, 48), Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Rotation),
         ("scenes/cornell-box.toml", (48, 48), Distribution::Uniform, Sequence::Random, SeedMode::Shift),
-        ("scenes/floating-rectangle.toml", (40, 30), Distribution::Sine, Sequence::Fibonacci, SeedMode::Rotation),
+        (
+            "scenes/floating-rectangle.toml",
+            (40, 30),
+            Distribution::Sine,
+            Sequence::Fibonacci,
+            SeedMode::Rotation,
+        ),
     ];
     let mut got = Vec::new();
     for (file, res, d, q, m) in cases {
@@ -73,7 +85,11 @@ fn depth_and_normal_are_the_primary_hits() {
         assert!(g.is_covered(i), "the floor fills the view");
         let z = g.depth.data[i];
         assert!((z - 10.0).abs() < 1e-5 || (z - 9.2).abs() < 1e-5, "pixel {i}: depth {z}");
-        if (z - 10.0).abs() < 1e-5 { floor += 1 } else { rect += 1 }
+        if (z - 10.0).abs() < 1e-5 {
+            floor += 1
+        } else {
+            rect += 1
+        }
         assert_eq!(g.normal[i], Vec3::Z, "pixel {i}");
     }
     assert!(floor > 0 && rect > 0, "both surfaces seen: {floor} floor, {rect} rectangle pixels");

@@ -122,8 +122,10 @@ pub fn atrous(img: &Image, gbuf: &GBuffer, params: &AtrousParams) -> Image {
                             continue;
                         }
                         let dz = (zp - z[q]).abs();
-                        let scale = params.sigma_depth * (gx * dx as f32 + gy * dy as f32).abs() + DEPTH_EPS * zp;
-                        let wz = if dz == 0.0 { 1.0 } else { (-(dz / scale.max(f32::MIN_POSITIVE)) as f64).exp() };
+                        let scale =
+                            params.sigma_depth * (gx * dx as f32 + gy * dy as f32).abs() + DEPTH_EPS * zp;
+                        let wz =
+                            if dz == 0.0 { 1.0 } else { (-(dz / scale.max(f32::MIN_POSITIVE)) as f64).exp() };
                         let wn = (np.dot(n[q]).max(0.0) as f64).powf(params.sigma_normal as f64);
                         let lq = src[q] as f64;
                         let wl = value_scale.map_or(1.0, |s| (-(lp - lq) * (lp - lq) * s).exp());

@@ -110,9 +110,14 @@ impl FromStr for Pipeline {
                 let t = match temporal(t) {
                     Some(Ok(t)) => t,
                     Some(Err(e)) => return Err(refuse(e)),
-                    None => return Err(refuse(format!("'{t}' is no temporal part (mean, emaA); it comes first"))),
+                    None => {
+                        return Err(refuse(format!(
+                            "'{t}' is no temporal part (mean, emaA); it comes first"
+                        )));
+                    }
                 };
-                let sp = spatial(sp).ok_or_else(|| refuse(format!("'{sp}' is no spatial filter (gauss, atrous)")))?;
+                let sp = spatial(sp)
+                    .ok_or_else(|| refuse(format!("'{sp}' is no spatial filter (gauss, atrous)")))?;
                 Ok(Pipeline { temporal: Some(t), spatial: Some(sp) })
             }
             _ => Err(refuse("at most one temporal and one spatial part".into())),
@@ -145,12 +150,23 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_bad_ones_say_what_is_allowed() {
-        for name in ["raw", "gauss", "atrous", "mean", "ema0.1", "ema0.1+atrous", "mean+atrous", "ema1+gauss"] {
+        for name in ["raw", "gauss", "atrous", "mean", "ema0.1", "ema0.1+atrous", "mean+atrous", "ema1+gauss"]
+        {
             let p: Pipeline = name.parse().unwrap();
             assert_eq!(p.to_string(), name);
         }
         assert_eq!("ema0.1+atrous".parse::<Pipeline>().unwrap().temporal, Some(Temporal::Ema(0.1)));
-        for bad in ["", "blur", "ema0", "ema1.5", "emax", "atrous+mean", "mean+ema0.1", "raw+atrous", "mean+atrous+gauss"] {
+        for bad in [
+            "",
+            "blur",
+            "ema0",
+            "ema1.5",
+            "emax",
+            "atrous+mean",
+            "mean+ema0.1",
+            "raw+atrous",
+            "mean+atrous+gauss",
+        ] {
             let e = bad.parse::<Pipeline>().unwrap_err().to_string();
             assert!(e.contains(&format!("'{bad}'")) && e.contains(ALLOWED), "{bad}: {e}");
         }

@@ -43,7 +43,7 @@ fn wrap(d: usize, n: usize) -> f64 {
 
 impl VoidAndCluster {
     /// Energy = Gaussian (σ = `sigma_s`) over the toroidal distance of pairs in the same slice,
-    /// + Gaussian (σ = `sigma_t`) over the toroidal time distance of pairs in the same pixel.
+    /// plus Gaussian (σ = `sigma_t`) over the toroidal time distance of pairs in the same pixel.
     /// With one slice (`dims[2]` = 1) this is the 2-D Gaussian energy of Ulichney.
     pub fn new(dims: [usize; 3], sigma_s: f64, sigma_t: f64) -> Self {
         let [nx, ny, nt] = dims;

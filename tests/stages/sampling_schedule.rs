@@ -52,10 +52,10 @@ fn frame_zero_is_todays_points_under_every_schedule() {
 #[test]
 fn r1_steps_are_exactly_f_alpha_mod_one() {
     for f in [0u64, 1, 2, 3, 31, 32, 1000, u32::MAX as u64] {
-        assert_eq!(r1(f), ((f as u128 * R1_ALPHA as u128) % (1u128 << 64) >> 40) as u32);
+        assert_eq!(r1(f), (((f as u128 * R1_ALPHA as u128) % (1u128 << 64)) >> 40) as u32);
         let (x, y) = r2(f);
-        assert_eq!(x, ((f as u128 * R2_ALPHA[0] as u128) % (1u128 << 64) >> 40) as u32);
-        assert_eq!(y, ((f as u128 * R2_ALPHA[1] as u128) % (1u128 << 64) >> 40) as u32);
+        assert_eq!(x, (((f as u128 * R2_ALPHA[0] as u128) % (1u128 << 64)) >> 40) as u32);
+        assert_eq!(y, (((f as u128 * R2_ALPHA[1] as u128) % (1u128 << 64)) >> 40) as u32);
         // Against the real number for small f (f64 holds f / phi to ~1e-16; away from grid edges).
         let phi = (1.0 + 5f64.sqrt()) / 2.0;
         let want = (f as f64 / phi).fract() * (1u64 << 24) as f64;

@@ -1,7 +1,8 @@
 //! The hemisphere sampling core: pure math, no IO, imports glam only.
 //!
 //! A point set is made in three steps, each in its own file:
-//! a sequence of numbers in [0,1)^2 (`random`, `fibonacci`, `stratified`, `sobol`) →
+//! a sequence of numbers in [0,1)^2 (`random`, `fibonacci`, `stratified`, `sobol`,
+//! `halton`, `pmj02bn`, `zsobol`, `r2`) →
 //! `seed` randomization across pixels (static, rotation, shift, blue-noise from `blue_noise`'s
 //! masks) →
 //! `warp` to a direction on the hemisphere (uniform, sine, sine-cosine, concentric-cosine),
@@ -13,14 +14,18 @@ pub mod batch;
 pub mod blue_noise;
 pub mod fibonacci;
 pub mod frame;
+pub mod halton;
 pub mod hash;
 mod names;
+pub mod pmj02;
+pub mod r2;
 pub mod random;
 pub mod seed;
 pub mod sobol;
 pub mod stratified;
 pub mod trig;
 pub mod warp;
+pub mod zsobol;
 
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
@@ -56,6 +61,14 @@ pub enum Sequence {
     Fibonacci,
     Stratified,
     Sobol,
+    /// Halton bases 2 and 3, Owen-scrambled ([`halton`]).
+    Halton,
+    /// Progressive multi-jittered (0,2) with blue-noise selection ([`pmj02`]).
+    Pmj02bn,
+    /// Sobol' through the pixel's Morton code ([`zsobol`]).
+    ZSobol,
+    /// The plastic-number Kronecker sequence ([`r2`]).
+    R2,
 }
 
 /// Everything that determines the points of every pixel of one image.
@@ -93,7 +106,8 @@ impl SamplerConfig {
         let ps = PixelSeed::new(self.seed, pixel);
         let (dx, dy) = ps.offsets(self.seed_mode, x, y);
         let fresh = self.seed_mode == SeedMode::Shift;
-        // Shift of a set that is already fresh per pixel (stratified, sobol): no offset on top.
+        // Shift of a set that is already fresh per pixel (stratified, sobol and the four after
+        // them): no offset on top.
         let (sx, sy) = if fresh { (0, 0) } else { (dx, dy) };
         match self.sequence {
             // Fresh numbers per pixel for both rotation and shift: the paper's pseudo-random row.
@@ -112,6 +126,10 @@ impl SamplerConfig {
             }
             Sequence::Stratified => stratified::fill(n, ps.set_key(fresh), sx, sy, out),
             Sequence::Sobol => sobol::fill(ps.set_key(fresh), sx, sy, out),
+            Sequence::Halton => halton::fill(ps.set_key(fresh), sx, sy, out),
+            Sequence::Pmj02bn => pmj02::fill(ps.set_key(fresh), sx, sy, out),
+            Sequence::ZSobol => zsobol::fill(n, x, y, ps.set_key(fresh), sx, sy, out),
+            Sequence::R2 => r2::fill(ps.set_key(fresh), sx, sy, out),
         }
     }
 }

@@ -27,9 +27,9 @@ fn curve(r: Row, c: f64, noise: &[f64]) -> Curve {
 #[test]
 fn the_default_set_is_every_distinct_sensible_estimator() {
     let rows = sensible_rows();
-    // 4 × 4 × 4, less random × shift (= random × rotation), random × static, and concentric ×
-    // rotation for the three non-random sequences.
-    assert_eq!(rows.len(), 64 - 4 - 4 - 3);
+    // 4 × 8 × 4, less random × shift (= random × rotation), random × static, and concentric ×
+    // rotation for the seven non-random sequences.
+    assert_eq!(rows.len(), 128 - 4 - 4 - 7);
     assert!(rows.contains(&PAPER_DEFAULT));
     assert!(rows.contains(&Row::new(Distribution::ConcentricCosine, Sequence::Random, SeedMode::Rotation)));
     assert!(rows.contains(&row(Sequence::Random, SeedMode::BlueNoise)));
@@ -49,7 +49,7 @@ fn only_patterns_select_and_explain() {
         p("sine-cosine/*/shift"),
         Pattern { distribution: Some(SC), sequence: None, seed_mode: Some(SeedMode::Shift) }
     );
-    for bad in ["sine-cosine/fibonacci", "a/b/c/d", "cosine/*/*", "*/halton/*", "*/*/jitter", ""] {
+    for bad in ["sine-cosine/fibonacci", "a/b/c/d", "cosine/*/*", "*/halton2/*", "*/*/jitter", ""] {
         let e = Pattern::parse(bad).unwrap_err();
         assert!(e.contains(bad) || bad.is_empty(), "{bad}: {e}");
     }
@@ -272,4 +272,15 @@ fn default_budgets_lie_inside_the_baseline_range() {
     assert_eq!(round_significant(0.0, 2), 0.0);
     assert_eq!(round_significant(5.0999, 2), 5.1);
     assert_eq!(round_significant(0.0051, 1).to_string(), "0.005");
+}
+
+#[test]
+fn the_default_set_holds_the_four_samplers_of_issue_28() {
+    // 53 before halton, pmj02bn, zsobol and r2: 4 seed modes each per distribution, less the
+    // concentric rotation, is 4 × (4 + 4 + 4 + 3) = 60 more.
+    let rows = sensible_rows();
+    assert_eq!(rows.len(), 113);
+    for s in [Sequence::Halton, Sequence::Pmj02bn, Sequence::ZSobol, Sequence::R2] {
+        assert_eq!(rows.iter().filter(|r| r.sequence == s).count(), 15, "{s}");
+    }
 }

@@ -1,7 +1,8 @@
 //! The hemisphere sampling core: pure math, no IO, imports glam only.
 //!
 //! A point set is made in three steps, each in its own file:
-//! a sequence of numbers in [0,1)^2 (`random`, `fibonacci`, `stratified`, `sobol`) →
+//! a sequence of numbers in [0,1)^2 (`random`, `fibonacci`, `stratified`, `sobol`,
+//! `halton`, `pmj02bn`, `zsobol`, `r2`) →
 //! `seed` randomization across pixels (static, rotation, shift, blue-noise from `blue_noise`'s
 //! masks, stbn from `stbn`'s spatiotemporal masks, both made by `void_cluster`), changing from frame
 //! to frame by a `schedule` →
@@ -14,8 +15,11 @@ pub mod batch;
 pub mod blue_noise;
 pub mod fibonacci;
 pub mod frame;
+pub mod halton;
 pub mod hash;
 mod names;
+pub mod pmj02;
+pub mod r2;
 pub mod random;
 pub mod schedule;
 pub mod seed;
@@ -25,6 +29,7 @@ pub mod stratified;
 pub mod trig;
 mod void_cluster;
 pub mod warp;
+pub mod zsobol;
 
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
@@ -62,6 +67,14 @@ pub enum Sequence {
     Fibonacci,
     Stratified,
     Sobol,
+    /// Halton bases 2 and 3, Owen-scrambled ([`halton`]).
+    Halton,
+    /// Progressive multi-jittered (0,2) with blue-noise selection ([`pmj02`]).
+    Pmj02bn,
+    /// Sobol' through the pixel's Morton code ([`zsobol`]).
+    ZSobol,
+    /// The plastic-number Kronecker sequence ([`r2`]).
+    R2,
 }
 
 /// Everything that determines the points of every pixel of one image.
@@ -122,7 +135,8 @@ impl SamplerConfig {
         let ps = PixelSeed::new(seed, pixel);
         let (dx, dy) = ps.offsets_at(self.seed_mode, x, y, slice);
         let fresh = self.seed_mode == SeedMode::Shift;
-        // Shift of a set that is already fresh per pixel (stratified, sobol): no offset on top.
+        // Shift of a set that is already fresh per pixel (stratified, sobol and the four after
+        // them): no offset on top.
         let (sx, sy) = if fresh { (0, 0) } else { (dx, dy) };
         let (dx, dy, sx, sy) = (fix_add(dx, fx), fix_add(dy, fy), fix_add(sx, fx), fix_add(sy, fy));
         match self.sequence {
@@ -144,6 +158,10 @@ impl SamplerConfig {
             }
             Sequence::Stratified => stratified::fill(n, ps.set_key(fresh), sx, sy, out),
             Sequence::Sobol => sobol::fill(ps.set_key(fresh), sx, sy, out),
+            Sequence::Halton => halton::fill(ps.set_key(fresh), sx, sy, out),
+            Sequence::Pmj02bn => pmj02::fill(ps.set_key(fresh), sx, sy, out),
+            Sequence::ZSobol => zsobol::fill(n, x, y, ps.set_key(fresh), sx, sy, out),
+            Sequence::R2 => r2::fill(ps.set_key(fresh), sx, sy, out),
         }
     }
 }

@@ -11,6 +11,17 @@
 //!
 //! How the modes change from frame to frame (`independent`, `r1`): [`super::schedule`].
 //!
+//! The four sequences after them — `halton` (Owen-scrambled radical inverses), `pmj02bn`
+//! (digitally shifted), `zsobol` (Morton-indexed, digit-permuted, Owen-scrambled) and `r2`
+//! (Cranley–Patterson offset) — share one column, as `stratified` and `sobol` do:
+//!
+//! | seed mode | halton | pmj02bn | zsobol | r2 |
+//! |---|---|---|---|---|
+//! | `static` | one Owen scramble per run: the same set in every pixel | one XOR shift per run | one set of digit permutations and one scramble per run; each pixel reads its own Morton block of the one sequence (Ahmed & Wonka's sampler: the sets differ, the error is blue) | one start offset per run |
+//! | `rotation` | static scramble, per-pixel x offset | static shift, per-pixel x offset | static permutations, per-pixel x offset | static offset, per-pixel x offset |
+//! | `shift` (unbiased per pixel) | per-pixel Owen scramble | per-pixel XOR shift (keeps every elementary interval) | per-pixel permutations and scramble (still a Sobol' net per pixel, but no longer one sequence across pixels) | per-pixel Cranley–Patterson offset |
+//! | `blue-noise` | static scramble, shifted | static shift, shifted | static permutations, shifted | static offset, shifted |
+//!
 //! `rotation` leaves y (hence theta) as in the static set, so it does not make the per-pixel
 //! estimate unbiased for the lattice sequences (tests/stages/sampling_estimators.rs measures it).
 

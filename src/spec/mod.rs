@@ -150,6 +150,10 @@ impl Row {
             Sequence::Fibonacci => "Fibonacci",
             Sequence::Stratified => "stratified",
             Sequence::Sobol => "Sobol'",
+            Sequence::Halton => "Halton",
+            Sequence::Pmj02bn => "pmj02bn",
+            Sequence::ZSobol => "ZSobol'",
+            Sequence::R2 => "R2",
         };
         let mode = match self.seed_mode {
             // Fresh numbers per pixel: the paper's plain pseudo-random row needs no seed words.

@@ -327,7 +327,8 @@ fn each_pixel_offset_is_uniform_over_run_seeds() {
 #[test]
 fn blue_noise_is_the_static_set_shifted_per_pixel() {
     let fix = |x: f32| (x as f64 * 16_777_216.0) as i64;
-    for &seq in Sequence::ALL {
+    // ZSobol's static set is a different block in every pixel (its design), so it is left out.
+    for &seq in Sequence::ALL.iter().filter(|&&s| s != Sequence::ZSobol) {
         for n in [1, 7, 16] {
             let cfg = |m| SamplerConfig::new(seq, m, n, 21).unwrap();
             let mut st = vec![Vec2::ZERO; n as usize];

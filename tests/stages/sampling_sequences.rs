@@ -85,7 +85,8 @@ fn fill_pixel_with_other_buffer_lengths_writes_a_prefix_of_the_set() {
 
 #[test]
 fn static_mode_gives_the_same_set_in_every_pixel_keyed_by_run_seed() {
-    for &seq in Sequence::ALL {
+    // ZSobol's static mode reads a different Morton block per pixel by design (sampling_samplers.rs).
+    for &seq in Sequence::ALL.iter().filter(|&&s| s != Sequence::ZSobol) {
         let first = points(seq, SeedMode::Static, 16, 42, 0);
         for pixel in [1, 2, 1000, u64::MAX] {
             assert_eq!(points(seq, SeedMode::Static, 16, 42, pixel), first, "{seq}");
@@ -120,7 +121,14 @@ fn random_rotation_and_shift_are_bit_identical() {
 #[test]
 fn rotation_is_the_static_set_with_one_x_offset_per_pixel_for_lattices() {
     let fix = |x: f32| (x as f64 * 16_777_216.0) as i64;
-    for seq in [Sequence::Fibonacci, Sequence::Stratified, Sequence::Sobol] {
+    for seq in [
+        Sequence::Fibonacci,
+        Sequence::Stratified,
+        Sequence::Sobol,
+        Sequence::Halton,
+        Sequence::Pmj02bn,
+        Sequence::R2,
+    ] {
         for n in [1, 7, 16, 32] {
             let st = points(seq, SeedMode::Static, n, 11, 0);
             for pixel in 0..50 {

@@ -9,20 +9,20 @@ use hemilab::sampling::seed::hash;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
 const SAMPLES: usize = 1_000_000;
-const PHI_BINS: usize = 50;
-const THETA_BINS: usize = 101;
+pub(crate) const PHI_BINS: usize = 50;
+pub(crate) const THETA_BINS: usize = 101;
 /// Sub-cell midpoint quadrature per axis for the expected counts.
 const QUAD: usize = 8;
 
 /// Bin in (phi, cos theta), area-preserving; uniform-in-angles, whose pdf has a 1/sin pole,
 /// in (phi, theta). A new warp defaults to cos theta.
 #[derive(Clone, Copy)]
-enum Space {
+pub(crate) enum Space {
     CosTheta,
     Theta,
 }
 
-fn space(d: Distribution) -> Space {
+pub(crate) fn space(d: Distribution) -> Space {
     match d {
         Distribution::Uniform => Space::Theta,
         _ => Space::CosTheta,
@@ -43,7 +43,7 @@ fn dir_of(phi: f64, t: f64, s: Space) -> Vec3 {
     Vec3::new((sin_t * phi.cos()) as f32, (sin_t * phi.sin()) as f32, cos_t as f32)
 }
 
-fn cell_of(d: Vec3, s: Space) -> usize {
+pub(crate) fn cell_of(d: Vec3, s: Space) -> usize {
     let (x, y, z) = (d.x as f64, d.y as f64, d.z as f64);
     let phi = y.atan2(x).rem_euclid(TAU);
     let ip = ((phi / TAU * PHI_BINS as f64) as usize).min(PHI_BINS - 1);
@@ -56,7 +56,7 @@ fn cell_of(d: Vec3, s: Space) -> usize {
 }
 
 /// n * integral of `pdf` over each cell, by midpoint quadrature of the code's own pdf.
-fn expected_counts(pdf: impl Fn(Vec3) -> f32, s: Space, n: usize) -> Vec<f64> {
+pub(crate) fn expected_counts(pdf: impl Fn(Vec3) -> f32, s: Space, n: usize) -> Vec<f64> {
     let t_max = match s {
         Space::CosTheta => 1.0,
         Space::Theta => FRAC_PI_2,

@@ -100,8 +100,8 @@ fn unknown_distribution_lists_choices() {
 
 #[test]
 fn unknown_sequence_lists_choices() {
-    let e = error(&spec("", "", "").replace("\"random\"", "\"halton\""));
-    assert_has(&e, &["line 9", "rows.sequence", "'halton'", "fibonacci"]);
+    let e = error(&spec("", "", "").replace("\"random\"", "\"halton2\""));
+    assert_has(&e, &["line 9", "rows.sequence", "'halton2'", "fibonacci"]);
 }
 
 #[test]

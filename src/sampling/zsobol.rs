@@ -1,0 +1,97 @@
+//! ZSobol': Sobol' points indexed through the pixel's Morton (Z-order) code with random base-4
+//! digit permutations chosen by the digits above, so neighbouring pixels receive complementary
+//! blocks of one Sobol' sequence and the error is distributed as blue noise across the screen
+//! (Ahmed & Wonka 2020, "Screen-space blue-noise diffusion of Monte Carlo sampling error via
+//! hierarchical ordering of pixels"; pbrt-v4's `ZSobolSampler`). The pixel's 2^L indices form an
+//! aligned block, so its points are a (0, L, 2)-net of Sobol', Owen-scrambled (Burley 2020).
+
+use super::hash::{FIX_BITS, fix_add, fix_to_f32, hash};
+use super::sobol::{owen_scramble, sobol_x, sobol_y};
+use glam::Vec2;
+
+/// The 24 permutations of {0, 1, 2, 3}.
+const PERMS: [[u8; 4]; 24] = [
+    [0, 1, 2, 3],
+    [0, 1, 3, 2],
+    [0, 2, 1, 3],
+    [0, 2, 3, 1],
+    [0, 3, 1, 2],
+    [0, 3, 2, 1],
+    [1, 0, 2, 3],
+    [1, 0, 3, 2],
+    [1, 2, 0, 3],
+    [1, 2, 3, 0],
+    [1, 3, 0, 2],
+    [1, 3, 2, 0],
+    [2, 0, 1, 3],
+    [2, 0, 3, 1],
+    [2, 1, 0, 3],
+    [2, 1, 3, 0],
+    [2, 3, 0, 1],
+    [2, 3, 1, 0],
+    [3, 0, 1, 2],
+    [3, 0, 2, 1],
+    [3, 1, 0, 2],
+    [3, 1, 2, 0],
+    [3, 2, 0, 1],
+    [3, 2, 1, 0],
+];
+
+/// Bits of the Morton code: 16 per axis (images up to 65536 pixels wide and high).
+pub const MORTON_BITS: u32 = 32;
+
+/// Interleaves the low 16 bits of x (even bits) and y (odd bits).
+pub fn morton(x: u32, y: u32) -> u64 {
+    let spread = |v: u32| {
+        let mut v = (v & 0xFFFF) as u64;
+        v = (v | (v << 8)) & 0x00FF_00FF;
+        v = (v | (v << 4)) & 0x0F0F_0F0F;
+        v = (v | (v << 2)) & 0x3333_3333;
+        (v | (v << 1)) & 0x5555_5555
+    };
+    spread(x) | (spread(y) << 1)
+}
+
+/// log2 of the smallest power of two >= n.
+pub fn log2_ceil(n: u32) -> u32 {
+    n.max(1).next_power_of_two().trailing_zeros()
+}
+
+/// The permuted index of sample `j` of the pixel with Morton code `m` when each pixel has 2^`l`
+/// samples: every base-4 digit of (m << l | j) from the top is permuted by one of 24 permutations
+/// chosen by hashing the original digits above it; with an odd bit count the last (base-2) digit
+/// is flipped by a hash of the digits above it (as pbrt-v4 does).
+pub fn permuted_index(m: u64, j: u32, l: u32, key: u64) -> u64 {
+    let idx = (m << l) | j as u64;
+    let bits = MORTON_BITS + l;
+    let odd = (bits & 1) as u64;
+    let mut out = 0u64;
+    for k in (0..bits / 2).rev() {
+        let shift = 2 * k as u64 + odd;
+        let digit = ((idx >> shift) & 3) as usize;
+        let above = idx >> (shift + 2);
+        let perm = PERMS[(hash(key, above ^ (shift << 58)) % 24) as usize];
+        out |= (perm[digit] as u64) << shift;
+    }
+    if odd == 1 {
+        out |= (idx & 1) ^ (hash(key ^ 0xB17, idx >> 1) & 1);
+    }
+    out
+}
+
+/// Fills `out` with the first points of pixel (`x`, `y`)'s block of 2^ceil(log2 n) ZSobol' points,
+/// permuted and Owen-scrambled by seeds from `key`, shifted by (`dx`, `dy`) mod 1.
+pub fn fill(n: u32, x: u32, y: u32, key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
+    let l = log2_ceil(n);
+    let m = morton(x, y);
+    let pkey = hash(key, 3);
+    let sx = hash(key, 1) as u32;
+    let sy = hash(key, 2) as u32;
+    for (j, p) in out.iter_mut().enumerate() {
+        // Sobol' dimensions 0 and 1 depend on the index's low 32 bits only.
+        let i = permuted_index(m, j as u32, l, pkey) as u32;
+        let px = owen_scramble(sobol_x(i), sx) >> (32 - FIX_BITS);
+        let py = owen_scramble(sobol_y(i), sy) >> (32 - FIX_BITS);
+        *p = Vec2::new(fix_to_f32(fix_add(px, dx)), fix_to_f32(fix_add(py, dy)));
+    }
+}

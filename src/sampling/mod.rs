@@ -14,6 +14,7 @@ pub mod blue_noise;
 pub mod fibonacci;
 pub mod frame;
 pub mod hash;
+pub mod integrand;
 mod names;
 pub mod random;
 pub mod seed;
@@ -24,6 +25,7 @@ pub mod warp;
 
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
+pub use integrand::Integrand;
 pub use seed::SeedMode;
 pub use warp::{DirSample, Distribution};
 

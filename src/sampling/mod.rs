@@ -17,6 +17,7 @@ pub mod fibonacci;
 pub mod frame;
 pub mod halton;
 pub mod hash;
+pub mod integrand;
 mod names;
 pub mod pmj02;
 pub mod r2;
@@ -33,6 +34,7 @@ pub mod zsobol;
 
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
+pub use integrand::Integrand;
 pub use schedule::Schedule;
 pub use seed::SeedMode;
 pub use warp::{DirSample, Distribution};

@@ -131,6 +131,9 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
     let mut parts: Vec<&[u8]> = vec![text.as_bytes(), &bytes];
     parts.extend(external.iter().map(|b| &b[..]));
     let hash = scene::content_hash(&parts);
+    // The file's bytes are hashed: free them before the BVH build, the load's peak of memory.
+    drop(parts);
+    drop((bytes, external));
     let res = (spec.resolution.0, spec.resolution.1);
     let scene = Scene::new(name, view, res, spec.ao_distance.0, hash, mesh).map_err(|e| {
         // Its camera and distance were checked with the file; an empty mesh is the mesh's fault.

@@ -47,8 +47,15 @@ const ZSTD_MAGIC: [u8; 4] = [0x28, 0xB5, 0x2F, 0xFD];
 /// Decodes `bytes` (plain OBJ text, or zstd-compressed OBJ) into triangles.
 /// The error text says where (line) and what; the caller prefixes the file name.
 pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
-    let text = decompress(bytes)?;
-    let text = std::str::from_utf8(&text).map_err(|e| {
+    // Plain text is read in place: a copy would hold the whole file twice.
+    let decoded;
+    let text: &[u8] = if bytes.starts_with(&ZSTD_MAGIC) {
+        decoded = decompress(bytes)?;
+        &decoded
+    } else {
+        bytes
+    };
+    let text = std::str::from_utf8(text).map_err(|e| {
         let line = 1 + text[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
         format!("line {line}: not UTF-8 text (is this an OBJ file?)")
     })?;

@@ -2,7 +2,7 @@
 //! fails before anything runs, with clap's exit status 2 and the list of valid choices.
 
 use clap::{Args, Parser, Subcommand};
-use hemilab::sampling::{Distribution, SeedMode, Sequence};
+use hemilab::sampling::{Distribution, Schedule, SeedMode, Sequence};
 use hemilab::shard::{Shard, ShardArg};
 use std::path::PathBuf;
 
@@ -158,12 +158,26 @@ pub struct RenderSampling {
     #[arg(long, value_parser = parse_sequence, value_name = "S", default_value = "fibonacci")]
     pub sequence: Sequence,
     /// Randomization across pixels: static, rotation (the paper's per-pixel seed), shift (unbiased
-    /// per pixel), blue-noise.
+    /// per pixel), blue-noise, stbn (spatiotemporal blue noise).
     #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "rotation")]
     pub seed_mode: SeedMode,
     /// Run seed: different seeds give independent images.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    #[command(flatten)]
+    pub frames: FrameArgs,
+}
+
+/// Which frame of a static camera's sequence of frames, and how the randomization changes per frame.
+#[derive(Debug, Args)]
+pub struct FrameArgs {
+    /// Frame index (0 = the single image).
+    #[arg(long, default_value_t = 0, value_name = "F")]
+    pub frame: u32,
+    /// Per-frame randomization: independent (a fresh run seed per frame), r1 (golden-ratio steps of
+    /// the offsets).
+    #[arg(long, value_parser = parse_schedule, value_name = "S", default_value = "independent")]
+    pub schedule: Schedule,
 }
 
 #[derive(Debug, Args)]
@@ -227,12 +241,14 @@ pub struct PointsArgs {
     /// Point sequence: random, fibonacci, stratified, sobol.
     #[arg(long, value_parser = parse_sequence, value_name = "S")]
     pub sequence: Sequence,
-    /// Randomization across pixels: static, rotation, shift, blue-noise.
+    /// Randomization across pixels: static, rotation, shift, blue-noise, stbn.
     #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "static")]
     pub seed_mode: SeedMode,
     /// Run seed: the points are pixel 0's of a render with this seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    #[command(flatten)]
+    pub frames: FrameArgs,
     /// Number of points.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
     pub count: u32,
@@ -309,6 +325,10 @@ fn parse_sequence(s: &str) -> Result<Sequence, String> {
 }
 
 fn parse_seed_mode(s: &str) -> Result<SeedMode, String> {
+    s.parse()
+}
+
+fn parse_schedule(s: &str) -> Result<Schedule, String> {
     s.parse()
 }
 

@@ -40,6 +40,11 @@ pub fn not_sensible(row: Row) -> Option<&'static str> {
         (_, Sequence::Random, SeedMode::Static) => {
             Some("one set of pseudo-random numbers in every pixel: the static seed without the lattice")
         }
+        // One frame of it is a 2-D blue-noise mask, what `blue-noise` already is; it differs only
+        // over frames, which a single image does not see. Asked for by name, it is measured.
+        (_, _, SeedMode::Stbn) => {
+            Some("for one frame, a spatiotemporal mask's slice is a 2-D blue-noise mask like `blue-noise`'s")
+        }
         (Distribution::ConcentricCosine, s, SeedMode::Rotation) if s != Sequence::Random => {
             Some("through the concentric map an x offset is not a rotation about the normal")
         }

@@ -4,8 +4,9 @@
 use crate::cli::PointsArgs;
 use hemilab::error::{Error, Result};
 use hemilab::io;
-use hemilab::report::directions;
+use hemilab::report::directions_of;
 use hemilab::report::{self, Format, PointSet};
+use hemilab::sampling::SamplerConfig;
 use hemilab::spec::Row;
 
 pub fn run(args: &PointsArgs) -> Result<()> {
@@ -14,14 +15,28 @@ pub fn run(args: &PointsArgs) -> Result<()> {
         path.extension().and_then(|e| e.to_str()).and_then(Format::from_extension).ok_or_else(|| {
             Error::Usage(format!("{}: the output must end in .png or .svg", path.display()))
         })?;
-    let dirs = directions(args.distribution, args.sequence, args.seed_mode, args.count, args.seed)?;
+    let config = SamplerConfig::new(args.sequence, args.seed_mode, args.count, args.seed)
+        .map_err(|e| Error::Usage(e.to_string()))?
+        .with_frame(args.frames.frame)
+        .with_schedule(args.frames.schedule);
+    let dirs = directions_of(args.distribution, config);
     let row = Row::new(args.distribution, args.sequence, args.seed_mode);
-    let title = format!("{} (run seed {})", row.name(), args.seed);
+    let frame = match (args.frames.frame, args.frames.schedule) {
+        (0, hemilab::sampling::Schedule::Independent) => String::new(),
+        (f, s) => format!(", frame {f} ({s})"),
+    };
+    let title = format!("{} (run seed {}{frame})", row.name(), args.seed);
     let set = PointSet { title: format!("{} points", args.count), dirs };
     let bytes = report::point_panels(&title, &[(String::new(), vec![set])], true, format)
         .map_err(|e| Error::Refused(format!("{}: cannot draw the points: {e}", path.display())))?;
     io::write_atomic(path, &bytes)?;
     // As `render` does: what was drawn, and where.
-    println!("{} points, {}, run seed {} (pixel 0) -> {}", args.count, row.name(), args.seed, path.display());
+    println!(
+        "{} points, {}, run seed {}{frame} (pixel 0) -> {}",
+        args.count,
+        row.name(),
+        args.seed,
+        path.display()
+    );
     Ok(())
 }

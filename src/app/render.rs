@@ -21,7 +21,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let png = out.with_extension("png");
     let sampler =
         SamplerConfig::new(args.sampling.sequence, args.sampling.seed_mode, args.rays, args.sampling.seed)
-            .map_err(|e| Error::Usage(format!("--rays: {e}")))?;
+            .map_err(|e| Error::Usage(format!("--rays: {e}")))?
+            .with_frame(args.sampling.frames.frame)
+            .with_schedule(args.sampling.frames.schedule);
     let (scene, width, height) = scene_at(&args.scene, args.resolution)?;
     let dir = match out.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -84,7 +86,7 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
     }
     .canonical();
     let file = args.scene.to_string_lossy();
-    let json = serde_json::json!({
+    let mut json = serde_json::json!({
         "image": "render",
         "hemilab_version": env!("CARGO_PKG_VERSION"),
         "scene": file,
@@ -98,7 +100,14 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
         "resolution": [job.width, job.height],
         "ao_distance": d,
     });
-    let summary = format!(
+    // A frame past 0 says which and how (a single image's header stays as it was).
+    let (frame, schedule) = (job.sampler.frame, job.sampler.schedule);
+    let framed = frame != 0 || schedule != hemilab::sampling::Schedule::Independent;
+    if framed {
+        json["frame"] = frame.into();
+        json["schedule"] = schedule.name().into();
+    }
+    let mut summary = format!(
         "hemilab {} render of {file} ('{}', {}x{}, d = {d}, hash {}): {} / {} / {}, {} rays per pixel, seed {}",
         env!("CARGO_PKG_VERSION"),
         scene.name,
@@ -111,6 +120,9 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
         args.rays,
         s.seed
     );
+    if framed {
+        summary.push_str(&format!(", frame {frame} ({schedule})"));
+    }
     Provenance { summary, json }
 }
 

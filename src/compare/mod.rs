@@ -30,8 +30,9 @@ use crate::stats::paired_difference;
 pub fn per_pixel_unbiased(row: Row) -> bool {
     let row = row.canonical();
     match row.seed_mode {
-        // A blue-noise mask shifts every pixel's set by an offset uniform over runs (docs/estimators.md).
-        SeedMode::Shift | SeedMode::BlueNoise => true,
+        // A blue-noise mask (2-D or spatiotemporal) shifts every pixel's set by an offset uniform over
+        // runs (docs/estimators.md).
+        SeedMode::Shift | SeedMode::BlueNoise | SeedMode::Stbn => true,
         SeedMode::Rotation => row.sequence == Sequence::Random,
         SeedMode::Static => false,
     }

@@ -333,6 +333,8 @@ pub fn overhead_job(base: &RenderJob) -> RenderJob {
         seed_mode: crate::sampling::SeedMode::Rotation,
         count: 0,
         seed: 0,
+        frame: 0,
+        schedule: crate::sampling::Schedule::Independent,
     };
     RenderJob { sampler, ..*base }
 }

@@ -27,7 +27,7 @@ pub use html::{
     markdown_page_opened, referenced_files,
 };
 pub use plot::{Guide, Series, convergence_plot};
-pub use points::{PointSet, directions, figure_rows, point_panels};
+pub use points::{PointSet, directions, directions_of, figure_rows, point_panels};
 
 use std::sync::Once;
 

@@ -153,9 +153,14 @@ pub fn directions(
 ) -> crate::error::Result<Vec<Vec3>> {
     let config = SamplerConfig::new(sequence, seed_mode, count, seed)
         .map_err(|e| crate::error::Error::Usage(e.to_string()))?;
-    let mut pts = vec![Vec2::ZERO; count as usize];
+    Ok(directions_of(distribution, config))
+}
+
+/// As `directions`, for a whole configuration (any frame and schedule).
+pub fn directions_of(distribution: Distribution, config: SamplerConfig) -> Vec<Vec3> {
+    let mut pts = vec![Vec2::ZERO; config.count as usize];
     config.fill_pixel(0, 0, 0, &mut pts);
-    Ok(pts.into_iter().map(|u| distribution.sample(u).dir).collect())
+    pts.into_iter().map(|u| distribution.sample(u).dir).collect()
 }
 
 /// Rows of a point figure: one row per distribution, one panel per point count ("500 points"), all

@@ -8,8 +8,8 @@
 //! crate brings image IO), its floating-point FFT blur takes seconds for 64², and the mask must be
 //! the same bit for bit on every run. Here the energy is an integer sum of a quantized Gaussian
 //! (the only floating point is the ~200 kernel taps, each rounded once), so incremental updates
-//! are exact (no drift, no order dependence), ties are broken by the lowest index, and the whole
-//! 64² mask costs N steps of one O(N) scan plus a ~200-tap update (tens of milliseconds).
+//! are exact (no drift, no order dependence) and ties are broken by the lowest index; the
+//! generator ([`super::void_cluster`]) is shared with the spatiotemporal masks of [`super::stbn`].
 //!
 //! Two independent masks (different initial patterns) give the x and y offsets, not one mask for
 //! both: the same mask for both would put every pixel's offset on the diagonal x = y (+ const),
@@ -21,6 +21,7 @@
 //! simpler pair is kept.
 
 use super::hash::{FIX_ONE, hash};
+use super::void_cluster::VoidAndCluster;
 use std::sync::OnceLock;
 
 /// Side of the shipped masks: 4096 ranks, tiled toroidally over the image.
@@ -29,9 +30,6 @@ pub const MASK_SIZE: u32 = 64;
 pub const MASK_SIGMA: f64 = 1.5;
 /// Initial-pattern seeds of the x and y masks.
 const MASK_SEEDS: [u64; 2] = [0x626C_7565_2D78, 0x626C_7565_2D79];
-/// Fixed-point scale of the energy kernel: exp(-r²/2σ²) · 2^20, rounded; taps that round to 0
-/// are dropped (beyond r ≈ 8.1 px for σ = 1.5), which is exact, not an approximation of the sum.
-const KERNEL_SCALE: f64 = (1u64 << 20) as f64;
 
 /// A size × size toroidal dither array: `ranks` (row-major) is a permutation of 0..size².
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -45,7 +43,8 @@ impl BlueNoiseMask {
     /// `size` in 2..=2048.
     pub fn void_and_cluster(size: u32, sigma: f64, seed: u64) -> Self {
         assert!((2..=2048).contains(&size), "mask size {size} outside 2..=2048");
-        Self { size, ranks: VoidAndCluster::new(size as usize, sigma).ranks(seed) }
+        let s = size as usize;
+        Self { size, ranks: VoidAndCluster::new([s, s, 1], sigma, sigma).ranks(seed) }
     }
 
     pub fn size(&self) -> u32 {
@@ -119,146 +118,14 @@ impl MaskShift {
     }
 }
 
-/// Ulichney's generator state: the binary pattern and each pixel's energy, the sum of the Gaussian
-/// kernel over the pattern's ones (toroidal distances).
-struct VoidAndCluster {
-    size: usize,
-    /// (dx, dy, weight) for every toroidal offset whose quantized weight is not 0.
-    taps: Vec<(usize, usize, i64)>,
-    ones: Vec<bool>,
-    energy: Vec<i64>,
-}
-
-impl VoidAndCluster {
-    fn new(size: usize, sigma: f64) -> Self {
-        let mut taps = Vec::new();
-        for dy in 0..size {
-            for dx in 0..size {
-                let (tx, ty) = (dx.min(size - dx) as f64, dy.min(size - dy) as f64);
-                let w = ((-(tx * tx + ty * ty) / (2.0 * sigma * sigma)).exp() * KERNEL_SCALE).round() as i64;
-                if w > 0 {
-                    taps.push((dx, dy, w));
-                }
-            }
-        }
-        let n = size * size;
-        Self { size, taps, ones: vec![false; n], energy: vec![0; n] }
-    }
-
-    /// Sets pixel `p` to `one`, updating the energy of every pixel the kernel reaches (exact).
-    fn set(&mut self, p: usize, one: bool) {
-        debug_assert_ne!(self.ones[p], one);
-        self.ones[p] = one;
-        let sign = if one { 1 } else { -1 };
-        let (px, py) = (p % self.size, p / self.size);
-        for &(dx, dy, w) in &self.taps {
-            let (mut x, mut y) = (px + dx, py + dy);
-            if x >= self.size {
-                x -= self.size;
-            }
-            if y >= self.size {
-                y -= self.size;
-            }
-            self.energy[y * self.size + x] += sign * w;
-        }
-    }
-
-    /// The one with the highest energy (first on ties).
-    fn tightest_cluster(&self) -> usize {
-        let mut best = (i64::MIN, usize::MAX);
-        for (p, (&e, &one)) in self.energy.iter().zip(&self.ones).enumerate() {
-            if one && e > best.0 {
-                best = (e, p);
-            }
-        }
-        best.1
-    }
-
-    /// The zero with the lowest energy (first on ties).
-    fn largest_void(&self) -> usize {
-        let mut best = (i64::MAX, usize::MAX);
-        for (p, (&e, &one)) in self.energy.iter().zip(&self.ones).enumerate() {
-            if !one && e < best.0 {
-                best = (e, p);
-            }
-        }
-        best.1
-    }
-
-    /// Ulichney's three phases from a random initial pattern of about 10 % ones.
-    fn ranks(mut self, seed: u64) -> Vec<u32> {
-        let n = self.size * self.size;
-        // Initial pattern: a partial Fisher–Yates shuffle picks n/10 distinct pixels.
-        let ones = (n / 10).max(1);
-        let mut order: Vec<usize> = (0..n).collect();
-        for i in 0..ones {
-            let j = i + (hash(seed, i as u64) % (n - i) as u64) as usize;
-            order.swap(i, j);
-            self.set(order[i], true);
-        }
-        // Prototype binary pattern: move the tightest cluster into the largest void until the
-        // void found is the pixel just removed (bounded, in case of a cycle of equal moves).
-        for _ in 0..n {
-            let c = self.tightest_cluster();
-            self.set(c, false);
-            let v = self.largest_void();
-            self.set(v, true);
-            if v == c {
-                break;
-            }
-        }
-        let prototype = (self.ones.clone(), self.energy.clone());
-        let mut rank = vec![0u32; n];
-        // Phase 1: remove the tightest cluster, ranks counting down from ones - 1.
-        for r in (0..ones).rev() {
-            let c = self.tightest_cluster();
-            self.set(c, false);
-            rank[c] = r as u32;
-        }
-        (self.ones, self.energy) = prototype;
-        // Phases 2 and 3: fill the largest void, ranks counting up. Ulichney's phase 3 (past half,
-        // the tightest cluster of zeros) picks the same pixel: on the torus every pixel's kernel
-        // sums to the same total, so zero-energy = total - one-energy.
-        for r in ones..n {
-            let v = self.largest_void();
-            self.set(v, true);
-            rank[v] = r as u32;
-        }
-        rank
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn incremental_energy_equals_the_sum_recomputed_from_scratch() {
-        let size = 16;
-        let mut g = VoidAndCluster::new(size, MASK_SIGMA);
-        for i in 0..40 {
-            let p = (hash(3, i) % (size * size) as u64) as usize;
-            let one = !g.ones[p];
-            g.set(p, one);
-        }
-        for p in 0..size * size {
-            let brute: i64 = g
-                .taps
-                .iter()
-                .filter(|&&(dx, dy, _)| {
-                    let q = ((p / size + size - dy) % size) * size + (p % size + size - dx) % size;
-                    g.ones[q]
-                })
-                .map(|t| t.2)
-                .sum();
-            assert_eq!(g.energy[p], brute, "pixel {p}");
-        }
-    }
-
-    #[test]
     fn kernel_keeps_exactly_the_taps_within_r_squared_65() {
         // exp(-r²/4.5) 2^20 rounds to 0 exactly when r² > 4.5 ln 2^21 = 65.5.
-        let g = VoidAndCluster::new(64, 1.5);
+        let g = VoidAndCluster::new([64, 64, 1], 1.5, 1.5);
         let mut want = 0;
         for dy in 0..64usize {
             for dx in 0..64usize {
@@ -266,7 +133,7 @@ mod tests {
                 want += (x * x + y * y <= 65) as usize;
             }
         }
-        assert_eq!(g.taps.len(), want);
-        assert_eq!(g.taps[0], (0, 0, 1 << 20));
+        assert_eq!(g.taps().len(), want);
+        assert_eq!(g.taps()[0], ([0, 0, 0], 1 << 20));
     }
 }

@@ -3,7 +3,8 @@
 //! A point set is made in three steps, each in its own file:
 //! a sequence of numbers in [0,1)^2 (`random`, `fibonacci`, `stratified`, `sobol`) →
 //! `seed` randomization across pixels (static, rotation, shift, blue-noise from `blue_noise`'s
-//! masks) →
+//! masks, stbn from `stbn`'s spatiotemporal masks, both made by `void_cluster`), changing from frame
+//! to frame by a `schedule` →
 //! `warp` to a direction on the hemisphere (uniform, sine, sine-cosine, concentric-cosine),
 //! which `frame` rotates around the surface normal.
 //! All of them draw their randomness from `hash` (counter-based hashing and the 24-bit fixed
@@ -16,17 +17,22 @@ pub mod frame;
 pub mod hash;
 mod names;
 pub mod random;
+pub mod schedule;
 pub mod seed;
 pub mod sobol;
+pub mod stbn;
 pub mod stratified;
 pub mod trig;
+mod void_cluster;
 pub mod warp;
 
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
+pub use schedule::Schedule;
 pub use seed::SeedMode;
 pub use warp::{DirSample, Distribution};
 
+use hash::fix_add;
 use seed::PixelSeed;
 
 use glam::Vec2;
@@ -65,6 +71,10 @@ pub struct SamplerConfig {
     pub seed_mode: SeedMode,
     pub count: u32,
     pub seed: u64,
+    /// Which frame of a static camera's sequence of frames (0 = the single image of today).
+    pub frame: u32,
+    /// How the randomization changes from frame to frame ([`schedule`]).
+    pub schedule: Schedule,
 }
 
 impl SamplerConfig {
@@ -77,37 +87,59 @@ impl SamplerConfig {
         if count == 0 {
             return Err(SamplingError::ZeroCount);
         }
-        Ok(Self { sequence, seed_mode, count, seed })
+        Ok(Self { sequence, seed_mode, count, seed, frame: 0, schedule: Schedule::Independent })
+    }
+
+    /// The same configuration at frame `frame`.
+    pub fn with_frame(self, frame: u32) -> Self {
+        Self { frame, ..self }
+    }
+
+    /// The same configuration under `schedule`.
+    pub fn with_schedule(self, schedule: Schedule) -> Self {
+        Self { schedule, ..self }
     }
 
     /// Writes the points of pixel (`x`, `y`), index `pixel` (= y · width + x, which keys its
     /// fresh numbers), into `out`: the first `min(count, out.len())` points of the `count`-point
     /// set (strata and lattice spacing follow `count`). Depends only on (config, x, y, pixel), never
     /// on which thread or which other pixels ran. No allocation. (x, y) matters only for
-    /// `blue-noise`, whose offsets are read from a mask tiled over the image.
+    /// `blue-noise` and `stbn`, whose offsets are read from masks tiled over the image.
+    /// `frame` and `schedule` say how frame f's points follow from frame 0's ([`schedule`]).
     /// What each (sequence, seed mode) pair means: see [`seed`].
     pub fn fill_pixel(&self, x: u32, y: u32, pixel: u64, out: &mut [Vec2]) {
         let n = self.count.max(1);
         let len = (self.count as usize).min(out.len());
         let out = &mut out[..len];
-        let ps = PixelSeed::new(self.seed, pixel);
-        let (dx, dy) = ps.offsets(self.seed_mode, x, y);
+        // The frame's run seed and the schedule's offsets on top of the mode's (all 0 at frame 0).
+        // `stbn` reads slice frame mod depth; the schedule acts once per full cycle of the mask.
+        let (epoch, slice) = match self.seed_mode {
+            SeedMode::Stbn => (self.frame / stbn::STBN_DEPTH, self.frame % stbn::STBN_DEPTH),
+            _ => (self.frame, 0),
+        };
+        let scalar = self.seed_mode == SeedMode::Rotation && self.sequence != Sequence::Random;
+        let (seed, (fx, fy)) = schedule::epoch(self.schedule, self.seed, epoch as u64, scalar);
+        let ps = PixelSeed::new(seed, pixel);
+        let (dx, dy) = ps.offsets_at(self.seed_mode, x, y, slice);
         let fresh = self.seed_mode == SeedMode::Shift;
         // Shift of a set that is already fresh per pixel (stratified, sobol): no offset on top.
         let (sx, sy) = if fresh { (0, 0) } else { (dx, dy) };
+        let (dx, dy, sx, sy) = (fix_add(dx, fx), fix_add(dy, fy), fix_add(sx, fx), fix_add(sy, fy));
         match self.sequence {
             // Fresh numbers per pixel for both rotation and shift: the paper's pseudo-random row.
             Sequence::Random => match self.seed_mode {
-                SeedMode::BlueNoise => random::fill(ps.run_key, dx, dy, out),
-                m => random::fill(ps.set_key(m != SeedMode::Static), 0, 0, out),
+                SeedMode::BlueNoise | SeedMode::Stbn => random::fill(ps.run_key, dx, dy, out),
+                m => random::fill(ps.set_key(m != SeedMode::Static), fx, fy, out),
             },
             Sequence::Fibonacci => {
                 // The paper's seed is an index offset: static = one per run, rotation = + one per pixel.
                 let run_offset = ps.run_key >> 24;
                 match self.seed_mode {
-                    SeedMode::Static => fibonacci::fill(n, run_offset, 0, 0, out),
-                    SeedMode::Rotation => fibonacci::fill(n, run_offset + (ps.pixel_key >> 24), 0, 0, out),
-                    SeedMode::Shift | SeedMode::BlueNoise => fibonacci::fill(n, run_offset, dx, dy, out),
+                    SeedMode::Static => fibonacci::fill(n, run_offset, fx, fy, out),
+                    SeedMode::Rotation => fibonacci::fill(n, run_offset + (ps.pixel_key >> 24), fx, fy, out),
+                    SeedMode::Shift | SeedMode::BlueNoise | SeedMode::Stbn => {
+                        fibonacci::fill(n, run_offset, dx, dy, out)
+                    }
                 }
             }
             Sequence::Stratified => stratified::fill(n, ps.set_key(fresh), sx, sy, out),

@@ -1,6 +1,6 @@
 //! The names the paper (and the CLI and spec files) use for each choice, in one place.
 
-use super::{Distribution, SeedMode, Sequence};
+use super::{Distribution, Schedule, SeedMode, Sequence};
 use std::str::FromStr;
 
 macro_rules! named {
@@ -75,6 +75,7 @@ named!(SeedMode, "seed mode", [
     Rotation => "rotation",
     Shift => "shift",
     BlueNoise => "blue-noise",
+    Stbn => "stbn",
 ], words [
     "per-pixel" => Rotation,
     "per-pixel seed" => Rotation,
@@ -83,6 +84,18 @@ named!(SeedMode, "seed mode", [
     "static seed" => Static,
     "blue noise" => BlueNoise,
     "bluenoise" => BlueNoise,
+    "spatiotemporal blue noise" => Stbn,
+    "spatiotemporal blue-noise" => Stbn,
+]);
+
+named!(Schedule, "schedule", [
+    Independent => "independent",
+    R1 => "r1",
+], words [
+    "golden" => R1,
+    "golden-ratio" => R1,
+    "r2" => R1,
+    "per-frame" => Independent,
 ]);
 
 #[cfg(test)]
@@ -94,6 +107,10 @@ mod tests {
         for d in Distribution::ALL {
             assert_eq!(d.name().parse::<Distribution>().unwrap(), *d);
         }
+        for s in Schedule::ALL {
+            assert_eq!(s.name().parse::<Schedule>().unwrap(), *s);
+        }
+        assert!("golden".parse::<Schedule>().unwrap_err().ends_with("is written `r1`)"));
         let e = "cosine".parse::<Distribution>().unwrap_err();
         assert!(e.contains("sine-cosine") && e.contains("'cosine'"), "{e}");
         // The report's words point at the value they name.

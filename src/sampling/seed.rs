@@ -7,12 +7,16 @@
 //! | `rotation` — the paper's "random seed per pixel": the static set with x offset per pixel (mod 1) = a rotation about the normal | fresh independent numbers per pixel (bit-identical to `shift`) | a per-pixel random index offset (< 2^40) added to the indices: x moves by frac(offset / phi_g) | static jitter, per-pixel x offset | static scramble, per-pixel x offset |
 //! | `shift` — per-pixel randomization that makes each pixel's estimate unbiased | fresh independent numbers per pixel (bit-identical to `rotation`) | static lattice + Cranley–Patterson shift of x and y (mod 1) | fresh independent jitter per pixel | per-pixel Owen scrambling (Burley 2020) |
 //! | `blue-noise` — the static set + a Cranley–Patterson shift of x and y whose per-pixel offsets come from two blue-noise masks ([`super::blue_noise`]), toroidally shifted per run: unbiased per pixel, error pushed to high frequencies | static numbers, shifted | static lattice, shifted (like `shift`, offsets blue instead of white) | static jitter, shifted | static scramble, shifted |
+//! | `stbn` — as `blue-noise`, the two masks spatiotemporal ([`super::stbn`], Wolfe et al. 2022): frame f reads slice f mod depth, so each frame is blue in space and each pixel's offsets over frames are blue in time; toroidally shifted per run: unbiased per pixel in every frame. At frame 0 it is a 2-D blue-noise mask like `blue-noise`'s (another one); it differs across frames | static numbers, shifted | static lattice, shifted | static jitter, shifted | static scramble, shifted |
+//!
+//! How the modes change from frame to frame (`independent`, `r1`): [`super::schedule`].
 //!
 //! `rotation` leaves y (hence theta) as in the static set, so it does not make the per-pixel
 //! estimate unbiased for the lattice sequences (tests/stages/sampling_estimators.rs measures it).
 
 use super::blue_noise::MaskShift;
 pub use super::hash::{FIX_BITS, FIX_ONE, fix_add, fix_from_bits, fix_to_f32, hash, mix64};
+use super::stbn::StbnShift;
 
 /// How the point set differs from pixel to pixel (the paper's "seed").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -22,6 +26,8 @@ pub enum SeedMode {
     Shift,
     /// The static set shifted per pixel by a blue-noise mask (Georgiev & Fajardo 2016).
     BlueNoise,
+    /// As `BlueNoise`, the masks spatiotemporal: one slice per frame (Wolfe et al. 2022).
+    Stbn,
 }
 
 /// One pixel's randomization, derived once per pixel (three mixes).
@@ -56,11 +62,18 @@ impl PixelSeed {
     /// blue-noise masks for blue-noise.
     #[inline]
     pub fn offsets(&self, mode: SeedMode, x: u32, y: u32) -> (u32, u32) {
+        self.offsets_at(mode, x, y, 0)
+    }
+
+    /// As `offsets`, in slice `t` of the `stbn` masks (the other modes ignore `t`).
+    #[inline]
+    pub fn offsets_at(&self, mode: SeedMode, x: u32, y: u32, t: u32) -> (u32, u32) {
         match mode {
             SeedMode::Static => (0, 0),
             SeedMode::Rotation => (self.x_offset, 0),
             SeedMode::Shift => (self.x_offset, self.y_offset),
             SeedMode::BlueNoise => MaskShift::new(self.run_key).offsets(x, y),
+            SeedMode::Stbn => StbnShift::new(self.run_key).offsets(x, y, t),
         }
     }
 }

@@ -158,6 +158,7 @@ impl Row {
             SeedMode::Static => Some("static seed"),
             SeedMode::Shift => Some("shift"),
             SeedMode::BlueNoise => Some("blue-noise"),
+            SeedMode::Stbn => Some("spatiotemporal blue noise"),
         };
         match mode {
             Some(m) => format!("{}, {seq}, {m}", self.distribution),

@@ -14,7 +14,7 @@ use std::f64::consts::TAU;
 const M: usize = MASK_SIZE as usize;
 
 /// Standardized (zero mean, unit variance) copy of a field.
-fn standardize(v: &[f64]) -> Vec<f64> {
+pub(super) fn standardize(v: &[f64]) -> Vec<f64> {
     let n = v.len() as f64;
     let mean = v.iter().sum::<f64>() / n;
     let sd = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
@@ -23,7 +23,7 @@ fn standardize(v: &[f64]) -> Vec<f64> {
 
 /// Periodogram |DFT|² / N of a standardized M × M field (row-major), by separable DFTs: white
 /// noise has expectation 1 at every non-zero frequency.
-fn power_spectrum(v: &[f64]) -> Vec<f64> {
+pub(super) fn power_spectrum(v: &[f64]) -> Vec<f64> {
     let v = standardize(v);
     let (c, s): (Vec<f64>, Vec<f64>) =
         (0..M).map(|k| (TAU * k as f64 / M as f64).sin_cos()).map(|(s, c)| (c, s)).unzip();
@@ -65,7 +65,7 @@ fn radius(kx: usize, ky: usize) -> f64 {
 }
 
 /// Mean power over the non-zero frequencies with radius in (lo, hi] cycles per pixel.
-fn ring(power: &[f64], lo: f64, hi: f64) -> f64 {
+pub(super) fn ring(power: &[f64], lo: f64, hi: f64) -> f64 {
     let (mut sum, mut n) = (0.0, 0);
     for ky in 0..M {
         for kx in 0..M {
@@ -111,7 +111,7 @@ fn lowpass_rms(v: &[f64]) -> f64 {
 }
 
 /// A white-noise mask: a random permutation of the ranks (Fisher–Yates keyed by `seed`).
-fn white_ranks(seed: u64) -> Vec<f64> {
+pub(super) fn white_ranks(seed: u64) -> Vec<f64> {
     let mut r: Vec<usize> = (0..M * M).collect();
     for i in (1..r.len()).rev() {
         r.swap(i, (hash(seed, i as u64) % (i as u64 + 1)) as usize);
@@ -130,7 +130,7 @@ fn offsets(seed: u64, x: u32, y: u32) -> (f64, f64) {
 }
 
 /// The rings printed, in cycles per pixel; the first two (f ≤ 1/8) are asserted.
-const RINGS: [(f64, f64); 6] =
+pub(super) const RINGS: [(f64, f64); 6] =
     [(0.0, 0.0625), (0.0625, 0.125), (0.125, 0.1875), (0.1875, 0.25), (0.25, 0.375), (0.375, 0.75)];
 
 #[test]
@@ -346,15 +346,15 @@ fn blue_noise_is_the_static_set_shifted_per_pixel() {
 }
 
 #[derive(Clone, Copy, Debug)]
-struct Cap {
-    axis: Vec3,
-    cos_half_angle: f32,
-    exact: f64,
+pub(super) struct Cap {
+    pub(super) axis: Vec3,
+    pub(super) cos_half_angle: f32,
+    pub(super) exact: f64,
 }
 
 /// The cosine-weighted fraction of a cap of half-angle `half_angle` tilted by `tilt` from the
 /// normal (as in sampling_estimators.rs): cos(tilt) sin²(half_angle).
-fn cap(tilt: f64, half_angle: f64) -> Cap {
+pub(super) fn cap(tilt: f64, half_angle: f64) -> Cap {
     let axis = Vec3::new(tilt.sin() as f32, 0.0, tilt.cos() as f32);
     Cap { axis, cos_half_angle: half_angle.cos() as f32, exact: tilt.cos() * half_angle.sin().powi(2) }
 }

@@ -266,7 +266,7 @@ fn stratified_one_point_per_stratum() {
         for mode in SeedMode::ALL {
             for pixel in [0, 17] {
                 let mut pts = points(Sequence::Stratified, *mode, n, 4, pixel);
-                if *mode == SeedMode::BlueNoise {
+                if matches!(*mode, SeedMode::BlueNoise | SeedMode::Stbn) {
                     // The static grid shifted by the pixel's mask offsets: shift it back.
                     let (x, y) = xy(pixel);
                     let (ox, oy) = PixelSeed::new(4, pixel).offsets(*mode, x, y);

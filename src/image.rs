@@ -37,6 +37,13 @@ impl Image {
     }
 }
 
+/// Coverage masks are 1.0 (a surface) or 0.0 (background); anything above one half counts. (Here,
+/// beside `Image`, so that `metrics` and `denoise` read masks by one rule without importing each
+/// other.)
+pub fn covered(mask: &Image, i: usize) -> bool {
+    mask.data[i] > 0.5
+}
+
 /// A named channel for an EXR file.
 pub struct Channel<'a> {
     pub name: &'a str,

@@ -7,10 +7,11 @@
 //!   spec ──► plan ──► jobs ──────────► images ──► metrics ──► results ──► report
 //!  (spec/,  (plan/)  (jobs/: runner,  (render/,   (metrics/) (results/,  (report/: run/,
 //!   load)            executor,        scene/,                compare/,   advise/; outdir
-//!                    calibrate)       sampling/)             advice/)    writes the files)
+//!                    calibrate)       sampling/,             advice/)    writes the files)
+//!                                     denoise/)
 //! ```
 //!
-//! `load` reads a spec and its scenes and refuses bad input before any work; `reference` owns what
+//! `load` reads a spec and its scenes and refuses bad input before any work; `denoise` filters and accumulates images (no IO); `reference` owns what
 //! a reference is and how it is stored; `shard` splits a plan over machines and merges it back;
 //! `timing` is how a render's cost is measured (thread CPU time, interleaved repeats, per-image
 //! overhead apart from per-ray cost); `compare` turns records into paired comparisons, the
@@ -31,6 +32,8 @@ pub mod sampling;
 pub mod scene;
 
 pub mod render;
+
+pub mod denoise;
 
 pub mod jobs;
 

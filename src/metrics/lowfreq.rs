@@ -1,6 +1,6 @@
 //! The error after a small Gaussian blur, and how much of it there is against white noise.
 //!
-//! `lowpass` / `lowpass_rmse`: what a blur (or a denoiser, or the eye at a distance) leaves of the
+//! `lowpass_rmse`: what a blur (or a denoiser, or the eye at a distance) leaves of the
 //! error. Noise averages out under it, bands and blotches do not.
 //!
 //! `lowfreq_ratio`: that low-pass energy over the low-pass energy the *same* per-pixel errors would
@@ -9,7 +9,7 @@
 //!   R = Σ_i (Σ_j w_ij e_j)² / Σ_i Σ_j w_ij² e_j²,   w_ij = G_ij m_j / Σ_k G_ik m_k,
 //!
 //! sums over covered pixels i (mask m), e the error minus its mean over them (`lowfreq_ratio` says
-//! why), w the normalized Gaussian of `lowpass` (so the image border and the background are handled
+//! why), w the normalized Gaussian of `lowpass_rmse` (`denoise::gaussian`: so the image border and the background are handled
 //! exactly as there). For independent zero-mean errors of any
 //! per-pixel variances σ_j², the numerator's expectation is Σ_i Σ_j w_ij² σ_j², which the denominator
 //! estimates without bias (e_j² for σ_j²): R ≈ 1 for white noise however heteroscedastic (AO error is
@@ -27,6 +27,7 @@
 //! at 64×48, 0.04 at 160×120), more when a few pixels carry most of the error.
 
 use super::{CONSTANT_SD, covered, rmse_bias};
+use crate::denoise::gaussian::{gaussian, masked, separable, taps};
 use crate::image::Image;
 
 /// Above this ratio (a mean over replicates) an error is called structured. Chosen from
@@ -38,61 +39,12 @@ use crate::image::Image;
 /// default) above white noise at 64×48, yet below every static-seed mean measured.
 pub const STRUCTURED_RATIO: f64 = 1.5;
 
-/// The taps g(k) = exp(−k² / 2σ²), k = −⌈3σ⌉..=⌈3σ⌉, of the separable Gaussian.
-fn gaussian(sigma: f64) -> Vec<f64> {
-    let radius = (3.0 * sigma).ceil().max(0.0) as isize;
-    (-radius..=radius).map(|k| (-((k * k) as f64) / (2.0 * sigma * sigma).max(1e-12)).exp()).collect()
-}
-
-/// `src` (w × h, zero outside the image) convolved with `kernel` (odd length, centred) along x, then
-/// along y. The 2-D kernel is kernel(kx) · kernel(ky).
-fn separable(src: &[f64], w: usize, h: usize, kernel: &[f64]) -> Vec<f64> {
-    let radius = (kernel.len() / 2) as isize;
-    let pass = |src: &[f64], horizontal: bool| -> Vec<f64> {
-        let mut out = vec![0.0; src.len()];
-        for y in 0..h {
-            for x in 0..w {
-                let mut acc = 0.0;
-                for (ki, k) in (-radius..=radius).enumerate() {
-                    let (sx, sy) =
-                        if horizontal { (x as isize + k, y as isize) } else { (x as isize, y as isize + k) };
-                    if sx >= 0 && sy >= 0 && (sx as usize) < w && (sy as usize) < h {
-                        acc += kernel[ki] * src[sy as usize * w + sx as usize];
-                    }
-                }
-                out[y * w + x] = acc;
-            }
-        }
-        out
-    };
-    pass(&pass(src, true), false)
-}
-
-/// The mask as 1 / 0 and the error as f64, zero off the mask.
-fn masked(err: &Image, mask: &Image) -> (Vec<f64>, Vec<f64>) {
-    let m: Vec<f64> = (0..err.len()).map(|i| if covered(mask, i) { 1.0 } else { 0.0 }).collect();
-    let v: Vec<f64> = (0..err.len()).map(|i| m[i] * err.data[i] as f64).collect();
-    (m, v)
-}
-
 /// RMS over covered pixels of the error blurred by a Gaussian of `sigma` pixels. The blur is a
 /// normalized convolution over covered pixels only, so background zeros do not dilute edges.
 pub fn lowpass_rmse(err: &Image, mask: &Image, sigma: f64) -> f64 {
-    let blurred = lowpass(err, mask, sigma);
+    // Background pixels keep `err`'s values; `rmse_bias` reads covered pixels only.
+    let blurred = gaussian(err, mask, sigma);
     rmse_bias(&blurred, mask).0
-}
-
-/// The low-passed error image itself (0 on background), for the report's pictures.
-pub fn lowpass(err: &Image, mask: &Image, sigma: f64) -> Image {
-    let (w, h) = (err.width as usize, err.height as usize);
-    let g = gaussian(sigma);
-    let (m, v) = masked(err, mask);
-    let num = separable(&v, w, h, &g);
-    let den = separable(&m, w, h, &g);
-    let data = (0..err.len())
-        .map(|i| if m[i] > 0.0 && den[i] > 0.0 { (num[i] / den[i]) as f32 } else { 0.0 })
-        .collect();
-    Image::from_vec(err.width, err.height, data)
 }
 
 /// R, the low-pass energy of the error over the low-pass energy of independent errors of the same
@@ -125,7 +77,7 @@ pub fn lowfreq_ratio(err: &Image, mask: &Image, sigma: f64) -> f64 {
 /// R's numerator (n · `lowpass_rmse(err)`², before that one's f32 rounding) and denominator.
 fn energies(err: &Image, mask: &Image, sigma: f64) -> (f64, f64) {
     let (w, h) = (err.width as usize, err.height as usize);
-    let g = gaussian(sigma);
+    let g = taps(sigma);
     // The 2-D kernel is separable, so its square is too: g(kx)² · g(ky)².
     let g2: Vec<f64> = g.iter().map(|k| k * k).collect();
     let (m, v) = masked(err, mask);

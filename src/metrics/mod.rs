@@ -1,5 +1,5 @@
-//! Error statistics of an image against a reference, over covered pixels only (a leaf: imports only
-//! `crate::image`, and `stats` for distributions). RMSE and bias say how far off; the low-frequency
+//! Error statistics of an image against a reference, over covered pixels only (imports only
+//! `crate::image`, `denoise`'s Gaussian for the low pass, and `stats` for distributions). RMSE and bias say how far off; the low-frequency
 //! ratio (`lowfreq`: low-pass energy against white noise's, with a sign: < 1 blue, > 1 clumped), the
 //! whiteness z-score (`whiteness`: a test of any correlation, every short lag, every direction), the
 //! lag-1 autocorrelation and the low-pass RMSE say whether the error is *structured* — the paper's
@@ -8,15 +8,12 @@
 pub mod lowfreq;
 pub mod whiteness;
 
-pub use lowfreq::{STRUCTURED_RATIO, lowfreq_ratio, lowpass, lowpass_rmse};
+pub use lowfreq::{STRUCTURED_RATIO, lowfreq_ratio, lowpass_rmse};
 
 use crate::image::Image;
 use std::fmt;
 
-/// Coverage masks are 1.0 (a surface) or 0.0 (background); anything above one half counts.
-pub fn covered(mask: &Image, i: usize) -> bool {
-    mask.data[i] > 0.5
-}
+pub use crate::image::covered;
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum MetricsError {
@@ -62,7 +59,7 @@ pub struct ErrorStats {
 }
 
 /// Width of the low-pass: wide enough to average pixel noise away, narrow enough to keep bands.
-pub const LOWPASS_SIGMA: f64 = 1.5;
+pub const LOWPASS_SIGMA: f64 = crate::denoise::GAUSS_SIGMA;
 
 fn check(image: &Image, other: &Image, what: &'static str) -> Result<(), MetricsError> {
     if image.same_size(other) {

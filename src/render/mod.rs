@@ -4,7 +4,10 @@
 
 pub mod adaptive;
 pub mod bench;
+mod gbuffer;
 mod offset;
+
+pub use gbuffer::{GBuffer, gbuffer};
 
 pub use offset::{Plane, ao_origin};
 
@@ -147,7 +150,7 @@ fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
     let (w, n) = (job.width as usize, job.sampler.count as usize);
     let mut done = Vec::with_capacity((TILE * TILE) as usize);
     let (mut rays, mut occluded) = (0u64, 0u64);
-    tile_primaries(scene, job, t, &mut s.primaries);
+    tile_primaries(scene, (job.width, job.height), t, &mut s.primaries);
     for p in &s.primaries {
         let Some(hit) = p.hit else { continue };
         let pixel = p.y as u64 * w as u64 + p.x as u64;
@@ -183,7 +186,7 @@ fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
 /// Side of the square tiles the renderer works in.
 pub const TILE: u32 = 8;
 
-fn tile_count(width: u32, height: u32) -> u32 {
+pub(crate) fn tile_count(width: u32, height: u32) -> u32 {
     width.div_ceil(TILE) * height.div_ceil(TILE)
 }
 
@@ -226,21 +229,22 @@ pub fn pixel_rays(
 
 /// A pixel's primary ray: its direction and closest hit.
 #[derive(Debug, Clone, Copy)]
-struct Primary {
+pub(crate) struct Primary {
     x: u32,
     y: u32,
     dir: Vec3,
     hit: Option<Hit>,
 }
 
-/// The primary rays of tile `t`'s pixels (in `tile_pixels` order) into `out`. Rays that share
+/// The primary rays of tile `t`'s pixels (in `tile_pixels` order) of a `width` × `height` image into
+/// `out` (what `render` and `gbuffer` share). Rays that share
 /// their origin (a pinhole camera's: the eye) are traced 32 at a time, 8 × 4 pixels
 /// (`Accel::closest_from`), others one by one; the hits are the same bits either way.
 #[inline(always)]
-fn tile_primaries(scene: &Scene, job: &RenderJob, t: u32, out: &mut Vec<Primary>) {
+pub(crate) fn tile_primaries(scene: &Scene, (width, height): (u32, u32), t: u32, out: &mut Vec<Primary>) {
     out.clear();
-    let raster = scene.camera.raster(job.width, job.height);
-    for (x, y) in tile_pixels(t, job.width, job.height) {
+    let raster = scene.camera.raster(width, height);
+    for (x, y) in tile_pixels(t, width, height) {
         out.push(Primary { x, y, dir: raster.ray(x, y).dir, hit: None });
     }
     if raster.shared_origin() {

@@ -6,6 +6,8 @@
 mod support;
 
 mod compare_equal_time;
+mod denoise_filters;
+mod denoise_gbuffer;
 mod fuzz_inputs;
 mod metrics_known;
 mod plan_order;

@@ -1,0 +1,15 @@
+//! What the user of a real-time renderer sees instead of the raw frame: spatial filters (the
+//! Gaussian; the edge-avoiding à-trous filter, guided by the primary hits' depth and normal in a
+//! `render::GBuffer`), temporal accumulation of frames (running mean, EMA) and named pipelines of
+//! the two (`pipeline`). Pure image processing: no IO; imports `image` and `render`'s G-buffer.
+//! Every filter leaves background pixels (coverage 0) as they are and never reads them.
+
+pub mod accumulate;
+pub mod atrous;
+pub mod gaussian;
+pub mod pipeline;
+
+pub use accumulate::{Accumulator, Temporal};
+pub use atrous::{AtrousParams, atrous};
+pub use gaussian::{GAUSS_SIGMA, gaussian};
+pub use pipeline::{Pipeline, PipelineError, Spatial};

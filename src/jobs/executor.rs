@@ -385,8 +385,12 @@ pub fn measure_jobs(
     let queued = timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write));
     stop_if_interrupted()?;
     queued?;
-    // Second round: more samples for the units whose samples add up to little time.
-    if state.renders > 0 {
+    // Second round: more samples for the units whose samples add up to little time. Not for a
+    // real-time plan (`Job::is_single_frame` false somewhere): it is run for its errors after the
+    // pipelines, its hundreds of cheap units would each be re-rendered up to `max_repeats` times,
+    // and its times are those of the first round (`[timing] repeats` renders per unit).
+    let realtime = plan.jobs.iter().any(|j| !j.is_single_frame());
+    if state.renders > 0 && !realtime {
         let mut members: Vec<Vec<usize>> = vec![Vec::new(); needs.len()];
         for (i, job) in plan.jobs.iter().enumerate() {
             members[unit_of[&plan::unit_key(job)]].push(i);

@@ -156,7 +156,7 @@ pub fn plan(spec: &Spec) -> Plan {
                 for &schedule in &group.schedules {
                     for &rays in &group.rays {
                         for &pipeline in &group.pipelines {
-                            for frame in reported_frames(group.frames) {
+                            for frame in pipeline_frames(pipeline, group.frames) {
                                 for replicate in 0..group.replicates {
                                     let job = Job {
                                         scene: scene.path.clone(),
@@ -194,6 +194,13 @@ pub fn reported_frames(frames: u32) -> Vec<u32> {
         std::iter::successors(Some(1u32), |k| k.checked_mul(2)).take_while(|&k| k < frames).collect();
     out.push(frames.max(1));
     out
+}
+
+/// The frames at which `pipeline` is measured in a group of `frames` frames: `reported_frames`
+/// when it accumulates; frame 1 alone when it does not (frame k of such a pipeline is one frame,
+/// the same estimator as frame 1 with other numbers, so measuring it again adds only jobs).
+pub fn pipeline_frames(pipeline: Pipeline, frames: u32) -> Vec<u32> {
+    if pipeline.is_temporal() { reported_frames(frames) } else { vec![1] }
 }
 
 /// The reference renders of scene `scene` (index into `Spec::scenes`) at `rays` per pixel: one job
@@ -328,6 +335,16 @@ mod tests {
             assert_ne!(s[i], reference_seed(1, i as u32));
         }
         assert_eq!(replicate_seed(1, 0), replicate_seed(1, 0));
+    }
+
+    #[test]
+    fn reported_frames_are_powers_of_two_and_the_last() {
+        assert_eq!(reported_frames(1), vec![1]);
+        assert_eq!(reported_frames(16), vec![1, 2, 4, 8, 16]);
+        assert_eq!(reported_frames(12), vec![1, 2, 4, 8, 12]);
+        let ema: Pipeline = "ema0.1+atrous".parse().unwrap();
+        assert_eq!(pipeline_frames(ema, 4), vec![1, 2, 4]);
+        assert_eq!(pipeline_frames("atrous".parse().unwrap(), 4), vec![1]);
     }
 
     #[test]

@@ -181,8 +181,9 @@ impl JobResult {
     }
 
     /// Whether this record is an image of (scene, row, rays).
+    /// A paper-table image: real-time records (`is_single_frame` false) are not.
     pub fn is(&self, scene: &str, row: Row, rays: u32) -> bool {
-        self.scene == scene && self.rays == rays && self.is_row(row)
+        self.scene == scene && self.rays == rays && self.is_row(row) && self.is_single_frame()
     }
 
     /// A record with its error metrics and no time yet (`add_time`, then `fill_timing`).

@@ -33,7 +33,7 @@ pub fn render_frames(
     let mut last: Option<RenderOutput> = None;
     let (mut rays, mut occluded) = (0u64, 0u64);
     for f in frames_rendered(job) {
-        let frame = RenderJob { sampler: rj.sampler.with_frame(f).with_schedule(job.schedule), ..rj.clone() };
+        let frame = RenderJob { sampler: rj.sampler.with_frame(f).with_schedule(job.schedule), ..*rj };
         let out = render::render(scene, &frame, progress);
         rays += out.rays;
         occluded += out.occluded_rays;

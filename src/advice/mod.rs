@@ -138,7 +138,8 @@ pub fn select(patterns: &[Pattern]) -> Result<Vec<Row>, String> {
         if hits.is_empty() {
             return Err(format!(
                 "'{}' matches no configuration of the default set (which leaves out random × static \
-                 and concentric-cosine × rotation of a lattice, scramble or jitter; name one in full to run it)",
+                 and concentric-cosine × rotation of a lattice, scramble or jitter, and stbn, whose single \
+                 frame is a 2-D blue-noise mask; name one in full to run it)",
                 p.to_text()
             ));
         }

@@ -66,6 +66,11 @@ fn only_patterns_select_and_explain() {
     // A fully named odd estimator is taken as asked.
     let odd = select(&[p("concentric-cosine/fibonacci/rotation")]).unwrap();
     assert_eq!(odd.len(), 2);
+    // stbn is left out of the default set (one frame of it is a 2-D blue-noise mask), taken by name.
+    assert!(!all.iter().any(|r| r.seed_mode == SeedMode::Stbn));
+    let stbn = select(&[p("sine-cosine/fibonacci/stbn")]).unwrap();
+    assert_eq!(stbn[1], row(Sequence::Fibonacci, SeedMode::Stbn));
+    assert!(select(&[p("*/*/stbn")]).unwrap_err().contains("stbn"));
     let e = select(&[p("*/random/static")]).unwrap_err();
     assert!(e.contains("*/random/static") && e.contains("matches no configuration"), "{e}");
 }

@@ -169,6 +169,9 @@ impl AdviseSpec<'_> {
             replicates: self.replicates,
             scenes: vec![0],
             line: 0,
+            frames: 1,
+            schedules: vec![crate::sampling::Schedule::Independent],
+            pipelines: vec![crate::denoise::Pipeline::RAW],
         };
         Spec {
             path: self.path.to_path_buf(),
@@ -313,6 +316,9 @@ pub fn verify_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Plan {
             replicates,
             scenes: vec![0],
             line: 0,
+            frames: 1,
+            schedules: vec![crate::sampling::Schedule::Independent],
+            pipelines: vec![crate::denoise::Pipeline::RAW],
         })
         .collect();
     plan::plan(&Spec { groups, seed: VERIFY_SEED, replicates, ..spec.clone() })

@@ -157,8 +157,15 @@ impl Best<'_> {
 /// Each replicate's MSE of one aggregate's configuration, by replicate.
 fn mse_by_replicate(results: &[JobResult], a: &Aggregate) -> Vec<(u32, f64)> {
     let is = |r: &JobResult| {
-        r.config()
-            == (a.scene.as_str(), a.distribution.as_str(), a.sequence.as_str(), a.seed_mode.as_str(), a.rays)
+        r.is_single_frame()
+            && r.config()
+                == (
+                    a.scene.as_str(),
+                    a.distribution.as_str(),
+                    a.sequence.as_str(),
+                    a.seed_mode.as_str(),
+                    a.rays,
+                )
     };
     results.iter().filter(|r| is(r)).map(|r| (r.replicate, r.rmse * r.rmse)).collect()
 }

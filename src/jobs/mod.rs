@@ -5,6 +5,7 @@
 
 pub mod calibrate;
 pub mod executor;
+pub mod frames;
 pub mod long_run;
 pub mod runner;
 pub mod sweep;

@@ -1,7 +1,8 @@
 //! Pure: spec → the jobs it needs. A job is everything that determines one image, so its key names
 //! the image file and decides whether a resumed run may skip it.
 
-use crate::sampling::{Distribution, SeedMode, Sequence};
+use crate::denoise::Pipeline;
+use crate::sampling::{Distribution, Schedule, SeedMode, Sequence};
 use crate::spec::{AoDistance, Row, Spec};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -28,6 +29,15 @@ pub struct Job {
     pub resolution: Option<[u32; 2]>,
     /// `None`: the scene's own.
     pub ao_distance: Option<AoDistance>,
+    /// The frame whose image is measured, counted from 1: frames 0..frame-1 of a static camera
+    /// are rendered (with `SamplerConfig::with_frame`) when the pipeline accumulates, only the
+    /// last one when it does not. 1 (with `schedule` independent and `pipeline` raw) is the single
+    /// image of a paper table, and adds nothing to the key.
+    pub frame: u32,
+    /// How the per-pixel randomization changes from frame to frame.
+    pub schedule: Schedule,
+    /// What is done to the frames before the image is measured (`denoise::Pipeline`).
+    pub pipeline: Pipeline,
 }
 
 impl Job {
@@ -35,12 +45,27 @@ impl Job {
         Row::new(self.distribution, self.sequence, self.seed_mode)
     }
 
+    /// Whether this is a paper-table job: one raw frame (frame 1, independent schedule, raw).
+    pub fn is_single_frame(&self) -> bool {
+        self.frame == 1 && self.schedule == Schedule::Independent && self.pipeline == Pipeline::RAW
+    }
+
+    /// `;frame=..;schedule=..;pipeline=..` for a real-time job, empty for a single frame, so every
+    /// key of a spec without the real-time keys is what it was before they existed.
+    pub fn realtime_suffix(&self) -> String {
+        if self.is_single_frame() {
+            String::new()
+        } else {
+            format!(";frame={};schedule={};pipeline={}", self.frame, self.schedule, self.pipeline)
+        }
+    }
+
     /// Everything that determines the image, as text; the version prefix lets a format change
     /// invalidate old keys on purpose.
     pub fn canonical(&self) -> String {
         let res = self.resolution.map_or("scene".to_string(), |[w, h]| format!("{w}x{h}"));
         let d = self.ao_distance.map_or("scene".to_string(), |d| d.canonical());
-        format!(
+        let mut s = format!(
             concat!(
                 "hemilab-job-v1;scene={};distribution={};sequence={};seed_mode={};rays={};replicate={};",
                 "seed={};resolution={};ao_distance={}"
@@ -54,7 +79,9 @@ impl Job {
             self.seed,
             res,
             d
-        )
+        );
+        s.push_str(&self.realtime_suffix());
+        s
     }
 
     /// 16 hex digits, stable across Rust releases and machines (FNV-1a 64 of `canonical`).
@@ -64,8 +91,13 @@ impl Job {
 
     /// Readable and unique file stem for the job's image: `<scene>-<row>-<rays>r-<replicate>-<key>`.
     pub fn file_stem(&self) -> String {
+        let rt = if self.is_single_frame() {
+            String::new()
+        } else {
+            format!("-{}-{}-f{}", self.schedule, self.pipeline, self.frame)
+        };
         format!(
-            "{}-{}-{}-{}-{}r-{}-{}",
+            "{}-{}-{}-{}-{}r{rt}-{}-{}",
             self.scene_name,
             self.distribution,
             self.sequence,
@@ -107,8 +139,9 @@ pub fn reference_seed(base: u64, replicate: u32) -> u64 {
 
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Plan {
-    /// Ordered: scene (spec order), then tables/sweeps in file order, then row, rays, replicate;
-    /// a job another group already needs keeps its first place.
+    /// Ordered: scene (spec order), then tables/sweeps in file order, then row, schedule, rays,
+    /// pipeline, reported frame (`reported_frames`), replicate; a job another group already needs
+    /// keeps its first place.
     pub jobs: Vec<Job>,
 }
 
@@ -120,23 +153,32 @@ pub fn plan(spec: &Spec) -> Plan {
         for group in spec.groups.iter().filter(|g| g.scenes.contains(&si)) {
             for row in &group.rows {
                 let row = row.canonical();
-                for &rays in &group.rays {
-                    for replicate in 0..group.replicates {
-                        let job = Job {
-                            scene: scene.path.clone(),
-                            scene_id: scene.id.clone(),
-                            scene_name: scene.name.clone(),
-                            distribution: row.distribution,
-                            sequence: row.sequence,
-                            seed_mode: row.seed_mode,
-                            rays,
-                            replicate,
-                            seed: replicate_seed(spec.seed, replicate),
-                            resolution: spec.resolution,
-                            ao_distance: spec.ao_distance,
-                        };
-                        if seen.insert(job.canonical()) {
-                            jobs.push(job);
+                for &schedule in &group.schedules {
+                    for &rays in &group.rays {
+                        for &pipeline in &group.pipelines {
+                            for frame in pipeline_frames(pipeline, group.frames) {
+                                for replicate in 0..group.replicates {
+                                    let job = Job {
+                                        scene: scene.path.clone(),
+                                        scene_id: scene.id.clone(),
+                                        scene_name: scene.name.clone(),
+                                        distribution: row.distribution,
+                                        sequence: row.sequence,
+                                        seed_mode: row.seed_mode,
+                                        rays,
+                                        replicate,
+                                        seed: replicate_seed(spec.seed, replicate),
+                                        resolution: spec.resolution,
+                                        ao_distance: spec.ao_distance,
+                                        frame,
+                                        schedule,
+                                        pipeline,
+                                    };
+                                    if seen.insert(job.canonical()) {
+                                        jobs.push(job);
+                                    }
+                                }
+                            }
                         }
                     }
                 }
@@ -144,6 +186,21 @@ pub fn plan(spec: &Spec) -> Plan {
         }
     }
     Plan { jobs }
+}
+
+/// The frames (from 1) at which a group of `frames` frames is measured: 1, 2, 4, … and `frames`.
+pub fn reported_frames(frames: u32) -> Vec<u32> {
+    let mut out: Vec<u32> =
+        std::iter::successors(Some(1u32), |k| k.checked_mul(2)).take_while(|&k| k < frames).collect();
+    out.push(frames.max(1));
+    out
+}
+
+/// The frames at which `pipeline` is measured in a group of `frames` frames: `reported_frames`
+/// when it accumulates; frame 1 alone when it does not (frame k of such a pipeline is one frame,
+/// the same estimator as frame 1 with other numbers, so measuring it again adds only jobs).
+pub fn pipeline_frames(pipeline: Pipeline, frames: u32) -> Vec<u32> {
+    if pipeline.is_temporal() { reported_frames(frames) } else { vec![1] }
 }
 
 /// The reference renders of scene `scene` (index into `Spec::scenes`) at `rays` per pixel: one job
@@ -165,6 +222,9 @@ pub fn reference_jobs(spec: &Spec, scene: usize, rays: u32) -> Vec<Job> {
             seed: reference_seed(spec.reference.seed, replicate),
             resolution: spec.resolution,
             ao_distance: spec.ao_distance,
+            frame: 1,
+            schedule: Schedule::Independent,
+            pipeline: Pipeline::RAW,
         })
         .collect()
 }
@@ -233,8 +293,10 @@ pub fn format_duration(seconds: f64) -> String {
 }
 
 /// What the timing protocol calls a unit: one configuration on one scene.
+/// A real-time job's frames, schedule and pipeline are part of its unit (`Job::realtime_suffix`):
+/// 16 frames cost 16 times one.
 pub fn unit_key(job: &Job) -> (String, Row, u32) {
-    (job.scene_id.clone(), job.row().canonical(), job.rays)
+    (format!("{}{}", job.scene_id, job.realtime_suffix()), job.row().canonical(), job.rays)
 }
 
 /// The plan's jobs grouped into units (job indices), units in order of their first job.
@@ -273,6 +335,16 @@ mod tests {
             assert_ne!(s[i], reference_seed(1, i as u32));
         }
         assert_eq!(replicate_seed(1, 0), replicate_seed(1, 0));
+    }
+
+    #[test]
+    fn reported_frames_are_powers_of_two_and_the_last() {
+        assert_eq!(reported_frames(1), vec![1]);
+        assert_eq!(reported_frames(16), vec![1, 2, 4, 8, 16]);
+        assert_eq!(reported_frames(12), vec![1, 2, 4, 8, 12]);
+        let ema: Pipeline = "ema0.1+atrous".parse().unwrap();
+        assert_eq!(pipeline_frames(ema, 4), vec![1, 2, 4]);
+        assert_eq!(pipeline_frames("atrous".parse().unwrap(), 4), vec![1]);
     }
 
     #[test]

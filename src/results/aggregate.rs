@@ -55,8 +55,11 @@ pub struct Aggregate {
 }
 
 /// Mean and sd per (scene, distribution, sequence, seed_mode, rays), in order of first appearance;
-/// the timing columns from the records (`fill_timing` has set them).
+/// the timing columns from the records (`fill_timing` has set them). Single raw frames only
+/// (`JobResult::is_single_frame`): the real-time records are read by their own report section.
 pub fn aggregate(results: &[JobResult]) -> Vec<Aggregate> {
+    let single: Vec<JobResult> = results.iter().filter(|r| r.is_single_frame()).cloned().collect();
+    let results = &single[..];
     let mut configs: Vec<(&str, &str, &str, &str, u32)> = Vec::new();
     for r in results {
         if !configs.contains(&r.config()) {

@@ -50,6 +50,10 @@ pub const CSV_COLUMNS: &[&str] = &[
     "key",
     "image",
     "lowfreq_ratio",
+    "pipeline",
+    "frame",
+    "schedule",
+    "noise_rmse",
 ];
 
 /// The columns that hold measured times, or depend on them (how many renders a configuration got:
@@ -133,6 +137,33 @@ pub struct JobResult {
     pub times: Vec<f64>,
     /// Their wall times.
     pub walls: Vec<f64>,
+    /// What was done to the frames before measuring (`denoise::Pipeline`'s name); `rmse` and the
+    /// other error columns are of the image after it, against the reference.
+    #[serde(default = "raw")]
+    pub pipeline: String,
+    /// The measured frame, from 1 (`Job::frame`).
+    #[serde(default = "one")]
+    pub frame: u32,
+    /// The per-frame randomization schedule.
+    #[serde(default = "independent")]
+    pub schedule: String,
+    /// RMSE of the image after the pipeline against the reference after the same spatial filter:
+    /// the noise part of the error, the filter's bias left out. `rmse` for a raw image.
+    #[serde(default = "nan", deserialize_with = "split::nan_null")]
+    pub noise_rmse: f64,
+}
+
+fn raw() -> String {
+    "raw".into()
+}
+fn one() -> u32 {
+    1
+}
+fn independent() -> String {
+    "independent".into()
+}
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// The one "this record belongs to that configuration" rule, for records and aggregates alike:
@@ -150,8 +181,9 @@ impl JobResult {
     }
 
     /// Whether this record is an image of (scene, row, rays).
+    /// A paper-table image: real-time records (`is_single_frame` false) are not.
     pub fn is(&self, scene: &str, row: Row, rays: u32) -> bool {
-        self.scene == scene && self.rays == rays && self.is_row(row)
+        self.scene == scene && self.rays == rays && self.is_row(row) && self.is_single_frame()
     }
 
     /// A record with its error metrics and no time yet (`add_time`, then `fill_timing`).
@@ -189,7 +221,17 @@ impl JobResult {
             image: image.into(),
             times: Vec::new(),
             walls: Vec::new(),
+            pipeline: job.pipeline.to_string(),
+            frame: job.frame,
+            schedule: job.schedule.name().into(),
+            noise_rmse: stats.rmse,
         }
+    }
+
+    /// Whether this is a paper-table record (one raw frame): the aggregates, comparisons and
+    /// verdicts of the paper read only these; the real-time records have their own section.
+    pub fn is_single_frame(&self) -> bool {
+        self.frame == 1 && self.pipeline == "raw" && self.schedule == "independent"
     }
 
     /// A record of `scene` with only what the statistics read (configuration, rays, replicate,
@@ -215,6 +257,9 @@ impl JobResult {
             seed: replicate as u64,
             resolution: None,
             ao_distance: None,
+            frame: 1,
+            schedule: crate::sampling::Schedule::Independent,
+            pipeline: crate::denoise::Pipeline::RAW,
         };
         let stats = ErrorStats {
             covered: 1,
@@ -310,6 +355,10 @@ pub fn to_csv(results: &[JobResult]) -> String {
             csv_field(&r.key),
             csv_field(&r.image),
             num(r.lowfreq_ratio),
+            csv_field(&r.pipeline),
+            r.frame.to_string(),
+            csv_field(&r.schedule),
+            num(r.noise_rmse),
         ];
         s.push_str(&fields.join(","));
         s.push('\n');
@@ -325,8 +374,13 @@ pub fn to_json(results: &[JobResult]) -> String {
 }
 
 /// Reads `results.json` back; the message says what is wrong and where (line, column).
+/// Records written before `noise_rmse` existed are raw images: their noise RMSE is their RMSE.
 pub fn from_json(text: &str) -> Result<Vec<JobResult>, String> {
-    serde_json::from_str(text).map_err(|e| e.to_string())
+    let mut rs: Vec<JobResult> = serde_json::from_str(text).map_err(|e| e.to_string())?;
+    for r in rs.iter_mut().filter(|r| r.noise_rmse.is_nan() && r.pipeline == "raw") {
+        r.noise_rmse = r.rmse;
+    }
+    Ok(rs)
 }
 
 #[cfg(test)]
@@ -347,6 +401,9 @@ mod tests {
             seed: crate::plan::replicate_seed(1, replicate),
             resolution: Some([4, 4]),
             ao_distance: None,
+            frame: 1,
+            schedule: crate::sampling::Schedule::Independent,
+            pipeline: crate::denoise::Pipeline::RAW,
         }
     }
 
@@ -385,7 +442,8 @@ mod tests {
             lines.next().unwrap(),
             "scene,distribution,sequence,seed_mode,rays,replicate,seed,rmse,bias,autocorr_x,autocorr_y,\
              lowpass_rmse,time_s,rays_per_s,whiteness_z,rays_cast,time_median_s,time_min_s,time_max_s,timings,overhead_s,\
-             ao_time_s,ns_per_ray,efficiency,timing_threads,wall_s,covered_pixels,key,image,lowfreq_ratio"
+             ao_time_s,ns_per_ray,efficiency,timing_threads,wall_s,covered_pixels,key,image,lowfreq_ratio,\
+             pipeline,frame,schedule,noise_rmse"
         );
         let row: Vec<&str> = lines.next().unwrap().split(',').collect();
         assert_eq!(row.len(), CSV_COLUMNS.len());
@@ -414,7 +472,10 @@ mod tests {
         r.image = "a,b \"c\".exr".into();
         let csv = to_csv(&timed(vec![r], 0.1));
         let line = csv.lines().nth(1).unwrap();
-        assert!(line.ends_with(",\"a,b \"\"c\"\".exr\",0.75"), "quoted, then lowfreq_ratio: {line}");
+        assert!(
+            line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,0"),
+            "quoted, then lowfreq_ratio and the real-time columns: {line}"
+        );
         assert!(line.contains(",0,0,0.5,128,"), "time and rays_per_s 0, whiteness 0.5: {line}");
         assert!(
             line.contains(",0.1,,,,1,"),

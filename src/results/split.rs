@@ -7,11 +7,13 @@ use crate::timing::{Split, Summary};
 /// Sets the configuration-level timing columns of every record from the records' own samples
 /// (`JobResult::times`), with `overhead(scene)` the median time of that scene's no-AO-ray render.
 pub fn fill_timing(results: &mut [JobResult], overhead: &dyn Fn(&str) -> Option<f64>) {
-    let configs: Vec<(String, String, String, String, u32)> = results
+    // A real-time record's frames, schedule and pipeline are part of its configuration here.
+    let configs: Vec<(String, String, String, String, u32, String)> = results
         .iter()
         .map(|r| {
             let c = r.config();
-            (c.0.to_string(), c.1.to_string(), c.2.to_string(), c.3.to_string(), c.4)
+            let rt = format!("{}/{}/{}", r.frame, r.schedule, r.pipeline);
+            (c.0.to_string(), c.1.to_string(), c.2.to_string(), c.3.to_string(), c.4, rt)
         })
         .collect();
     for (i, c) in configs.iter().enumerate() {

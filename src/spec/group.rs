@@ -57,6 +57,25 @@ pub(super) fn group(
         }
     };
     let rows = rows(raw, &at(""), g.span(), p);
+    let frames = raw.frames.as_ref().map_or(Some(1), |f| p.int(f, &at("frames"), 1, MAX_FRAMES as i64));
+    let schedules = match &raw.schedules {
+        None => Some(vec![Schedule::Independent]),
+        Some(v) => axis::<Schedule>(&Some(v.clone()), &at("schedules"), 0..0, p).map(dedup),
+    };
+    let pipelines = match &raw.pipelines {
+        None => Some(vec![Pipeline::RAW]),
+        Some(v) if !p.non_empty(v, &at("pipelines")) => None,
+        Some(v) => {
+            let parsed: Vec<Option<Pipeline>> = v
+                .get_ref()
+                .iter()
+                .map(|s| {
+                    s.get_ref().parse::<Pipeline>().map_err(|e| p.add(s.span(), &at("pipelines"), e)).ok()
+                })
+                .collect();
+            parsed.into_iter().collect::<Option<Vec<_>>>().map(dedup)
+        }
+    };
     p.group = None;
     Some(Group {
         kind,
@@ -66,7 +85,21 @@ pub(super) fn group(
         replicates,
         scenes: group_scenes,
         line: line_of(p.text, g.span().start),
+        frames: frames?,
+        schedules: schedules?,
+        pipelines: pipelines?,
     })
+}
+
+/// Later duplicates dropped, file order kept.
+fn dedup<T: PartialEq>(v: Vec<T>) -> Vec<T> {
+    let mut out: Vec<T> = Vec::new();
+    for x in v {
+        if !out.contains(&x) {
+            out.push(x);
+        }
+    }
+    out
 }
 
 fn rows(raw: &RawGroup, at: &str, span: std::ops::Range<usize>, p: &mut Problems) -> Option<Vec<Row>> {

@@ -40,6 +40,15 @@
 //! distributions = ["sine-cosine"]       # … or axes, expanded as a product in this order
 //! sequences = ["random", "fibonacci"]
 //! seed_modes = ["rotation", "shift"]    # optional; default ["rotation"]
+//!
+//! [[table]]                             # real-time keys (any group; defaults: one raw frame)
+//! name = "realtime"
+//! rays = [1, 2, 4]                      # per pixel per frame
+//! distributions = ["sine-cosine"]
+//! sequences = ["fibonacci"]
+//! frames = 16                           # 1..=1024 frames of a static camera; measured at 1, 2, 4, …, 16
+//! schedules = ["independent", "r1"]     # per-frame randomization; default ["independent"]
+//! pipelines = ["raw", "ema0.1+atrous"]  # what is done to the frames (`denoise::Pipeline`); default ["raw"]
 //! ```
 //!
 //! Keys are snake_case; names are those of `sampling` (`uniform`, `sine`, `sine-cosine`,
@@ -52,7 +61,8 @@
 //! (`toml::Spanned`) and the range/name checks run over the whole file, gathering all problems at once.
 //! Every message reads `line N, key K: what is wrong; what is allowed`.
 
-use crate::sampling::{Distribution, SeedMode, Sequence};
+use crate::denoise::Pipeline;
+use crate::sampling::{Distribution, Schedule, SeedMode, Sequence};
 use std::path::{Component, Path, PathBuf};
 
 mod group;
@@ -66,6 +76,8 @@ pub const MAX_RAYS: u32 = 65_536;
 /// References may go higher: they are rendered once and committed.
 pub const MAX_REFERENCE_RAYS: u32 = 1 << 22;
 pub const MAX_REPLICATES: u32 = 1000;
+/// Frames of one real-time job: a second of 1 kHz frames is more than any accumulation needs.
+pub const MAX_FRAMES: u32 = 1024;
 
 /// Replicates of a spec that names none: enough for a standard error (one replicate has no
 /// spread, and a table of "± 0.0000" reads as a certainty it is not).
@@ -205,6 +217,12 @@ pub struct Group {
     /// Indices into `Spec::scenes`.
     pub scenes: Vec<usize>,
     pub line: usize,
+    /// Frames of a static camera per configuration (1: the paper's single image).
+    pub frames: u32,
+    /// Per-frame randomization schedules, duplicates merged, in file order.
+    pub schedules: Vec<Schedule>,
+    /// What is done to the frames before measuring, duplicates merged, in file order.
+    pub pipelines: Vec<Pipeline>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -61,6 +61,9 @@ pub(super) struct RawGroup {
     pub(super) distributions: Option<S<Vec<S<String>>>>,
     pub(super) sequences: Option<S<Vec<S<String>>>>,
     pub(super) seed_modes: Option<S<Vec<S<String>>>>,
+    pub(super) frames: Option<S<i64>>,
+    pub(super) pipelines: Option<S<Vec<S<String>>>>,
+    pub(super) schedules: Option<S<Vec<S<String>>>>,
 }
 
 #[derive(Deserialize)]

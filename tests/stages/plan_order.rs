@@ -168,3 +168,51 @@ fn reference_jobs_use_their_own_seeds_and_the_reference_estimator() {
     }
     assert!(reference_jobs(&spec, 2, 4096).is_empty());
 }
+
+#[test]
+fn realtime_order_is_pinned_and_single_frame_keys_stay() {
+    let text = r#"
+scenes = ["a.toml"]
+replicates = 1
+[[table]]
+name = "rt"
+rays = [1, 2]
+distributions = ["sine-cosine"]
+sequences = ["fibonacci"]
+schedules = ["independent", "r1"]
+pipelines = ["raw", "ema0.1+atrous"]
+frames = 4
+"#;
+    let p = plan_of(text);
+    let got: Vec<String> =
+        p.jobs.iter().map(|j| format!("{} {} {} f{}", j.schedule, j.rays, j.pipeline, j.frame)).collect();
+    let want = [
+        "independent 1 raw f1",
+        "independent 1 ema0.1+atrous f1",
+        "independent 1 ema0.1+atrous f2",
+        "independent 1 ema0.1+atrous f4",
+        "independent 2 raw f1",
+        "independent 2 ema0.1+atrous f1",
+        "independent 2 ema0.1+atrous f2",
+        "independent 2 ema0.1+atrous f4",
+        "r1 1 raw f1",
+        "r1 1 ema0.1+atrous f1",
+        "r1 1 ema0.1+atrous f2",
+        "r1 1 ema0.1+atrous f4",
+        "r1 2 raw f1",
+        "r1 2 ema0.1+atrous f1",
+        "r1 2 ema0.1+atrous f2",
+        "r1 2 ema0.1+atrous f4",
+    ];
+    assert_eq!(got, want);
+    let keys: std::collections::HashSet<String> = p.jobs.iter().map(|j| j.key()).collect();
+    assert_eq!(keys.len(), p.jobs.len(), "keys must be unique");
+    // The raw independent frame-1 job is the paper-table job: the same key as without the keys.
+    let plain = plan_of(
+        "scenes = [\"a.toml\"]\nreplicates = 1\n[[table]]\nname = \"rt\"\nrays = [1]\n\
+         distributions = [\"sine-cosine\"]\nsequences = [\"fibonacci\"]\n",
+    );
+    assert!(p.jobs[0].is_single_frame());
+    assert_eq!(p.jobs[0].key(), plain.jobs[0].key());
+    assert!(!p.jobs[1].canonical().ends_with("ao_distance=scene"), "{}", p.jobs[1].canonical());
+}

@@ -362,3 +362,25 @@ fn the_reports_words_point_at_the_value() {
     let e = error(&spec("", "", ", seed_mode = \"per-pixel seed\" "));
     assert_has(&e, &["key `table.rows.seed_mode`", "('per-pixel seed' is written `rotation`)"]);
 }
+
+#[test]
+fn realtime_keys_bad_values_name_line_key_and_choices() {
+    let e = error(&spec("", "frames = 0", ""));
+    assert_has(&e, &["line 7", "table.frames", "0 is out of range", "1..=1024"]);
+    let e = error(&spec("", "pipelines = [\"raw\", \"blur\"]", ""));
+    assert_has(&e, &["line 7", "table.pipelines", "'blur'", "ema0.1+atrous"]);
+    let e = error(&spec("", "pipelines = []", ""));
+    assert_has(&e, &["line 7", "table.pipelines", "is empty"]);
+    let e = error(&spec("", "schedules = [\"r2d2\"]", ""));
+    assert_has(&e, &["line 7", "table.schedules", "r2d2", "independent", "r1"]);
+    let ok = parse_spec(
+        &spec("", "frames = 8\npipelines = [\"raw\", \"ema0.1+atrous\", \"raw\"]", ""),
+        Path::new(FILE),
+    )
+    .unwrap();
+    assert_eq!(ok.groups[0].frames, 8);
+    assert_eq!(ok.groups[0].pipelines.len(), 2, "duplicates merged");
+    let plain = parse_spec(&spec("", "", ""), Path::new(FILE)).unwrap();
+    assert_eq!(plain.groups[0].frames, 1);
+    assert_eq!(plain.groups[0].pipelines, vec![hemilab::denoise::Pipeline::RAW]);
+}

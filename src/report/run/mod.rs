@@ -8,6 +8,7 @@ pub mod figures;
 pub mod page;
 pub mod quotes;
 pub mod rays;
+pub mod realtime;
 pub mod summary;
 pub mod verdicts;
 

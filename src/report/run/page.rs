@@ -40,6 +40,9 @@ pub fn write(data: &ReportInput, figures: &Figures, out: &Path) -> Result<()> {
         collapsed.push(details);
     }
     tables.extend(answer_tables);
+    // The real-time verdicts lead: a real-time spec is run for them.
+    lead.extend(super::realtime::paper_table(data.results));
+    lead.extend(super::realtime::stbn_table(data.results));
     tables.push(reference_table(data));
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
         for &si in &g.scenes {
@@ -56,6 +59,7 @@ pub fn write(data: &ReportInput, figures: &Figures, out: &Path) -> Result<()> {
     let title = format!("hemilab: {}", spec.name);
     let mut findings = answer.findings;
     findings.extend(super::verdicts::family_text(data));
+    findings.extend(super::realtime::text(data.results));
     let mut method = vec![answer::method(), timing_text(data)];
     method.extend(data.notes.iter().cloned());
     method.push(format!(

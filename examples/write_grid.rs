@@ -16,7 +16,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n: u32 = args.next().map_or(Ok(2237), |s| s.parse())?;
     std::fs::create_dir_all(&dir)?;
     let side = n + 1;
-    let height = |x: f32, z: f32| 0.05 * ((x * 7.0).sin() + (z * 5.0).cos()) + 0.02 * (x * 31.0 + z * 17.0).sin();
+    let height =
+        |x: f32, z: f32| 0.05 * ((x * 7.0).sin() + (z * 5.0).cos()) + 0.02 * (x * 31.0 + z * 17.0).sin();
     let mut positions = Vec::with_capacity((side * side) as usize);
     for j in 0..side {
         for i in 0..side {

@@ -154,7 +154,7 @@ pub struct RenderSampling {
     /// Hemisphere distribution: uniform, sine, sine-cosine, concentric-cosine.
     #[arg(long, value_parser = parse_distribution, value_name = "D", default_value = "sine-cosine")]
     pub distribution: Distribution,
-    /// Point sequence: random, fibonacci, stratified, sobol.
+    /// Point sequence: random, fibonacci, stratified, sobol, halton, pmj02bn, zsobol, r2.
     #[arg(long, value_parser = parse_sequence, value_name = "S", default_value = "fibonacci")]
     pub sequence: Sequence,
     /// Randomization across pixels: static, rotation (the paper's per-pixel seed), shift (unbiased
@@ -238,7 +238,7 @@ pub struct PointsArgs {
     /// Hemisphere distribution: uniform, sine, sine-cosine, concentric-cosine.
     #[arg(long, value_parser = parse_distribution, value_name = "D")]
     pub distribution: Distribution,
-    /// Point sequence: random, fibonacci, stratified, sobol.
+    /// Point sequence: random, fibonacci, stratified, sobol, halton, pmj02bn, zsobol, r2.
     #[arg(long, value_parser = parse_sequence, value_name = "S")]
     pub sequence: Sequence,
     /// Randomization across pixels: static, rotation, shift, blue-noise, stbn.

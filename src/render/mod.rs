@@ -247,7 +247,12 @@ pub(crate) struct Primary {
 /// are traced 32 at a time, 8 × 4 pixels (`Accel::closest_from`), others one by one; the hits are
 /// the same bits either way.
 #[inline(always)]
-pub(crate) fn tile_primaries(scene: &Scene, (width, height): (u32, u32), t: u32, out: &mut Vec<Primary>) -> Raster {
+pub(crate) fn tile_primaries(
+    scene: &Scene,
+    (width, height): (u32, u32),
+    t: u32,
+    out: &mut Vec<Primary>,
+) -> Raster {
     out.clear();
     let raster = scene.camera.raster(width, height);
     for (x, y) in tile_pixels(t, width, height) {

@@ -52,8 +52,8 @@
 //! ```
 //!
 //! Keys are snake_case; names are those of `sampling` (`uniform`, `sine`, `sine-cosine`,
-//! `concentric-cosine`; `random`, `fibonacci`, `stratified`, `sobol`; `static`, `rotation`, `shift`,
-//! `blue-noise`). `random` + `shift` is the same estimator as `random` + `rotation` (fresh numbers per
+//! `concentric-cosine`; `random`, `fibonacci`, `stratified`, `sobol`, `halton`, `pmj02bn`, `zsobol`,
+//! `r2`; `static`, `rotation`, `shift`, `blue-noise`, `stbn`). `random` + `shift` is the same estimator as `random` + `rotation` (fresh numbers per
 //! pixel) and is merged into it; `random` + `static` and `random` + `blue-noise` are kept.
 //!
 //! Parsing is two-phase so that errors point at lines: serde (with `deny_unknown_fields`) checks the

@@ -284,7 +284,7 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--rays".into(), "0,4".into()], "--rays"),
         (vec!["--budget-ms".into(), "0".into()], "--budget-ms"),
         (vec!["--budget-ms".into(), "fast".into()], "--budget-ms"),
-        (vec!["--only".into(), "sine-cosine/halton/*".into()], "--only"),
+        (vec!["--only".into(), "sine-cosine/hammersley/*".into()], "--only"),
         (vec!["--only".into(), "*/random/static".into()], "--only"),
         (vec!["--resolution".into(), "0x16".into()], "--resolution"),
         (vec!["--replicates".into(), "1".into()], "--replicates"),

@@ -19,7 +19,8 @@ fn fill(cfg: SamplerConfig, pixel: u64) -> Vec<Vec2> {
 /// FNV-1a over the bits of every point of every sequence × seed mode × count × seed × pixel.
 fn digest(make: impl Fn(Sequence, SeedMode, u32, u64) -> SamplerConfig) -> u64 {
     let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for &seq in Sequence::ALL {
+    // The sequences main had at 321ec7f (the later ones have their own determinism tests).
+    for seq in [Sequence::Random, Sequence::Fibonacci, Sequence::Stratified, Sequence::Sobol] {
         for mode in TODAY {
             for n in [1, 7, 32] {
                 for seed in [0, 1, 0xDEAD_BEEF] {
@@ -70,7 +71,8 @@ fn r1_steps_are_exactly_f_alpha_mod_one() {
 #[test]
 fn r1_frames_are_frame_zero_moved_by_f_alpha() {
     let to_fix = |v: f32| (v as f64 * (1u64 << 24) as f64) as u32;
-    for &seq in Sequence::ALL {
+    // The sequences main had at 321ec7f (the later ones have their own determinism tests).
+    for seq in [Sequence::Random, Sequence::Fibonacci, Sequence::Stratified, Sequence::Sobol] {
         for mode in TODAY {
             let base = SamplerConfig::new(seq, mode, 9, 77).unwrap().with_schedule(Schedule::R1);
             let scalar = mode == SeedMode::Rotation && seq != Sequence::Random;
@@ -92,7 +94,8 @@ fn r1_frames_are_frame_zero_moved_by_f_alpha() {
 /// structure, and the same for every pixel only where the mode is static.
 #[test]
 fn independent_frames_draw_fresh_points() {
-    for &seq in Sequence::ALL {
+    // The sequences main had at 321ec7f (the later ones have their own determinism tests).
+    for seq in [Sequence::Random, Sequence::Fibonacci, Sequence::Stratified, Sequence::Sobol] {
         for mode in TODAY {
             let base = SamplerConfig::new(seq, mode, 9, 77).unwrap();
             let frames: Vec<Vec<Vec2>> = (0..4).map(|f| fill(base.with_frame(f), 5)).collect();

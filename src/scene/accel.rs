@@ -45,7 +45,7 @@ pub struct Accel {
     /// Unique per build in this process (never 0), so caches can tell scenes apart.
     pub(crate) id: u64,
     /// Each triangle's contacts, found on first use (`near::contacts`).
-    pub(crate) contacts: super::near::contacts::Table,
+    pub(crate) contacts: super::near::grid::Table,
 }
 
 /// A closest hit: distance, triangle (BVH order) and the barycentrics of `b` and `c`.

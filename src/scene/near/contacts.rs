@@ -7,33 +7,9 @@
 //! away from the edges only looks up the few near it: most triangles have none (the kitchen: half
 //! its pixels; a large one, its floor, thousands, which a grid sorts out: `grid`).
 
-use super::grid::Grid;
+use super::grid::{Contact, Contacts, Grid};
 use crate::scene::accel::{Accel, T_ERR};
 use glam::{DVec3, Vec3, Vec3Swizzles};
-use std::sync::OnceLock;
-
-/// A contact as `Contacts::near_hit` first tests it: its plane's signed distance as an affine
-/// function of the triangle's barycentrics (b, c), `f[0] + f[1] b + f[2] c`, and how far it rises
-/// off the triangle's plane on the side of its normal and on the other.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Contact {
-    pub prim: u32,
-    pub f: [f64; 3],
-    pub rise: [f64; 2],
-}
-
-/// A triangle's contacts and the distance they were gathered within (`reach_cap`).
-#[derive(Debug, Clone)]
-pub(crate) struct Contacts {
-    reach: f64,
-    list: Box<[Contact]>,
-    /// Where on the triangle each may matter, for lists longer than `grid::SHORT`.
-    grid: Option<Grid>,
-}
-
-/// Each triangle's `Contacts`, worked out on first use; None for none (most triangles), so that
-/// the table costs 16 bytes a triangle.
-pub(crate) type Table = Vec<OnceLock<Option<Box<Contacts>>>>;
 
 /// The farthest `render::clearance` looks around an origin lifted off triangle `t` (vertices as
 /// stored, in f64): twice a bound, anywhere on the triangle, on what it looks within (4 bands of

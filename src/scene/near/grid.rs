@@ -4,8 +4,34 @@
 //! but any one hit point is near few of them, or (almost always) none: the grid turns a scan of the
 //! whole list into a look-up.
 
-use super::contacts::Contact;
 use glam::DVec3;
+use std::sync::OnceLock;
+
+// The contact data (`contacts` finds them, `Accel` keeps the table) lives here, beside the grid it
+// holds, so that neither the tree nor the grid imports the search.
+
+/// A contact as `Contacts::near_hit` first tests it: its plane's signed distance as an affine
+/// function of the triangle's barycentrics (b, c), `f[0] + f[1] b + f[2] c`, and how far it rises
+/// off the triangle's plane on the side of its normal and on the other.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Contact {
+    pub prim: u32,
+    pub f: [f64; 3],
+    pub rise: [f64; 2],
+}
+
+/// A triangle's contacts and the distance they were gathered within (`reach_cap`).
+#[derive(Debug, Clone)]
+pub(crate) struct Contacts {
+    pub(super) reach: f64,
+    pub(super) list: Box<[Contact]>,
+    /// Where on the triangle each may matter, for lists longer than `SHORT`.
+    pub(super) grid: Option<Grid>,
+}
+
+/// Each triangle's `Contacts`, worked out on first use (`contacts`); None for none (most triangles), so that
+/// the table costs 16 bytes a triangle.
+pub(crate) type Table = Vec<OnceLock<Option<Box<Contacts>>>>;
 
 /// Cells along each barycentric axis.
 const SIDE: usize = 16;

@@ -6,7 +6,7 @@
 //! then leave through that neighbour (issue 27; `render::clearance`).
 
 pub(crate) mod contacts;
-mod grid;
+pub(crate) mod grid;
 
 pub(crate) use contacts::reach_cap;
 

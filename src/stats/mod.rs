@@ -28,6 +28,25 @@ pub fn chi2_p_value(statistic: f64, dof: usize) -> f64 {
     ChiSquared::new(dof as f64).map_or(f64::NAN, |d| d.sf(statistic))
 }
 
+/// `n` standard normals (Box–Muller on SplitMix64 from `state`): fixed seeds, so the tests that
+/// feed noise to the metrics and filters cannot flake; each caller keeps its own starting state.
+#[cfg(any(test, feature = "testing"))]
+pub fn normals_from_state(n: usize, mut state: u64) -> Vec<f64> {
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..n)
+        .map(|_| {
+            let (u, v) = (next().max(1e-300), next());
+            (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
+        })
+        .collect()
+}
+
 /// The standard normal quantile Φ⁻¹(p) (statrs), for p in (0, 1).
 pub fn normal_quantile(p: f64) -> f64 {
     use statrs::distribution::{ContinuousCDF, Normal};

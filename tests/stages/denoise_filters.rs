@@ -13,20 +13,7 @@ use std::path::Path;
 
 /// SplitMix64-based standard normals (Box–Muller), fixed seeds: the tests cannot flake.
 fn normals(n: usize, seed: u64) -> Vec<f64> {
-    let mut state = seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x1234_5678;
-    let mut next = || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..n)
-        .map(|_| {
-            let (u, v) = (next().max(1e-300), next());
-            (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
-        })
-        .collect()
+    hemilab::stats::normals_from_state(n, seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x1234_5678)
 }
 
 fn image(w: u32, h: u32, f: impl Fn(u32, u32) -> f32) -> Image {

@@ -41,8 +41,10 @@ pub fn write(data: &ReportInput, figures: &Figures, out: &Path) -> Result<()> {
     }
     tables.extend(answer_tables);
     // The real-time verdicts lead: a real-time spec is run for them.
+    lead.extend(super::realtime::summary_table(data.results));
     lead.extend(super::realtime::paper_table(data.results));
     lead.extend(super::realtime::stbn_table(data.results));
+    lead.extend(super::realtime::seeds_table(data.results));
     tables.push(reference_table(data));
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
         for &si in &g.scenes {

@@ -40,7 +40,8 @@ impl Cost {
 }
 
 /// Every block of a run, in spec order: one per `[[table]]` and `[[convergence]]` group and scene,
-/// and the run's cost.
+/// a real-time spec's verdicts (`realtime::summary_table`, its two questions, their sentences), and
+/// the run's cost.
 pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String {
     let aggs = results::aggregate(records);
     let mut s = String::new();
@@ -63,6 +64,22 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
                 }
             }
         }
+    }
+    // A real-time spec's verdicts (`realtime`): the short table, both full tables, the sentences.
+    let rt = [
+        ("realtime-summary", super::realtime::summary_table(records)),
+        ("realtime-paper", super::realtime::paper_table(records)),
+        ("realtime-stbn", super::realtime::stbn_table(records)),
+        ("realtime-seeds", super::realtime::seeds_table(records)),
+    ];
+    for (what, t) in rt {
+        if let Some(t) = t {
+            block(format!("{}/{what}", spec.name), crate::report::markdown_table(&t));
+        }
+    }
+    let said = super::realtime::text(records);
+    if !said.is_empty() {
+        block(format!("{}/realtime-verdicts", spec.name), said.iter().map(|l| format!("{l}\n")).collect());
     }
     if let Some(c) = cost {
         block(

@@ -11,7 +11,8 @@ use crate::io;
 use crate::metrics::{LOWPASS_SIGMA, STRUCTURED_RATIO};
 use crate::report::figure_rows;
 use crate::report::run::data::{
-    ReportInput, banding_stat, lowfreq_stat, row_label, sweep_points, sweep_slope, table_configs,
+    ReportInput, banding_stat, has_single_frames, lowfreq_stat, row_label, sweep_points, sweep_slope,
+    table_configs,
 };
 use crate::report::run::draw::{drawn, log_log, record_image, write_figure};
 use crate::report::{self, Figure, Format, GridCell, Guide, Series};
@@ -46,7 +47,10 @@ pub fn write_all(data: &ReportInput, out: &Path) -> Result<Figures> {
                 g.name.clone()
             };
             match g.kind {
-                GroupKind::Table => figures.extend(table_figures(data, g, si, &stem, out)?),
+                GroupKind::Table if has_single_frames(g) => {
+                    figures.extend(table_figures(data, g, si, &stem, out)?)
+                }
+                GroupKind::Table => {}
                 GroupKind::Convergence => {
                     let et = equal_time_figure(data, g, si, &stem, out)?;
                     if key.is_empty() {

@@ -6,7 +6,7 @@
 //! A block is `<!-- quote NAME -->`, its Markdown, `<!-- /quote -->`; NAME is `<spec>/<what>`. The
 //! README holds copies of some blocks; `examples/readme_quotes.rs` copies them in after a rerun.
 
-use super::data::{banding_stat, row_label};
+use super::data::{banding_stat, has_single_frames, row_label};
 use crate::results::{self, JobResult, Stat};
 use crate::spec::{Group, GroupKind, Spec};
 use std::fmt::Write as _;
@@ -57,7 +57,8 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
                 format!("{}/{}", spec.name, g.name)
             };
             match g.kind {
-                GroupKind::Table => block(name, rmse_table(g, scene, &aggs, records)),
+                GroupKind::Table if has_single_frames(g) => block(name, rmse_table(g, scene, &aggs, records)),
+                GroupKind::Table => {}
                 GroupKind::Convergence => {
                     block(name.clone(), slopes(spec, g, scene, &aggs));
                     block(format!("{name}/times"), times(g, scene, &aggs));

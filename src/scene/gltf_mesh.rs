@@ -4,7 +4,9 @@
 //! `TRIANGLE_FAN` unrolled as the specification's section 3.7.2.1 orders their vertices), and the
 //! file's first camera where a node places it. Points and lines have no surface to occlude with, and
 //! are refused rather than dropped: a glTF file says exactly what it draws, so an unsupported mode is
-//! a file this renderer cannot show faithfully.
+//! a file this renderer cannot show faithfully. Materials with `alphaMode: MASK` become cutouts
+//! (`alpha`): their texture decoded once, each triangle given its texture coordinates; a file
+//! without such materials carries no mask data at all.
 //!
 //! No IO here: `fetch` hands over the bytes of a buffer's URI (relative to the .gltf file, or a
 //! `data:` URI decoded here), so every fault is a message the caller prefixes with the file name.

@@ -233,7 +233,7 @@ fn the_masks_let_light_through_the_foliage() {
             [t.v0, t.v1, t.v2].map(|v| Vec3::from(v).as_dvec3() + masked.origin)
         })
         .collect();
-    let solid = Scene::from_triangles("solid", masked.view.clone(), (64, 48), 1.0, tris).unwrap();
+    let solid = Scene::from_triangles("solid", masked.view, (64, 48), 1.0, tris).unwrap();
     let b = render(&solid, &job, &|_| {});
     let (ra, rb) = (a.occluded_rays as f64 / a.rays as f64, b.occluded_rays as f64 / b.rays as f64);
     eprintln!("foliage: occluded fraction {ra:.4} with masks, {rb:.4} solid");

@@ -189,6 +189,10 @@ pub struct RenderArgs {
     /// AO rays per pixel.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
     pub rays: u32,
+    /// What the rays integrate: ao (cosine-weighted visibility), visibility (unweighted, the
+    /// sky-view factor), cos-lobe-N (cos^N about the normal, N >= 2); the image is 1 - the estimate.
+    #[arg(long, value_parser = parse_integrand, value_name = "I", default_value = "ao")]
+    pub integrand: hemilab::sampling::Integrand,
     /// Image size, WxH (default: the scene's).
     #[arg(long, value_parser = parse_resolution)]
     pub resolution: Option<(u32, u32)>,
@@ -318,6 +322,10 @@ fn parse_pattern(s: &str) -> Result<hemilab::advice::Pattern, String> {
 
 fn parse_distribution(s: &str) -> Result<Distribution, String> {
     s.parse()
+}
+
+fn parse_integrand(s: &str) -> Result<hemilab::sampling::Integrand, String> {
+    hemilab::sampling::Integrand::parse(s)
 }
 
 fn parse_sequence(s: &str) -> Result<Sequence, String> {

@@ -181,6 +181,7 @@ impl AdviseSpec<'_> {
                 id: id.to_string(),
                 name: self.stem.to_string(),
                 line: 0,
+                integrand: crate::sampling::Integrand::Ao,
             }],
             resolution: Some(resolution),
             ao_distance: None,

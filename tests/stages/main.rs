@@ -16,6 +16,7 @@ mod render_closed_form;
 mod render_closed_room;
 mod render_determinism;
 mod render_exact;
+mod render_integrands;
 mod render_robust;
 mod render_stiff;
 mod sampling_blue_noise;

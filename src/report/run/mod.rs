@@ -5,6 +5,7 @@ pub mod answer;
 pub mod data;
 pub mod equal_time;
 pub mod figures;
+pub mod integrands;
 pub mod page;
 pub mod quotes;
 pub mod rays;

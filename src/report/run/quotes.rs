@@ -64,6 +64,10 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
             }
         }
     }
+    let integrands = super::integrands::markdown(records);
+    if !integrands.is_empty() {
+        block(format!("{}/verdicts", spec.name), integrands);
+    }
     if let Some(c) = cost {
         block(
             format!("{}/cost", spec.name),

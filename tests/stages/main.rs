@@ -10,6 +10,7 @@ mod denoise_filters;
 mod denoise_gbuffer;
 mod fuzz_inputs;
 mod metrics_known;
+mod plan_integrands;
 mod plan_order;
 mod plan_shard;
 mod render_closed_form;

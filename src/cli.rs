@@ -269,7 +269,7 @@ pub struct AdviseArgs {
     /// Re-analyse the finished sweep in DIR (an earlier advise's --out) at --budget-ms without
     /// rendering anything; writes to --out, default DIR itself. A budget whose finalists DIR has not
     /// measured is answered from the sweep's interpolation, and says so.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["rays", "only", "replicates", "resolution", "reference_dir"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["rays", "only", "replicates", "resolution", "reference_dir", "integrand"])]
     pub from: Option<PathBuf>,
     /// Time budgets per image in ms, comma-separated: thread CPU time of a one-thread render of the
     /// whole image at the resolution (default: three spread over the paper default's measured times).
@@ -291,6 +291,10 @@ pub struct AdviseArgs {
     /// Independent replicates (seeds) per configuration and ray count, 2..=1000.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(2..=1000))]
     pub replicates: u32,
+    /// What the rays integrate: ao, visibility (unweighted), cos-lobe-N (N >= 2); its reference
+    /// is built with the integrand's matched distribution.
+    #[arg(long, value_parser = parse_integrand, value_name = "I", default_value = "ao")]
+    pub integrand: hemilab::sampling::Integrand,
     /// Only these configurations, comma-separated distribution/sequence/seed_mode, each part a
     /// name or * (e.g. sine-cosine/fibonacci/*); the paper's default is always run.
     #[arg(long, value_parser = parse_pattern, value_delimiter = ',', value_name = "LIST")]

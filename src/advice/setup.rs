@@ -12,6 +12,7 @@ use crate::load::{Loaded, check_pixels, check_view, dropped_warning, load_scene}
 use crate::plan::{self, Plan};
 use crate::reference::Manifest;
 use crate::reference::store as refs;
+use crate::sampling::Integrand;
 use crate::scene::Scene;
 use crate::spec::{self, Group, GroupKind, ReferenceRays, ReferenceSpec, Row, SceneRef, Spec, TimingSpec};
 use crate::timing;
@@ -32,6 +33,8 @@ pub struct Request {
     pub replicates: u32,
     pub resolution: Option<(u32, u32)>,
     pub reference_dir: Option<PathBuf>,
+    /// What the rays integrate (issue 27); `ao` in a request written before it existed.
+    pub integrand: Integrand,
 }
 
 impl Request {
@@ -45,6 +48,7 @@ impl Request {
             "replicates": self.replicates,
             "resolution": self.resolution.map(|(w, h)| [w, h]),
             "reference_dir": self.reference_dir.as_deref().map(abs),
+            "integrand": self.integrand.to_string(),
         });
         let mut text = serde_json::to_string_pretty(&v).unwrap_or_default();
         text.push('\n');
@@ -72,6 +76,10 @@ impl Request {
             replicates,
             resolution: resolution.map(|[w, h]| (w, h)),
             reference_dir: reference_dir.map(PathBuf::from),
+            integrand: match v.get("integrand").and_then(|i| i.as_str()) {
+                Some(i) => Integrand::parse(i).map_err(|e| format!("integrand: {e}"))?,
+                None => Integrand::Ao,
+            },
         })
     }
 }
@@ -105,6 +113,17 @@ pub fn setup(args: &Request) -> Result<Setup> {
         )));
     }
     let rows = advice::select(&args.only).map_err(|e| Error::Usage(format!("--only: {e}")))?;
+    // Advise measures every gain against the paper's default, sine-cosine, whose weights are
+    // unbounded on unweighted visibility (infinite variance: no RMSE of it means anything). So
+    // that integrand is refused here rather than ranked; `run` measures it (experiments/integrands.toml).
+    if args.integrand.closed_room_variance(advice::PAPER_DEFAULT.distribution).is_infinite() {
+        return Err(Error::Usage(format!(
+            "--integrand {}: the paper's default (sine-cosine) has infinite variance for it, and advise \
+             ranks against that default; allowed here: ao, cos-lobe-N (measure {} with `hemilab run`, \
+             as experiments/integrands.toml does)",
+            args.integrand, args.integrand
+        )));
+    }
     let scene = load_scene(&args.scene)?;
     if let Some(w) = dropped_warning(&scene) {
         eprintln!("{w}");
@@ -112,8 +131,14 @@ pub fn setup(args: &Request) -> Result<Setup> {
     let name = args.scene.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = name.strip_suffix(".toml").unwrap_or(&name).to_string();
     let given_id = spec::normalize(&args.scene.to_string_lossy());
-    let sketch =
-        AdviseSpec { path: &args.scene, stem: &stem, rows: &rows, rays: &rays, replicates: args.replicates };
+    let sketch = AdviseSpec {
+        path: &args.scene,
+        stem: &stem,
+        rows: &rows,
+        rays: &rays,
+        replicates: args.replicates,
+        integrand: args.integrand,
+    };
     let reference_dir = reference_dir(args, &scene)?;
     let stored = stored_references(&reference_dir, &scene)?;
     let usable = |m: &Manifest| sketch.reuses(m, &scene);
@@ -155,6 +180,7 @@ struct AdviseSpec<'a> {
     rows: &'a [Row],
     rays: &'a [u32],
     replicates: u32,
+    integrand: Integrand,
 }
 
 impl AdviseSpec<'_> {
@@ -181,7 +207,7 @@ impl AdviseSpec<'_> {
                 id: id.to_string(),
                 name: self.stem.to_string(),
                 line: 0,
-                integrand: crate::sampling::Integrand::Ao,
+                integrand: self.integrand,
             }],
             resolution: Some(resolution),
             ao_distance: None,

@@ -40,6 +40,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
             replicates: args.replicates,
             resolution: args.resolution,
             reference_dir: args.reference_dir.clone(),
+            integrand: args.integrand,
         },
     };
     let setup = setup::setup(&request)?;

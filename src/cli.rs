@@ -189,6 +189,10 @@ pub struct RenderArgs {
     /// AO rays per pixel.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
     pub rays: u32,
+    /// What the rays integrate: ao (cosine-weighted visibility), visibility (unweighted, the
+    /// sky-view factor), cos-lobe-N (cos^N about the normal, N >= 2); the image is 1 - the estimate.
+    #[arg(long, value_parser = parse_integrand, value_name = "I", default_value = "ao")]
+    pub integrand: hemilab::sampling::Integrand,
     /// Image size, WxH (default: the scene's).
     #[arg(long, value_parser = parse_resolution)]
     pub resolution: Option<(u32, u32)>,
@@ -265,7 +269,7 @@ pub struct AdviseArgs {
     /// Re-analyse the finished sweep in DIR (an earlier advise's --out) at --budget-ms without
     /// rendering anything; writes to --out, default DIR itself. A budget whose finalists DIR has not
     /// measured is answered from the sweep's interpolation, and says so.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["rays", "only", "replicates", "resolution", "reference_dir", "pipeline", "frames"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["rays", "only", "replicates", "resolution", "reference_dir", "pipeline", "frames", "integrand"])]
     pub from: Option<PathBuf>,
     /// Time budgets per image in ms, comma-separated: thread CPU time of a one-thread render of the
     /// whole image at the resolution (default: three spread over the paper default's measured times).
@@ -296,6 +300,10 @@ pub struct AdviseArgs {
     /// (default 8).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub frames: Option<u32>,
+    /// What the rays integrate: ao, visibility (unweighted), cos-lobe-N (N >= 2); its reference
+    /// is built with the integrand's matched distribution.
+    #[arg(long, value_parser = parse_integrand, value_name = "I", default_value = "ao")]
+    pub integrand: hemilab::sampling::Integrand,
     /// Only these configurations, comma-separated distribution/sequence/seed_mode, each part a
     /// name or * (e.g. sine-cosine/fibonacci/*); the paper's default is always run.
     #[arg(long, value_parser = parse_pattern, value_delimiter = ',', value_name = "LIST")]
@@ -327,6 +335,10 @@ fn parse_pattern(s: &str) -> Result<hemilab::advice::Pattern, String> {
 
 fn parse_distribution(s: &str) -> Result<Distribution, String> {
     s.parse()
+}
+
+fn parse_integrand(s: &str) -> Result<hemilab::sampling::Integrand, String> {
+    hemilab::sampling::Integrand::parse(s)
 }
 
 fn parse_sequence(s: &str) -> Result<Sequence, String> {

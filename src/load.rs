@@ -22,8 +22,12 @@ pub struct Loaded {
 
 impl Loaded {
     pub fn scene_of(&self, job: &Job) -> (usize, &Scene) {
-        let i =
-            self.spec.scenes.iter().position(|s| s.id == job.scene_id).expect("planned scene is in the spec");
+        let i = self
+            .spec
+            .scenes
+            .iter()
+            .position(|s| s.id == job.scene_id && s.integrand == job.integrand)
+            .expect("planned scene is in the spec");
         (i, &self.scenes[i])
     }
 }

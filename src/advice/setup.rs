@@ -12,6 +12,7 @@ use crate::load::{Loaded, check_pixels, check_view, dropped_warning, load_scene}
 use crate::plan::{self, Plan};
 use crate::reference::Manifest;
 use crate::reference::store as refs;
+use crate::sampling::Integrand;
 use crate::scene::Scene;
 use crate::spec::{self, Group, GroupKind, ReferenceRays, ReferenceSpec, Row, SceneRef, Spec, TimingSpec};
 use crate::timing;
@@ -36,6 +37,8 @@ pub struct Request {
     pub pipeline: crate::denoise::Pipeline,
     /// The frame whose image is ranked (frames accumulated by a temporal pipeline), 1 for raw.
     pub frames: u32,
+    /// What the rays integrate (issue 27); `ao` in a request written before it existed.
+    pub integrand: Integrand,
 }
 
 impl Request {
@@ -51,6 +54,7 @@ impl Request {
             "reference_dir": self.reference_dir.as_deref().map(abs),
             "pipeline": self.pipeline.to_string(),
             "frames": self.frames,
+            "integrand": self.integrand.to_string(),
         });
         let mut text = serde_json::to_string_pretty(&v).unwrap_or_default();
         text.push('\n');
@@ -86,6 +90,10 @@ impl Request {
             reference_dir: reference_dir.map(PathBuf::from),
             pipeline,
             frames,
+            integrand: match v.get("integrand").and_then(|i| i.as_str()) {
+                Some(i) => Integrand::parse(i).map_err(|e| format!("integrand: {e}"))?,
+                None => Integrand::Ao,
+            },
         })
     }
 }
@@ -119,6 +127,17 @@ pub fn setup(args: &Request) -> Result<Setup> {
         )));
     }
     let rows = advice::select(&args.only).map_err(|e| Error::Usage(format!("--only: {e}")))?;
+    // Advise measures every gain against the paper's default, sine-cosine, whose weights are
+    // unbounded on unweighted visibility (infinite variance: no RMSE of it means anything). So
+    // that integrand is refused here rather than ranked; `run` measures it (experiments/integrands.toml).
+    if args.integrand.closed_room_variance(advice::PAPER_DEFAULT.distribution).is_infinite() {
+        return Err(Error::Usage(format!(
+            "--integrand {}: the paper's default (sine-cosine) has infinite variance for it, and advise \
+             ranks against that default; allowed here: ao, cos-lobe-N (measure {} with `hemilab run`, \
+             as experiments/integrands.toml does)",
+            args.integrand, args.integrand
+        )));
+    }
     let scene = load_scene(&args.scene)?;
     if let Some(w) = dropped_warning(&scene) {
         eprintln!("{w}");
@@ -141,6 +160,7 @@ pub fn setup(args: &Request) -> Result<Setup> {
         replicates: args.replicates,
         pipeline: args.pipeline,
         frames: args.frames,
+        integrand: args.integrand,
     };
     let reference_dir = reference_dir(args, &scene)?;
     let stored = stored_references(&reference_dir, &scene)?;
@@ -197,6 +217,7 @@ struct AdviseSpec<'a> {
     replicates: u32,
     pipeline: crate::denoise::Pipeline,
     frames: u32,
+    integrand: Integrand,
 }
 
 impl AdviseSpec<'_> {
@@ -223,6 +244,7 @@ impl AdviseSpec<'_> {
                 id: id.to_string(),
                 name: self.stem.to_string(),
                 line: 0,
+                integrand: self.integrand,
             }],
             resolution: Some(resolution),
             ao_distance: None,

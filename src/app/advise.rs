@@ -47,6 +47,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
             reference_dir: args.reference_dir.clone(),
             pipeline: args.pipeline,
             frames: args.frames.unwrap_or(if args.pipeline.is_temporal() { DEFAULT_FRAMES } else { 1 }),
+            integrand: args.integrand,
         },
     };
     let setup = setup::setup(&request)?;

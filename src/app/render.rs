@@ -44,8 +44,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     let bar = progress::bar(width as u64 * height as u64, "render", args.common.quiet);
     let start = Instant::now();
-    let result =
-        hemilab::render::pool(args.common.threads)?.install(|| render::render(&scene, &job, &|n| bar.inc(n)));
+    let result = hemilab::render::pool(args.common.threads)?
+        .install(|| render::render_integrand(&scene, &job, args.integrand, &|n| bar.inc(n)));
     let secs = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
 
@@ -107,6 +107,11 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
         json["frame"] = frame.into();
         json["schedule"] = schedule.name().into();
     }
+    // Another integrand says which (an AO image's header stays as it was).
+    let integrand = args.integrand;
+    if integrand != hemilab::sampling::Integrand::Ao {
+        json["integrand"] = integrand.to_string().into();
+    }
     let mut summary = format!(
         "hemilab {} render of {file} ('{}', {}x{}, d = {d}, hash {}): {} / {} / {}, {} rays per pixel, seed {}",
         env!("CARGO_PKG_VERSION"),
@@ -122,6 +127,9 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
     );
     if framed {
         summary.push_str(&format!(", frame {frame} ({schedule})"));
+    }
+    if integrand != hemilab::sampling::Integrand::Ao {
+        summary.push_str(&format!(", integrand {integrand}"));
     }
     Provenance { summary, json }
 }

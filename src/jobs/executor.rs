@@ -16,6 +16,7 @@ use crate::reference as refmath;
 use crate::reference::store::Reference;
 use crate::render::{self, RenderJob, RenderOutput};
 use crate::results::{self, JobResult};
+use crate::sampling::Integrand;
 use crate::scene::Scene;
 use crate::spec::Row;
 use crate::timing::{self, Need, Protocol, Slot, Summary, Time};
@@ -341,7 +342,10 @@ pub fn measure_jobs(
         let realtime = plan.jobs.get(slot.job).filter(|j| !j.is_single_frame());
         let (output, time): (RenderOutput, Time) = worker.timed(|| match realtime {
             Some(job) => super::frames::render_frames(scene, rj, job, &|px| bar.inc(px * rays)),
-            None => render::render(scene, rj, &|px| bar.inc(px * rays)),
+            None => {
+                let integrand = plan.jobs.get(slot.job).map_or(Integrand::Ao, |j| j.integrand);
+                render::render_integrand(scene, rj, integrand, &|px| bar.inc(px * rays))
+            }
         });
         if !slot.record {
             return Ok(Done { time, record: None });

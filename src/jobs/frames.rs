@@ -34,7 +34,7 @@ pub fn render_frames(
     let (mut rays, mut occluded) = (0u64, 0u64);
     for f in frames_rendered(job) {
         let frame = RenderJob { sampler: rj.sampler.with_frame(f).with_schedule(job.schedule), ..*rj };
-        let out = render::render(scene, &frame, progress);
+        let out = render::render_integrand(scene, &frame, job.integrand, progress);
         rays += out.rays;
         occluded += out.occluded_rays;
         if let Some(a) = acc.as_mut() {

@@ -2,7 +2,7 @@
 //! the image file and decides whether a resumed run may skip it.
 
 use crate::denoise::Pipeline;
-use crate::sampling::{Distribution, Schedule, SeedMode, Sequence};
+use crate::sampling::{Distribution, Integrand, Schedule, SeedMode, Sequence};
 use crate::spec::{AoDistance, Row, Spec};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -38,6 +38,9 @@ pub struct Job {
     pub schedule: Schedule,
     /// What is done to the frames before the image is measured (`denoise::Pipeline`).
     pub pipeline: Pipeline,
+    /// What the rays integrate (issue 27): the scene's (`SceneRef::integrand`). `Ao` adds nothing
+    /// to the key, so every key of a spec without `integrands` is what it was before.
+    pub integrand: Integrand,
 }
 
 impl Job {
@@ -81,6 +84,9 @@ impl Job {
             d
         );
         s.push_str(&self.realtime_suffix());
+        if self.integrand != Integrand::Ao {
+            let _ = write!(s, ";integrand={}", self.integrand);
+        }
         s
     }
 
@@ -173,6 +179,7 @@ pub fn plan(spec: &Spec) -> Plan {
                                         frame,
                                         schedule,
                                         pipeline,
+                                        integrand: scene.integrand,
                                     };
                                     if seen.insert(job.canonical()) {
                                         jobs.push(job);
@@ -208,7 +215,7 @@ pub fn pipeline_frames(pipeline: Pipeline, frames: u32) -> Vec<u32> {
 /// The rays are the caller's because `rays = "auto"` is settled only after a pilot render.
 pub fn reference_jobs(spec: &Spec, scene: usize, rays: u32) -> Vec<Job> {
     let Some(s) = spec.scenes.get(scene) else { return Vec::new() };
-    let e = spec.reference.estimator.canonical();
+    let e = reference_estimator(spec, scene).canonical();
     (0..spec.reference.replicates)
         .map(|replicate| Job {
             scene: s.path.clone(),
@@ -225,8 +232,21 @@ pub fn reference_jobs(spec: &Spec, scene: usize, rays: u32) -> Vec<Job> {
             frame: 1,
             schedule: Schedule::Independent,
             pipeline: Pipeline::RAW,
+            integrand: s.integrand,
         })
         .collect()
+}
+
+/// The reference estimator of scene `scene`: the spec's, with the distribution matched to the
+/// scene's integrand (`Integrand::matched_distribution`) when that is not AO (sine-cosine has
+/// infinite variance on unweighted visibility). AO keeps the spec's, so its references are those
+/// of every spec before integrands existed.
+pub fn reference_estimator(spec: &Spec, scene: usize) -> Row {
+    let e = spec.reference.estimator;
+    match spec.scenes.get(scene).map(|s| s.integrand) {
+        Some(i) if i != Integrand::Ao => Row { distribution: i.matched_distribution(), ..e },
+        _ => e,
+    }
 }
 
 /// What a plan asks for in pixels and rays, before anything is rendered.

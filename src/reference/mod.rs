@@ -49,6 +49,18 @@ pub struct Manifest {
     /// pass, and `rays` is then the pilot's count.
     #[serde(default)]
     pub adaptive: Option<Adaptive>,
+    /// What the reference integrates (`sampling::Integrand`'s name). Left out of the file for
+    /// `ao`, so that every AO manifest is the text it was before integrands existed.
+    #[serde(default = "ao", skip_serializing_if = "is_ao")]
+    pub integrand: String,
+}
+
+fn ao() -> String {
+    "ao".into()
+}
+
+fn is_ao(s: &str) -> bool {
+    s == "ao"
 }
 
 /// What determines an adaptive reference's allocation, and what it came to. The pilot is rendered
@@ -158,6 +170,7 @@ impl Manifest {
             noise_floor: None,
             time_s: None,
             adaptive: None,
+            integrand: scene.integrand.to_string(),
         }
     }
 
@@ -190,6 +203,7 @@ impl Manifest {
         cmp("sequence", self.sequence.clone(), wanted.sequence.clone());
         cmp("seed_mode", self.seed_mode.clone(), wanted.seed_mode.clone());
         cmp("seed", self.seed.to_string(), wanted.seed.to_string());
+        cmp("integrand", self.integrand.clone(), wanted.integrand.clone());
         // An adaptive reference's settings, not what they came to.
         let settings = |a: &Option<Adaptive>| match a {
             Some(a) => format!("adaptive ({}, min {} rays, budget {:?})", a.rule, a.min_rays, a.budget),
@@ -232,7 +246,9 @@ impl Manifest {
         let what =
             format!("{};{};{:?};{}", self.scene, self.camera.legacy(), self.resolution, self.ao_distance);
         let h = crate::plan::fnv1a64(what.as_bytes());
-        format!("{name}-{}x{}-{:08x}", self.resolution[0], self.resolution[1], h as u32)
+        // Another integrand's reference sits beside the AO one of the same view.
+        let of = if is_ao(&self.integrand) { String::new() } else { format!("-{}", self.integrand) };
+        format!("{name}{of}-{}x{}-{:08x}", self.resolution[0], self.resolution[1], h as u32)
     }
 }
 
@@ -394,6 +410,7 @@ mod manifest_tests {
             id: "../scenes/kitchen.toml".into(),
             name: "kitchen".into(),
             line: 1,
+            integrand: crate::sampling::Integrand::Ao,
         };
         let est = Row::new(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Shift);
         Manifest::wanted(

@@ -86,7 +86,7 @@ pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry
         reference::CameraRecord::of(&scene.view),
         [geometry.width, geometry.height],
         geometry.distance,
-        spec.reference.estimator,
+        crate::plan::reference_estimator(spec, si),
         rays,
         spec.reference.replicates,
         spec.reference.seed,

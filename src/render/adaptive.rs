@@ -6,6 +6,7 @@
 
 use crate::image::Image;
 use crate::render::{self, PixelRays, RenderJob, RenderOutput};
+use crate::sampling::Integrand;
 use glam::Vec2;
 use rayon::prelude::*;
 
@@ -16,6 +17,17 @@ use rayon::prelude::*;
 pub fn render_counts(
     scene: &crate::scene::Scene,
     job: &RenderJob,
+    counts: &[u32],
+    progress: &(dyn Fn(u64) + Sync),
+) -> RenderOutput {
+    render_counts_of(scene, job, Integrand::Ao, counts, progress)
+}
+
+/// `render_counts` with the weights of `integrand` (`render::render_integrand`'s).
+pub fn render_counts_of(
+    scene: &crate::scene::Scene,
+    job: &RenderJob,
+    integrand: Integrand,
     counts: &[u32],
     progress: &(dyn Fn(u64) + Sync),
 ) -> RenderOutput {
@@ -38,7 +50,7 @@ pub fn render_counts(
                     let mut pj = *job;
                     pj.sampler.count = n;
                     points.resize(n as usize, Vec2::ZERO);
-                    if !render::pixel_rays(scene, &pj, x, y, i as u64, points, rays) {
+                    if !render::pixel_rays_of(scene, &pj, integrand, (x, y, i as u64), points, rays) {
                         continue;
                     }
                     blocked.resize(n as usize, false);

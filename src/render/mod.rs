@@ -14,6 +14,7 @@ pub use offset::{Plane, ao_origin};
 
 use crate::image::Image;
 use crate::sampling::batch::Directions;
+use crate::sampling::integrand::Integrand;
 use crate::sampling::{Distribution, Frame, SamplerConfig};
 use crate::scene::Scene;
 use crate::scene::accel::{Hit, Ray};
@@ -79,13 +80,26 @@ type TileResult = (Vec<(u32, f32)>, u64, u64);
 /// Renders `job`. `progress(n)` is called as work finishes with the number of pixels just done
 /// (one call per tile; the calls sum to width × height).
 pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -> RenderOutput {
+    render_integrand(scene, job, Integrand::Ao, progress)
+}
+
+/// `render` of another integrand (issue 27): each ray's weight is `Integrand::weight`, f/p of the
+/// job's distribution, so the image is 1 − the estimate of ∫ V f dω. `Integrand::Ao` is `render`,
+/// bit for bit (its weights are the warps' own). The integrand is an argument rather than a field
+/// of `RenderJob` so that every render of AO, and every `RenderJob` written before it, is unchanged.
+pub fn render_integrand(
+    scene: &Scene,
+    job: &RenderJob,
+    integrand: Integrand,
+    progress: &(dyn Fn(u64) + Sync),
+) -> RenderOutput {
     let (w, h) = (job.width as usize, job.height as usize);
     let n = job.sampler.count as usize;
     if w == 0 || h == 0 {
         let empty = Image::new(job.width, job.height);
         return RenderOutput { ao: empty.clone(), coverage: empty, rays: 0, occluded_rays: 0 };
     }
-    let tile = Tile { scene, job, unit_weight: job.distribution.unit_weight(), progress };
+    let tile = Tile { scene, job, integrand, unit_weight: integrand.unit_weight(job.distribution), progress };
     // Tiles in parallel, each its own rayon job (pixels differ a lot in cost; large sequential
     // ranges left one of 2 threads idle); each tile's covered pixels come back as (index, AO).
     let tiles: Vec<TileResult> = (0..tile_count(job.width, job.height))
@@ -142,7 +156,8 @@ unsafe fn render_tile_avx2(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
 struct Tile<'a> {
     scene: &'a Scene,
     job: &'a RenderJob,
-    /// `Distribution::unit_weight` of the job's warp.
+    integrand: Integrand,
+    /// `Integrand::unit_weight` of the job's warp.
     unit_weight: bool,
     progress: &'a (dyn Fn(u64) + Sync),
 }
@@ -150,7 +165,7 @@ struct Tile<'a> {
 /// Tile `t`'s covered pixels as (index, AO), its AO rays and occluded rays.
 #[inline(always)]
 fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
-    let Tile { scene, job, unit_weight, progress } = *tile;
+    let Tile { scene, job, integrand, unit_weight, progress } = *tile;
     let (w, n) = (job.width as usize, job.sampler.count as usize);
     let mut done = Vec::with_capacity((TILE * TILE) as usize);
     let (mut rays, mut occluded) = (0u64, 0u64);
@@ -159,7 +174,16 @@ fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
         let Some(hit) = p.hit else { continue };
         let pixel = p.y as u64 * w as u64 + p.x as u64;
         let from = raster.origin(p.x, p.y);
-        rays_from_hit(scene, job, (p.x, p.y, pixel), (from, p.dir), hit, &mut s.points, &mut s.rays);
+        rays_from_hit(
+            scene,
+            job,
+            integrand,
+            (p.x, p.y, pixel),
+            (from, p.dir),
+            hit,
+            &mut s.points,
+            &mut s.rays,
+        );
         let (r, b) = (&s.rays, &s.rays.batch);
         let dirs = Soa { x: &b.x[..n], y: &b.y[..n], z: &b.z[..n] };
         trace_soa(scene, r.origin, r.normal, dirs, job.ao_distance, &mut s.masks);
@@ -219,11 +243,23 @@ pub fn pixel_rays(
     points: &mut [Vec2],
     out: &mut PixelRays,
 ) -> bool {
+    pixel_rays_of(scene, job, Integrand::Ao, (x, y, pixel), points, out)
+}
+
+/// `pixel_rays` with the weights of `integrand` (`render_integrand`'s per-pixel step).
+pub fn pixel_rays_of(
+    scene: &Scene,
+    job: &RenderJob,
+    integrand: Integrand,
+    (x, y, pixel): (u32, u32, u64),
+    points: &mut [Vec2],
+    out: &mut PixelRays,
+) -> bool {
     let primary = scene.camera.ray(x, y, job.width, job.height);
     let Some(hit) = scene.accel.closest(&Ray::new(primary.origin, primary.dir, f32::INFINITY)) else {
         return false;
     };
-    rays_from_hit(scene, job, (x, y, pixel), (primary.origin, primary.dir), hit, points, out);
+    rays_from_hit(scene, job, integrand, (x, y, pixel), (primary.origin, primary.dir), hit, points, out);
     let b = &out.batch;
     out.dirs.clear();
     out.dirs.extend((0..b.len()).map(|i| b.get(i)));
@@ -285,9 +321,11 @@ pub(crate) fn tile_primaries(
 /// origin (off the hit triangle, then off every neighbour it still lies on: `clearance`), the
 /// sampler's directions and weights. `points` must hold `job.sampler.count` entries.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn rays_from_hit(
     scene: &Scene,
     job: &RenderJob,
+    integrand: Integrand,
     (x, y, pixel): (u32, u32, u64),
     (from, dir): (Vec3, Vec3),
     hit: Hit,
@@ -311,6 +349,13 @@ fn rays_from_hit(
     job.sampler.fill_pixel(x, y, pixel, points);
     // All points at once (vectorized; bit for bit the one-point path, `batch::world_sample`).
     out.batch.fill(job.distribution, points, &basis);
+    if integrand != Integrand::Ao {
+        // The weights of another integrand, from the local direction (z = the normal) the warp
+        // gives the point: the AO path above is left exactly as it was.
+        for (w, &u) in out.batch.weight.iter_mut().zip(points.iter()) {
+            *w = integrand.weight(job.distribution, job.distribution.sample(u).dir);
+        }
+    }
 }
 
 /// hemilab's AO query: which of a pixel's rays (all from `origin`) are blocked within `tmax`.

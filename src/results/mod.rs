@@ -54,6 +54,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "frame",
     "schedule",
     "noise_rmse",
+    "integrand",
 ];
 
 /// The columns that hold measured times, or depend on them (how many renders a configuration got:
@@ -151,6 +152,10 @@ pub struct JobResult {
     /// the noise part of the error, the filter's bias left out. `rmse` for a raw image.
     #[serde(default = "nan", deserialize_with = "split::nan_null")]
     pub noise_rmse: f64,
+    /// What the rays integrated (`sampling::Integrand`'s name): `ao` for every record written
+    /// before the column existed.
+    #[serde(default = "ao")]
+    pub integrand: String,
 }
 
 fn raw() -> String {
@@ -164,6 +169,9 @@ fn independent() -> String {
 }
 fn nan() -> f64 {
     f64::NAN
+}
+fn ao() -> String {
+    "ao".into()
 }
 
 /// The one "this record belongs to that configuration" rule, for records and aggregates alike:
@@ -225,6 +233,7 @@ impl JobResult {
             frame: job.frame,
             schedule: job.schedule.name().into(),
             noise_rmse: stats.rmse,
+            integrand: job.integrand.to_string(),
         }
     }
 
@@ -260,6 +269,7 @@ impl JobResult {
             frame: 1,
             schedule: crate::sampling::Schedule::Independent,
             pipeline: crate::denoise::Pipeline::RAW,
+            integrand: crate::sampling::Integrand::Ao,
         };
         let stats = ErrorStats {
             covered: 1,
@@ -359,6 +369,7 @@ pub fn to_csv(results: &[JobResult]) -> String {
             r.frame.to_string(),
             csv_field(&r.schedule),
             num(r.noise_rmse),
+            csv_field(&r.integrand),
         ];
         s.push_str(&fields.join(","));
         s.push('\n');
@@ -404,6 +415,7 @@ mod tests {
             frame: 1,
             schedule: crate::sampling::Schedule::Independent,
             pipeline: crate::denoise::Pipeline::RAW,
+            integrand: crate::sampling::Integrand::Ao,
         }
     }
 
@@ -443,7 +455,7 @@ mod tests {
             "scene,distribution,sequence,seed_mode,rays,replicate,seed,rmse,bias,autocorr_x,autocorr_y,\
              lowpass_rmse,time_s,rays_per_s,whiteness_z,rays_cast,time_median_s,time_min_s,time_max_s,timings,overhead_s,\
              ao_time_s,ns_per_ray,efficiency,timing_threads,wall_s,covered_pixels,key,image,lowfreq_ratio,\
-             pipeline,frame,schedule,noise_rmse"
+             pipeline,frame,schedule,noise_rmse,integrand"
         );
         let row: Vec<&str> = lines.next().unwrap().split(',').collect();
         assert_eq!(row.len(), CSV_COLUMNS.len());
@@ -473,7 +485,7 @@ mod tests {
         let csv = to_csv(&timed(vec![r], 0.1));
         let line = csv.lines().nth(1).unwrap();
         assert!(
-            line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,0"),
+            line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,0,ao"),
             "quoted, then lowfreq_ratio and the real-time columns: {line}"
         );
         assert!(line.contains(",0,0,0.5,128,"), "time and rays_per_s 0, whiteness 0.5: {line}");

@@ -9,7 +9,7 @@ use super::*;
 pub(super) fn group(
     kind: GroupKind,
     g: &S<RawGroup>,
-    scenes: &[SceneRef],
+    scenes: &mut Vec<SceneRef>,
     replicates: u32,
     p: &mut Problems,
 ) -> Option<Group> {
@@ -33,18 +33,24 @@ pub(super) fn group(
         Some(r) => p.int(r, &at("replicates"), 1, MAX_REPLICATES as i64).unwrap_or(1),
         None => replicates,
     };
-    let group_scenes = match &raw.scenes {
-        None => (0..scenes.len()).collect(),
+    let group_scenes: Vec<usize> = match &raw.scenes {
+        None => (0..scenes.len()).filter(|&i| scenes[i].integrand == Integrand::Ao).collect(),
         Some(list) => {
             p.non_empty(list, &at("scenes"));
             let mut out = Vec::new();
             for s in list.get_ref() {
                 let id = normalize(s.get_ref());
-                match scenes.iter().position(|o| o.id == id || o.name == *s.get_ref()) {
+                let named =
+                    |o: &SceneRef| o.integrand == Integrand::Ao && (o.id == id || o.name == *s.get_ref());
+                match scenes.iter().position(named) {
                     Some(i) if !out.contains(&i) => out.push(i),
                     Some(_) => {}
                     None => {
-                        let valid: Vec<&str> = scenes.iter().map(|o| o.name.as_str()).collect();
+                        let valid: Vec<&str> = scenes
+                            .iter()
+                            .filter(|o| o.integrand == Integrand::Ao)
+                            .map(|o| o.name.as_str())
+                            .collect();
                         p.add(
                             s.span(),
                             &at("scenes"),
@@ -76,7 +82,13 @@ pub(super) fn group(
             parsed.into_iter().collect::<Option<Vec<_>>>().map(dedup)
         }
     };
+    let integrands = match &raw.integrands {
+        None => Some(vec![Integrand::Ao]),
+        Some(v) => axis::<Integrand>(&Some(v.clone()), &at("integrands"), 0..0, p).map(dedup),
+    };
+    let group_scenes = with_integrands(group_scenes, integrands.as_deref().unwrap_or(&[]), scenes);
     p.group = None;
+    integrands?;
     Some(Group {
         kind,
         name: name?,
@@ -89,6 +101,33 @@ pub(super) fn group(
         schedules: schedules?,
         pipelines: pipelines?,
     })
+}
+
+/// The scenes of a group measured under each of `integrands`: the scene itself for `ao`, else its
+/// variant of that integrand (`SceneRef::integrand`), added to `scenes` the first time a group asks.
+fn with_integrands(base: Vec<usize>, integrands: &[Integrand], scenes: &mut Vec<SceneRef>) -> Vec<usize> {
+    let mut out = Vec::new();
+    for si in base {
+        for &i in integrands {
+            let at = if i == Integrand::Ao {
+                si
+            } else {
+                let of = |o: &SceneRef| o.id == scenes[si].id && o.integrand == i;
+                match scenes.iter().position(of) {
+                    Some(v) => v,
+                    None => {
+                        let name = format!("{}-{i}", scenes[si].name);
+                        scenes.push(SceneRef { name, integrand: i, ..scenes[si].clone() });
+                        scenes.len() - 1
+                    }
+                }
+            };
+            if !out.contains(&at) {
+                out.push(at);
+            }
+        }
+    }
+    out
 }
 
 /// Later duplicates dropped, file order kept.

@@ -49,6 +49,14 @@
 //! frames = 16                           # 1..=1024 frames of a static camera; measured at 1, 2, 4, …, 16
 //! schedules = ["independent", "r1"]     # per-frame randomization; default ["independent"]
 //! pipelines = ["raw", "ema0.1+atrous"]  # what is done to the frames (`denoise::Pipeline`); default ["raw"]
+//!
+//! [[table]]                             # what the rays integrate (any group; issue 27)
+//! name = "integrands"
+//! rays = [8]
+//! distributions = ["sine", "uniform"]
+//! sequences = ["random"]
+//! integrands = ["ao", "visibility", "cos-lobe-8"]  # default ["ao"]; each non-ao one measures
+//!                                       # the group's scenes again as `<stem>-<integrand>`
 //! ```
 //!
 //! Keys are snake_case; names are those of `sampling` (`uniform`, `sine`, `sine-cosine`,
@@ -62,7 +70,7 @@
 //! Every message reads `line N, key K: what is wrong; what is allowed`.
 
 use crate::denoise::Pipeline;
-use crate::sampling::{Distribution, Schedule, SeedMode, Sequence};
+use crate::sampling::{Distribution, Integrand, Schedule, SeedMode, Sequence};
 use std::path::{Component, Path, PathBuf};
 
 mod group;
@@ -194,6 +202,10 @@ pub struct SceneRef {
     pub name: String,
     /// Line of the spec that names it, for messages.
     pub line: usize,
+    /// What its rays integrate (issue 27). A group's `integrands` other than `ao` add the scene
+    /// again with that integrand (`name` `<stem>-<integrand>`, same file): every per-scene
+    /// thing of a run (its reference, report sections, results' `scene`) then keeps integrands apart.
+    pub integrand: Integrand,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

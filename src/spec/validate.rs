@@ -64,6 +64,7 @@ pub(super) struct RawGroup {
     pub(super) frames: Option<S<i64>>,
     pub(super) pipelines: Option<S<Vec<S<String>>>>,
     pub(super) schedules: Option<S<Vec<S<String>>>>,
+    pub(super) integrands: Option<S<Vec<S<String>>>>,
 }
 
 #[derive(Deserialize)]
@@ -223,7 +224,13 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
                 ),
                 Some(stem) => {
                     let line = line_of(p.text, s.span().start);
-                    scenes.push(SceneRef { path: dir.join(&id), id, name: stem, line })
+                    scenes.push(SceneRef {
+                        path: dir.join(&id),
+                        id,
+                        name: stem,
+                        line,
+                        integrand: Integrand::Ao,
+                    })
                 }
             }
         }
@@ -292,7 +299,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         }
     }
     for (kind, g) in all {
-        if let Some(group) = group(kind, g, &scenes, replicates.unwrap_or(DEFAULT_REPLICATES), p) {
+        if let Some(group) = group(kind, g, &mut scenes, replicates.unwrap_or(DEFAULT_REPLICATES), p) {
             let key = format!("{}.name", kind_key(kind));
             if groups.iter().any(|o: &Group| o.name == group.name) {
                 p.add(

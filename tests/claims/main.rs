@@ -4,6 +4,7 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod integrands;
 mod lowfreq;
 mod paper;
 mod readme;

@@ -15,6 +15,7 @@ mod reference_adaptive;
 mod reference_dir;
 mod render;
 mod render_gltf;
+mod render_integrand;
 mod report_page;
 mod run_answer;
 mod run_errors;

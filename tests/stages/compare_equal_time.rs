@@ -44,6 +44,7 @@ fn record(row: Row, rays: u32, replicate: u32, mse: f64, z: f64, times: &[f64]) 
         frame: 1,
         schedule: hemilab::sampling::Schedule::Independent,
         pipeline: hemilab::denoise::Pipeline::RAW,
+        integrand: hemilab::sampling::Integrand::Ao,
     };
     let stats = ErrorStats {
         covered: 100,

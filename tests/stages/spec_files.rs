@@ -140,9 +140,11 @@ fn format_example_in_the_module_doc_parses() {
         .collect();
     assert!(block.contains("[[convergence]]"), "doc block not found");
     let s = parse_spec(&block, Path::new("experiments/paper.toml")).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(s.groups.len(), 3);
+    assert_eq!(s.groups.len(), 4);
     assert_eq!(s.groups[1].rows.len(), 3, "random+shift merged into random+rotation");
     assert_eq!(s.groups[2].frames, 16, "the real-time group");
+    let names: Vec<&str> = s.groups[3].scenes.iter().map(|&i| s.scenes[i].name.as_str()).collect();
+    assert_eq!(names, ["kitchen", "kitchen-visibility", "kitchen-cos-lobe-8"], "the integrands group");
 }
 
 #[test]

@@ -6,6 +6,7 @@ pub mod data;
 pub mod draw;
 pub mod equal_time;
 pub mod figures;
+pub mod integrands;
 pub mod page;
 pub mod quotes;
 pub mod rays;

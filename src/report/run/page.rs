@@ -47,6 +47,8 @@ pub fn write(data: &ReportInput, figures: &Figures, out: &Path) -> Result<()> {
     lead.extend(super::realtime::paper_table(data.results));
     lead.extend(super::realtime::stbn_table(data.results));
     lead.extend(super::realtime::seeds_table(data.results));
+    // The integrand verdicts lead: a spec with several integrands is run for them (issue 27).
+    lead.extend(super::integrands::tables(data.results));
     tables.push(reference_table(data));
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table && has_single_frames(g)) {
         for &si in &g.scenes {

@@ -82,6 +82,10 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
     if !said.is_empty() {
         block(format!("{}/realtime-verdicts", spec.name), said.iter().map(|l| format!("{l}\n")).collect());
     }
+    let integrands = super::integrands::markdown(records);
+    if !integrands.is_empty() {
+        block(format!("{}/verdicts", spec.name), integrands);
+    }
     if let Some(c) = cost {
         block(
             format!("{}/cost", spec.name),

@@ -117,7 +117,7 @@ pub fn parse_gltf(
              render as solid surfaces"
         ));
     }
-    if mesh.triangles.is_empty() {
+    if mesh.indices.is_empty() {
         return Err(if mesh.dropped > 0 {
             format!("empty mesh: all {} triangles have zero area or non-finite vertices", mesh.dropped)
         } else {
@@ -176,14 +176,16 @@ fn primitive(
         // Section 3.7.2.1: p_i = {v_{i+1}, v_{i+2}, v_0}.
         _ => (0..n.saturating_sub(2)).map(|i| [indices[i + 1], indices[i + 2], indices[0]]).collect(),
     };
+    // Each instance's positions once (in world coordinates), its triangles indexing them.
+    let base = mesh.positions.len() as u32;
     for c in corners {
-        let tri = c.map(|i| positions[i as usize]);
-        if usable(&tri) {
-            mesh.triangles.push(tri);
+        if usable(&c.map(|i| positions[i as usize])) {
+            mesh.indices.push(c.map(|i| base + i));
         } else {
             mesh.dropped += 1;
         }
     }
+    mesh.positions.extend(positions);
     Ok(())
 }
 

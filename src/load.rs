@@ -78,7 +78,11 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
 /// `load_scene` for a command that will trace `rays_per_pixel` AO rays in each pixel of one image
 /// of `resolution` (default: the scene's): the BVH build effort follows that work
 /// (`scene::Effort::for_work`, counting the primary rays too). None: unknown, full effort.
-pub fn load_scene_for(path: &Path, resolution: Option<(u32, u32)>, rays_per_pixel: Option<u32>) -> Result<Scene> {
+pub fn load_scene_for(
+    path: &Path,
+    resolution: Option<(u32, u32)>,
+    rays_per_pixel: Option<u32>,
+) -> Result<Scene> {
     let text = io::read_string(path)?;
     let spec = file::parse(&text).map_err(|e| Error::input(path, e))?;
     let lower = spec.mesh.to_ascii_lowercase();

@@ -37,8 +37,7 @@ pub(super) fn fast_cwbvh(positions: &[Vec3], indices: &[[u32; 3]], core: &mut st
             b
         })
         .collect();
-    let params =
-        obvhs::BvhBuildParams { max_prims_per_leaf: 1, ..obvhs::BvhBuildParams::fastest_build() };
+    let params = obvhs::BvhBuildParams { max_prims_per_leaf: 1, ..obvhs::BvhBuildParams::fastest_build() };
     let mut bvh = obvhs::cwbvh::builder::build_cwbvh(&boxes, params, core);
     drop(boxes);
     unfold(&mut bvh, &starts);

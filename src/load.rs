@@ -73,8 +73,20 @@ fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
 }
 
 /// Reads, parses and validates a scene file and its mesh, and builds the BVH. Every error names the
-/// scene file (and its line/key) or the mesh file (and its line).
+/// scene file (and its line/key) or the mesh file (and its line). The BVH gets the full build
+/// effort (as a paper run's); see `load_scene_for`.
 pub fn load_scene(path: &Path) -> Result<Scene> {
+    load_scene_for(path, None, None)
+}
+
+/// `load_scene` for a command that will trace `rays_per_pixel` AO rays in each pixel of one image
+/// of `resolution` (default: the scene's): the BVH build effort follows that work
+/// (`scene::Effort::for_work`, counting the primary rays too). None: unknown, full effort.
+pub fn load_scene_for(
+    path: &Path,
+    resolution: Option<(u32, u32)>,
+    rays_per_pixel: Option<u32>,
+) -> Result<Scene> {
     let text = io::read_string(path)?;
     let spec = file::parse(&text).map_err(|e| Error::input(path, e))?;
     let lower = spec.mesh.to_ascii_lowercase();
@@ -139,7 +151,9 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
     drop(parts);
     drop((bytes, external));
     let res = (spec.resolution.0, spec.resolution.1);
-    let scene = Scene::new(name, view, res, spec.ao_distance.0, hash, mesh).map_err(|e| {
+    let (w, h) = resolution.unwrap_or(res);
+    let rays = rays_per_pixel.map(|r| w as u64 * h as u64 * (r as u64 + 1));
+    let scene = Scene::new(name, view, res, spec.ao_distance.0, hash, mesh, rays).map_err(|e| {
         // Its camera and distance were checked with the file; an empty mesh is the mesh's fault.
         Error::input(if e.starts_with(scene::EMPTY_MESH) { &mesh_path } else { path }, e)
     })?;
@@ -269,13 +283,23 @@ pub fn check_pixels(w: u32, h: u32) -> std::result::Result<(), String> {
 }
 
 /// Loads a scene for one image of `resolution` (default: the scene's), refusing an absurd size
-/// before the mesh is even read, and prints the dropped-triangle warning.
+/// before the mesh is even read, and prints the dropped-triangle warning. Full BVH effort.
 pub fn scene_at(path: &Path, resolution: Option<(u32, u32)>) -> Result<(Scene, u32, u32)> {
+    scene_for(path, resolution, None)
+}
+
+/// `scene_at` for one image with `rays_per_pixel` AO rays a pixel: the BVH effort follows the
+/// work (`load_scene_for`).
+pub fn scene_for(
+    path: &Path,
+    resolution: Option<(u32, u32)>,
+    rays_per_pixel: Option<u32>,
+) -> Result<(Scene, u32, u32)> {
     let usage = |e: String| Error::Usage(format!("resolution {e}"));
     if let Some((w, h)) = resolution {
         check_pixels(w, h).map_err(usage)?;
     }
-    let scene = load_scene(path)?;
+    let scene = load_scene_for(path, resolution, rays_per_pixel)?;
     if let Some(w) = dropped_warning(&scene) {
         eprintln!("{w}");
     }

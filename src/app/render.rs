@@ -4,7 +4,7 @@ use crate::cli::RenderArgs;
 use hemilab::error::{Error, Result};
 use hemilab::image::{self, Channel, Image, Provenance};
 use hemilab::io;
-use hemilab::load::scene_at;
+use hemilab::load::scene_for;
 use hemilab::progress;
 use hemilab::render::{self, RenderJob, RenderOutput};
 use hemilab::sampling::SamplerConfig;
@@ -24,7 +24,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
             .map_err(|e| Error::Usage(format!("--rays: {e}")))?
             .with_frame(args.sampling.frames.frame)
             .with_schedule(args.sampling.frames.schedule);
-    let (scene, width, height) = scene_at(&args.scene, args.resolution)?;
+    // The BVH's build effort follows the rays this image traces (`scene::Effort::for_work`).
+    let (scene, width, height) = scene_for(&args.scene, args.resolution, Some(args.rays))?;
     let dir = match out.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),

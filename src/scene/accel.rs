@@ -41,8 +41,9 @@ pub(crate) struct Tri {
 pub struct Accel {
     pub(crate) bvh: CwBvh,
     pub(crate) tris: Vec<Tri>,
-    /// The input triangles in input order (the benchmark builds its plain-obvhs baseline from them).
-    source: Vec<obvhs::triangle::Triangle>,
+    /// The input triangles in input order (the benchmark builds its plain-obvhs baseline from
+    /// them); kept by a full-effort build only (see `build_indexed`).
+    source: Option<Vec<obvhs::triangle::Triangle>>,
     /// Unique per build in this process (never 0), so caches can tell scenes apart.
     pub(crate) id: u64,
     /// Each triangle's contacts, found on first use (`near::contacts`).
@@ -60,28 +61,81 @@ pub struct Hit {
     pub bary_c: f32,
 }
 
+/// How much the BVH build spends on the tree's quality, chosen by the work the tree will do
+/// (issue 29; the rule and its measured trade-offs are in docs/performance.md). The image does not
+/// depend on it: AO asks whether anything is hit (any hit) and the primary rays take the least
+/// (t, input index) of the hits (`closer`), whatever order a tree meets them in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Effort {
+    /// obvhs's slow preset (spatial pre-splits, reinsertion): the paper runs' tree, for work that
+    /// traces many rays per triangle.
+    #[default]
+    Full,
+    /// obvhs's fastest preset (no splits, no reinsertion) over pairs of triangles (`cluster`): a
+    /// fraction of the build's time and memory, for a render that traces few rays per triangle.
+    Fast,
+}
+
+/// Below this many rays per triangle the full build costs more than it saves. Measured
+/// (docs/performance.md, `examples/build_effort.rs`): the full build's extra time per triangle
+/// equals the time its faster tree saves on about 240 rays on the kitchen and about 50 on a 1 M
+/// triangle grid; the threshold sits at the low end, so a render in doubt gets a paper run's tree.
+pub const FAST_BELOW_RAYS_PER_TRIANGLE: f64 = 64.0;
+
+impl Effort {
+    /// The effort for a command that will trace `rays` rays (None: unknown, as many as a paper run
+    /// may) through `triangles` triangles.
+    pub fn for_work(rays: Option<u64>, triangles: usize) -> Effort {
+        match rays {
+            Some(r) if (r as f64) < FAST_BELOW_RAYS_PER_TRIANGLE * triangles as f64 => Effort::Fast,
+            _ => Effort::Full,
+        }
+    }
+}
+
 impl Accel {
-    /// Builds the CWBVH and returns it with the core build time in seconds. obvhs's slow preset
-    /// (spatial pre-splits, more reinsertion): about 10% faster AO than the medium preset on the
-    /// kitchen for a build that is still well under a second. At most 2 triangles per leaf instead
-    /// of the CWBVH's 3: a packet's few last rays test fewer triangles they miss (kitchen query,
-    /// callgrind: d = inf 1150 -> 1136 M instructions, d = 1 654 -> 651 M, d = 0.3 462 -> 459 M;
-    /// 1 per leaf: 1222 M at d = inf).
+    /// `build_indexed` of a triangle soup at full effort (tests and code-made scenes).
     pub fn build(triangles: &[[Vec3; 3]]) -> (Self, f64) {
-        let soup: Vec<obvhs::triangle::Triangle> = triangles
-            .iter()
-            .map(|t| obvhs::triangle::Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() })
-            .collect();
+        let positions: Vec<Vec3> = triangles.iter().flatten().copied().collect();
+        let indices: Vec<[u32; 3]> =
+            (0..triangles.len() as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+        Self::build_indexed(&positions, &indices, Effort::Full)
+    }
+
+    /// Builds the CWBVH over the triangles `indices` makes of `positions` and returns it with the
+    /// core build time in seconds. Full effort is obvhs's slow preset (spatial pre-splits, more
+    /// reinsertion): about 10% faster AO than the medium preset on the kitchen for a build that is
+    /// still well under a second. At most 2 triangles per leaf instead of the CWBVH's 3: a packet's
+    /// few last rays test fewer triangles they miss (kitchen query, callgrind: d = inf 1150 -> 1136
+    /// M instructions, d = 1 654 -> 651 M, d = 0.3 462 -> 459 M; 1 per leaf: 1222 M at d = inf).
+    ///
+    /// Memory (issue 29): afterwards the vertices live only in `tris` (BVH order), beside the tree;
+    /// the input triangles in input order are kept only by a full build (the benchmark's baseline
+    /// needs them, and a full build is for small scenes or long runs). A fast build gives obvhs the
+    /// boxes of pairs of triangles alone (`cluster`).
+    pub fn build_indexed(positions: &[Vec3], indices: &[[u32; 3]], effort: Effort) -> (Self, f64) {
+        let corners = |i: usize| indices[i].map(|k| Vec3A::from(positions[k as usize]));
         let mut core = std::time::Duration::ZERO;
-        let bvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
-            &soup,
-            obvhs::BvhBuildParams { max_prims_per_leaf: 2, ..obvhs::BvhBuildParams::slow_build() },
-            &mut core,
-        );
+        let (bvh, source) = match effort {
+            Effort::Full => {
+                let soup: Vec<obvhs::triangle::Triangle> = (0..indices.len())
+                    .map(|i| {
+                        let [v0, v1, v2] = corners(i);
+                        obvhs::triangle::Triangle { v0, v1, v2 }
+                    })
+                    .collect();
+                let bvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
+                    &soup,
+                    obvhs::BvhBuildParams { max_prims_per_leaf: 2, ..obvhs::BvhBuildParams::slow_build() },
+                    &mut core,
+                );
+                (bvh, Some(soup))
+            }
+            Effort::Fast => (super::cluster::fast_cwbvh(positions, indices, &mut core), None),
+        };
         let mut tris = Vec::with_capacity(bvh.primitive_indices.len());
         for &i in &bvh.primitive_indices {
-            let t = &soup[i as usize];
-            let mut v = [t.v0, t.v1, t.v2];
+            let mut v = corners(i as usize);
             v.sort_unstable_by(|p, q| if lex_less(*p, *q) { Ordering::Less } else { Ordering::Greater });
             let (e1, e2) = (v[1] - v[0], v[2] - v[0]);
             let n = Vec3A::from(cross(e1, e2));
@@ -97,7 +151,7 @@ impl Accel {
         static BUILDS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
         let id = BUILDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let contacts = tris.iter().map(|_| Default::default()).collect();
-        (Self { bvh, tris, source: soup, id, contacts, alpha: None }, core.as_secs_f64())
+        (Self { bvh, tris, source, id, contacts, alpha: None }, core.as_secs_f64())
     }
 
     /// Whether a hit on slot `prim` at barycentrics (b, c) counts: always, unless the scene has
@@ -138,9 +192,10 @@ impl Accel {
         self.bvh.primitive_indices[prim as usize]
     }
 
-    /// The triangles as given to `build` (after dropping unusable ones), in that order.
+    /// The triangles as given to `build` (after dropping unusable ones), in that order. Kept by a
+    /// full-effort build only (the benchmark's); a fast build panics here.
     pub fn source_triangles(&self) -> &[obvhs::triangle::Triangle] {
-        &self.source
+        self.source.as_deref().expect("the input triangles are kept by a full-effort build")
     }
 
     /// Closest hit with 0 < t < ray.tmax: of the triangles the ray hits, the least (t, prim) (see

@@ -117,7 +117,7 @@ pub fn parse_gltf(
             stack.push((child, world));
         }
     }
-    if mesh.triangles.is_empty() {
+    if mesh.indices.is_empty() {
         return Err(if mesh.dropped > 0 {
             format!("empty mesh: all {} triangles have zero area or non-finite vertices", mesh.dropped)
         } else {
@@ -230,10 +230,11 @@ fn primitive(
         }
         _ => None,
     };
+    // Each instance's positions once (in world coordinates), its triangles indexing them.
+    let base = mesh.positions.len() as u32;
     for c in corners {
-        let tri = c.map(|i| positions[i as usize]);
-        if usable(&tri) {
-            mesh.triangles.push(tri);
+        if usable(&c.map(|i| positions[i as usize])) {
+            mesh.indices.push(c.map(|i| base + i));
             if let (Some((cut, _)), Some(source)) = (mask, mesh.alpha.as_mut()) {
                 let uv = uvs.as_ref().map_or([[0.0; 2]; 3], |u| c.map(|i| u[i as usize]));
                 source.push(cut, uv);
@@ -242,6 +243,7 @@ fn primitive(
             mesh.dropped += 1;
         }
     }
+    mesh.positions.extend(positions);
     Ok(())
 }
 

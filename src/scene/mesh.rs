@@ -1,4 +1,4 @@
-//! Wavefront OBJ (optionally zstd-compressed) to a triangle soup: positions and indices only, because
+//! Wavefront OBJ (optionally zstd-compressed) to an indexed mesh: positions and indices only, because
 //! AO needs nothing else. `obj` reads the text, every fault with its line.
 //!
 //! Positions are read as f64: a scene 1 km from the origin written with millimetre digits keeps them
@@ -10,10 +10,14 @@ use glam::DVec3;
 use std::io::Read;
 
 /// Triangles kept (world coordinates, f64), the count of those dropped (zero area or non-finite),
-/// and the elements skipped because they are not faces, for one warning each.
+/// and the elements skipped because they are not faces, for one warning each. Indexed, each position
+/// once: a grid's vertex is shared by six triangles, so a soup (72 bytes a triangle in f64) would
+/// be three times the 24 bytes of positions and indices a 10 M-triangle load holds here (issue 29).
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
-    pub triangles: Vec<[DVec3; 3]>,
+    pub positions: Vec<DVec3>,
+    /// The kept triangles, as indices into `positions`.
+    pub indices: Vec<[u32; 3]>,
     pub dropped: usize,
     /// Elements with no surface (`p`, `l`, `curv`, `curv2`, `surf`): keyword, count, first line.
     pub skipped: Vec<(&'static str, usize, usize)>,
@@ -24,6 +28,17 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// A mesh of separate triangles (each its own three positions).
+    pub fn from_soup(triangles: Vec<[DVec3; 3]>) -> Mesh {
+        let indices = (0..triangles.len() as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+        Mesh { positions: triangles.into_iter().flatten().collect(), indices, ..Mesh::default() }
+    }
+
+    /// The kept triangles' vertices, in order.
+    pub fn triangles(&self) -> impl ExactSizeIterator<Item = [DVec3; 3]> + '_ {
+        self.indices.iter().map(|t| t.map(|i| self.positions[i as usize]))
+    }
+
     /// "2 `l` (polylines; first on line 7) and 1 `p` (points; line 9)", if any element was skipped.
     pub fn skipped_description(&self) -> Option<String> {
         let what = |k: &str| match k {
@@ -68,16 +83,18 @@ pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
         let face = &parsed.corners[start..end];
         let at = |i: u32| parsed.positions[i as usize];
         for pair in face[1..].windows(2) {
-            let tri = [at(face[0]), at(pair[0]), at(pair[1])];
-            if usable(&tri) {
-                mesh.triangles.push(tri);
+            let idx = [face[0], pair[0], pair[1]];
+            if usable(&idx.map(at)) {
+                mesh.indices.push(idx);
             } else {
                 mesh.dropped += 1;
             }
         }
         start = end;
     }
-    if mesh.triangles.is_empty() {
+    drop((parsed.corners, parsed.face_ends));
+    mesh.positions = parsed.positions;
+    if mesh.indices.is_empty() {
         let skipped = mesh.skipped_description().map_or(String::new(), |s| format!("; skipped {s}"));
         return Err(if mesh.dropped == 1 {
             "empty mesh: its one triangle has zero area or non-finite vertices".into()
@@ -121,7 +138,7 @@ mod tests {
     fn quad_is_two_triangles_and_degenerates_are_counted() {
         let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2 2\n";
         let m = parse_obj(obj.as_bytes()).unwrap();
-        assert_eq!((m.triangles.len(), m.dropped), (2, 1));
+        assert_eq!((m.indices.len(), m.dropped), (2, 1));
     }
 
     #[test]

@@ -4,6 +4,7 @@
 pub mod accel;
 pub mod alpha;
 pub mod camera;
+mod cluster;
 pub mod file;
 #[cfg(any(test, feature = "testing"))]
 pub mod foliage;
@@ -20,7 +21,7 @@ pub mod packet;
 #[cfg(any(test, feature = "testing"))]
 pub mod procedural;
 
-pub use accel::Accel;
+pub use accel::{Accel, Effort};
 pub use camera::{Camera, WorldCamera};
 pub use mesh::Mesh;
 
@@ -67,8 +68,8 @@ pub struct Scene {
 
 impl Scene {
     /// Re-centres camera and mesh on the eye (in f64, then rounded to f32), checks camera and d,
-    /// then builds the BVH. Triangles that lose their area in f32 are dropped and counted. The
-    /// error says which value is wrong.
+    /// then builds the BVH for `rays` rays (`Effort::for_work`; None: a paper run's). Triangles
+    /// that lose their area in f32 are dropped and counted. The error says which value is wrong.
     pub fn new(
         name: String,
         view: WorldCamera,
@@ -76,6 +77,7 @@ impl Scene {
         ao_distance: f32,
         content_hash: String,
         mesh: Mesh,
+        rays: Option<u64>,
     ) -> Result<Scene, String> {
         let origin = view.eye();
         let camera = view.relative_to(origin);
@@ -90,38 +92,37 @@ impl Scene {
         }
         let local = |v: DVec3| (v - origin).as_vec3();
         let skipped_elements = mesh.skipped_description();
-        let notes = mesh.notes.clone();
-        let (mut triangles, mut dropped) = (Vec::with_capacity(mesh.triangles.len()), mesh.dropped);
-        // Which triangles are kept, for the alpha masks (only scenes with masks keep this list).
-        let mut alpha = mesh.alpha.filter(alpha::Source::any);
-        let mut kept = Vec::with_capacity(if alpha.is_some() { mesh.triangles.len() } else { 0 });
-        // Consumed, so the f64 copy (72 bytes a triangle) is freed before the BVH build's peak.
-        for t in mesh.triangles {
-            let t = [local(t[0]), local(t[1]), local(t[2])];
-            let ok = usable(&t);
-            if ok {
-                triangles.push(t);
-            } else {
-                dropped += 1;
-            }
-            if alpha.is_some() {
-                kept.push(ok);
-            }
-        }
-        if triangles.is_empty() {
+        let Mesh { positions, mut indices, dropped, notes, alpha, .. } = mesh;
+        // Each position shifted once (as each of its triangles would shift it: the same bits), and
+        // the f64 copy freed before the BVH build's peak.
+        let positions: Vec<Vec3> = positions.into_iter().map(local).collect();
+        let keep: Vec<bool> = indices.iter().map(|t| usable(&t.map(|i| positions[i as usize]))).collect();
+        let before = indices.len();
+        let mut kept = keep.iter();
+        indices.retain(|_| *kept.next().expect("one flag a triangle"));
+        let dropped = dropped + (before - indices.len());
+        // The alpha masks of the kept triangles (only scenes with masks have any).
+        let alpha = alpha.filter(alpha::Source::any).map(|mut source| {
+            source.retain(&keep);
+            source
+        });
+        if indices.is_empty() {
             return Err(format!(
                 "{EMPTY_MESH}: all {dropped} triangles lose their area when moved next to the camera and \
                  rounded to f32 (the renderer's precision): they are too small for their distance from \
                  the eye, or too large for f32"
             ));
         }
-        let (mut accel, bvh_build_s) = Accel::build(&triangles);
-        if let Some(mut source) = alpha.take() {
-            source.retain(&kept);
+        let effort = Effort::for_work(rays, indices.len());
+        let (mut accel, bvh_build_s) = Accel::build_indexed(&positions, &indices, effort);
+        if let Some(source) = alpha {
+            let input: Vec<[Vec3; 3]> = indices.iter().map(|t| t.map(|i| positions[i as usize])).collect();
             let slots = (0..accel.len() as u32).map(|p| (accel.source_index(p), accel.triangle(p)));
-            let mask = alpha::Mask::for_slots(source, &triangles, slots);
+            let mask = alpha::Mask::for_slots(source, &input, slots);
             accel.set_alpha(mask);
         }
+        let triangle_count = indices.len();
+        drop((positions, indices));
         Ok(Scene {
             name,
             view,
@@ -130,7 +131,7 @@ impl Scene {
             resolution,
             ao_distance,
             content_hash,
-            triangle_count: triangles.len(),
+            triangle_count,
             dropped_triangles: dropped,
             skipped_elements,
             notes,
@@ -161,8 +162,8 @@ impl Scene {
         }
         let hash = content_hash(&[&bytes]);
         let (keep, drop): (Vec<_>, Vec<_>) = triangles.into_iter().partition(mesh::usable);
-        let mesh = Mesh { triangles: keep, dropped: drop.len(), ..Mesh::default() };
-        Scene::new(name.to_string(), view, resolution, ao_distance, hash, mesh)
+        let mesh = Mesh { dropped: drop.len(), ..Mesh::from_soup(keep) };
+        Scene::new(name.to_string(), view, resolution, ao_distance, hash, mesh, None)
     }
 }
 

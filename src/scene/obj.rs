@@ -23,18 +23,77 @@ pub struct Parsed {
     pub face_ends: Vec<usize>,
     /// Elements skipped because they are not faces: keyword, count, first line, in order of first use.
     pub skipped: Vec<(&'static str, usize, usize)>,
+    /// Vertices in the file before this part of it (`parse` reads large files in parts).
+    first_vertex: usize,
 }
 
 /// Elements with no surface; counted, not rendered.
 const NOT_FACES: [&str; 5] = ["p", "l", "curv", "curv2", "surf"];
 
-/// Reads `text`; the error says where (line) and what.
+/// Files larger than this are read in parts of about this size, in parallel (issue 29: a 10 M-triangle
+/// OBJ is 0.4 GB of text); smaller ones in one part.
+const PART_BYTES: usize = 4 << 20;
+
+/// Reads `text`; the error says where (line) and what. A large file is cut at line ends into parts
+/// read in parallel: a first pass counts each part's lines and vertices, so that every part knows
+/// its first line number and the vertices before it (relative indices count back from there,
+/// positive ones are checked against the file's total), and the first fault in file order is the
+/// one reported, with the message reading the whole file in one part would give.
 pub fn parse(text: &str) -> Result<Parsed, String> {
-    // Positive indices count over the whole file, so the out-of-range message needs the total.
-    let total = text.lines().filter(|l| l.split_whitespace().next() == Some("v")).count();
+    parse_in_parts(text, PART_BYTES)
+}
+
+/// `parse` with parts of about `part_bytes` (tests cut small files into many).
+fn parse_in_parts(text: &str, part_bytes: usize) -> Result<Parsed, String> {
+    use rayon::prelude::*;
+    let mut parts = Vec::new();
+    let mut start = 0;
+    while start < text.len() {
+        let cut = start.saturating_add(part_bytes).min(text.len());
+        let end = text.as_bytes()[cut..].iter().position(|&b| b == b'\n').map_or(text.len(), |k| cut + k + 1);
+        parts.push(&text[start..end]);
+        start = end;
+    }
+    // Lines and vertices in each part; then where each part starts, in both.
+    let counts: Vec<(usize, usize)> =
+        parts.par_iter().map(|t| (t.lines().count(), t.lines().filter(|l| is_vertex(l)).count())).collect();
+    let total = counts.iter().map(|c| c.1).sum();
+    let mut firsts = Vec::with_capacity(parts.len());
+    let (mut line, mut vertex) = (0, 0);
+    for &(lines, vertices) in &counts {
+        firsts.push((line, vertex));
+        (line, vertex) = (line + lines, vertex + vertices);
+    }
+    let read: Vec<Result<Parsed, String>> =
+        parts.par_iter().zip(&firsts).map(|(t, &(l, v))| parse_part(t, l, v, total)).collect();
     let mut p = Parsed { positions: Vec::with_capacity(total), ..Parsed::default() };
+    for part in read {
+        let part = part?;
+        let offset = p.corners.len();
+        p.positions.extend(part.positions);
+        p.corners.extend(part.corners);
+        p.face_ends.extend(part.face_ends.iter().map(|e| e + offset));
+        for (kind, n, line) in part.skipped {
+            match p.skipped.iter_mut().find(|s| s.0 == kind) {
+                Some(s) => s.1 += n,
+                None => p.skipped.push((kind, n, line)),
+            }
+        }
+    }
+    Ok(p)
+}
+
+/// A `v` statement.
+fn is_vertex(line: &str) -> bool {
+    line.split_whitespace().next() == Some("v")
+}
+
+/// One part of a file: its first line is line `first_line + 1`, `first_vertex` vertices come before
+/// it, and the file has `total`.
+fn parse_part(text: &str, first_line: usize, first_vertex: usize, total: usize) -> Result<Parsed, String> {
+    let mut p = Parsed { first_vertex, ..Parsed::default() };
     for (no, line) in text.lines().enumerate() {
-        let line_no = no + 1;
+        let line_no = first_line + no + 1;
         let content = line.split('#').next().unwrap_or_default();
         let mut words = content.split_whitespace();
         match words.next() {
@@ -128,7 +187,7 @@ fn face<'a>(
     total: usize,
 ) -> Result<(), String> {
     let start = p.corners.len();
-    let seen = p.positions.len() as i64;
+    let seen = (p.first_vertex + p.positions.len()) as i64;
     for c in words {
         let mut parts = c.split('/');
         let first = parts.next().unwrap_or_default();
@@ -168,6 +227,44 @@ mod tests {
         assert_eq!(p.positions[1], DVec3::new(1.0, 0.0, 0.0), "w divides");
         assert_eq!((p.corners.len(), p.face_ends.len()), (3, 1));
         assert_eq!(p.skipped, vec![("l", 2, 4), ("p", 1, 5)]);
+    }
+
+    #[test]
+    fn parts_read_as_one_file() {
+        let mut text = String::from("# a grid with relative indices\r\n");
+        for i in 0..40 {
+            text += &format!("v {i} 0 0\nv {i} 1 0\n");
+            if i > 0 {
+                text += "f -4 -3 -1 -2\n";
+            }
+            if i % 7 == 0 {
+                text += &format!("l {} {}\np 1\n", 2 * i + 1, 2 * i + 2);
+            }
+        }
+        text += "f 1 2 3"; // no line end
+        let whole = parse_in_parts(&text, usize::MAX).unwrap();
+        for part_bytes in [1, 5, 17, 64] {
+            let p = parse_in_parts(&text, part_bytes).unwrap();
+            assert_eq!(p.positions, whole.positions);
+            assert_eq!(
+                (&p.corners, &p.face_ends, &p.skipped),
+                (&whole.corners, &whole.face_ends, &whole.skipped)
+            );
+        }
+        // A fault's line and vertex counts are the whole file's, whichever part it is in.
+        for bad in ["f 1 2 999", "f -100 1 2", "v 1 x 2", "f 1 2"] {
+            let lines: Vec<&str> = text.lines().collect();
+            for at in [3, 50, lines.len() - 1] {
+                let mut l = lines.clone();
+                l.insert(at, bad);
+                let t = l.join("\n");
+                let want = parse_in_parts(&t, usize::MAX).err().unwrap();
+                assert!(want.starts_with(&format!("line {}:", at + 1)), "{want}");
+                for part_bytes in [1, 9, 100] {
+                    assert_eq!(parse_in_parts(&t, part_bytes).err().unwrap(), want);
+                }
+            }
+        }
     }
 
     #[test]

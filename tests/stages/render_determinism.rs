@@ -41,3 +41,30 @@ fn one_thread_and_all_threads_give_identical_bits() {
         }
     }
 }
+
+/// The BVH's build effort (issue 29: a render of few rays gets the fast build) changes the tree,
+/// never the image: AO is any-hit and a primary ray takes the least (t, input index) hit.
+#[test]
+fn fast_and_full_bvh_builds_give_identical_bits() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for file in ["kitchen", "cornell-box", "slats", "terrain", "floating-rectangle", "atrium", "bunny"] {
+        let path = root.join(format!("scenes/{file}.toml"));
+        let full = load_scene(&path).unwrap();
+        // One ray a pixel of a 1x1 image: far below any rule's threshold.
+        let fast = hemilab::load::load_scene_for(&path, Some((1, 1)), Some(1)).unwrap();
+        assert_eq!(fast.triangle_count, full.triangle_count);
+        assert_ne!(fast.accel.len(), 0);
+        for d in [full.ao_distance, f32::INFINITY] {
+            let job = RenderJob {
+                distribution: Distribution::SineCosine,
+                sampler: SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 8, 1).unwrap(),
+                width: 40,
+                height: 30,
+                ao_distance: d,
+            };
+            let a = bits(&render_with(2, &full, &job));
+            assert!(a.3 > 0, "{file}: want some rays occluded");
+            assert_eq!(a, bits(&render_with(2, &fast, &job)), "{file} at d = {d}: fast vs full build");
+        }
+    }
+}

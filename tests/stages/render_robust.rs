@@ -232,7 +232,7 @@ fn kitchen_moved_one_kilometre_renders_like_the_kitchen() {
     };
     let mesh = mesh::parse_obj(moved_obj.as_bytes()).unwrap();
     let moved =
-        Scene::new("kitchen-1km".into(), view, here.resolution, here.ao_distance, "moved".into(), mesh)
+        Scene::new("kitchen-1km".into(), view, here.resolution, here.ao_distance, "moved".into(), mesh, None)
             .unwrap();
     assert_eq!(moved.triangle_count, here.triangle_count, "the same triangles survive in f32");
 

@@ -23,7 +23,7 @@ fn cornell_f32() -> Vec<[[f32; 3]; 3]> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let bytes = std::fs::read(root.join("scenes/cornell-box.obj")).unwrap();
     let mesh = hemilab::scene::mesh::parse_obj(&bytes).unwrap();
-    mesh.triangles.iter().map(|t| t.map(|v| v.as_vec3().to_array())).collect()
+    mesh.triangles().map(|t| t.map(|v| v.as_vec3().to_array())).collect()
 }
 
 /// An OBJ of the triangles, every coordinate printed exactly (f32 → f64 is exact; `{}` round-trips).

@@ -265,7 +265,7 @@ pub struct AdviseArgs {
     /// Re-analyse the finished sweep in DIR (an earlier advise's --out) at --budget-ms without
     /// rendering anything; writes to --out, default DIR itself. A budget whose finalists DIR has not
     /// measured is answered from the sweep's interpolation, and says so.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["rays", "only", "replicates", "resolution", "reference_dir"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["rays", "only", "replicates", "resolution", "reference_dir", "pipeline", "frames"])]
     pub from: Option<PathBuf>,
     /// Time budgets per image in ms, comma-separated: thread CPU time of a one-thread render of the
     /// whole image at the resolution (default: three spread over the paper default's measured times).
@@ -287,6 +287,15 @@ pub struct AdviseArgs {
     /// Independent replicates (seeds) per configuration and ray count, 2..=1000.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(2..=1000))]
     pub replicates: u32,
+    /// Rank the image a real-time renderer shows: frames accumulated and filtered by this pipeline
+    /// (raw, gauss, atrous, mean, emaA, or temporal+spatial such as ema0.1+atrous); budgets are then
+    /// per frame.
+    #[arg(long, default_value = "raw", value_parser = parse_pipeline, value_name = "PIPELINE")]
+    pub pipeline: hemilab::denoise::Pipeline,
+    /// With a temporal --pipeline: the frame whose image is ranked (frames accumulated), 1..=1024
+    /// (default 8).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub frames: Option<u32>,
     /// Only these configurations, comma-separated distribution/sequence/seed_mode, each part a
     /// name or * (e.g. sine-cosine/fibonacci/*); the paper's default is always run.
     #[arg(long, value_parser = parse_pattern, value_delimiter = ',', value_name = "LIST")]
@@ -333,6 +342,10 @@ fn parse_schedule(s: &str) -> Result<Schedule, String> {
 }
 
 /// Parses `WxH` within `spec::RESOLUTION_RULE` (the limits of scene files and specs).
+pub fn parse_pipeline(s: &str) -> Result<hemilab::denoise::Pipeline, String> {
+    s.parse().map_err(|e: hemilab::denoise::PipelineError| e.to_string())
+}
+
 pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("resolution '{s}' must be WxH, {}; e.g. 320x240", hemilab::spec::RESOLUTION_RULE);
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;

@@ -32,6 +32,15 @@ impl Image {
         self.data[y as usize * self.width as usize + x as usize]
     }
 
+    /// The `w` × `h` window whose top-left pixel is (x, y), clipped to the image.
+    pub fn crop(&self, x: u32, y: u32, w: u32, h: u32) -> Image {
+        let (x, y) = (x.min(self.width), y.min(self.height));
+        let (w, h) = (w.min(self.width - x), h.min(self.height - y));
+        let data =
+            (y..y + h).flat_map(|r| (x..x + w).map(move |c| (r, c))).map(|(r, c)| self.at(c, r)).collect();
+        Image::from_vec(w, h, data)
+    }
+
     pub fn same_size(&self, other: &Image) -> bool {
         self.width == other.width && self.height == other.height
     }

@@ -139,6 +139,14 @@ pub fn previous_overhead(out: &Path, spec: &Spec) -> Vec<Option<Summary>> {
         .collect()
 }
 
+/// The `session` an earlier run recorded in `timing.json` (what rendering these records cost), for
+/// a rerun that rendered nothing: it keeps that record rather than replacing it with its own
+/// zero-render session, so the cost a README quotes survives a resume.
+pub fn previous_session(out: &Path) -> Option<serde_json::Value> {
+    let s = read_timing(out)?.get("session")?.clone();
+    (s.get("timed_renders")?.as_u64()? > 0).then_some(s)
+}
+
 /// `aggregates.csv` and `slopes.json`.
 pub fn write_aggregates(out: &Path, spec: &Spec, aggs: &[Aggregate]) -> Result<()> {
     io::write_atomic(&out.join(AGGREGATES_CSV), results::aggregates_to_csv(aggs).as_bytes())?;

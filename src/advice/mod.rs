@@ -21,6 +21,7 @@
 pub mod analysis;
 pub mod answer;
 pub mod model;
+pub mod pipeline;
 pub mod setup;
 pub mod structure;
 pub mod winner;

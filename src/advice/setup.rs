@@ -32,6 +32,10 @@ pub struct Request {
     pub replicates: u32,
     pub resolution: Option<(u32, u32)>,
     pub reference_dir: Option<PathBuf>,
+    /// What is done to the frames before the image is ranked (`advice::pipeline`; raw: the paper's).
+    pub pipeline: crate::denoise::Pipeline,
+    /// The frame whose image is ranked (frames accumulated by a temporal pipeline), 1 for raw.
+    pub frames: u32,
 }
 
 impl Request {
@@ -45,6 +49,8 @@ impl Request {
             "replicates": self.replicates,
             "resolution": self.resolution.map(|(w, h)| [w, h]),
             "reference_dir": self.reference_dir.as_deref().map(abs),
+            "pipeline": self.pipeline.to_string(),
+            "frames": self.frames,
         });
         let mut text = serde_json::to_string_pretty(&v).unwrap_or_default();
         text.push('\n');
@@ -65,6 +71,12 @@ impl Request {
             serde_json::from_value(de("resolution")?).map_err(|e| format!("resolution: {e}"))?;
         let reference_dir: Option<String> =
             serde_json::from_value(de("reference_dir")?).map_err(|e| format!("reference_dir: {e}"))?;
+        // An earlier advise's request, from before pipelines, ranked raw single frames.
+        let pipeline = match v.get("pipeline").and_then(|p| p.as_str()) {
+            Some(p) => p.parse().map_err(|e| format!("pipeline: {e}"))?,
+            None => crate::denoise::Pipeline::RAW,
+        };
+        let frames = v.get("frames").and_then(|f| f.as_u64()).map_or(1, |f| f as u32);
         Ok(Self {
             scene: scene.into(),
             rays,
@@ -72,6 +84,8 @@ impl Request {
             replicates,
             resolution: resolution.map(|[w, h]| (w, h)),
             reference_dir: reference_dir.map(PathBuf::from),
+            pipeline,
+            frames,
         })
     }
 }
@@ -112,8 +126,22 @@ pub fn setup(args: &Request) -> Result<Setup> {
     let name = args.scene.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = name.strip_suffix(".toml").unwrap_or(&name).to_string();
     let given_id = spec::normalize(&args.scene.to_string_lossy());
-    let sketch =
-        AdviseSpec { path: &args.scene, stem: &stem, rows: &rows, rays: &rays, replicates: args.replicates };
+    if args.frames > 1 && !args.pipeline.is_temporal() {
+        return Err(Error::Usage(format!(
+            "--frames {}: pipeline '{}' accumulates no frames (each frame is filtered on its own); give a \
+             pipeline with a temporal part (mean, emaA, e.g. ema0.1+atrous) or leave --frames out",
+            args.frames, args.pipeline
+        )));
+    }
+    let sketch = AdviseSpec {
+        path: &args.scene,
+        stem: &stem,
+        rows: &rows,
+        rays: &rays,
+        replicates: args.replicates,
+        pipeline: args.pipeline,
+        frames: args.frames,
+    };
     let reference_dir = reference_dir(args, &scene)?;
     let stored = stored_references(&reference_dir, &scene)?;
     let usable = |m: &Manifest| sketch.reuses(m, &scene);
@@ -143,8 +171,20 @@ pub fn setup(args: &Request) -> Result<Setup> {
             format!("no stored reference of this scene at {}x{}: one is built", resolution[0], resolution[1]),
         ),
     };
-    let choice = format!("resolution {}x{} ({how}); {which}", resolution[0], resolution[1]);
-    let plan = plan::plan(&spec);
+    let mut choice = format!("resolution {}x{} ({how}); {which}", resolution[0], resolution[1]);
+    if args.pipeline != crate::denoise::Pipeline::RAW {
+        choice += &format!(
+            "; ranked on the image after {} at frame {} (a budget is the time of one frame: {})",
+            args.pipeline,
+            args.frames,
+            if args.pipeline.is_temporal() {
+                "each configuration's time is that of its frames over their number"
+            } else {
+                "the filter is not timed; it costs every configuration the same"
+            }
+        );
+    }
+    let plan = last_frame_only(plan::plan(&spec), args.frames);
     Ok(Setup { loaded: Loaded { spec, scenes: vec![scene] }, plan, rows, rays, stem, choice, reference_dir })
 }
 
@@ -155,6 +195,8 @@ struct AdviseSpec<'a> {
     rows: &'a [Row],
     rays: &'a [u32],
     replicates: u32,
+    pipeline: crate::denoise::Pipeline,
+    frames: u32,
 }
 
 impl AdviseSpec<'_> {
@@ -169,9 +211,9 @@ impl AdviseSpec<'_> {
             replicates: self.replicates,
             scenes: vec![0],
             line: 0,
-            frames: 1,
+            frames: self.frames,
             schedules: vec![crate::sampling::Schedule::Independent],
-            pipelines: vec![crate::denoise::Pipeline::RAW],
+            pipelines: vec![self.pipeline],
         };
         Spec {
             path: self.path.to_path_buf(),
@@ -305,6 +347,9 @@ pub const VERIFY_SEED: u64 = 2;
 /// The finalists' jobs: every (configuration, rays) of `needs` at `replicates` replicates, seeded
 /// from [`VERIFY_SEED`] (replicate r still has the same seed in every configuration: paired).
 pub fn verify_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Plan {
+    let sweep = spec.groups.first();
+    let frames = sweep.map_or(1, |g| g.frames);
+    let pipelines = sweep.map_or(vec![crate::denoise::Pipeline::RAW], |g| g.pipelines.clone());
     let groups = needs
         .iter()
         .enumerate()
@@ -316,10 +361,17 @@ pub fn verify_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Plan {
             replicates,
             scenes: vec![0],
             line: 0,
-            frames: 1,
+            frames,
             schedules: vec![crate::sampling::Schedule::Independent],
-            pipelines: vec![crate::denoise::Pipeline::RAW],
+            pipelines: pipelines.clone(),
         })
         .collect();
-    plan::plan(&Spec { groups, seed: VERIFY_SEED, replicates, ..spec.clone() })
+    last_frame_only(plan::plan(&Spec { groups, seed: VERIFY_SEED, replicates, ..spec.clone() }), frames)
+}
+
+/// Only the jobs measured at frame `frames`: advise ranks the image after the last frame, and the
+/// plan's earlier reported frames (1, 2, 4, …) would render most of the frames again.
+fn last_frame_only(mut plan: Plan, frames: u32) -> Plan {
+    plan.jobs.retain(|j| j.frame == frames || !j.pipeline.is_temporal());
+    plan
 }

@@ -16,6 +16,7 @@
 
 use crate::cli::AdviseArgs;
 use hemilab::advice::analysis::{self, Measured};
+use hemilab::advice::pipeline::as_ranked;
 use hemilab::advice::setup::{self, Request, Setup};
 use hemilab::error::{Error, Result};
 use hemilab::jobs::calibrate;
@@ -29,6 +30,10 @@ use hemilab::{advice, outdir};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+/// Frames accumulated by a temporal `--pipeline` when `--frames` is not given: an EMA of α 0.1 has
+/// most of its weight on the last eight or so.
+const DEFAULT_FRAMES: u32 = 8;
+
 pub fn run(args: AdviseArgs) -> Result<()> {
     let request = match &args.from {
         Some(dir) => Request::from_json(&outdir::read_advise_request(dir)?)
@@ -40,6 +45,8 @@ pub fn run(args: AdviseArgs) -> Result<()> {
             replicates: args.replicates,
             resolution: args.resolution,
             reference_dir: args.reference_dir.clone(),
+            pipeline: args.pipeline,
+            frames: args.frames.unwrap_or(if args.pipeline.is_temporal() { DEFAULT_FRAMES } else { 1 }),
         },
     };
     let setup = setup::setup(&request)?;
@@ -99,6 +106,8 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     if session.renders == 0 {
         session.overhead = outdir::previous_overhead(sources.first().map_or(&stage, |d| d), spec);
     }
+    // What advise ranks: the images after the pipeline, at the time of one frame (`as_ranked`).
+    let results = as_ranked(&results);
     let mut analysis = analysis::analyse(&setup, &results, &args.budget_ms);
     let replicates = analysis::verify_replicates(spec.replicates);
     let vplan = setup::verify_jobs(spec, &analysis::finalists(&analysis), replicates);
@@ -128,6 +137,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let errors = sweep::error_images(&vplan, &verified, &reference, &stage)?;
     let verified: Vec<JobResult> = verified.into_iter().flatten().collect();
     store.add(&verified)?;
+    let verified = as_ranked(&verified);
     // Rendered: what the sessions rendered; with --from nothing is (the records are all reused).
     let rendered = results.len() - session.reused
         + verify_session.as_ref().map_or(0, |s| verified.len().saturating_sub(s.reused));

@@ -48,7 +48,12 @@ pub fn run(args: RunArgs) -> Result<()> {
     if session.renders == 0 {
         session.overhead = outdir::previous_overhead(&out, &loaded.spec);
     }
-    let timing = session.timing_json(&loaded.spec, protocol);
+    let mut timing = session.timing_json(&loaded.spec, protocol);
+    if session.renders == 0
+        && let Some(earlier) = outdir::previous_session(&out)
+    {
+        timing["session"] = earlier;
+    }
     outdir::write_timing(&out, &timing)?;
     // "12 rendered, 428 reused": what the run did, for its closing line.
     let counts =

@@ -92,6 +92,10 @@ pub fn atrous(img: &Image, gbuf: &GBuffer, params: &AtrousParams) -> Image {
     let z = &gbuf.depth.data;
     let n = &gbuf.normal;
     let mut cur = img.data.clone();
+    // A whole σ_n (SVGF's 128) by repeated squaring: within a few ulp of `powf`, at a fraction of
+    // its cost (it was a third of a real-time run's filtering time).
+    let normal_power = (params.sigma_normal.fract() == 0.0 && (0.0..=1024.0).contains(&params.sigma_normal))
+        .then_some(params.sigma_normal as i32);
     for it in 0..params.iterations {
         let step = 1i64 << it.min(30);
         let value_scale = params.sigma_value.map(|s| 1.0 / ((s as f64).powi(2) * 0.5f64.powi(it as i32)));
@@ -126,7 +130,11 @@ pub fn atrous(img: &Image, gbuf: &GBuffer, params: &AtrousParams) -> Image {
                             params.sigma_depth * (gx * dx as f32 + gy * dy as f32).abs() + DEPTH_EPS * zp;
                         let wz =
                             if dz == 0.0 { 1.0 } else { (-(dz / scale.max(f32::MIN_POSITIVE)) as f64).exp() };
-                        let wn = (np.dot(n[q]).max(0.0) as f64).powf(params.sigma_normal as f64);
+                        let c = np.dot(n[q]).max(0.0) as f64;
+                        let wn = match normal_power {
+                            Some(k) => c.powi(k),
+                            None => c.powf(params.sigma_normal as f64),
+                        };
                         let lq = src[q] as f64;
                         let wl = value_scale.map_or(1.0, |s| (-(lp - lq) * (lp - lq) * s).exp());
                         let wgt = hx * hy * wz * wn * wl;

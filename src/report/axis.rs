@@ -6,6 +6,9 @@ use plotters::coord::Shift;
 use plotters::coord::combinators::{LogCoord, WithKeyPoints};
 use plotters::prelude::*;
 
+/// The caption's type size, when the title fits.
+const TITLE_PX: f64 = 27.0;
+
 /// A log-log chart's coordinates.
 pub(super) type LogLog = Cartesian2d<WithKeyPoints<LogCoord<f64>>, WithKeyPoints<LogCoord<f64>>>;
 
@@ -19,8 +22,12 @@ pub(super) fn log_log_chart<'a, DB: DrawingBackend>(
     (x0, x1, y0, y1): (f64, f64, f64, f64),
 ) -> Result<ChartContext<'a, DB, LogLog>, String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    // A title wider than the plot would be cut at both ends: smaller type instead.
+    let width = plot.dim_in_pixel().0 as f64 - 24.0;
+    let wide = super::canvas::text_size(title, TITLE_PX, true).0 as f64;
+    let px = if wide > width { (TITLE_PX * width / wide).max(12.0) } else { TITLE_PX };
     let mut chart = ChartBuilder::on(plot)
-        .caption(title, (FONT, 27.0, FontStyle::Bold).into_font())
+        .caption(title, (FONT, px, FontStyle::Bold).into_font())
         .margin(16)
         .x_label_area_size(56)
         .y_label_area_size(84)

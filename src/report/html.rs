@@ -139,15 +139,7 @@ pub fn markdown_page(page: &Page) -> String {
 /// `html_page_opened` as Markdown.
 pub fn markdown_page_opened(page: &Page, opening: &Opening) -> String {
     let Page { title, lead, intro, tables, figures, collapsed } = *page;
-    let cell = |c: &str| c.replace('|', "\\|").replace('\n', " ");
-    let md_table = |t: &Table| {
-        let mut s = format!("| {} |\n", t.header.iter().map(|h| cell(h)).collect::<Vec<_>>().join(" | "));
-        s += &format!("|{}\n", "---|".repeat(t.header.len().max(1)));
-        for row in &t.rows {
-            s += &format!("| {} |\n", row.iter().map(|c| cell(c)).collect::<Vec<_>>().join(" | "));
-        }
-        s
-    };
+    let md_table = markdown_table;
     let md_figure = |f: &Figure| {
         let mut s =
             format!("![{}]({})\n\n{}", f.caption.replace(['[', ']'], ""), md_path(&f.path), f.caption);
@@ -182,6 +174,17 @@ pub fn markdown_page_opened(page: &Page, opening: &Opening) -> String {
     figures.iter().for_each(|f| s += &md_figure(f));
     for t in collapsed {
         s += &format!("<details>\n<summary>{}</summary>\n\n{}\n</details>\n\n", t.title, md_table(t));
+    }
+    s
+}
+
+/// A table as Markdown (header, rule, rows; `|` in a cell escaped), without its title.
+pub fn markdown_table(t: &Table) -> String {
+    let cell = |c: &str| c.replace('|', "\\|").replace('\n', " ");
+    let mut s = format!("| {} |\n", t.header.iter().map(|h| cell(h)).collect::<Vec<_>>().join(" | "));
+    s += &format!("|{}\n", "---|".repeat(t.header.len().max(1)));
+    for row in &t.rows {
+        s += &format!("| {} |\n", row.iter().map(|c| cell(c)).collect::<Vec<_>>().join(" | "));
     }
     s
 }

@@ -24,7 +24,7 @@ pub use banding::banding_plot;
 pub use grid::{GridCell, error_grid, image_grid};
 pub use html::{
     Figure, METHOD_SUMMARY, Opening, Page, Table, html_page, html_page_opened, markdown_page,
-    markdown_page_opened, referenced_files,
+    markdown_page_opened, markdown_table, referenced_files,
 };
 pub use plot::{Guide, Series, convergence_plot};
 pub use points::{PointSet, directions, directions_of, figure_rows, point_panels};

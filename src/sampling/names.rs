@@ -29,6 +29,8 @@ macro_rules! named {
                             $($word => Some(<$ty>::$meant),)*
                             _ => None,
                         };
+                        // Escaped (a newline in a TOML string would split the one-line error).
+                        let s = s.escape_debug();
                         let hint = meant.map_or(String::new(), |m| format!(" ('{s}' is written `{}`)", m.name()));
                         Err(format!("unknown {} '{}'; valid: {}{hint}", $what, s, <$ty>::NAMES.join(", ")))
                     }

@@ -15,6 +15,7 @@
 //! it truly leaves, whatever the size of the triangle, and an AO origin needs to be lifted only by
 //! the error of the hit point itself.
 
+use super::alpha::Mask;
 pub use super::node::Ray;
 use super::node::{child_planes, slabs};
 use glam::{UVec2, Vec3, Vec3A, Vec3Swizzles, Vec4};
@@ -46,6 +47,8 @@ pub struct Accel {
     pub(crate) id: u64,
     /// Each triangle's contacts, found on first use (`near::contacts`).
     pub(crate) contacts: super::near::grid::Table,
+    /// The alpha masks per slot, for scenes that have any (`alpha`); `None` keeps every hit.
+    pub(crate) alpha: Option<Box<Mask>>,
 }
 
 /// A closest hit: distance, triangle (BVH order) and the barycentrics of `b` and `c`.
@@ -94,7 +97,28 @@ impl Accel {
         static BUILDS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
         let id = BUILDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let contacts = tris.iter().map(|_| Default::default()).collect();
-        (Self { bvh, tris, source: soup, id, contacts }, core.as_secs_f64())
+        (Self { bvh, tris, source: soup, id, contacts, alpha: None }, core.as_secs_f64())
+    }
+
+    /// Whether a hit on slot `prim` at barycentrics (b, c) counts: always, unless the scene has
+    /// alpha masks and the texel there is transparent (`alpha::Mask::keeps`). Every query (single
+    /// rays, packets, primary and AO) asks this of the same numbers, so all agree bit for bit.
+    #[inline(always)]
+    pub(crate) fn keeps(&self, prim: u32, b: f32, c: f32) -> bool {
+        match &self.alpha {
+            None => true,
+            Some(m) => m.keeps(prim, b, c),
+        }
+    }
+
+    /// Gives the tree its alpha masks (per BVH slot, `alpha::Mask::for_slots`).
+    pub fn set_alpha(&mut self, mask: Mask) {
+        self.alpha = Some(Box::new(mask));
+    }
+
+    /// Whether hits can be rejected by an alpha mask.
+    pub fn has_alpha(&self) -> bool {
+        self.alpha.is_some()
     }
 
     /// Unique per build in this process (never 0): lets caches tell scenes apart.
@@ -130,7 +154,9 @@ impl Accel {
         obvhs::traverse!(self.bvh, node, state, node_hits(node, ray, tmax, state.oct_inv4), {
             let prim = state.primitive_id;
             let s = self.tris[prim as usize].seen_from(ray.org);
-            if let Some(h) = closer(&s, d, prim, ray.tmax, best, &self.bvh.primitive_indices) {
+            if let Some(h) = closer(&s, d, prim, ray.tmax, best, &self.bvh.primitive_indices)
+                && self.keeps(prim, h.bary_b, h.bary_c)
+            {
                 tmax = h.t;
                 best = Some(h);
             }
@@ -145,7 +171,10 @@ impl Accel {
         let mut hit = false;
         'search: {
             obvhs::traverse!(self.bvh, node, state, node_hits(node, ray, ray.tmax, state.oct_inv4), {
-                if intersect(&self.tris[state.primitive_id as usize], ray, ray.tmax).is_some() {
+                let prim = state.primitive_id;
+                if let Some((_, _, b, c)) = intersect(&self.tris[prim as usize], ray, ray.tmax)
+                    && self.keeps(prim, b, c)
+                {
                     hit = true;
                     break 'search;
                 }
@@ -173,6 +202,7 @@ impl Accel {
             let s = tri.seen_from(ray.org);
             if let Some(h) =
                 closer(&s, ray.dir.to_array(), i as u32, ray.tmax, best, &self.bvh.primitive_indices)
+                && self.keeps(i as u32, h.bary_b, h.bary_c)
             {
                 best = Some(h);
             }

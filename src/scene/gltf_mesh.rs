@@ -4,12 +4,15 @@
 //! `TRIANGLE_FAN` unrolled as the specification's section 3.7.2.1 orders their vertices), and the
 //! file's first camera where a node places it. Points and lines have no surface to occlude with, and
 //! are refused rather than dropped: a glTF file says exactly what it draws, so an unsupported mode is
-//! a file this renderer cannot show faithfully.
+//! a file this renderer cannot show faithfully. Materials with `alphaMode: MASK` become cutouts
+//! (`alpha`): their texture decoded once, each triangle given its texture coordinates; a file
+//! without such materials carries no mask data at all.
 //!
 //! No IO here: `fetch` hands over the bytes of a buffer's URI (relative to the .gltf file, or a
 //! `data:` URI decoded here), so every fault is a message the caller prefixes with the file name.
 
 use super::MAX_COORDINATE;
+use super::alpha::{Cutout, SOLID, Source, Wrap};
 use super::camera::{Camera, WorldCamera};
 use super::mesh::{Mesh, usable};
 use ::gltf::mesh::Mode;
@@ -70,9 +73,13 @@ pub fn parse_gltf(
     let mut stack: Vec<(::gltf::Node, DMat4)> =
         roots.into_iter().rev().map(|n| (n, DMat4::IDENTITY)).collect();
     let mut visited = 0usize;
-    // Images decoded so far (alpha-masked materials' base colour), and primitives drawn with a mask.
-    let mut decoded = vec![false; document.images().len()];
-    let mut masked = 0usize;
+    // Alpha masks only where a material asks for one: then every triangle records its cutout
+    // (`alpha::SOLID` for the others), each masked material's cutout made on first use.
+    let masks = document.materials().any(|m| m.alpha_mode() == ::gltf::material::AlphaMode::Mask);
+    if masks {
+        mesh.alpha = Some(Source::default());
+    }
+    let mut cutout_of: Vec<Option<u32>> = vec![None; document.materials().len()];
     while let Some((node, parent)) = stack.pop() {
         visited += 1;
         if visited > 1 << 24 {
@@ -83,25 +90,24 @@ pub fn parse_gltf(
         if let Some(m) = node.mesh() {
             for p in m.primitives() {
                 let what = || format!("mesh {} primitive {}", m.index(), p.index());
-                primitive(&p, &buffers, world, &mut mesh).map_err(|e| format!("{}: {e}", what()))?;
                 let material = p.material();
-                if material.alpha_mode() != ::gltf::material::AlphaMode::Mask {
-                    continue;
-                }
-                masked += 1;
-                let Some(info) = material.pbr_metallic_roughness().base_color_texture() else { continue };
-                let image = info.texture().source();
-                if !std::mem::replace(&mut decoded[image.index()], true) {
-                    let bytes = image_bytes(&image, &buffers, fetch, &mut external)
-                        .map_err(|e| format!("{}: image {}: {e}", what(), image.index()))?;
-                    image::load_from_memory(&bytes).map_err(|e| {
-                        format!(
-                            "{}: image {}: the base colour texture does not decode as PNG: {e}",
-                            what(),
-                            image.index()
-                        )
-                    })?;
-                }
+                let mask = match (masks, material.index()) {
+                    (true, Some(i)) if material.alpha_mode() == ::gltf::material::AlphaMode::Mask => {
+                        if cutout_of[i].is_none() {
+                            let c = cutout(&material, &buffers, fetch, &mut external)
+                                .map_err(|e| format!("{}: {e}", what()))?;
+                            let source = mesh.alpha.as_mut().expect("masks");
+                            source.cutouts.push(c);
+                            cutout_of[i] = Some(source.cutouts.len() as u32 - 1);
+                        }
+                        let set =
+                            material.pbr_metallic_roughness().base_color_texture().map(|t| t.tex_coord());
+                        Some((cutout_of[i].expect("just made"), set))
+                    }
+                    (true, _) => Some((SOLID, None)),
+                    (false, _) => None,
+                };
+                primitive(&p, &buffers, world, &mut mesh, mask).map_err(|e| format!("{}: {e}", what()))?;
             }
         }
         if camera.is_none() {
@@ -110,12 +116,6 @@ pub fn parse_gltf(
         for child in node.children().collect::<Vec<_>>().into_iter().rev() {
             stack.push((child, world));
         }
-    }
-    if masked > 0 {
-        mesh.notes.push(format!(
-            "{masked} glTF primitives have `alphaMode: MASK`; their alpha masks are not applied yet, so they \
-             render as solid surfaces"
-        ));
     }
     if mesh.triangles.is_empty() {
         return Err(if mesh.dropped > 0 {
@@ -127,12 +127,43 @@ pub fn parse_gltf(
     Ok(Parsed { mesh, camera, external })
 }
 
-/// Appends one primitive's triangles, in world coordinates.
+/// A masked material's cutout: its base colour texture's alpha (decoded here; nearest texel, wrapped
+/// as its sampler says) times its `baseColorFactor` alpha against its `alphaCutoff` (default 0.5).
+fn cutout(
+    material: &::gltf::Material,
+    buffers: &[Vec<u8>],
+    fetch: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
+    external: &mut Vec<Vec<u8>>,
+) -> Result<Cutout, String> {
+    let pbr = material.pbr_metallic_roughness();
+    let (factor, cutoff) = (pbr.base_color_factor()[3], material.alpha_cutoff().unwrap_or(0.5));
+    let Some(info) = pbr.base_color_texture() else { return Ok(Cutout::uniform(factor, cutoff)) };
+    let image = info.texture().source();
+    let bytes =
+        image_bytes(&image, buffers, fetch, external).map_err(|e| format!("image {}: {e}", image.index()))?;
+    let decoded = image::load_from_memory(&bytes).map_err(|e| {
+        format!("image {}: the base colour texture does not decode as PNG: {e}", image.index())
+    })?;
+    let rgba = decoded.into_rgba32f();
+    let alpha: Vec<f32> = rgba.pixels().map(|p| p.0[3]).collect();
+    let sampler = info.texture().sampler();
+    let wrap = |w: ::gltf::texture::WrappingMode| match w {
+        ::gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+        ::gltf::texture::WrappingMode::MirroredRepeat => Wrap::Mirror,
+        ::gltf::texture::WrappingMode::ClampToEdge => Wrap::Clamp,
+    };
+    let (w, h) = (rgba.width(), rgba.height());
+    Ok(Cutout::new(w, h, &alpha, factor, cutoff, [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())]))
+}
+
+/// Appends one primitive's triangles, in world coordinates; with `mask` (the scene has alpha
+/// masks), each kept triangle's cutout and, from TEXCOORD_`set`, its corners' coordinates.
 fn primitive(
     p: &::gltf::Primitive,
     buffers: &[Vec<u8>],
     world: DMat4,
     mesh: &mut Mesh,
+    mask: Option<(u32, Option<u32>)>,
 ) -> Result<(), String> {
     let mode = p.mode();
     if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
@@ -176,10 +207,37 @@ fn primitive(
         // Section 3.7.2.1: p_i = {v_{i+1}, v_{i+2}, v_0}.
         _ => (0..n.saturating_sub(2)).map(|i| [indices[i + 1], indices[i + 2], indices[0]]).collect(),
     };
+    let uvs: Option<Vec<[f32; 2]>> = match mask {
+        Some((c, Some(set))) if c != SOLID => {
+            let uvs: Vec<[f32; 2]> = reader
+                .read_tex_coords(set)
+                .ok_or_else(|| {
+                    format!(
+                        "TEXCOORD_{set}: missing, or its data lies outside its buffer (the material's \
+                         alpha mask needs texture coordinates)"
+                    )
+                })?
+                .into_f32()
+                .collect();
+            if uvs.len() < positions.len() {
+                return Err(format!(
+                    "TEXCOORD_{set}: {} entries for {} vertices",
+                    uvs.len(),
+                    positions.len()
+                ));
+            }
+            Some(uvs)
+        }
+        _ => None,
+    };
     for c in corners {
         let tri = c.map(|i| positions[i as usize]);
         if usable(&tri) {
             mesh.triangles.push(tri);
+            if let (Some((cut, _)), Some(source)) = (mask, mesh.alpha.as_mut()) {
+                let uv = uvs.as_ref().map_or([[0.0; 2]; 3], |u| c.map(|i| u[i as usize]));
+                source.push(cut, uv);
+            }
         } else {
             mesh.dropped += 1;
         }

@@ -47,6 +47,9 @@ pub struct Doc {
     pub materials: Vec<Material>,
     /// Image files' bytes (PNG), stored in the binary buffer.
     pub images: Vec<Vec<u8>>,
+    /// If not empty, each image's file name instead: the JSON names it by `uri` (the caller writes
+    /// the bytes of `images` there) rather than storing it in the buffer.
+    pub image_uris: Vec<String>,
 }
 
 impl Doc {
@@ -101,7 +104,11 @@ impl Doc {
         let images: Vec<Value> = self
             .images
             .iter()
-            .map(|png| json!({"bufferView": push(&mut bin, png, None), "mimeType": "image/png"}))
+            .enumerate()
+            .map(|(i, png)| match self.image_uris.get(i) {
+                Some(uri) => json!({"uri": uri}),
+                None => json!({"bufferView": push(&mut bin, png, None), "mimeType": "image/png"}),
+            })
             .collect();
         let nodes: Vec<Value> = self
             .nodes

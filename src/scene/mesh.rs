@@ -17,8 +17,10 @@ pub struct Mesh {
     pub dropped: usize,
     /// Elements with no surface (`p`, `l`, `curv`, `curv2`, `surf`): keyword, count, first line.
     pub skipped: Vec<(&'static str, usize, usize)>,
-    /// Other things a load warns about, one sentence each (e.g. glTF alpha masks rendered solid).
+    /// Other things a load warns about, one sentence each.
     pub notes: Vec<String>,
+    /// Alpha masks, per triangle (as `triangles`), if the file's materials have any.
+    pub alpha: Option<super::alpha::Source>,
 }
 
 impl Mesh {

@@ -2,8 +2,11 @@
 //! No IO here: `app` reads the files and hands over their bytes.
 
 pub mod accel;
+pub mod alpha;
 pub mod camera;
 pub mod file;
+#[cfg(any(test, feature = "testing"))]
+pub mod foliage;
 #[cfg(any(test, feature = "testing"))]
 pub mod generate;
 pub mod gltf_mesh;
@@ -89,13 +92,20 @@ impl Scene {
         let skipped_elements = mesh.skipped_description();
         let notes = mesh.notes.clone();
         let (mut triangles, mut dropped) = (Vec::with_capacity(mesh.triangles.len()), mesh.dropped);
+        // Which triangles are kept, for the alpha masks (only scenes with masks keep this list).
+        let mut alpha = mesh.alpha.filter(alpha::Source::any);
+        let mut kept = Vec::with_capacity(if alpha.is_some() { mesh.triangles.len() } else { 0 });
         // Consumed, so the f64 copy (72 bytes a triangle) is freed before the BVH build's peak.
         for t in mesh.triangles {
             let t = [local(t[0]), local(t[1]), local(t[2])];
-            if usable(&t) {
+            let ok = usable(&t);
+            if ok {
                 triangles.push(t);
             } else {
                 dropped += 1;
+            }
+            if alpha.is_some() {
+                kept.push(ok);
             }
         }
         if triangles.is_empty() {
@@ -105,7 +115,13 @@ impl Scene {
                  the eye, or too large for f32"
             ));
         }
-        let (accel, bvh_build_s) = Accel::build(&triangles);
+        let (mut accel, bvh_build_s) = Accel::build(&triangles);
+        if let Some(mut source) = alpha.take() {
+            source.retain(&kept);
+            let slots = (0..accel.len() as u32).map(|p| (accel.source_index(p), accel.triangle(p)));
+            let mask = alpha::Mask::for_slots(source, &triangles, slots);
+            accel.set_alpha(mask);
+        }
         Ok(Scene {
             name,
             view,

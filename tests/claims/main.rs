@@ -7,4 +7,5 @@ mod support;
 mod lowfreq;
 mod paper;
 mod readme;
+mod realtime;
 mod scenes;

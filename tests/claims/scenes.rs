@@ -1,4 +1,4 @@
-//! The paper's claims on every shipped scene: `experiments/scene-claims.toml` (seven scenes at 96x72,
+//! The paper's claims on every shipped scene: `experiments/scene-claims.toml` (eight scenes at 96x72,
 //! 8 replicates, fixed seeds) run through the real binary against the committed references. Each
 //! claim is asserted only where theory backs it, by at least `MIN_SE` standard errors of the *paired*
 //! difference (replicate r shares its seed across configurations: `compare::claims`). And on the
@@ -32,7 +32,7 @@ const MIN_SE: f64 = 5.0;
 /// still below sine-cosine's for small c. Open terrain is lit from the
 /// whole sky and occluded by slopes and boulders near the horizon, so theory does not back Table 2's
 /// ordering there.
-const SCENES: [(&str, bool); 7] = [
+const SCENES: [(&str, bool); 8] = [
     ("kitchen", true),
     ("cornell-box", true),
     ("floating-rectangle", true),
@@ -40,6 +40,7 @@ const SCENES: [(&str, bool); 7] = [
     ("atrium", true),
     ("slats", true),
     ("terrain", false),
+    ("foliage", true),
 ];
 
 fn results() -> &'static [JobResult] {

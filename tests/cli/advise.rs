@@ -289,6 +289,9 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--resolution".into(), "0x16".into()], "--resolution"),
         (vec!["--replicates".into(), "1".into()], "--replicates"),
         (vec!["--out".into(), "file/sub".into()], "file/sub"),
+        (vec!["--pipeline".into(), "ema2+atrous".into()], "--pipeline"),
+        (vec!["--pipeline".into(), "atrous".into(), "--frames".into(), "4".into()], "--frames"),
+        (vec!["--frames".into(), "0".into()], "--frames"),
     ];
     let before = t.listing();
     for (extra, what) in cases {

@@ -5,6 +5,7 @@
 mod support;
 
 mod advise;
+mod advise_pipeline;
 mod advise_runs;
 mod help_readme;
 mod interrupt;

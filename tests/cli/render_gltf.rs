@@ -43,6 +43,8 @@ fn bad_gltf_files_exit_2_naming_the_file_and_write_nothing() {
         ("m.glb", square(0).to_glb(), "mode Points is not supported"),
         ("m.glb", b"{ not json".to_vec(), "not a readable glTF 2.0 file"),
         ("m.glb", bad_texture(), "image 0: the base colour texture does not decode as PNG"),
+        ("m.gltf", external_bad_texture(&t), "image 0: the base colour texture does not decode as PNG"),
+        ("m.glb", no_texcoords(), "TEXCOORD_0: missing"),
     ];
     for (mesh, bytes, want) in cases {
         std::fs::write(t.path(mesh), bytes).unwrap();
@@ -61,5 +63,30 @@ fn bad_texture() -> Vec<u8> {
     doc.meshes[0][0].material = Some(0);
     doc.materials = vec![Material { base_color_factor: [1.0; 4], texture: Some(0), alpha_cutoff: Some(0.5) }];
     doc.images = vec![b"not a png".to_vec()];
+    doc.to_glb()
+}
+
+/// `bad_texture` as a .gltf whose image is a file beside it (as the foliage scene's is).
+fn external_bad_texture(t: &Tmp) -> Vec<u8> {
+    let mut doc = hemilab::scene::gltf_write::Doc { image_uris: vec!["leaf.png".into()], ..square(4) };
+    doc.meshes[0][0].uvs = Some(vec![[0.0; 2]; 6]);
+    doc.meshes[0][0].material = Some(0);
+    doc.materials = vec![Material { base_color_factor: [1.0; 4], texture: Some(0), alpha_cutoff: Some(0.5) }];
+    doc.images = vec![Vec::new()];
+    std::fs::write(t.path("leaf.png"), b"\x89PNG truncated").unwrap();
+    let (json, bin) = doc.to_gltf("e.bin");
+    std::fs::write(t.path("e.bin"), bin).unwrap();
+    json.into_bytes()
+}
+
+/// An alpha-masked textured material on a primitive without texture coordinates.
+fn no_texcoords() -> Vec<u8> {
+    let mut doc = square(4);
+    doc.meshes[0][0].material = Some(0);
+    doc.materials = vec![Material { base_color_factor: [1.0; 4], texture: Some(0), alpha_cutoff: Some(0.5) }];
+    let img = image::RgbaImage::from_pixel(1, 1, image::Rgba([0, 0, 0, 255]));
+    let mut png = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut png, image::ImageFormat::Png).unwrap();
+    doc.images = vec![png.into_inner()];
     doc.to_glb()
 }

@@ -26,6 +26,7 @@ mod sampling_schedule;
 mod sampling_sequences;
 mod sampling_stbn;
 mod sampling_warps;
+mod scene_alpha;
 mod scene_bvh;
 mod scene_files;
 mod scene_gltf;

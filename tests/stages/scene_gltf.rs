@@ -273,15 +273,21 @@ fn masked_square(png: Vec<u8>) -> Doc {
 }
 
 #[test]
-fn alpha_masked_textures_are_decoded_and_a_bad_one_is_an_error() {
+fn alpha_masked_textures_cut_holes_and_a_bad_one_is_an_error() {
     let t = Tmp::new("gltf-mask");
     let own = "[camera.perspective]\neye = [0.5, 0.5, 3.0]\ntarget = [0.5, 0.5, 0.0]\nup = [0.0, 1.0, 0.0]\n\
         fov_y_deg = 45.0\n";
     std::fs::write(t.path("s.toml"), toml("m.glb", own)).unwrap();
     std::fs::write(t.path("m.glb"), masked_square(half_mask_png()).to_glb()).unwrap();
     let s = load_scene(&t.path("s.toml")).unwrap();
-    let w = hemilab::load::dropped_warning(&s).unwrap_or_default();
-    assert!(w.contains("1 glTF primitives have `alphaMode: MASK`") && w.contains("solid"), "{w}");
+    assert!(hemilab::load::dropped_warning(&s).is_none(), "masks are applied: nothing to warn about");
+    // The left half (u < 0.5) is opaque, the right half transparent: rays straight down from the eye's
+    // height hit only on the left.
+    let down = |x: f32| {
+        let o = glam::Vec3::new(x, 0.5, 3.0) - s.origin.as_vec3();
+        s.accel.closest(&hemilab::scene::accel::Ray::new(o, -glam::Vec3::Z, f32::INFINITY)).is_some()
+    };
+    assert!(down(0.2) && down(0.45) && !down(0.55) && !down(0.8));
     std::fs::write(t.path("m.glb"), masked_square(b"\x89PNG but not really".to_vec()).to_glb()).unwrap();
     assert_load_error(&t, "m.glb", &["mesh 0 primitive 0: image 0", "does not decode as PNG"]);
 }

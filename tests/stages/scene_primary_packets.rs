@@ -44,7 +44,9 @@ fn check(acc: &Accel, o: Vec3, dirs: &[Vec3], tmax: f32, brute: bool, what: &str
 #[test]
 fn every_scene_pixel_packet_equals_single_rays() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    for name in ["kitchen", "cornell-box", "atrium", "bunny", "slats", "terrain", "floating-rectangle"] {
+    for name in
+        ["kitchen", "cornell-box", "atrium", "bunny", "slats", "terrain", "floating-rectangle", "foliage"]
+    {
         let scene = load_scene(&root.join(format!("scenes/{name}.toml"))).unwrap();
         let (w, h) = scene.resolution;
         let mut hits = 0;

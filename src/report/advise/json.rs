@@ -184,6 +184,8 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
         "overhead_ms": m.session.overhead.first().copied().flatten().map(|s| s.median * 1e3),
         "replicates": spec.replicates,
         "rays": m.setup.rays,
+        "pipeline": spec.groups.first().and_then(|g| g.pipelines.first()).map(|p| p.to_string()),
+        "frames": spec.groups.first().map(|g| g.frames),
         "setup": m.setup.choice,
         "from": m.from.as_ref().map(|d| d.display().to_string()),
         "jobs": { "rendered": m.rendered, "reused": m.reused },

@@ -53,6 +53,13 @@ impl<'a> ReportInput<'a> {
 }
 
 /// A readable name of a row, as the paper says it (`Row::name`: one vocabulary everywhere).
+/// Whether a group has paper-table images (one raw frame, independent schedule): a real-time group
+/// without the `raw` pipeline or the independent schedule has none, only its own figures.
+pub fn has_single_frames(g: &Group) -> bool {
+    g.pipelines.contains(&crate::denoise::Pipeline::RAW)
+        && g.schedules.contains(&crate::sampling::Schedule::Independent)
+}
+
 pub fn row_label(row: Row) -> String {
     row.name()
 }

@@ -9,11 +9,12 @@ use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::io;
 use crate::metrics::{LOWPASS_SIGMA, STRUCTURED_RATIO};
-use crate::outdir;
 use crate::report::figure_rows;
 use crate::report::run::data::{
-    ReportInput, banding_stat, lowfreq_stat, row_label, sweep_points, sweep_slope, table_configs,
+    ReportInput, banding_stat, has_single_frames, lowfreq_stat, row_label, sweep_points, sweep_slope,
+    table_configs,
 };
+use crate::report::run::draw::{drawn, log_log, record_image, write_figure};
 use crate::report::{self, Figure, Format, GridCell, Guide, Series};
 use crate::results;
 use crate::sampling::{Distribution, SeedMode, Sequence};
@@ -51,7 +52,10 @@ pub fn write_all(data: &ReportInput, out: &Path) -> Result<Figures> {
                 g.name.clone()
             };
             match g.kind {
-                GroupKind::Table => figures.extend(table_figures(data, g, si, &stem, out)?),
+                GroupKind::Table if has_single_frames(g) => {
+                    figures.extend(table_figures(data, g, si, &stem, out)?)
+                }
+                GroupKind::Table => {}
                 GroupKind::Convergence => {
                     let et = equal_time_figure(data, g, si, &stem, out)?;
                     if key.is_empty() {
@@ -68,21 +72,6 @@ pub fn write_all(data: &ReportInput, out: &Path) -> Result<Figures> {
     }
     figures.extend(banding_figure(data, out)?);
     Ok(Figures { key, other: figures })
-}
-
-fn drawn(path: &Path, r: std::result::Result<Vec<u8>, String>) -> Result<Vec<u8>> {
-    r.map_err(|e| Error::Refused(format!("{}: cannot draw the figure: {e}", path.display())))
-}
-
-fn write_figure(
-    out: &Path,
-    name: &str,
-    caption: String,
-    links: Vec<String>,
-    bytes: Result<Vec<u8>>,
-) -> Result<Figure> {
-    outdir::write_file(out, name, &bytes?)?;
-    Ok(Figure { path: name.to_string(), caption, links })
 }
 
 /// Table 1 (Fibonacci lattice through the three distributions) and Figures 2-4 (pseudo-random
@@ -120,16 +109,7 @@ fn cell_image(data: &ReportInput, out: &Path, scene: &str, row: Row, rays: u32) 
     let r = data.results.iter().filter(|r| r.is(scene, row, rays)).min_by_key(|r| r.replicate).ok_or_else(
         || Error::Refused(format!("no result for {} at {rays} rays on '{scene}'", row.label())),
     )?;
-    let path = out.join(&r.image);
-    let channels = io::read_exr(&path)?;
-    let take = |name: &str| {
-        channels
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, img)| img.clone())
-            .ok_or_else(|| Error::input(&path, format!("image lacks channel '{name}'")))
-    };
-    Ok((take("Y")?, take("A")?))
+    record_image(out, r)
 }
 
 fn caption(data: &ReportInput, scene: &str, row: Row, rays: u32) -> String {
@@ -199,31 +179,6 @@ fn table_figures(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &Pat
     );
     figs.push(write_figure(out, &name, cap, vec![], bytes)?);
     Ok(figs)
-}
-
-/// A log-log figure as PNG (on the page) and SVG (linked below it).
-#[allow(clippy::too_many_arguments)]
-fn log_log(
-    out: &Path,
-    base: &str,
-    title: &str,
-    (x_label, y_label): (&str, &str),
-    series: &[Series],
-    guides: &[Guide],
-    caption: String,
-) -> Result<Figure> {
-    let svg = format!("{base}.svg");
-    let bytes = drawn(
-        &out.join(&svg),
-        report::convergence_plot(title, x_label, y_label, series, guides, Format::Svg),
-    );
-    io::write_atomic(&out.join(&svg), &bytes?)?;
-    let png = format!("{base}.png");
-    let bytes = drawn(
-        &out.join(&png),
-        report::convergence_plot(title, x_label, y_label, series, guides, Format::Png),
-    );
-    write_figure(out, &png, caption, vec![svg], bytes)
 }
 
 /// The reference's noise floor as a guide, when it is a positive number.

@@ -3,12 +3,14 @@
 
 pub mod answer;
 pub mod data;
+pub mod draw;
 pub mod equal_time;
 pub mod figures;
 pub mod page;
 pub mod quotes;
 pub mod rays;
 pub mod realtime;
+pub mod realtime_figures;
 pub mod summary;
 pub mod verdicts;
 
@@ -43,7 +45,8 @@ pub fn write(
     let mut data =
         data::ReportInput::new(loaded, references, results, aggs, protocol, session.overhead.clone());
     data.notes = notes;
-    let figures = figures::write_all(&data, out)?;
+    let mut figures = figures::write_all(&data, out)?;
+    figures.other.extend(realtime_figures::write_all(&data, out)?);
     page::write(&data, &figures, out)?;
     Ok(summary)
 }

@@ -11,7 +11,9 @@ use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::metrics::{LOWPASS_SIGMA, STRUCTURED_RATIO};
 use crate::outdir;
 use crate::report::run::answer;
-use crate::report::run::data::{ReportInput, agg_label, banding_stat, row_label, sweep_slope};
+use crate::report::run::data::{
+    ReportInput, agg_label, banding_stat, has_single_frames, row_label, sweep_slope,
+};
 use crate::report::run::figures::Figures;
 use crate::report::{self, Table};
 use crate::results::{self, SlopeFit, Stat};
@@ -41,10 +43,12 @@ pub fn write(data: &ReportInput, figures: &Figures, out: &Path) -> Result<()> {
     }
     tables.extend(answer_tables);
     // The real-time verdicts lead: a real-time spec is run for them.
+    lead.extend(super::realtime::summary_table(data.results));
     lead.extend(super::realtime::paper_table(data.results));
     lead.extend(super::realtime::stbn_table(data.results));
+    lead.extend(super::realtime::seeds_table(data.results));
     tables.push(reference_table(data));
-    for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table) {
+    for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table && has_single_frames(g)) {
         for &si in &g.scenes {
             let t = rmse_table(data, &g.name, &spec.scenes[si].name, &g.rows, &g.rays, g.replicates);
             if many { collapsed.push(t) } else { tables.push(t) }

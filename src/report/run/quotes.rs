@@ -6,7 +6,7 @@
 //! A block is `<!-- quote NAME -->`, its Markdown, `<!-- /quote -->`; NAME is `<spec>/<what>`. The
 //! README holds copies of some blocks; `examples/readme_quotes.rs` copies them in after a rerun.
 
-use super::data::{banding_stat, row_label};
+use super::data::{banding_stat, has_single_frames, row_label};
 use crate::compare::claims::{COSINE_FIB_PIXEL, fmt_se};
 use crate::compare::equal_time::{Ratio, TimeView, equal_time};
 use crate::results::{self, JobResult, Stat};
@@ -44,7 +44,8 @@ impl Cost {
 }
 
 /// Every block of a run, in spec order: one per `[[table]]` and `[[convergence]]` group and scene,
-/// and the run's cost.
+/// a real-time spec's verdicts (`realtime::summary_table`, its two questions, their sentences), and
+/// the run's cost.
 pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String {
     let aggs = results::aggregate(records);
     let mut s = String::new();
@@ -60,7 +61,8 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
                 format!("{}/{}", spec.name, g.name)
             };
             match g.kind {
-                GroupKind::Table => block(name, rmse_table(g, scene, &aggs, records)),
+                GroupKind::Table if has_single_frames(g) => block(name, rmse_table(g, scene, &aggs, records)),
+                GroupKind::Table => {}
                 GroupKind::Convergence => {
                     block(name.clone(), slopes(spec, g, scene, &aggs));
                     block(format!("{name}/times"), times(g, scene, &aggs));
@@ -70,6 +72,22 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
                 }
             }
         }
+    }
+    // A real-time spec's verdicts (`realtime`): the short table, both full tables, the sentences.
+    let rt = [
+        ("realtime-summary", super::realtime::summary_table(records)),
+        ("realtime-paper", super::realtime::paper_table(records)),
+        ("realtime-stbn", super::realtime::stbn_table(records)),
+        ("realtime-seeds", super::realtime::seeds_table(records)),
+    ];
+    for (what, t) in rt {
+        if let Some(t) = t {
+            block(format!("{}/{what}", spec.name), crate::report::markdown_table(&t));
+        }
+    }
+    let said = super::realtime::text(records);
+    if !said.is_empty() {
+        block(format!("{}/realtime-verdicts", spec.name), said.iter().map(|l| format!("{l}\n")).collect());
     }
     if let Some(c) = cost {
         block(

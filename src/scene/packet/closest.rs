@@ -140,6 +140,7 @@ impl Accel {
                         let i = rays.trailing_zeros() as usize;
                         rays &= rays - 1;
                         if let Some(h) = closer(&s, dir(i), prim, tmax, hits[i], &self.bvh.primitive_indices)
+                            && self.keeps(prim, h.bary_b, h.bary_c)
                         {
                             hits[i] = Some(h);
                             bound[i] = h.t;

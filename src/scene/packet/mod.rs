@@ -15,7 +15,7 @@ mod closest;
 mod horizon;
 mod simd;
 
-use super::accel::Accel;
+use super::accel::{Accel, Seen, hit_seen};
 use super::node::{Ray, child_planes, slabs};
 use glam::{Vec3, Vec3A, Vec4};
 use horizon::{Horizon, horizon, horizon_of};
@@ -289,6 +289,9 @@ impl Accel {
                         new |= (unsafe { wide::hit8(p, g, &s, tmax) } & gm) << (8 * g);
                     }
                 }
+                if new != 0 && self.alpha.is_some() {
+                    new = self.unmasked(prim, &s, p, new, tmax);
+                }
                 if new != 0 {
                     *blocked |= new;
                     found.push(prim, new.count_ones());
@@ -300,6 +303,9 @@ impl Accel {
                 let g = gs.trailing_zeros() as usize / 4;
                 gs &= gs - 1;
                 new |= (hit_group(p, g, &s, tmax) & (live >> (4 * g)) & 0xf) << (4 * g);
+            }
+            if new != 0 && self.alpha.is_some() {
+                new = self.unmasked(prim, &s, p, new, tmax);
             }
             if new != 0 {
                 *blocked |= new;
@@ -375,6 +381,27 @@ impl Accel {
 }
 
 impl Accel {
+    /// Of the rays in `rays` that hit slot `prim` (seen from their origin as `s`), those whose hit
+    /// its alpha mask keeps: each ray's barycentrics exactly as `Accel::occluded` computes them
+    /// (`hit_seen` on the same direction bits), so packets and single rays agree. Only called for
+    /// scenes with masks.
+    #[inline(never)]
+    fn unmasked(&self, prim: u32, s: &Seen, p: &Packet, rays: u32, tmax: f32) -> u32 {
+        let mut keep = 0u32;
+        let mut r = rays;
+        while r != 0 {
+            let i = r.trailing_zeros() as usize;
+            r &= r - 1;
+            let d = [p.d[0][i / 4][i % 4], p.d[1][i / 4][i % 4], p.d[2][i / 4][i % 4]];
+            if let Some((_, _, b, c)) = hit_seen(s, d, tmax)
+                && self.keeps(prim, b, c)
+            {
+                keep |= 1 << i;
+            }
+        }
+        keep
+    }
+
     /// `wide::node` with SSE2, 4 children at a time: the same culling, the same answers.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]

@@ -1,0 +1,57 @@
+//! `advise --pipeline P [--frames K]`: advice for the image a real-time renderer shows — K frames
+//! accumulated by P's temporal part, then P's spatial filter — instead of one raw frame (issue 26).
+//! The sweep's jobs are real-time jobs measured at frame K alone; the analysis, the finalists and
+//! the report read them as the images they rank (`as_ranked`), with the time of *one frame*, since a
+//! real-time budget is a frame's: a configuration fits a budget of B ms when each of its frames
+//! renders in B ms, and its error is that of the image after K such frames and the filter. The
+//! stored records keep their real labels (pipeline, frame, the time of all K frames). After a
+//! spatial filter the structure rule is not applied (see `as_ranked`).
+
+use crate::denoise::Pipeline;
+use crate::results::{self, JobResult};
+
+/// The frames a job of `pipeline` measured at frame `frames` renders: all of them when the
+/// pipeline accumulates, the last one when it only filters.
+pub fn frames_rendered(pipeline: Pipeline, frames: u32) -> u32 {
+    if pipeline.is_temporal() { frames.max(1) } else { 1 }
+}
+
+/// The records as the paper-table images advise ranks: pipeline `raw`, frame 1, independent
+/// schedule, every time (and the rays cast) divided by the frames rendered, the timing split and
+/// efficiency recomputed from those per-frame times with the record's own overhead. Records that
+/// are already single frames come back unchanged.
+pub fn as_ranked(records: &[JobResult]) -> Vec<JobResult> {
+    let mut out: Vec<JobResult> = records
+        .iter()
+        .map(|r| {
+            if r.is_single_frame() {
+                return r.clone();
+            }
+            let p: Pipeline = r.pipeline.parse().unwrap_or(Pipeline::RAW);
+            let k = frames_rendered(p, r.frame) as f64;
+            // A spatial filter makes every error low-frequency, white noise's too, so the
+            // low-frequency ratio of a filtered image says nothing about the sampler: not measured
+            // (advise's structure rule then holds nothing back; the report's crops show the image).
+            let lowfreq_ratio = if p.spatial.is_some() { f64::NAN } else { r.lowfreq_ratio };
+            JobResult {
+                lowfreq_ratio,
+                pipeline: Pipeline::RAW.to_string(),
+                frame: 1,
+                schedule: crate::sampling::Schedule::Independent.name().into(),
+                time_s: r.time_s / k,
+                wall_s: r.wall_s / k,
+                times: r.times.iter().map(|t| t / k).collect(),
+                walls: r.walls.iter().map(|t| t / k).collect(),
+                rays_cast: (r.rays_cast as f64 / k).round() as u64,
+                ..r.clone()
+            }
+        })
+        .collect();
+    let overhead = |scene: &str| {
+        records.iter().find(|r| r.scene == scene && r.overhead_s.is_finite()).map(|r| r.overhead_s)
+    };
+    if records.iter().any(|r| !r.is_single_frame()) {
+        results::fill_timing(&mut out, &overhead);
+    }
+    out
+}

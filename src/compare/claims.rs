@@ -60,6 +60,10 @@ pub enum Claim {
     RandomSlopeHalf,
     /// Convergence: the lattice with a per-pixel seed converges faster (steeper slope) than pseudo-random.
     FibonacciSteeper,
+    /// Equal time (issue 28): the lattice with a per-pixel seed has less MSE than the sampler a
+    /// renderer would ship instead (sine-cosine, randomized per pixel by `shift`), at every time
+    /// budget both were measured at (`compare::equal_time`). Fails where that sampler wins.
+    FibonacciBeatsAtEqualTime(Sequence),
 }
 
 /// How far a pseudo-random slope may sit from −0.5 and still "hold": the reference's noise floor
@@ -67,13 +71,17 @@ pub enum Claim {
 pub const SLOPE_TOLERANCE: f64 = 0.05;
 
 impl Claim {
-    pub const ALL: [Claim; 6] = [
+    pub const ALL: [Claim; 10] = [
         Claim::CosineBeatsUniform,
         Claim::CosineBeatsSine,
         Claim::FibonacciBeatsRandom,
         Claim::StaticSeedStructured,
         Claim::RandomSlopeHalf,
         Claim::FibonacciSteeper,
+        Claim::FibonacciBeatsAtEqualTime(Sequence::Halton),
+        Claim::FibonacciBeatsAtEqualTime(Sequence::R2),
+        Claim::FibonacciBeatsAtEqualTime(Sequence::ZSobol),
+        Claim::FibonacciBeatsAtEqualTime(Sequence::Pmj02bn),
     ];
 
     pub fn label(self) -> &'static str {
@@ -84,6 +92,13 @@ impl Claim {
             Claim::StaticSeedStructured => "static seed's error is structured",
             Claim::RandomSlopeHalf => "pseudo-random slope = −0.5",
             Claim::FibonacciSteeper => "Fibonacci slope steeper than pseudo-random",
+            Claim::FibonacciBeatsAtEqualTime(s) => match s {
+                Sequence::Halton => "Fibonacci per-pixel beats halton at equal time",
+                Sequence::R2 => "Fibonacci per-pixel beats r2 at equal time",
+                Sequence::ZSobol => "Fibonacci per-pixel beats zsobol at equal time",
+                Sequence::Pmj02bn => "Fibonacci per-pixel beats pmj02bn at equal time",
+                _ => "Fibonacci per-pixel beats another sampler at equal time",
+            },
         }
     }
 }
@@ -343,7 +358,40 @@ pub fn scene_verdicts(rs: &[JobResult], scene: &str, rays: &[u32], sweep: &[u32]
         v.detail = format!("{a:+.3} vs {b:+.3}: {}", v.detail);
     }
     out.push(v);
+    for claim in Claim::ALL {
+        if let Claim::FibonacciBeatsAtEqualTime(seq) = claim {
+            out.push(equal_time_claim(
+                rs,
+                scene,
+                claim,
+                row(Distribution::SineCosine, seq, SeedMode::Shift),
+                sweep,
+            ));
+        }
+    }
     out
+}
+
+/// `claim` = the lattice with a per-pixel seed has less MSE than `other` at equal time: one
+/// margin per time budget (one to each doubling of time, over the times both were measured at
+/// across `sweep`), ln(MSE other / MSE lattice) in its standard errors (`equal_time::Ratio`,
+/// paired by replicate), over the replicates of the lattice's first ray count.
+fn equal_time_claim(rs: &[JobResult], scene: &str, claim: Claim, other: Config, sweep: &[u32]) -> Verdict {
+    use crate::compare::equal_time::{TimeView, equal_time};
+    let measured = |c: Config| sweep.iter().any(|&n| rs.iter().any(|r| r.is(scene, c, n)));
+    let mut margins: Vec<(String, Option<Margin>)> = Vec::new();
+    if measured(other) && measured(COSINE_FIB_PIXEL) {
+        let n = values(rs, scene, COSINE_FIB_PIXEL, sweep[0], |r| r.rmse).len();
+        let et = equal_time(rs, scene, &[COSINE_FIB_PIXEL, other], sweep, TimeView::Total, 1);
+        for at in &et.at {
+            if let (Some(a), Some(b)) = (at.entry(other), at.entry(COSINE_FIB_PIXEL)) {
+                let r = crate::compare::equal_time::Ratio::of(&a.at, &b.at);
+                let m = Margin { mean: r.value.ln(), se: r.se / r.value, n };
+                margins.push((format!("{:.3} ms (MSE ×{:.2})", at.budget_s * 1e3, r.value), Some(m)));
+            }
+        }
+    }
+    judge(scene, claim, margins, true)
 }
 
 fn mean(v: &[(u32, f64)]) -> Option<f64> {
@@ -403,7 +451,10 @@ mod tests {
     fn every_claim_holds_on_a_scene_made_to_satisfy_them() {
         let v = scene_verdicts(&synthetic(4.0, 1.1), "s", &[8, 16, 32], &[1, 2, 4, 8, 16, 32, 64]);
         assert_eq!(v.len(), Claim::ALL.len());
-        for x in &v {
+        // The synthetic scene has none of the equal-time samplers: those cells are not measured.
+        let (paper, samplers) = v.split_at(6);
+        assert!(samplers.iter().all(|x| x.outcome == Outcome::NotMeasured), "{samplers:?}");
+        for x in paper {
             assert_eq!(x.outcome, Outcome::Holds, "{x:?}");
             assert!(x.margin_se > critical_se(6), "{x:?}");
         }

@@ -284,6 +284,8 @@ pub fn measure_jobs(
     // a record was never split (a run killed after its last job, before the end).
     let mut jobs: Vec<RenderJob> =
         plan.jobs.iter().map(|j| render_job(loaded, j, j.rays)).collect::<Result<_>>()?;
+    // Tables generated on first use (pmj02bn) are made here, outside every timed render.
+    jobs.iter().for_each(|j| j.sampler.prepare());
     let mut warm: Vec<Option<RenderJob>> = vec![None; scenes];
     for j in &plan.jobs {
         let (si, _) = loaded.scene_of(j);

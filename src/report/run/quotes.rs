@@ -7,7 +7,11 @@
 //! README holds copies of some blocks; `examples/readme_quotes.rs` copies them in after a rerun.
 
 use super::data::{banding_stat, has_single_frames, row_label};
+use crate::compare::claims::{COSINE_FIB_PIXEL, fmt_se};
+use crate::compare::equal_time::{Ratio, TimeView, equal_time};
 use crate::results::{self, JobResult, Stat};
+use crate::sampling::{Distribution, Sequence};
+use crate::spec::Row;
 use crate::spec::{Group, GroupKind, Spec};
 use std::fmt::Write as _;
 
@@ -62,6 +66,9 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
                 GroupKind::Convergence => {
                     block(name.clone(), slopes(spec, g, scene, &aggs));
                     block(format!("{name}/times"), times(g, scene, &aggs));
+                    if let Some(t) = equal_time_vs_lattice(g, scene, records) {
+                        block(format!("{name}/equal-time"), t);
+                    }
                 }
             }
         }
@@ -96,6 +103,51 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
         );
     }
     s
+}
+
+/// The samplers a renderer would ship instead of the lattice (issue 28), as they ship.
+const SAMPLERS: [Sequence; 4] = [Sequence::Halton, Sequence::R2, Sequence::ZSobol, Sequence::Pmj02bn];
+
+/// Each of the group's [`SAMPLERS`] rows against the lattice with a per-pixel seed at equal time
+/// (`compare::equal_time`, total render time, one budget to each doubling of time): its MSE over
+/// the lattice's, ± 1 σ, and ln of that ratio in its standard errors (positive: the lattice has
+/// less error). `None` unless the group has the lattice and one of them.
+fn equal_time_vs_lattice(g: &Group, scene: &str, records: &[JobResult]) -> Option<String> {
+    let lattice = COSINE_FIB_PIXEL;
+    let others: Vec<Row> = g
+        .rows
+        .iter()
+        .copied()
+        .filter(|r| SAMPLERS.contains(&r.sequence) && r.distribution == Distribution::SineCosine)
+        .collect();
+    if !g.rows.contains(&lattice) || others.is_empty() {
+        return None;
+    }
+    let mut rows = vec![lattice];
+    rows.extend(&others);
+    let et = equal_time(records, scene, &rows, &g.rays, TimeView::Total, 1);
+    let mut s = format!("| MSE over {}'s at equal time | ", row_label(lattice));
+    for at in &et.at {
+        let _ = write!(s, "{} ms | ", fixed(at.budget_s * 1e3, 1));
+    }
+    s = s.trim_end().to_string();
+    s.push_str("\n|---|");
+    s.push_str(&"---|".repeat(et.at.len()));
+    s.push('\n');
+    for &row in &others {
+        let _ = write!(s, "| {} |", row_label(row));
+        for at in &et.at {
+            match (at.entry(row), at.entry(lattice)) {
+                (Some(a), Some(b)) => {
+                    let r = Ratio::of(&a.at, &b.at);
+                    let _ = write!(s, " × {:.2} ± {:.2} ({}) |", r.value, r.se, fmt_se(r.in_se()));
+                }
+                _ => s.push_str(" – |"),
+            }
+        }
+        s.push('\n');
+    }
+    Some(s)
 }
 
 /// `x` to `digits` decimals, without a minus sign on a value that rounds to zero.

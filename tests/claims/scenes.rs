@@ -194,13 +194,15 @@ fn sampler(s: Sequence) -> Config {
 }
 
 #[test]
-fn equal_time_no_sampler_beats_the_lattice_and_halton_and_zsobol_lose_clearly() {
-    // What the committed references and this spec measured (README, "The answer, measured"):
-    // against the lattice with a per-pixel seed at equal total render time, none of halton, r2,
-    // zsobol and pmj02bn has significantly less MSE at any budget on any scene (no verdict cell
-    // fails); at the largest common budget Halton and ZSobol, whose per-digit hashing makes each
-    // render several times slower, have more MSE by at least MIN_SE. R2's and pmj02bn's margins
-    // there are printed, not asserted: a few SE, within what a loaded machine's timings move.
+fn equal_time_halton_and_zsobol_lose_clearly_and_r2_and_pmj02bn_trail_at_the_largest_budget() {
+    // Against the lattice with a per-pixel seed at equal total render time, at the largest common
+    // budget: Halton and ZSobol, whose per-digit hashing makes each render several times slower,
+    // have more MSE by at least MIN_SE and never less at any budget (no verdict cell fails); R2 and
+    // pmj02bn have more MSE (measured ×1.3–3.3 on the eight scenes), by a few SE, printed. At the
+    // smallest budget (one or two rays) R2 and pmj02bn can tie or beat the lattice, whose one or two
+    // points per pixel keep their elevations under a per-pixel rotation: a CI run measured R2 below
+    // it on the floating rectangle there (MSE ×0.62, −5.5 SE), so that end is printed, not asserted —
+    // equal-time verdicts move with the machine's timings.
     for (scene, _) in SCENES {
         let verdicts = claims::scene_verdicts(results(), scene, &RAYS, &SWEEP);
         for seq in [Sequence::Halton, Sequence::R2, Sequence::ZSobol, Sequence::Pmj02bn] {
@@ -210,7 +212,6 @@ fn equal_time_no_sampler_beats_the_lattice_and_halton_and_zsobol_lose_clearly() 
                 .expect("the equal-time claim");
             eprintln!("{scene}, {}: {} ({})", v.claim.label(), v.outcome.label(), v.detail);
             assert_ne!(v.outcome, Outcome::NotMeasured, "{scene}, {seq}");
-            assert_ne!(v.outcome, Outcome::Fails, "{scene}, {seq} beats the lattice: {}", v.detail);
             let et =
                 equal_time(results(), scene, &[COSINE_FIB_PIXEL, sampler(seq)], &SWEEP, TimeView::Total, 1);
             let last = et.at.last().expect("a common budget");
@@ -223,7 +224,10 @@ fn equal_time_no_sampler_beats_the_lattice_and_halton_and_zsobol_lose_clearly() 
                 r.se
             );
             if matches!(seq, Sequence::Halton | Sequence::ZSobol) {
+                assert_ne!(v.outcome, Outcome::Fails, "{scene}, {seq} beats the lattice: {}", v.detail);
                 assert!(r.in_se() >= MIN_SE, "{what}: only {:.1} SE", r.in_se());
+            } else {
+                assert!(r.value > 1.0, "{what}: the lattice has more MSE at the largest budget");
             }
             eprintln!("{what} ({:+.1} SE)", r.in_se());
         }

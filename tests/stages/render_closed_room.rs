@@ -78,19 +78,7 @@ const EDGE_ON: View = View {
 
 /// The closed cube [-1, 1]³, 12 triangles, placed by `at` and seen through `view`.
 fn room(at: Place, view: View, res: (u32, u32)) -> Scene {
-    let v = DVec3::new;
-    let faces = [
-        [v(-1., -1., -1.), v(1., -1., -1.), v(1., 1., -1.), v(-1., 1., -1.)],
-        [v(-1., -1., 1.), v(-1., 1., 1.), v(1., 1., 1.), v(1., -1., 1.)],
-        [v(-1., -1., -1.), v(-1., -1., 1.), v(1., -1., 1.), v(1., -1., -1.)],
-        [v(-1., 1., -1.), v(1., 1., -1.), v(1., 1., 1.), v(-1., 1., 1.)],
-        [v(-1., -1., -1.), v(-1., 1., -1.), v(-1., 1., 1.), v(-1., -1., 1.)],
-        [v(1., -1., -1.), v(1., -1., 1.), v(1., 1., 1.), v(1., 1., -1.)],
-    ];
-    let tris = faces
-        .iter()
-        .flat_map(|f| [[at.p(f[0]), at.p(f[1]), at.p(f[2])], [at.p(f[0]), at.p(f[2]), at.p(f[3])]])
-        .collect();
+    let tris = crate::support::room::cube_triangles(|v| at.p(v));
     let cam = Camera::Perspective {
         eye: at.p(view.eye),
         target: at.p(view.target),

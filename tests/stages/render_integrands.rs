@@ -32,15 +32,7 @@ const RES: (u32, u32) = (320, 240);
 /// The closed cube [-1, 1]³ seen from (0, 0, 0.5) looking down −z, fov 80° (the set-up).
 fn room(res: (u32, u32)) -> Scene {
     let v = DVec3::new;
-    let faces = [
-        [v(-1., -1., -1.), v(1., -1., -1.), v(1., 1., -1.), v(-1., 1., -1.)],
-        [v(-1., -1., 1.), v(-1., 1., 1.), v(1., 1., 1.), v(1., -1., 1.)],
-        [v(-1., -1., -1.), v(-1., -1., 1.), v(1., -1., 1.), v(1., -1., -1.)],
-        [v(-1., 1., -1.), v(1., 1., -1.), v(1., 1., 1.), v(-1., 1., 1.)],
-        [v(-1., -1., -1.), v(-1., 1., -1.), v(-1., 1., 1.), v(-1., -1., 1.)],
-        [v(1., -1., -1.), v(1., -1., 1.), v(1., 1., 1.), v(1., 1., -1.)],
-    ];
-    let tris = faces.iter().flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]]).collect();
+    let tris = crate::support::room::cube_triangles(|v| v);
     let cam = Camera::Perspective {
         eye: v(0.0, 0.0, 0.5),
         target: v(0.0, 0.0, -1.0),

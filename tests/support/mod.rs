@@ -4,4 +4,5 @@
 
 pub mod common;
 pub mod lambert;
+pub mod room;
 pub mod stats;

@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::io;
 use crate::outdir;
-use crate::report::{self, Figure, Format, Guide, Series};
+use crate::report::{self, Figure, Format, GridCell, Guide, Series};
 use crate::results::JobResult;
 use std::path::Path;
 
@@ -63,4 +63,14 @@ pub fn record_image(out: &Path, r: &JobResult) -> Result<(Image, Image)> {
             .ok_or_else(|| Error::input(&path, format!("image lacks channel '{name}'")))
     };
     Ok((take("Y")?, take("A")?))
+}
+
+/// Grid cells borrowing rows of (image, coverage, caption), as `report::image_grid` takes them.
+pub fn grid_cells(images: &[Vec<(Image, Image, String)>]) -> Vec<Vec<GridCell<'_>>> {
+    images
+        .iter()
+        .map(|row| {
+            row.iter().map(|(i, m, c)| GridCell { image: i, mask: Some(m), caption: c.clone() }).collect()
+        })
+        .collect()
 }

@@ -14,7 +14,7 @@ use crate::report::run::data::{
     ReportInput, banding_stat, has_single_frames, lowfreq_stat, row_label, sweep_points, sweep_slope,
     table_configs,
 };
-use crate::report::run::draw::{drawn, log_log, record_image, write_figure};
+use crate::report::run::draw::{drawn, grid_cells, log_log, record_image, write_figure};
 use crate::report::{self, Figure, Format, GridCell, Guide, Series};
 use crate::results;
 use crate::sampling::{Distribution, SeedMode, Sequence};
@@ -134,12 +134,7 @@ fn table_figures(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &Pat
         }
         images.push(cells);
     }
-    let cells: Vec<Vec<GridCell>> = images
-        .iter()
-        .map(|row| {
-            row.iter().map(|(i, m, c)| GridCell { image: i, mask: Some(m), caption: c.clone() }).collect()
-        })
-        .collect();
+    let cells = grid_cells(&images);
     let m = &reference.manifest;
     let ref_cell = GridCell {
         image: &reference.mean,

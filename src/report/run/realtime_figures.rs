@@ -4,7 +4,7 @@
 //! group's fewest rays per frame, where real-time engines work and samplers differ most.
 
 use super::data::{ReportInput, row_label};
-use super::draw::{drawn, log_log, record_image, write_figure};
+use super::draw::{drawn, grid_cells, log_log, record_image, write_figure};
 use crate::denoise::Pipeline;
 use crate::error::{Error, Result};
 use crate::image::Image;
@@ -162,12 +162,7 @@ fn final_crops(
         }
         images.push(cells);
     }
-    let cells: Vec<Vec<GridCell>> = images
-        .iter()
-        .map(|row| {
-            row.iter().map(|(i, m, c)| GridCell { image: i, mask: Some(m), caption: c.clone() }).collect()
-        })
-        .collect();
+    let cells = grid_cells(&images);
     let (ref_img, ref_cov) = (reference.mean.crop(x, y, w, h), reference.coverage.crop(x, y, w, h));
     let ref_cell = GridCell { image: &ref_img, mask: Some(&ref_cov), caption: "reference".into() };
     let row_labels: Vec<String> = g.rows.iter().map(|r| row_label(*r)).collect();

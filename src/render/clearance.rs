@@ -317,6 +317,15 @@ mod tests {
 
     /// Three walls of a box corner and a floor, one edge and the corner hit exactly: the origin ends
     /// where the test sees every wall from inside, within a few bands of the hit point.
+    /// The origin `clear` moves the hit of the ray from `eye` towards `target` to.
+    fn cleared_origin(acc: &Accel, eye: Vec3, target: Vec3) -> Vec3 {
+        let dir = (target - eye).normalize();
+        let hit = acc.closest(&crate::scene::accel::Ray::new(eye, dir, f32::INFINITY)).unwrap();
+        let plane = Plane::of(acc.triangle(hit.prim));
+        let lift = plane.lift(hit.bary_b, hit.bary_c, dir);
+        clear(acc, hit.prim, (hit.bary_b, hit.bary_c), &plane, &lift, eye, &mut Near::default())
+    }
+
     #[test]
     fn clears_the_walls_of_an_edge_and_a_corner() {
         let v = Vec3::new;
@@ -328,12 +337,7 @@ mod tests {
         let (acc, _) = Accel::build(&tris);
         let eye = v(1.0, 1.0, 1.0);
         for target in [v(0.0, 0.7, 0.0), v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.3)] {
-            let dir = (target - eye).normalize();
-            let hit = acc.closest(&crate::scene::accel::Ray::new(eye, dir, f32::INFINITY)).unwrap();
-            let plane = Plane::of(acc.triangle(hit.prim));
-            let lift = plane.lift(hit.bary_b, hit.bary_c, dir);
-            let bary = (hit.bary_b, hit.bary_c);
-            let o = clear(&acc, hit.prim, bary, &plane, &lift, eye, &mut Near::default());
+            let o = cleared_origin(&acc, eye, target);
             for prim in 0..acc.len() as u32 {
                 let t = acc.triangle(prim);
                 let inside = (t[1] - t[0]).cross(t[2] - t[0]).dot(v(1.0, 1.0, 1.0) - t[0]) > 0.0;
@@ -358,12 +362,7 @@ mod tests {
         let (acc, _) = Accel::build(&tris);
         let eye = v(1.25, -0.375, 0.5);
         for target in [v(0.55, -0.375, 0.0), v(0.55, -0.3, 0.0)] {
-            let dir = (target - eye).normalize();
-            let hit = acc.closest(&crate::scene::accel::Ray::new(eye, dir, f32::INFINITY)).unwrap();
-            let plane = Plane::of(acc.triangle(hit.prim));
-            let lift = plane.lift(hit.bary_b, hit.bary_c, dir);
-            let bary = (hit.bary_b, hit.bary_c);
-            let o = clear(&acc, hit.prim, bary, &plane, &lift, eye, &mut Near::default());
+            let o = cleared_origin(&acc, eye, target);
             for prim in 0..acc.len() as u32 {
                 let src = acc.source_index(prim);
                 if src < 4 {

@@ -112,19 +112,24 @@ pub fn load_scene_for(
         ));
     }
     let bytes = io::read_bytes(&mesh_path).map_err(|e| Error::input(path, format!("key `mesh`: {e}")))?;
+    // The files a mesh names (glTF buffers and images, OBJ material libraries and their textures),
+    // relative to the mesh file.
+    let dir = mesh_path.parent().unwrap_or(Path::new("")).to_path_buf();
+    let fetch = |name: &str, relative: String| {
+        let p = dir.join(relative);
+        if !io::exists(&p) {
+            return Err(format!("file not found (looked for {})", looked_for(&p, name)));
+        }
+        io::read_bytes(&p).map_err(|e| e.to_string())
+    };
     let (mesh, file_camera, external) = if gltf {
-        let dir = mesh_path.parent().unwrap_or(Path::new("")).to_path_buf();
-        let mut fetch = |uri: &str| {
-            let p = dir.join(scene::gltf_mesh::uri_path(uri));
-            if !io::exists(&p) {
-                return Err(format!("file not found (looked for {})", looked_for(&p, uri)));
-            }
-            io::read_bytes(&p).map_err(|e| e.to_string())
-        };
+        let mut fetch = |uri: &str| fetch(uri, scene::gltf_mesh::uri_path(uri));
         let g = scene::gltf_mesh::parse_gltf(&bytes, &mut fetch).map_err(|e| Error::input(&mesh_path, e))?;
         (g.mesh, g.camera, g.external)
     } else {
-        (mesh::parse_obj(&bytes).map_err(|e| Error::input(&mesh_path, e))?, None, Vec::new())
+        let mut fetch = |name: &str| fetch(name, name.to_string());
+        let o = mesh::parse_obj_with(&bytes, Some(&mut fetch)).map_err(|e| Error::input(&mesh_path, e))?;
+        (o.mesh, None, o.external)
     };
     let view = match (&spec.camera.0, file_camera) {
         (Some(c), _) => c.camera(),

@@ -13,7 +13,7 @@
 //!
 //! Scenes without masks carry none of this (`Accel::alpha` is `None`): their rays cost one
 //! predictable check per triangle hit. A leaf: it imports nothing of the crate, so the tree, the
-//! packets and the loaders can all use it.
+//! packets and the loaders (glTF, and OBJ with `map_d` in its material library) can all use it.
 
 use glam::Vec3;
 
@@ -81,6 +81,46 @@ impl Cutout {
         let i = y * self.width as usize + x;
         (self.bits[i / 64] >> (i % 64)) & 1 != 0
     }
+}
+
+/// Which of an image's channels is a mask's value (MTL's `-imfchan`: r, g, b, m for matte = alpha,
+/// l for luminance).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Channel {
+    Red,
+    Green,
+    Blue,
+    Alpha,
+    Luminance,
+}
+
+/// Decodes a mask texture (PNG or TGA) to its width, height and one channel's values in 0..=1, row
+/// by row from the image's first row. `None`: the alpha channel if the image has one, else its
+/// luminance (a grey mask, as Sponza's `map_d` textures are, is its grey value). Images without
+/// alpha have alpha 1 everywhere.
+/// `name`: the file's name, whose extension tells a TGA (TGA files have no magic number); other
+/// images are known by their first bytes.
+pub fn decode(bytes: &[u8], channel: Option<Channel>, name: &str) -> Result<(u32, u32, Vec<f32>), String> {
+    let tga = name.to_ascii_lowercase().ends_with(".tga");
+    let image = if tga {
+        image::load_from_memory_with_format(bytes, image::ImageFormat::Tga)
+    } else {
+        image::load_from_memory(bytes)
+    };
+    let image = image.map_err(|e| format!("does not decode as PNG or TGA: {e}"))?;
+    let channel =
+        channel.unwrap_or(if image.color().has_alpha() { Channel::Alpha } else { Channel::Luminance });
+    let (w, h) = (image.width(), image.height());
+    let values = match channel {
+        Channel::Luminance => image.to_luma32f().into_raw(),
+        c => {
+            let k =
+                [Channel::Red, Channel::Green, Channel::Blue, Channel::Alpha].iter().position(|&x| x == c);
+            let k = k.expect("a colour channel");
+            image.into_rgba32f().pixels().map(|p| p.0[k]).collect()
+        }
+    };
+    Ok((w, h, values))
 }
 
 /// No mask: the triangle is solid (a material index no cutout has).

@@ -141,18 +141,14 @@ fn cutout(
     let image = info.texture().source();
     let bytes =
         image_bytes(&image, buffers, fetch, external).map_err(|e| format!("image {}: {e}", image.index()))?;
-    let decoded = image::load_from_memory(&bytes).map_err(|e| {
-        format!("image {}: the base colour texture does not decode as PNG: {e}", image.index())
-    })?;
-    let rgba = decoded.into_rgba32f();
-    let alpha: Vec<f32> = rgba.pixels().map(|p| p.0[3]).collect();
+    let (w, h, alpha) = super::alpha::decode(&bytes, Some(super::alpha::Channel::Alpha), "")
+        .map_err(|e| format!("image {}: the base colour texture {e}", image.index()))?;
     let sampler = info.texture().sampler();
     let wrap = |w: ::gltf::texture::WrappingMode| match w {
         ::gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
         ::gltf::texture::WrappingMode::MirroredRepeat => Wrap::Mirror,
         ::gltf::texture::WrappingMode::ClampToEdge => Wrap::Clamp,
     };
-    let (w, h) = (rgba.width(), rgba.height());
     Ok(Cutout::new(w, h, &alpha, factor, cutoff, [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())]))
 }
 

@@ -61,39 +61,65 @@ impl Mesh {
 /// zstd frames start with this magic number (RFC 8878, 3.1.1), so a renamed file still decodes.
 const ZSTD_MAGIC: [u8; 4] = [0x28, 0xB5, 0x2F, 0xFD];
 
-/// Decodes `bytes` (plain OBJ text, or zstd-compressed OBJ) into triangles.
+/// A compressed file is decoded in batches of about this many bytes of text, each parsed (in parallel
+/// parts) while the next is decoded: the text is never held whole (a 10 M-triangle OBJ is 0.4 GB of
+/// it), and decoding overlaps parsing.
+const BATCH_BYTES: usize = 8 * obj::PART_BYTES;
+
+/// An OBJ file's mesh with its masks, and the bytes they came from (hashed with the scene: they
+/// change its images). No masks, no bytes: a library that masks nothing changes no image.
+pub struct ObjLoad {
+    pub mesh: Mesh,
+    pub external: Vec<Vec<u8>>,
+}
+
+/// Decodes `bytes` (plain OBJ text, or zstd-compressed OBJ) into triangles, geometry only: `mtllib`
+/// is not followed, so no mask is applied (tools and tests that need none).
 /// The error text says where (line) and what; the caller prefixes the file name.
 pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
-    // Plain text is read in place: a copy would hold the whole file twice.
-    let decoded;
-    let text: &[u8] = if bytes.starts_with(&ZSTD_MAGIC) {
-        decoded = decompress(bytes)?;
-        &decoded
-    } else {
-        bytes
+    parse_obj_with(bytes, None).map(|l| l.mesh)
+}
+
+/// `parse_obj`, reading the material libraries (`mtllib`) and their `map_d` textures through `fetch`
+/// (a path relative to the OBJ file, `/`-separated, to its bytes): materials with a `map_d` become
+/// alpha masks (`scene::mtl`). A library that cannot be read is a note (its materials render solid);
+/// a fault in a library, or a `map_d` texture that is missing or does not decode, is an error.
+pub fn parse_obj_with(
+    bytes: &[u8],
+    fetch: Option<&mut dyn FnMut(&str) -> Result<Vec<u8>, String>>,
+) -> Result<ObjLoad, String> {
+    let parsed = read(bytes, BATCH_BYTES)?;
+    let mut mesh = Mesh { skipped: parsed.skipped.clone(), ..Mesh::default() };
+    let masks = match fetch {
+        Some(fetch) => super::obj_masks::masks(&parsed, fetch, &mut mesh.notes)?,
+        None => None,
     };
-    let text = std::str::from_utf8(text).map_err(|e| {
-        let line = 1 + text[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
-        format!("line {line}: not UTF-8 text (is this an OBJ file?)")
-    })?;
-    let parsed = obj::parse(text)?;
-    let mut mesh = Mesh { skipped: parsed.skipped, ..Mesh::default() };
+    let mut source = masks.as_ref().map(|_| super::alpha::Source::default());
+    let mut runs = parsed.material_runs.iter().peekable();
+    let mut material = None;
     let mut start = 0;
-    for &end in &parsed.face_ends {
+    for (f, &end) in parsed.face_ends.iter().enumerate() {
+        while let Some(run) = runs.next_if(|r| r.first_face <= f) {
+            material = Some(run.material as usize);
+        }
         let face = &parsed.corners[start..end];
         let at = |i: u32| parsed.positions[i as usize];
-        for pair in face[1..].windows(2) {
-            let idx = [face[0], pair[0], pair[1]];
-            if usable(&idx.map(at)) {
-                mesh.indices.push(idx);
-            } else {
+        for k in 1..face.len() - 1 {
+            let idx = [face[0], face[k], face[k + 1]];
+            if !usable(&idx.map(at)) {
                 mesh.dropped += 1;
+                continue;
+            }
+            mesh.indices.push(idx);
+            if let (Some(m), Some(source)) = (&masks, source.as_mut()) {
+                let corners = [start, start + k, start + k + 1];
+                m.push(source, material, &parsed, corners);
             }
         }
         start = end;
     }
-    drop((parsed.corners, parsed.face_ends));
-    mesh.positions = parsed.positions;
+    let positions = parsed.positions;
+    mesh.positions = positions;
     if mesh.indices.is_empty() {
         let skipped = mesh.skipped_description().map_or(String::new(), |s| format!("; skipped {s}"));
         return Err(if mesh.dropped == 1 {
@@ -104,7 +130,81 @@ pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
             format!("empty mesh: no faces (AO needs at least one triangle){skipped}")
         });
     }
-    Ok(mesh)
+    let mut external = Vec::new();
+    if let (Some(m), Some(mut source)) = (masks, source) {
+        if source.any() {
+            source.cutouts = m.cutouts;
+            mesh.alpha = Some(source);
+            external = m.bytes;
+        }
+    }
+    Ok(ObjLoad { mesh, external })
+}
+
+/// The OBJ text of `bytes` parsed: plain text in place (a copy would hold the file twice), zstd
+/// decoded batch by batch (of about `batch` bytes), concatenated frames one after another. A stream that does
+/// not decode is reported as such, whatever its text held before the fault.
+fn read(bytes: &[u8], batch_bytes: usize) -> Result<obj::Parsed, String> {
+    let mut reader = obj::Reader::default();
+    if !bytes.starts_with(&ZSTD_MAGIC) {
+        reader.feed_bytes(bytes);
+        return reader.finish();
+    }
+    let mut frames = Frames { input: bytes, frame: None };
+    let mut batch = Vec::new();
+    let mut carry = Vec::new();
+    loop {
+        let (_, next) = rayon::join(
+            || reader.feed_bytes(&batch),
+            || frames.fill(std::mem::take(&mut carry), batch_bytes),
+        );
+        let (mut text, end) = next?;
+        if end {
+            reader.feed_bytes(&text);
+            return reader.finish();
+        }
+        // Whole lines now; the last, unfinished one is carried into the next batch.
+        let whole = text.iter().rposition(|&b| b == b'\n').map_or(0, |k| k + 1);
+        carry = text.split_off(whole);
+        batch = text;
+    }
+}
+
+/// The decoded text of one or more concatenated zstd frames.
+struct Frames<'a> {
+    input: &'a [u8],
+    frame: Option<ruzstd::decoding::StreamingDecoder<&'a [u8], ruzstd::decoding::FrameDecoder>>,
+}
+
+impl Frames<'_> {
+    /// `buf` with decoded text appended until it holds `batch` bytes (or the last frame ended: true).
+    fn fill(&mut self, mut buf: Vec<u8>, batch: usize) -> Result<(Vec<u8>, bool), String> {
+        buf.reserve(batch.saturating_sub(buf.len()));
+        // At least one read: `buf` may already hold a batch's worth of an unfinished line.
+        let mut first = true;
+        while first || buf.len() < batch {
+            first = false;
+            let frame = match &mut self.frame {
+                Some(f) => f,
+                None if self.input.is_empty() => return Ok((buf, true)),
+                None => {
+                    let f = ruzstd::decoding::StreamingDecoder::new(self.input)
+                        .map_err(|e| format!("not a readable zstd stream: {e}"))?;
+                    self.frame.insert(f)
+                }
+            };
+            let old = buf.len();
+            let want = batch.saturating_sub(old).clamp(1, 1 << 16);
+            buf.resize(old + want, 0);
+            let n = frame.read(&mut buf[old..]).map_err(|e| format!("zstd decoding failed: {e}"))?;
+            buf.truncate(old + n);
+            if n == 0 {
+                // The frame ended: what follows it is the next frame, if anything.
+                self.input = self.frame.take().expect("a frame").into_inner();
+            }
+        }
+        Ok((buf, false))
+    }
 }
 
 /// The bytes of a mesh file as text bytes: zstd-decoded if they start with zstd's magic number,
@@ -114,11 +214,14 @@ pub fn decompress(bytes: &[u8]) -> Result<Vec<u8>, String> {
         return Ok(bytes.to_vec());
     }
     let mut out = Vec::new();
-    ruzstd::decoding::StreamingDecoder::new(bytes)
-        .map_err(|e| format!("not a readable zstd stream: {e}"))?
-        .read_to_end(&mut out)
-        .map_err(|e| format!("zstd decoding failed: {e}"))?;
-    Ok(out)
+    let mut frames = Frames { input: bytes, frame: None };
+    loop {
+        let (text, end) = frames.fill(out, BATCH_BYTES)?;
+        out = text;
+        if end {
+            return Ok(out);
+        }
+    }
 }
 
 /// A triangle is usable if its vertices are finite and it has a normal. `Scene::new` checks again
@@ -139,6 +242,39 @@ mod tests {
         let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2 2\n";
         let m = parse_obj(obj.as_bytes()).unwrap();
         assert_eq!((m.indices.len(), m.dropped), (2, 1));
+    }
+
+    /// A compressed file read in batches of any size (cut inside lines, inside frames) is the file
+    /// read whole; concatenated frames are one file.
+    #[test]
+    fn zstd_streams_in_batches_and_frames_concatenate() {
+        let zst = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/kitchen.obj.zst")).unwrap();
+        let text = decompress(&zst).unwrap();
+        let whole = read(&text, usize::MAX).unwrap();
+        for batch in [4000, 70_000, 1 << 20] {
+            let p = read(&zst, batch).unwrap();
+            assert_eq!(
+                (p.positions, p.corners, p.face_ends),
+                (whole.positions.clone(), whole.corners.clone(), whole.face_ends.clone())
+            );
+            assert_eq!(
+                (p.texcoords, p.corner_texcoords),
+                (whole.texcoords.clone(), whole.corner_texcoords.clone())
+            );
+            assert_eq!(
+                (p.materials, p.material_runs),
+                (whole.materials.clone(), whole.material_runs.clone())
+            );
+        }
+        let twice = decompress(&[&zst[..], &zst[..]].concat()).unwrap();
+        assert_eq!(twice, [&text[..], &text[..]].concat());
+        // A fault in a later batch keeps its line.
+        let mut bad = text.clone();
+        bad.extend(b"f 1 2\n");
+        let lines = bad.iter().filter(|&&b| b == b'\n').count();
+        let packed = ruzstd::encoding::compress_to_vec(&bad[..], ruzstd::encoding::CompressionLevel::Fastest);
+        let e = read(&packed, 5000).err().unwrap();
+        assert!(e.starts_with(&format!("line {lines}: a face with 2 vertices")), "{e}");
     }
 
     #[test]

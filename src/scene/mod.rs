@@ -14,9 +14,11 @@ pub mod gltf_mesh;
 #[cfg(any(test, feature = "testing"))]
 pub mod gltf_write;
 pub mod mesh;
+pub mod mtl;
 pub(crate) mod near;
 mod node;
 mod obj;
+mod obj_masks;
 pub mod packet;
 #[cfg(any(test, feature = "testing"))]
 pub mod procedural;

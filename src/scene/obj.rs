@@ -1,19 +1,30 @@
 //! The statements of a Wavefront OBJ file that AO needs, read line by line so that every fault is
-//! reported with its line: vertices (`v`) and faces (`f`). Texture coordinates and normals (`vt`,
-//! `vn`) and a face's references to them are ignored (AO needs neither), as are grouping and
-//! material statements (`o`, `g`, `s`, `mtllib`, `usemtl`: no .mtl file is ever opened). Elements
-//! that are not faces (`p` points, `l` polylines, `curv`, `curv2`, `surf` free-form geometry) have
-//! no surface to occlude with and are skipped and counted, for one warning. A `#` starts a comment
-//! anywhere on a line.
+//! reported with its line: vertices (`v`) and faces (`f`), and for alpha masks (`map_d` in a
+//! material library) texture coordinates (`vt`), a face's references to them, `mtllib` and `usemtl`.
+//! Normals (`vn`) and a face's references to them are ignored (AO needs none), as are grouping
+//! statements (`o`, `g`, `s`). Elements that are not faces (`p` points, `l` polylines, `curv`,
+//! `curv2`, `surf` free-form geometry) have no surface to occlude with and are skipped and counted,
+//! for one warning. A `#` starts a comment anywhere on a line.
 //!
 //! Faces are split into triangles as a fan from their first corner, (a, b, c), (a, c, d), …, in file
 //! order: the triangles tobj (the loader used before) made, bit for bit, so stored images and
 //! references stay valid.
+//!
+//! The text comes in batches of whole lines (`Reader::feed`), so a compressed file is parsed as it is
+//! decoded and never held whole (issue 29); each batch is cut into parts read in parallel. The one
+//! thing a part cannot know is how many vertices the whole file has, which an out-of-range index's
+//! message states and a forward reference (`f 9 …` before the ninth `v`) needs: such indices are
+//! checked at the end (`Reader::finish`), and the first fault in file order is the one reported,
+//! with the message a one-pass read of the whole file gives.
 
 use super::MAX_COORDINATE;
 use glam::DVec3;
 
-/// A file's geometry: positions, and faces as runs of 0-based position indices.
+/// A corner without a texture coordinate (`f 1 2 3`, `f 1//4 …`).
+pub const NO_TEXCOORD: u32 = u32::MAX;
+
+/// A file's geometry: positions, and faces as runs of 0-based position indices; the texture
+/// coordinates and materials an alpha mask needs.
 #[derive(Debug, Default)]
 pub struct Parsed {
     pub positions: Vec<DVec3>,
@@ -23,94 +34,321 @@ pub struct Parsed {
     pub face_ends: Vec<usize>,
     /// Elements skipped because they are not faces: keyword, count, first line, in order of first use.
     pub skipped: Vec<(&'static str, usize, usize)>,
-    /// Vertices in the file before this part of it (`parse` reads large files in parts).
-    first_vertex: usize,
+    /// `vt u [v [w]]` as (u, v), as written (OBJ's v = 0 is the image's bottom row).
+    pub texcoords: Vec<[f32; 2]>,
+    /// Per corner (as `corners`) its 0-based texture coordinate or `NO_TEXCOORD`; empty if no face
+    /// refers to one (no memory for a file without them).
+    pub corner_texcoords: Vec<u32>,
+    /// Material libraries named by `mtllib`, with their lines, in file order.
+    pub libraries: Vec<(String, usize)>,
+    /// Material names in order of first `usemtl`.
+    pub materials: Vec<String>,
+    /// One per `usemtl`: faces from there on use that material until the next; faces before the
+    /// first use none.
+    pub material_runs: Vec<Run>,
+    /// The first line of a face without texture coordinates before this part's first `usemtl` (a
+    /// part's faces continue the material of the part before).
+    leading_untextured: Option<usize>,
+}
+
+/// The faces from `first_face` on use `material` (index into `Parsed::materials`), from `usemtl` on
+/// `line`; `untextured`: the line of the first of them with a corner without texture coordinates
+/// (which a masked material cannot have).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Run {
+    pub first_face: usize,
+    pub material: u32,
+    pub line: usize,
+    pub untextured: Option<usize>,
 }
 
 /// Elements with no surface; counted, not rendered.
 const NOT_FACES: [&str; 5] = ["p", "l", "curv", "curv2", "surf"];
 
-/// Files larger than this are read in parts of about this size, in parallel (issue 29: a 10 M-triangle
-/// OBJ is 0.4 GB of text); smaller ones in one part.
-const PART_BYTES: usize = 4 << 20;
+/// Batches are cut into parts of about this size, read in parallel (a 10 M-triangle OBJ is 0.4 GB of
+/// text); smaller ones are one part.
+pub const PART_BYTES: usize = 4 << 20;
 
-/// Reads `text`; the error says where (line) and what. A large file is cut at line ends into parts
-/// read in parallel: a first pass counts each part's lines and vertices, so that every part knows
-/// its first line number and the vertices before it (relative indices count back from there,
-/// positive ones are checked against the file's total), and the first fault in file order is the
-/// one reported, with the message reading the whole file in one part would give.
+/// Reads `text`, a whole file; the error says where (line) and what.
+#[cfg(test)]
 pub fn parse(text: &str) -> Result<Parsed, String> {
-    parse_in_parts(text, PART_BYTES)
+    let mut r = Reader::default();
+    r.feed(text);
+    r.finish()
 }
 
-/// `parse` with parts of about `part_bytes` (tests cut small files into many).
-fn parse_in_parts(text: &str, part_bytes: usize) -> Result<Parsed, String> {
-    use rayon::prelude::*;
-    let mut parts = Vec::new();
-    let mut start = 0;
-    while start < text.len() {
-        let cut = start.saturating_add(part_bytes).min(text.len());
-        let end = text.as_bytes()[cut..].iter().position(|&b| b == b'\n').map_or(text.len(), |k| cut + k + 1);
-        parts.push(&text[start..end]);
-        start = end;
+/// An index not yet checked (it needs the file's total), or a fault found.
+#[derive(Debug, Clone)]
+enum Fault {
+    /// The whole message.
+    Text(String),
+    /// An index out of range: `seen` vertices (or texture coordinates) came before its line.
+    Index { line: usize, idx: i64, seen: i64, texture: bool },
+}
+
+/// A positive index beyond what its line has seen: valid iff the file has that many in all.
+#[derive(Debug, Clone, Copy)]
+struct Forward {
+    line: usize,
+    idx: i64,
+    seen: i64,
+    texture: bool,
+}
+
+/// Reads a file batch by batch (`feed`), then `finish`.
+#[derive(Debug)]
+pub struct Reader {
+    parsed: Parsed,
+    /// Lines, vertices and texture coordinates in the batches fed so far.
+    lines: usize,
+    vertices: usize,
+    texcoords: usize,
+    forward: Vec<Forward>,
+    /// The first fault found; after it, batches are only counted.
+    fault: Option<Fault>,
+    part_bytes: usize,
+}
+
+impl Default for Reader {
+    fn default() -> Self {
+        Self::with_parts(PART_BYTES)
     }
-    // Lines and vertices in each part; then where each part starts, in both.
-    let counts: Vec<(usize, usize)> =
-        parts.par_iter().map(|t| (t.lines().count(), t.lines().filter(|l| is_vertex(l)).count())).collect();
-    let total = counts.iter().map(|c| c.1).sum();
-    let mut firsts = Vec::with_capacity(parts.len());
-    let (mut line, mut vertex) = (0, 0);
-    for &(lines, vertices) in &counts {
-        firsts.push((line, vertex));
-        (line, vertex) = (line + lines, vertex + vertices);
+}
+
+/// What one part read: its faces and so on, and the fault that stopped it, if one did.
+struct Part {
+    parsed: Parsed,
+    forward: Vec<Forward>,
+    fault: Option<Fault>,
+    /// Reused by `face`.
+    scratch: Vec<u32>,
+}
+
+impl Reader {
+    /// A reader cutting batches into parts of about `part_bytes` (tests cut small files into many).
+    pub fn with_parts(part_bytes: usize) -> Self {
+        Self {
+            parsed: Parsed::default(),
+            lines: 0,
+            vertices: 0,
+            texcoords: 0,
+            forward: Vec::new(),
+            fault: None,
+            part_bytes: part_bytes.max(1),
+        }
     }
-    let read: Vec<Result<Parsed, String>> =
-        parts.par_iter().zip(&firsts).map(|(t, &(l, v))| parse_part(t, l, v, total)).collect();
-    let mut p = Parsed { positions: Vec::with_capacity(total), ..Parsed::default() };
-    for part in read {
-        let part = part?;
-        let offset = p.corners.len();
+
+    /// The next bytes of the file: whole lines (the batch ends after a line end, or is the file's
+    /// end). Bytes that are not UTF-8 are a fault at their line.
+    pub fn feed_bytes(&mut self, bytes: &[u8]) {
+        match std::str::from_utf8(bytes) {
+            Ok(text) => self.feed(text),
+            Err(e) => {
+                let valid = &bytes[..e.valid_up_to()];
+                let line = self.lines + 1 + valid.iter().filter(|&&b| b == b'\n').count();
+                let whole = valid.iter().rposition(|&b| b == b'\n').map_or(0, |k| k + 1);
+                self.feed(std::str::from_utf8(&valid[..whole]).expect("a valid prefix"));
+                if self.fault.is_none() {
+                    self.fault =
+                        Some(Fault::Text(format!("line {line}: not UTF-8 text (is this an OBJ file?)")));
+                }
+                self.count(&String::from_utf8_lossy(&bytes[whole..]));
+            }
+        }
+    }
+
+    /// The next whole lines of the file (as `feed_bytes`).
+    pub fn feed(&mut self, text: &str) {
+        use rayon::prelude::*;
+        if self.fault.is_some() {
+            return self.count(text);
+        }
+        let mut parts = Vec::new();
+        let mut start = 0;
+        while start < text.len() {
+            let cut = start.saturating_add(self.part_bytes).min(text.len());
+            let end =
+                text.as_bytes()[cut..].iter().position(|&b| b == b'\n').map_or(text.len(), |k| cut + k + 1);
+            parts.push(&text[start..end]);
+            start = end;
+        }
+        // Lines, vertices and texture coordinates in each part; then where each part starts.
+        let counts: Vec<[usize; 3]> = parts.par_iter().map(|t| counts(t)).collect();
+        let mut firsts = Vec::with_capacity(parts.len());
+        let mut at = [self.lines, self.vertices, self.texcoords];
+        for c in &counts {
+            firsts.push(at);
+            at = [at[0] + c[0], at[1] + c[1], at[2] + c[2]];
+        }
+        [self.lines, self.vertices, self.texcoords] = at;
+        let read: Vec<Part> = parts.par_iter().zip(&firsts).map(|(t, &f)| parse_part(t, f)).collect();
+        for part in read {
+            self.merge(part.parsed);
+            self.forward.extend(part.forward);
+            if part.fault.is_some() {
+                self.fault = part.fault;
+                break;
+            }
+        }
+    }
+
+    /// Counts the lines, vertices and texture coordinates of text after a fault (the message of an
+    /// earlier out-of-range index states the file's total).
+    fn count(&mut self, text: &str) {
+        let c = counts(text);
+        self.lines += c[0];
+        self.vertices += c[1];
+        self.texcoords += c[2];
+    }
+
+    /// Appends a part read after everything read so far.
+    fn merge(&mut self, part: Parsed) {
+        let p = &mut self.parsed;
+        let (corners, faces) = (p.corners.len(), p.face_ends.len());
+        // Kept for every corner once any corner has one (`NO_TEXCOORD` for the rest).
+        if !part.corner_texcoords.is_empty() || !p.corner_texcoords.is_empty() {
+            p.corner_texcoords.resize(corners, NO_TEXCOORD);
+            if part.corner_texcoords.is_empty() {
+                p.corner_texcoords.resize(corners + part.corners.len(), NO_TEXCOORD);
+            } else {
+                p.corner_texcoords.extend(part.corner_texcoords);
+            }
+        }
         p.positions.extend(part.positions);
         p.corners.extend(part.corners);
-        p.face_ends.extend(part.face_ends.iter().map(|e| e + offset));
+        p.face_ends.extend(part.face_ends.iter().map(|e| e + corners));
+        p.texcoords.extend(part.texcoords);
         for (kind, n, line) in part.skipped {
             match p.skipped.iter_mut().find(|s| s.0 == kind) {
                 Some(s) => s.1 += n,
                 None => p.skipped.push((kind, n, line)),
             }
         }
-    }
-    Ok(p)
-}
-
-/// A `v` statement.
-fn is_vertex(line: &str) -> bool {
-    line.split_whitespace().next() == Some("v")
-}
-
-/// One part of a file: its first line is line `first_line + 1`, `first_vertex` vertices come before
-/// it, and the file has `total`.
-fn parse_part(text: &str, first_line: usize, first_vertex: usize, total: usize) -> Result<Parsed, String> {
-    let mut p = Parsed { first_vertex, ..Parsed::default() };
-    for (no, line) in text.lines().enumerate() {
-        let line_no = first_line + no + 1;
-        let content = line.split('#').next().unwrap_or_default();
-        let mut words = content.split_whitespace();
-        match words.next() {
-            Some("v") => p.positions.push(vertex(line, words, line_no)?),
-            Some("f") => face(&mut p, line, words, line_no, total)?,
-            Some(k) => {
-                if let Some(&kind) = NOT_FACES.iter().find(|&&n| n == k) {
-                    match p.skipped.iter_mut().find(|s| s.0 == kind) {
-                        Some(s) => s.1 += 1,
-                        None => p.skipped.push((kind, 1, line_no)),
-                    }
+        p.libraries.extend(part.libraries);
+        match p.material_runs.last_mut() {
+            Some(run) if run.untextured.is_none() => run.untextured = part.leading_untextured,
+            None if p.leading_untextured.is_none() => p.leading_untextured = part.leading_untextured,
+            _ => {}
+        }
+        for run in part.material_runs {
+            let name = &part.materials[run.material as usize];
+            let m = match p.materials.iter().position(|n| n == name) {
+                Some(k) => k,
+                None => {
+                    p.materials.push(name.clone());
+                    p.materials.len() - 1
                 }
-            }
-            None => {}
+            };
+            p.material_runs.push(Run { first_face: run.first_face + faces, material: m as u32, ..run });
         }
     }
-    Ok(p)
+
+    /// The file read: every index checked against the file's totals, the first fault in file order.
+    pub fn finish(self) -> Result<Parsed, String> {
+        let totals = [self.vertices as i64, self.texcoords as i64];
+        let render = |f: Fault| match f {
+            Fault::Text(s) => s,
+            Fault::Index { line, idx, seen, texture } => {
+                let (what, total) =
+                    if texture { ("texture coordinates (`vt`)", totals[1]) } else { ("vertices", totals[0]) };
+                let kind = if texture { "face texture index" } else { "face index" };
+                format!(
+                    "line {line}: {kind} {idx} out of range (the file has {total} {what}, {seen} before this \
+                     line; indices start at 1)"
+                )
+            }
+        };
+        if let Some(f) = self.forward.iter().find(|f| f.idx > totals[f.texture as usize]) {
+            let Forward { line, idx, seen, texture } = *f;
+            return Err(render(Fault::Index { line, idx, seen, texture }));
+        }
+        match self.fault {
+            Some(f) => Err(render(f)),
+            None => Ok(self.parsed),
+        }
+    }
+}
+
+/// The statement's keyword: its first word outside a comment.
+fn keyword(line: &str) -> Option<&str> {
+    line.split('#').next().unwrap_or_default().split_whitespace().next()
+}
+
+/// Lines, `v` and `vt` statements in `text`.
+fn counts(text: &str) -> [usize; 3] {
+    let mut c = [0; 3];
+    for line in text.lines() {
+        c[0] += 1;
+        match keyword(line) {
+            Some("v") => c[1] += 1,
+            Some("vt") => c[2] += 1,
+            _ => {}
+        }
+    }
+    c
+}
+
+/// One part of a file: its first line is line `first[0] + 1`, `first[1]` vertices and `first[2]`
+/// texture coordinates come before it.
+fn parse_part(text: &str, first: [usize; 3]) -> Part {
+    let mut part = Part { parsed: Parsed::default(), forward: Vec::new(), fault: None, scratch: Vec::new() };
+    for (no, line) in text.lines().enumerate() {
+        let line_no = first[0] + no + 1;
+        if let Err(f) = statement(&mut part, line, line_no, first) {
+            part.fault = Some(f);
+            break;
+        }
+    }
+    part
+}
+
+/// One line.
+fn statement(part: &mut Part, line: &str, line_no: usize, first: [usize; 3]) -> Result<(), Fault> {
+    let content = line.split('#').next().unwrap_or_default();
+    let mut words = content.split_whitespace();
+    let p = &mut part.parsed;
+    match words.next() {
+        Some("v") => p.positions.push(vertex(line, words, line_no).map_err(Fault::Text)?),
+        Some("vt") => p.texcoords.push(texcoord(line, words, line_no).map_err(Fault::Text)?),
+        Some("f") => face(part, line, words, line_no, first)?,
+        Some("mtllib") => {
+            let names: Vec<&str> = words.collect();
+            if names.is_empty() {
+                return Err(Fault::Text(format!("line {line_no}: `mtllib` needs a file name")));
+            }
+            p.libraries.extend(names.into_iter().map(|n| (n.to_string(), line_no)));
+        }
+        Some("usemtl") => {
+            // A name may contain spaces (some exporters write them): the rest of the line.
+            let name = content.trim_start().strip_prefix("usemtl").unwrap_or_default().trim();
+            if name.is_empty() {
+                return Err(Fault::Text(format!("line {line_no}: `usemtl` needs a material name")));
+            }
+            let m = match p.materials.iter().position(|n| n == name) {
+                Some(k) => k,
+                None => {
+                    p.materials.push(name.to_string());
+                    p.materials.len() - 1
+                }
+            };
+            p.material_runs.push(Run {
+                first_face: p.face_ends.len(),
+                material: m as u32,
+                line: line_no,
+                untextured: None,
+            });
+        }
+        Some(k) => {
+            if let Some(&kind) = NOT_FACES.iter().find(|&&n| n == k) {
+                match p.skipped.iter_mut().find(|s| s.0 == kind) {
+                    Some(s) => s.1 += 1,
+                    None => p.skipped.push((kind, 1, line_no)),
+                }
+            }
+        }
+        None => {}
+    }
+    Ok(())
 }
 
 /// `v x y z`, optionally followed by `w` (the point is (x, y, z) / w) or by a colour `r g b`.
@@ -162,6 +400,32 @@ fn vertex<'a>(line: &str, mut words: impl Iterator<Item = &'a str>, line_no: usi
     Ok(DVec3::from_array(c))
 }
 
+/// `vt u [v [w]]` (v defaults to 0; w, for 3D textures, is not used).
+fn texcoord<'a>(
+    line: &str,
+    words: impl Iterator<Item = &'a str>,
+    line_no: usize,
+) -> Result<[f32; 2], String> {
+    let values: Vec<&str> = words.collect();
+    let bad = || {
+        format!(
+            "line {line_no}: a texture coordinate is `vt u [v [w]]` with finite numbers, found '{}'",
+            line.trim()
+        )
+    };
+    if values.is_empty() || values.len() > 3 {
+        return Err(bad());
+    }
+    let mut uv = [0.0f32; 2];
+    for (k, s) in values.iter().enumerate() {
+        let x: f64 = s.parse().ok().filter(|x: &f64| x.is_finite()).ok_or_else(bad)?;
+        if k < 2 {
+            uv[k] = x as f32;
+        }
+    }
+    Ok(uv)
+}
+
 /// A coordinate must be finite and within ±`MAX_COORDINATE`.
 fn coordinate_ok(x: f64, written: &str, line_no: usize) -> Result<(), String> {
     if !x.is_finite() {
@@ -177,113 +441,76 @@ fn coordinate_ok(x: f64, written: &str, line_no: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// Index `idx` of a face's corner (1-based, or negative: back from the last before the line) with
+/// `seen` before the line, as a 0-based index; a positive one beyond `seen` is kept to be checked
+/// against the file's total at the end.
+fn resolve(part: &mut Part, idx: i64, seen: i64, line: usize, texture: bool) -> Result<u32, Fault> {
+    let at = if idx > 0 { idx - 1 } else { seen + idx };
+    if idx == 0 || at < 0 || at >= u32::MAX as i64 {
+        return Err(Fault::Index { line, idx, seen, texture });
+    }
+    if idx > seen {
+        part.forward.push(Forward { line, idx, seen, texture });
+    }
+    Ok(at as u32)
+}
+
 /// `f v1 v2 v3 …`, each corner `v`, `v/vt`, `v//vn` or `v/vt/vn`; indices count from 1, negative
 /// ones back from the last vertex before the line.
 fn face<'a>(
-    p: &mut Parsed,
+    part: &mut Part,
     line: &str,
     words: impl Iterator<Item = &'a str>,
     line_no: usize,
-    total: usize,
-) -> Result<(), String> {
-    let start = p.corners.len();
-    let seen = (p.first_vertex + p.positions.len()) as i64;
+    first: [usize; 3],
+) -> Result<(), Fault> {
+    let start = part.parsed.corners.len();
+    let seen = (first[1] + part.parsed.positions.len()) as i64;
+    let seen_vt = (first[2] + part.parsed.texcoords.len()) as i64;
+    // The corners' texture coordinates, in a buffer the part reuses (no allocation per face).
+    let mut vts = std::mem::take(&mut part.scratch);
+    vts.clear();
     for c in words {
-        let mut parts = c.split('/');
-        let first = parts.next().unwrap_or_default();
-        let rest_ok = parts.clone().count() <= 2 && parts.all(|s| s.is_empty() || s.parse::<i64>().is_ok());
-        let idx: i64 = match first.parse() {
-            Ok(i) if rest_ok => i,
-            _ => return Err(format!("line {line_no}: face vertex '{c}' is not an index")),
-        };
-        let at = if idx > 0 { idx - 1 } else { seen + idx };
-        if idx == 0 || at < 0 || at >= total as i64 {
-            return Err(format!(
-                "line {line_no}: face index {idx} out of range (the file has {total} vertices, {seen} before \
-                 this line; indices start at 1)"
-            ));
+        let mut fields = c.split('/');
+        let v = fields.next().unwrap_or_default();
+        let vt = fields.next().unwrap_or_default();
+        let vn = fields.next().unwrap_or_default();
+        let not_index = || Fault::Text(format!("line {line_no}: face vertex '{c}' is not an index"));
+        if fields.next().is_some() || !(vn.is_empty() || vn.parse::<i64>().is_ok()) {
+            return Err(not_index());
         }
-        p.corners.push(at as u32);
+        let idx: i64 = v.parse().map_err(|_| not_index())?;
+        let t = if vt.is_empty() { None } else { Some(vt.parse::<i64>().map_err(|_| not_index())?) };
+        let at = resolve(part, idx, seen, line_no, false)?;
+        part.parsed.corners.push(at);
+        vts.push(match t {
+            Some(t) => resolve(part, t, seen_vt, line_no, true)?,
+            None => NO_TEXCOORD,
+        });
     }
+    let p = &mut part.parsed;
     let n = p.corners.len() - start;
     if n < 3 {
-        return Err(format!(
+        return Err(Fault::Text(format!(
             "line {line_no}: a face with {n} vertices cannot be triangulated (need at least 3): '{}'",
             line.trim()
-        ));
+        )));
+    }
+    if vts.contains(&NO_TEXCOORD) {
+        let first = match p.material_runs.last_mut() {
+            Some(run) => &mut run.untextured,
+            None => &mut p.leading_untextured,
+        };
+        first.get_or_insert(line_no);
+    }
+    if vts.iter().any(|&t| t != NO_TEXCOORD) || !p.corner_texcoords.is_empty() {
+        p.corner_texcoords.resize(start, NO_TEXCOORD);
+        p.corner_texcoords.extend_from_slice(&vts);
     }
     p.face_ends.push(p.corners.len());
+    part.scratch = vts;
     Ok(())
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn comments_weights_colours_and_skipped_elements() {
-        let text = "v 0 0 0 # origin\nv 2 0 0 2\nv 0 1 0 0.5 0.5 0.5\nl 1 2 3\np 1\nl 2 3\nf 1 2 3\n";
-        let p = parse(text).unwrap();
-        assert_eq!(p.positions[1], DVec3::new(1.0, 0.0, 0.0), "w divides");
-        assert_eq!((p.corners.len(), p.face_ends.len()), (3, 1));
-        assert_eq!(p.skipped, vec![("l", 2, 4), ("p", 1, 5)]);
-    }
-
-    #[test]
-    fn parts_read_as_one_file() {
-        let mut text = String::from("# a grid with relative indices\r\n");
-        for i in 0..40 {
-            text += &format!("v {i} 0 0\nv {i} 1 0\n");
-            if i > 0 {
-                text += "f -4 -3 -1 -2\n";
-            }
-            if i % 7 == 0 {
-                text += &format!("l {} {}\np 1\n", 2 * i + 1, 2 * i + 2);
-            }
-        }
-        text += "f 1 2 3"; // no line end
-        let whole = parse_in_parts(&text, usize::MAX).unwrap();
-        for part_bytes in [1, 5, 17, 64] {
-            let p = parse_in_parts(&text, part_bytes).unwrap();
-            assert_eq!(p.positions, whole.positions);
-            assert_eq!(
-                (&p.corners, &p.face_ends, &p.skipped),
-                (&whole.corners, &whole.face_ends, &whole.skipped)
-            );
-        }
-        // A fault's line and vertex counts are the whole file's, whichever part it is in.
-        for bad in ["f 1 2 999", "f -100 1 2", "v 1 x 2", "f 1 2"] {
-            let lines: Vec<&str> = text.lines().collect();
-            for at in [3, 50, lines.len() - 1] {
-                let mut l = lines.clone();
-                l.insert(at, bad);
-                let t = l.join("\n");
-                let want = parse_in_parts(&t, usize::MAX).err().unwrap();
-                assert!(want.starts_with(&format!("line {}:", at + 1)), "{want}");
-                for part_bytes in [1, 9, 100] {
-                    assert_eq!(parse_in_parts(&t, part_bytes).err().unwrap(), want);
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn faults_name_their_line() {
-        for (text, want) in [
-            ("v 0 0 0\nv 1e30 0 0\n", "line 2: vertex coordinate 1e30 is beyond ±1e18"),
-            ("v 0 0 inf\n", "line 1: vertex coordinate 'inf' is not a finite number"),
-            ("v 0 0 1e999\n", "line 1: vertex coordinate '1e999' is not a finite number"),
-            ("v 0 0 nan\n", "line 1: vertex coordinate 'nan' is not a finite number"),
-            ("v 1 1 1 0\n", "line 1: vertex weight w is 0"),
-            ("v 1 1 1 1e-300\n", "line 1: vertex coordinate 1 / 1e-300 is beyond"),
-            ("v 1 1 1 1 1\n", "line 1: a vertex is `v x y z`"),
-            ("v 1 1 1 a b c\n", "line 1: vertex colour 'a'"),
-            ("v 0 0 0\nf 1 1/x 1\n", "line 2: face vertex '1/x' is not an index"),
-            ("v 0 0 0\nf 1 1/2/3/4 1\n", "line 2: face vertex '1/2/3/4' is not an index"),
-            ("v 0 0 0\nf 1 1 -2\n", "line 2: face index -2 out of range"),
-        ] {
-            let e = parse(text).err().unwrap_or_default();
-            assert!(e.starts_with(want), "{text:?}: want '{want}', got '{e}'");
-        }
-    }
-}
+mod tests;

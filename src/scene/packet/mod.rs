@@ -223,7 +223,11 @@ impl Accel {
                 return unsafe { self.occluded_packet_avx2(o, up, p, len, tmax, cache) };
             }
         }
-        self.occluded_packet::<false>(o, up, p, len, tmax, cache)
+        // Two copies of the walk: scenes without masks run the one with no mask test in it at all.
+        match self.alpha.is_some() {
+            true => self.occluded_packet::<false, true>(o, up, p, len, tmax, cache),
+            false => self.occluded_packet::<false, false>(o, up, p, len, tmax, cache),
+        }
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -237,13 +241,17 @@ impl Accel {
         tmax: f32,
         cache: &mut Occluders,
     ) -> u32 {
-        self.occluded_packet::<true>(o, up, p, len, tmax, cache)
+        match self.alpha.is_some() {
+            true => self.occluded_packet::<true, true>(o, up, p, len, tmax, cache),
+            false => self.occluded_packet::<true, false>(o, up, p, len, tmax, cache),
+        }
     }
 
-    /// Bit i set: ray i (of at most 32) is blocked.
+    /// Bit i set: ray i (of at most 32) is blocked. `MASKED`: the scene has alpha masks, and a hit
+    /// counts only where its mask keeps it (`unmasked`).
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // h indexes the halves of six plane arrays
-    fn occluded_packet<const WIDE: bool>(
+    fn occluded_packet<const WIDE: bool, const MASKED: bool>(
         &self,
         o: Vec3A,
         up: Option<Horizon>,
@@ -289,7 +297,7 @@ impl Accel {
                         new |= (unsafe { wide::hit8(p, g, &s, tmax) } & gm) << (8 * g);
                     }
                 }
-                if new != 0 && self.alpha.is_some() {
+                if MASKED && new != 0 {
                     new = self.unmasked(prim, &s, p, new, tmax);
                 }
                 if new != 0 {
@@ -304,7 +312,7 @@ impl Accel {
                 gs &= gs - 1;
                 new |= (hit_group(p, g, &s, tmax) & (live >> (4 * g)) & 0xf) << (4 * g);
             }
-            if new != 0 && self.alpha.is_some() {
+            if MASKED && new != 0 {
                 new = self.unmasked(prim, &s, p, new, tmax);
             }
             if new != 0 {

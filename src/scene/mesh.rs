@@ -6,6 +6,7 @@
 //! renderer's f32.
 
 use super::obj;
+pub use super::obj_masks::Fetch;
 use glam::DVec3;
 use std::io::Read;
 
@@ -84,10 +85,7 @@ pub fn parse_obj(bytes: &[u8]) -> Result<Mesh, String> {
 /// (a path relative to the OBJ file, `/`-separated, to its bytes): materials with a `map_d` become
 /// alpha masks (`scene::mtl`). A library that cannot be read is a note (its materials render solid);
 /// a fault in a library, or a `map_d` texture that is missing or does not decode, is an error.
-pub fn parse_obj_with(
-    bytes: &[u8],
-    fetch: Option<&mut dyn FnMut(&str) -> Result<Vec<u8>, String>>,
-) -> Result<ObjLoad, String> {
+pub fn parse_obj_with(bytes: &[u8], fetch: Option<Fetch<'_>>) -> Result<ObjLoad, String> {
     let parsed = read(bytes, BATCH_BYTES)?;
     let mut mesh = Mesh { skipped: parsed.skipped.clone(), ..Mesh::default() };
     let masks = match fetch {
@@ -131,12 +129,12 @@ pub fn parse_obj_with(
         });
     }
     let mut external = Vec::new();
-    if let (Some(m), Some(mut source)) = (masks, source) {
-        if source.any() {
-            source.cutouts = m.cutouts;
-            mesh.alpha = Some(source);
-            external = m.bytes;
-        }
+    if let (Some(m), Some(mut source)) = (masks, source)
+        && source.any()
+    {
+        source.cutouts = m.cutouts;
+        mesh.alpha = Some(source);
+        external = m.bytes;
     }
     Ok(ObjLoad { mesh, external })
 }

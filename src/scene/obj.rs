@@ -106,6 +106,8 @@ pub struct Reader {
     forward: Vec<Forward>,
     /// The first fault found; after it, batches are only counted.
     fault: Option<Fault>,
+    /// The first bytes that are not UTF-8, as the message; after them nothing is read.
+    not_text: Option<String>,
     part_bytes: usize,
 }
 
@@ -134,25 +136,25 @@ impl Reader {
             texcoords: 0,
             forward: Vec::new(),
             fault: None,
+            not_text: None,
             part_bytes: part_bytes.max(1),
         }
     }
 
     /// The next bytes of the file: whole lines (the batch ends after a line end, or is the file's
-    /// end). Bytes that are not UTF-8 are a fault at their line.
+    /// end). Bytes that are not UTF-8 are a fault at their line that wins over any other (the file
+    /// is not text: what its lines seemed to say does not matter), as when the whole file was
+    /// checked before parsing.
     pub fn feed_bytes(&mut self, bytes: &[u8]) {
+        if self.not_text.is_some() {
+            return;
+        }
         match std::str::from_utf8(bytes) {
             Ok(text) => self.feed(text),
             Err(e) => {
                 let valid = &bytes[..e.valid_up_to()];
                 let line = self.lines + 1 + valid.iter().filter(|&&b| b == b'\n').count();
-                let whole = valid.iter().rposition(|&b| b == b'\n').map_or(0, |k| k + 1);
-                self.feed(std::str::from_utf8(&valid[..whole]).expect("a valid prefix"));
-                if self.fault.is_none() {
-                    self.fault =
-                        Some(Fault::Text(format!("line {line}: not UTF-8 text (is this an OBJ file?)")));
-                }
-                self.count(&String::from_utf8_lossy(&bytes[whole..]));
+                self.not_text = Some(format!("line {line}: not UTF-8 text (is this an OBJ file?)"));
             }
         }
     }
@@ -245,6 +247,9 @@ impl Reader {
 
     /// The file read: every index checked against the file's totals, the first fault in file order.
     pub fn finish(self) -> Result<Parsed, String> {
+        if let Some(e) = self.not_text {
+            return Err(e);
+        }
         let totals = [self.vertices as i64, self.texcoords as i64];
         let render = |f: Fault| match f {
             Fault::Text(s) => s,

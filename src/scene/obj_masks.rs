@@ -7,10 +7,24 @@ use super::alpha::{Cutout, SOLID, Source, Wrap};
 use super::obj::{NO_TEXCOORD, Parsed};
 use super::{alpha, mtl};
 
+/// Reads a file a mesh names (a path relative to the mesh file, `/`-separated) to its bytes.
+pub type Fetch<'a> = &'a mut dyn FnMut(&str) -> Result<Vec<u8>, String>;
+
+/// A masked material: its cutout, and its `-o` offset and `-s` scale of the texture coordinates.
+#[derive(Debug, Clone, Copy)]
+struct Placed {
+    cutout: u32,
+    offset: [f32; 2],
+    scale: [f32; 2],
+}
+
+/// A decoded texture: width, height, one value per texel.
+type Decoded = (u32, u32, Vec<f32>);
+
 /// What the masked materials need per triangle.
 pub struct Masks {
-    /// Per material of `Parsed::materials`: its cutout and its `-o` offset and `-s` scale.
-    per_material: Vec<Option<(u32, [f32; 2], [f32; 2])>>,
+    /// Per material of `Parsed::materials`, its mask if it has one.
+    per_material: Vec<Option<Placed>>,
     pub cutouts: Vec<Cutout>,
     /// The libraries' and textures' bytes (hashed with the scene).
     pub bytes: Vec<Vec<u8>>,
@@ -21,7 +35,7 @@ impl Masks {
     /// its material `material` (None before the first `usemtl`).
     pub fn push(&self, source: &mut Source, material: Option<usize>, parsed: &Parsed, corners: [usize; 3]) {
         match material.and_then(|m| self.per_material[m]) {
-            Some((cutout, offset, scale)) => {
+            Some(Placed { cutout, offset, scale }) => {
                 let uv = corners.map(|c| {
                     let t = parsed.corner_texcoords[c];
                     debug_assert!(t != NO_TEXCOORD, "checked by `masks`");
@@ -37,11 +51,7 @@ impl Masks {
 
 /// The masks of `parsed`'s materials, None if no material its faces use has a `map_d`. `fetch`
 /// reads a file named relative to the OBJ file; a library it cannot read is a note (`notes`).
-pub fn masks(
-    parsed: &Parsed,
-    fetch: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
-    notes: &mut Vec<String>,
-) -> Result<Option<Masks>, String> {
+pub fn masks(parsed: &Parsed, fetch: Fetch<'_>, notes: &mut Vec<String>) -> Result<Option<Masks>, String> {
     if parsed.material_runs.is_empty() || parsed.libraries.is_empty() {
         return Ok(None);
     }
@@ -75,7 +85,7 @@ pub fn masks(
     }
     let mut per_material = vec![None; parsed.materials.len()];
     let mut cutouts = Vec::new();
-    let mut textures: Vec<(String, (u32, u32, Vec<f32>))> = Vec::new();
+    let mut textures: Vec<(String, Decoded)> = Vec::new();
     let mut undefined = Vec::new();
     for (k, name) in parsed.materials.iter().enumerate() {
         let Some((m, lib)) = defined.iter().find(|(d, _)| &d.name == name) else {
@@ -100,19 +110,18 @@ pub fn masks(
         let wrap = if d.clamp { Wrap::Clamp } else { Wrap::Repeat };
         // Opaque iff base + gain × value >= 0.5, that is gain × value >= 0.5 − base.
         cutouts.push(Cutout::new(*w, *h, values, d.gain, 0.5 - d.base, [wrap; 2]));
-        per_material[k] = Some((cutouts.len() as u32 - 1, d.offset, d.scale));
+        per_material[k] = Some(Placed { cutout: cutouts.len() as u32 - 1, offset: d.offset, scale: d.scale });
     }
-    if let Some(&first) = undefined.first() {
-        if !bytes.is_empty() {
-            let line =
-                parsed.material_runs.iter().find(|r| r.material as usize == first).map_or(0, |r| r.line);
-            notes.push(format!(
-                "{} material(s) used by `usemtl` are defined in no material library read (first: '{}', line \
-                 {line}); they render solid",
-                undefined.len(),
-                parsed.materials[first]
-            ));
-        }
+    if let Some(&first) = undefined.first()
+        && !bytes.is_empty()
+    {
+        let line = parsed.material_runs.iter().find(|r| r.material as usize == first).map_or(0, |r| r.line);
+        notes.push(format!(
+            "{} material(s) used by `usemtl` are defined in no material library read (first: '{}', line \
+             {line}); they render solid",
+            undefined.len(),
+            parsed.materials[first]
+        ));
     }
     if cutouts.is_empty() {
         return Ok(None);

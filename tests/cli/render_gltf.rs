@@ -1,6 +1,6 @@
 //! `hemilab render` on glTF scenes: a good .glb renders with the file's own camera; a bad file
 //! (missing .bin, unsupported primitive mode, unreadable bytes) is one error naming the mesh file
-//! and the reason, exit 2, and nothing is written.
+//! and the reason, exit 2, and nothing is written; the same for an OBJ masked by `map_d`.
 
 use super::support::common::{Tmp, assert_error};
 use hemilab::scene::gltf_write::{Doc, Material, Node, soup};
@@ -89,4 +89,42 @@ fn no_texcoords() -> Vec<u8> {
     img.write_to(&mut png, image::ImageFormat::Png).unwrap();
     doc.images = vec![png.into_inner()];
     doc.to_glb()
+}
+
+/// The square as OBJ, its material `leaf` masked by `map_d` in `m.mtl`.
+const MASKED_OBJ: &str = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+    usemtl leaf\nf 1/1 2/2 3/3 4/4\n";
+const OBJ_SCENE: &str = "mesh = \"m.obj\"\nresolution = [16, 12]\nao_distance = 1.0\n[camera.perspective]\n\
+    eye = [0.5, 0.5, 3.0]\ntarget = [0.5, 0.5, 0.0]\nup = [0.0, 1.0, 0.0]\nfov_y_deg = 45.0\n";
+
+#[test]
+fn obj_map_d_masks_render_and_bad_ones_exit_2_writing_nothing() {
+    let t = Tmp::new("obj-mask-render");
+    std::fs::write(t.path("m.obj"), MASKED_OBJ).unwrap();
+    std::fs::write(t.path("s.toml"), OBJ_SCENE).unwrap();
+    let img = image::GrayImage::from_fn(2, 2, |x, _| image::Luma([if x == 0 { 255 } else { 0 }]));
+    img.save(t.path("mask.png")).unwrap();
+    std::fs::write(t.path("bad.png"), b"not a png").unwrap();
+    std::fs::write(t.path("m.mtl"), "newmtl leaf\nmap_d mask.png\n").unwrap();
+    let o = t.hemilab(&["render", "s.toml", "--rays", "4", "--output", "ok/x.exr"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        !String::from_utf8_lossy(&o.stderr).contains("warning"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    for (mtl, want) in [
+        (
+            "newmtl leaf\nmap_d gone.png\n",
+            "material library 'm.mtl', line 2: map_d texture 'gone.png': file not found",
+        ),
+        ("newmtl leaf\nmap_d bad.png\n", "map_d texture 'bad.png': does not decode as PNG or TGA"),
+        ("newmtl leaf\nmap_d -t 1 mask.png\n", "line 2: map_d option -t (turbulence) is not supported"),
+    ] {
+        std::fs::write(t.path("m.mtl"), mtl).unwrap();
+        let o = t.hemilab(&["render", "s.toml", "--rays", "4", "--output", "out/x.exr"]);
+        let e = assert_error(&o, "m.obj");
+        assert!(e.contains(want), "want '{want}' in: {e}");
+        assert!(!t.path("out").exists(), "{mtl}: wrote output");
+    }
 }

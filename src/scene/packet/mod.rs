@@ -13,9 +13,10 @@
 
 mod closest;
 mod horizon;
+mod masked;
 mod simd;
 
-use super::accel::{Accel, Seen, hit_seen};
+use super::accel::Accel;
 use super::node::{Ray, child_planes, slabs};
 use glam::{Vec3, Vec3A, Vec4};
 use horizon::{Horizon, horizon, horizon_of};
@@ -218,10 +219,8 @@ impl Accel {
         #[cfg(target_arch = "x86_64")]
         {
             use std::arch::is_x86_feature_detected as has;
-            // Scenes with alpha masks take the SSE2 walk (the same answers): a second, masked copy
-            // of the walk beside the AVX2 one made the compiler call `wide::node` out of line there,
-            // 14 % more instructions on the kitchen's query, and scenes without masks must keep
-            // their speed exactly (callgrind: the same instruction count as before masks existed).
+            // Masked scenes take the SSE2 walk (same answers): a masked AVX2 copy beside this one
+            // made `wide::node` an out-of-line call, +14 % instructions on the kitchen's query.
             if wide && self.alpha.is_none() && has!("avx2") && has!("popcnt") && has!("bmi1") {
                 // SAFETY: the CPU supports AVX2, POPCNT and BMI1 (checked just above).
                 return unsafe { self.occluded_packet_avx2(o, up, p, len, tmax, cache) };
@@ -390,27 +389,6 @@ impl Accel {
 }
 
 impl Accel {
-    /// Of the rays in `rays` that hit slot `prim` (seen from their origin as `s`), those whose hit
-    /// its alpha mask keeps: each ray's barycentrics exactly as `Accel::occluded` computes them
-    /// (`hit_seen` on the same direction bits), so packets and single rays agree. Only called for
-    /// scenes with masks.
-    #[inline(never)]
-    fn unmasked(&self, prim: u32, s: &Seen, p: &Packet, rays: u32, tmax: f32) -> u32 {
-        let mut keep = 0u32;
-        let mut r = rays;
-        while r != 0 {
-            let i = r.trailing_zeros() as usize;
-            r &= r - 1;
-            let d = [p.d[0][i / 4][i % 4], p.d[1][i / 4][i % 4], p.d[2][i / 4][i % 4]];
-            if let Some((_, _, b, c)) = hit_seen(s, d, tmax)
-                && self.keeps(prim, b, c)
-            {
-                keep |= 1 << i;
-            }
-        }
-        keep
-    }
-
     /// `wide::node` with SSE2, 4 children at a time: the same culling, the same answers.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]

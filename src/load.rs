@@ -35,7 +35,8 @@ impl Loaded {
 pub fn load(spec_path: &Path) -> Result<Loaded> {
     let text = io::read_string(spec_path)?;
     let spec = spec::parse_spec(&text, spec_path)?;
-    let scenes = spec.scenes.iter().map(|s| load_named_scene(&spec, s)).collect::<Result<Vec<_>>>()?;
+    let jobs = crate::plan::plan(&spec).jobs;
+    let scenes = spec.scenes.iter().map(|s| load_named_scene(&spec, s, &jobs)).collect::<Result<Vec<_>>>()?;
     for w in scenes.iter().filter_map(dropped_warning) {
         eprintln!("{w}");
     }
@@ -47,7 +48,8 @@ pub fn load(spec_path: &Path) -> Result<Loaded> {
 
 /// A scene the spec names: a missing file is the spec's mistake, so the message points at its key;
 /// an image too large to hold in memory is refused here rather than by the allocator mid-run.
-fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
+/// Its BVH build effort follows the rays the spec's jobs and reference trace in it (`spec_rays`).
+fn load_named_scene(spec: &Spec, s: &SceneRef, jobs: &[Job]) -> Result<Scene> {
     if !io::exists(&s.path) {
         // The full path: the scene is looked for relative to the spec, which may not be where the
         // user is.
@@ -62,7 +64,7 @@ fn load_named_scene(spec: &Spec, s: &SceneRef) -> Result<Scene> {
             ),
         ));
     }
-    let scene = load_scene(&s.path)?;
+    let scene = load_scene_with(&s.path, &|res| spec_rays(spec, s, jobs, res))?;
     let g = Geometry::of(spec.resolution, spec.ao_distance, &scene);
     check_pixels(g.width, g.height)
         .map_err(|e| Error::input(&spec.path, format!("key `resolution`: scene '{}': {e}", s.name)))?;
@@ -87,6 +89,31 @@ pub fn load_scene_for(
     resolution: Option<(u32, u32)>,
     rays_per_pixel: Option<u32>,
 ) -> Result<Scene> {
+    load_scene_with(path, &|res| {
+        let (w, h) = resolution.unwrap_or(res);
+        rays_per_pixel.map(|r| w as u64 * h as u64 * (r as u64 + 1))
+    })
+}
+
+/// About the rays a spec traces in scene `s`, whose own resolution is `res`: every job's primary
+/// and AO rays in each frame up to the one it reports, and the reference's replicates (None, so
+/// the full build, when the reference's rays are `auto`: decided later, by the measured errors).
+/// Timing repeats and calibration renders come on top; the committed specs trace far more than
+/// `FAST_BELOW_RAYS_PER_TRIANGLE` rays per triangle by this count alone, so they keep the full
+/// build, and a small spec over a large scene (10 M triangles) gets the fast one.
+fn spec_rays(spec: &Spec, s: &SceneRef, jobs: &[Job], res: (u32, u32)) -> Option<u64> {
+    let spec::ReferenceRays::Fixed(reference) = spec.reference.rays else { return None };
+    let pixels = |r: Option<[u32; 2]>| {
+        r.or(spec.resolution).map_or(res.0 as u64 * res.1 as u64, |[w, h]| w as u64 * h as u64)
+    };
+    let mine = jobs.iter().filter(|j| j.scene_id == s.id && j.integrand == s.integrand);
+    let traced: u64 = mine.map(|j| pixels(j.resolution) * (j.rays as u64 + 1) * j.frame.max(1) as u64).sum();
+    Some(traced + pixels(None) * (reference as u64 + 1) * spec.reference.replicates as u64)
+}
+
+/// `load_scene` with the BVH build effort by `rays`: the rays the command will trace, given the
+/// scene file's resolution (None: unknown, full effort).
+fn load_scene_with(path: &Path, rays: &dyn Fn((u32, u32)) -> Option<u64>) -> Result<Scene> {
     let text = io::read_string(path)?;
     let spec = file::parse(&text).map_err(|e| Error::input(path, e))?;
     let lower = spec.mesh.to_ascii_lowercase();
@@ -156,9 +183,7 @@ pub fn load_scene_for(
     drop(parts);
     drop((bytes, external));
     let res = (spec.resolution.0, spec.resolution.1);
-    let (w, h) = resolution.unwrap_or(res);
-    let rays = rays_per_pixel.map(|r| w as u64 * h as u64 * (r as u64 + 1));
-    let scene = Scene::new(name, view, res, spec.ao_distance.0, hash, mesh, rays).map_err(|e| {
+    let scene = Scene::new(name, view, res, spec.ao_distance.0, hash, mesh, rays(res)).map_err(|e| {
         // Its camera and distance were checked with the file; an empty mesh is the mesh's fault.
         Error::input(if e.starts_with(scene::EMPTY_MESH) { &mesh_path } else { path }, e)
     })?;

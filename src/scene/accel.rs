@@ -170,6 +170,11 @@ impl Accel {
         self.alpha = Some(Box::new(mask));
     }
 
+    /// The build effort the tree was made with (`Effort::for_work`).
+    pub fn effort(&self) -> Effort {
+        if self.source.is_some() { Effort::Full } else { Effort::Fast }
+    }
+
     /// Whether hits can be rejected by an alpha mask.
     pub fn has_alpha(&self) -> bool {
         self.alpha.is_some()

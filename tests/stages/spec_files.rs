@@ -207,3 +207,21 @@ fn replicates_default_to_four_and_one_is_warned_about() {
         "{w}"
     );
 }
+
+/// A spec's scenes get the BVH build effort of the rays it traces in them: the committed paper spec
+/// (millions of rays per scene) the full build, a tiny spec over the terrain (30,000 triangles,
+/// about 15,000 rays) the fast one, and a spec whose reference rays are `auto` the full one.
+#[test]
+fn a_specs_scenes_are_built_for_the_rays_it_traces() {
+    use hemilab::scene::Effort;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let paper = hemilab::load::load(&root.join("experiments/paper.toml")).unwrap();
+    assert!(paper.scenes.iter().all(|s| s.accel.effort() == Effort::Full));
+    let t = crate::support::common::Tmp::new("spec-effort");
+    let tiny = crate::support::common::tiny_spec(16, "").replace("cornell-box.toml", "terrain.toml");
+    let spec = t.spec("tiny.toml", &tiny);
+    let loaded = hemilab::load::load(&spec).unwrap();
+    assert_eq!(loaded.scenes[0].accel.effort(), Effort::Fast);
+    let spec = t.spec("auto.toml", &tiny.replace("rays = 16", "rays = \"auto\""));
+    assert_eq!(hemilab::load::load(&spec).unwrap().scenes[0].accel.effort(), Effort::Full);
+}

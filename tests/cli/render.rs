@@ -1,14 +1,11 @@
 //! The real binary: `render` writes the EXR (Y = AO, A = coverage) and a PNG beside it; bad arguments
 //! exit with 2 and create nothing; `bench --json` reports rays per second.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hemilab-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn temp_dir(name: &str) -> crate::support::common::Tmp {
+    crate::support::common::Tmp::new(name)
 }
 
 fn hemilab(args: &[&str]) -> Output {

@@ -3,14 +3,11 @@
 
 use hemilab::load::dropped_warning;
 use hemilab::load::load_scene;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// A fresh directory for one test (removed first, so reruns start clean).
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hemilab-scene-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory for one test, removed when it passes.
+fn temp_dir(name: &str) -> crate::support::common::Tmp {
+    crate::support::common::Tmp::new(name)
 }
 
 const TOML: &str = "mesh = \"m.obj\"\nresolution = [8, 8]\nao_distance = 1.0\n\n[camera.perspective]\n\
@@ -18,7 +15,7 @@ const TOML: &str = "mesh = \"m.obj\"\nresolution = [8, 8]\nao_distance = 1.0\n\n
 const QUAD: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
 
 /// Writes the scene TOML and (if given) its mesh, and returns the load error text.
-fn load_error(name: &str, toml: &str, obj: Option<&str>) -> (PathBuf, String) {
+fn load_error(name: &str, toml: &str, obj: Option<&str>) -> (crate::support::common::Tmp, String) {
     let dir = temp_dir(name);
     let scene = dir.join("s.toml");
     std::fs::write(&scene, toml).unwrap();

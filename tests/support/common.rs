@@ -74,6 +74,14 @@ impl Tmp {
     }
 }
 
+/// A `Tmp` reads as its directory's path (`dir.join(..)`, `&dir` for a `&Path`).
+impl std::ops::Deref for Tmp {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
 impl Drop for Tmp {
     fn drop(&mut self) {
         if !std::thread::panicking() {

@@ -64,6 +64,20 @@ pub struct Run {
     pub untextured: Option<usize>,
 }
 
+impl Parsed {
+    /// The index of material `name` in `materials`, added if new (a part's `usemtl`, and a part's
+    /// materials when it is merged into the file's).
+    fn material(&mut self, name: &str) -> u32 {
+        match self.materials.iter().position(|n| n == name) {
+            Some(k) => k as u32,
+            None => {
+                self.materials.push(name.to_string());
+                self.materials.len() as u32 - 1
+            }
+        }
+    }
+}
+
 /// Elements with no surface; counted, not rendered.
 const NOT_FACES: [&str; 5] = ["p", "l", "curv", "curv2", "surf"];
 
@@ -236,14 +250,8 @@ impl Reader {
         }
         for run in part.material_runs {
             let name = &part.materials[run.material as usize];
-            let m = match p.materials.iter().position(|n| n == name) {
-                Some(k) => k,
-                None => {
-                    p.materials.push(name.clone());
-                    p.materials.len() - 1
-                }
-            };
-            p.material_runs.push(Run { first_face: run.first_face + faces, material: m as u32, ..run });
+            let material = p.material(name);
+            p.material_runs.push(Run { first_face: run.first_face + faces, material, ..run });
         }
     }
 
@@ -331,16 +339,10 @@ fn statement(part: &mut Part, line: &str, line_no: usize, first: [usize; 3]) -> 
             if name.is_empty() {
                 return Err(Fault::Text(format!("line {line_no}: `usemtl` needs a material name")));
             }
-            let m = match p.materials.iter().position(|n| n == name) {
-                Some(k) => k,
-                None => {
-                    p.materials.push(name.to_string());
-                    p.materials.len() - 1
-                }
-            };
+            let material = p.material(name);
             p.material_runs.push(Run {
                 first_face: p.face_ends.len(),
-                material: m as u32,
+                material,
                 line: line_no,
                 untextured: None,
             });

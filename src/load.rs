@@ -13,20 +13,25 @@ use crate::scene::{self, Camera, Scene, file, mesh};
 use crate::spec::{self, SceneRef, Spec};
 use glam::DVec3;
 use std::path::Path;
+use std::sync::Arc;
 
 /// A spec with every scene it names loaded: all bad input is found here, before any work.
+/// `scenes[i]` is the scene of `spec.scenes[i]`; the entries of one scene file measured under
+/// several integrands share one loaded scene (one parse, one BVH).
 pub struct Loaded {
     pub spec: Spec,
-    pub scenes: Vec<Scene>,
+    pub scenes: Vec<Arc<Scene>>,
 }
 
 impl Loaded {
+    /// The spec scene (index into `spec.scenes`, `scenes` and a run's references) a job measures:
+    /// its scene file under its integrand.
     pub fn scene_of(&self, job: &Job) -> (usize, &Scene) {
         let i = self
             .spec
             .scenes
             .iter()
-            .position(|s| s.id == job.scene_id && s.integrand == job.integrand)
+            .position(|s| s.id == job.scene_id && s.integrand == job.measurement.integrand)
             .expect("planned scene is in the spec");
         (i, &self.scenes[i])
     }
@@ -36,9 +41,18 @@ pub fn load(spec_path: &Path) -> Result<Loaded> {
     let text = io::read_string(spec_path)?;
     let spec = spec::parse_spec(&text, spec_path)?;
     let jobs = crate::plan::plan(&spec).jobs;
-    let scenes = spec.scenes.iter().map(|s| load_named_scene(&spec, s, &jobs)).collect::<Result<Vec<_>>>()?;
-    for w in scenes.iter().filter_map(dropped_warning) {
-        eprintln!("{w}");
+    let mut scenes: Vec<Arc<Scene>> = Vec::with_capacity(spec.scenes.len());
+    for (i, s) in spec.scenes.iter().enumerate() {
+        match spec.scenes[..i].iter().position(|o| o.id == s.id) {
+            Some(first) => scenes.push(Arc::clone(&scenes[first])),
+            None => {
+                let scene = Arc::new(load_named_scene(&spec, s, &jobs)?);
+                if let Some(w) = dropped_warning(&scene) {
+                    eprintln!("{w}");
+                }
+                scenes.push(scene);
+            }
+        }
     }
     if let Some(w) = single_replicate_warning(&spec) {
         eprintln!("{w}");
@@ -95,8 +109,9 @@ pub fn load_scene_for(
     })
 }
 
-/// About the rays a spec traces in scene `s`, whose own resolution is `res`: every job's primary
-/// and AO rays in each frame up to the one it reports, and the reference's replicates (None, so
+/// About the rays a spec traces in the scene file of `s`, whose own resolution is `res`: every
+/// job's primary and AO rays in each frame up to the one it reports (under every integrand), and
+/// each of its references' replicates (None, so
 /// the full build, when the reference's rays are `auto`: decided later, by the measured errors).
 /// Timing repeats and calibration renders come on top; the committed specs trace far more than
 /// `FAST_BELOW_RAYS_PER_TRIANGLE` rays per triangle by this count alone, so they keep the full
@@ -106,9 +121,11 @@ fn spec_rays(spec: &Spec, s: &SceneRef, jobs: &[Job], res: (u32, u32)) -> Option
     let pixels = |r: Option<[u32; 2]>| {
         r.or(spec.resolution).map_or(res.0 as u64 * res.1 as u64, |[w, h]| w as u64 * h as u64)
     };
-    let mine = jobs.iter().filter(|j| j.scene_id == s.id && j.integrand == s.integrand);
-    let traced: u64 = mine.map(|j| pixels(j.resolution) * (j.rays as u64 + 1) * j.frame.max(1) as u64).sum();
-    Some(traced + pixels(None) * (reference as u64 + 1) * spec.reference.replicates as u64)
+    let mine = jobs.iter().filter(|j| j.scene_id == s.id);
+    let frames = |j: &Job| j.measurement.frame.max(1) as u64;
+    let traced: u64 = mine.map(|j| pixels(j.resolution) * (j.rays as u64 + 1) * frames(j)).sum();
+    let references = spec.scenes.iter().filter(|o| o.id == s.id).count() as u64;
+    Some(traced + references * pixels(None) * (reference as u64 + 1) * spec.reference.replicates as u64)
 }
 
 /// `load_scene` with the BVH build effort by `rays`: the rays the command will trace, given the

@@ -205,7 +205,15 @@ pub fn setup(args: &Request) -> Result<Setup> {
         );
     }
     let plan = last_frame_only(plan::plan(&spec), args.frames);
-    Ok(Setup { loaded: Loaded { spec, scenes: vec![scene] }, plan, rows, rays, stem, choice, reference_dir })
+    Ok(Setup {
+        loaded: Loaded { spec, scenes: vec![std::sync::Arc::new(scene)] },
+        plan,
+        rows,
+        rays,
+        stem,
+        choice,
+        reference_dir,
+    })
 }
 
 /// The parts of advise's spec that do not depend on the reference.
@@ -394,6 +402,6 @@ pub fn verify_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Plan {
 /// Only the jobs measured at frame `frames`: advise ranks the image after the last frame, and the
 /// plan's earlier reported frames (1, 2, 4, …) would render most of the frames again.
 fn last_frame_only(mut plan: Plan, frames: u32) -> Plan {
-    plan.jobs.retain(|j| j.frame == frames || !j.pipeline.is_temporal());
+    plan.jobs.retain(|j| j.measurement.frame == frames || !j.measurement.pipeline.is_temporal());
     plan
 }

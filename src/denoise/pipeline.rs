@@ -11,7 +11,7 @@ use std::fmt;
 use std::str::FromStr;
 
 /// The spatial filter applied to one (accumulated) frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Spatial {
     /// The normalized Gaussian of σ = `GAUSS_SIGMA` pixels over covered pixels (`gaussian`).
     Gauss,

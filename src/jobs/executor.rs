@@ -16,7 +16,6 @@ use crate::reference as refmath;
 use crate::reference::store::Reference;
 use crate::render::{self, RenderJob, RenderOutput};
 use crate::results::{self, JobResult};
-use crate::sampling::Integrand;
 use crate::scene::Scene;
 use crate::spec::Row;
 use crate::timing::{self, Need, Protocol, Slot, Summary, Time};
@@ -308,19 +307,18 @@ pub fn measure_jobs(
         slots = timing::schedule(&needs, protocol.seed);
     }
     let scene_of_id = |id: usize| if id < n { loaded.scene_of(&plan.jobs[id]).0 } else { id - n };
-    // Real-time jobs' spatial filters: each scene's G-buffer and its reference under each filter.
-    let mut gbufs: HashMap<usize, render::GBuffer> = HashMap::new();
-    let mut filtered: HashMap<(usize, String), crate::image::Image> = HashMap::new();
-    for (i, job) in plan.jobs.iter().enumerate().filter(|(_, j)| j.pipeline.spatial.is_some()) {
-        let si = loaded.scene_of(job).0;
-        let g = gbufs
-            .entry(si)
-            .or_insert_with(|| render::gbuffer(&loaded.scenes[si], jobs[i].width, jobs[i].height));
-        let sp = super::frames::spatial_only(job.pipeline);
-        filtered.entry((si, sp.to_string())).or_insert_with(|| sp.apply_spatial(&references[si].mean, g));
-    }
-    let frames_of =
-        |id: usize| plan.jobs.get(id).map_or(1, |j| super::frames::frames_rendered(j).len() as u64);
+    // Each job's kind of measurement, and what the filtered ones are guided by and compared with.
+    let measures: Vec<Box<dyn super::measure::Measure>> =
+        plan.jobs.iter().map(|j| super::measure::of(&j.measurement)).collect();
+    let guides = super::measure::Guides::new(
+        plan.jobs
+            .iter()
+            .enumerate()
+            .map(|(i, j)| (loaded.scene_of(j).0, &j.measurement, jobs[i].width, jobs[i].height)),
+        |si| &loaded.scenes[si],
+        |si| &references[si].mean,
+    );
+    let frames_of = |id: usize| measures.get(id).map_or(1, |m| m.frames());
     let pixels = |id: usize| jobs[id].width as u64 * jobs[id].height as u64 * frames_of(id);
     let cost = |slots: &[Slot]| slots.iter().map(|s| pixels(s.job) * jobs[s.job].sampler.count as u64).sum();
     bar.reset();
@@ -341,37 +339,19 @@ pub fn measure_jobs(
         }
         let rj = &jobs[slot.job];
         let rays = rj.sampler.count as u64;
-        let realtime = plan.jobs.get(slot.job).filter(|j| !j.is_single_frame());
-        let (output, time): (RenderOutput, Time) = worker.timed(|| match realtime {
-            Some(job) => super::frames::render_frames(scene, rj, job, &|px| bar.inc(px * rays)),
-            None => {
-                let integrand = plan.jobs.get(slot.job).map_or(Integrand::Ao, |j| j.integrand);
-                render::render_integrand(scene, rj, integrand, &|px| bar.inc(px * rays))
-            }
-        });
+        // Overhead renders (ids from n) are single AO frames.
+        let single = super::measure::SingleFrame(crate::plan::Measurement::PAPER);
+        let measure: &dyn super::measure::Measure = measures.get(slot.job).map_or(&single, |m| &**m);
+        let (output, time): (RenderOutput, Time) =
+            worker.timed(|| measure.render(scene, rj, &|px| bar.inc(px * rays)));
         if !slot.record {
             return Ok(Done { time, record: None });
         }
         let job = &plan.jobs[slot.job];
         let reference = &references[si];
         let refuse = |e: metrics::MetricsError| Error::Refused(format!("job {}: {e}", job.file_stem()));
-        let (output, stats, noise_rmse) = if job.is_single_frame() {
-            let stats = metrics::measure(&output.ao, &reference.mean, &reference.coverage).map_err(refuse)?;
-            let noise = stats.rmse;
-            (output, stats, noise)
-        } else {
-            let sp = super::frames::spatial_only(job.pipeline).to_string();
-            let (img, stats, noise) = super::frames::measure(
-                &output.ao,
-                job.pipeline,
-                gbufs.get(&si),
-                &reference.mean,
-                filtered.get(&(si, sp)),
-                &reference.coverage,
-            )
-            .map_err(refuse)?;
-            (RenderOutput { ao: img, ..output }, stats, noise)
-        };
+        let against = guides.against(si, &job.measurement, &reference.mean, &reference.coverage);
+        let (output, stats, noise_rmse) = measure.measure(output, &against).map_err(refuse)?;
         let image = keep(slot.job, job, &output)?;
         let mut record = JobResult::new(job, &stats, output.rays, image);
         record.noise_rmse = noise_rmse;
@@ -391,12 +371,10 @@ pub fn measure_jobs(
     let queued = timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write));
     stop_if_interrupted()?;
     queued?;
-    // Second round: more samples for the units whose samples add up to little time. Not for a
-    // real-time plan (`Job::is_single_frame` false somewhere): it is run for its errors after the
-    // pipelines, its hundreds of cheap units would each be re-rendered up to `max_repeats` times,
-    // and its times are those of the first round (`[timing] repeats` renders per unit).
-    let realtime = plan.jobs.iter().any(|j| !j.is_single_frame());
-    if state.renders > 0 && !realtime {
+    // Second round: more samples for the units whose samples add up to little time, when every
+    // measurement of the plan takes one (`Measurement::tops_up`).
+    let top_up = plan.jobs.iter().all(|j| j.measurement.tops_up());
+    if state.renders > 0 && top_up {
         let mut members: Vec<Vec<usize>> = vec![Vec::new(); needs.len()];
         for (i, job) in plan.jobs.iter().enumerate() {
             members[unit_of[&plan::unit_key(job)]].push(i);

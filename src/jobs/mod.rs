@@ -5,8 +5,8 @@
 
 pub mod calibrate;
 pub mod executor;
-pub mod frames;
 pub mod long_run;
+pub mod measure;
 pub mod runner;
 pub mod sweep;
 

@@ -56,7 +56,9 @@ impl JobRunner {
         let rj = render_job(job, scene, job.rays)?;
         self.start_pass(counts.iter().map(|&n| n as u64).sum(), label);
         let output = self.pool.install(|| {
-            crate::render::adaptive::render_counts_of(scene, &rj, job.integrand, counts, &|n| self.bar.inc(n))
+            crate::render::adaptive::render_counts_of(scene, &rj, job.measurement.integrand, counts, &|n| {
+                self.bar.inc(n)
+            })
         });
         Ok(Rendered { output })
     }
@@ -82,9 +84,9 @@ impl JobRunner {
         self.bar.set_message(label.to_string());
         let before = self.bar.position();
         let rays = job.rays as u64;
-        let output = self
-            .pool
-            .install(|| render::render_integrand(scene, &rj, job.integrand, &|px| self.bar.inc(px * rays)));
+        let output = self.pool.install(|| {
+            render::render_integrand(scene, &rj, job.measurement.integrand, &|px| self.bar.inc(px * rays))
+        });
         self.bar.set_position(before + g.pixels() * rays);
         Ok(Rendered { output })
     }

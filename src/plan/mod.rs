@@ -2,12 +2,15 @@
 //! the image file and decides whether a resumed run may skip it.
 
 use crate::denoise::Pipeline;
-use crate::sampling::{Distribution, Integrand, Schedule, SeedMode, Sequence};
+use crate::sampling::{Distribution, Integrand, SeedMode, Sequence};
 use crate::spec::{AoDistance, Row, Spec};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
 pub mod cost;
+mod measurement;
+
+pub use measurement::Measurement;
 
 /// One image to render.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,38 +32,13 @@ pub struct Job {
     pub resolution: Option<[u32; 2]>,
     /// `None`: the scene's own.
     pub ao_distance: Option<AoDistance>,
-    /// The frame whose image is measured, counted from 1: frames 0..frame-1 of a static camera
-    /// are rendered (with `SamplerConfig::with_frame`) when the pipeline accumulates, only the
-    /// last one when it does not. 1 (with `schedule` independent and `pipeline` raw) is the single
-    /// image of a paper table, and adds nothing to the key.
-    pub frame: u32,
-    /// How the per-pixel randomization changes from frame to frame.
-    pub schedule: Schedule,
-    /// What is done to the frames before the image is measured (`denoise::Pipeline`).
-    pub pipeline: Pipeline,
-    /// What the rays integrate (issue 27): the scene's (`SceneRef::integrand`). `Ao` adds nothing
-    /// to the key, so every key of a spec without `integrands` is what it was before.
-    pub integrand: Integrand,
+    /// What is measured of the images (integrand, frames, schedule, pipeline).
+    pub measurement: Measurement,
 }
 
 impl Job {
     pub fn row(&self) -> Row {
         Row::new(self.distribution, self.sequence, self.seed_mode)
-    }
-
-    /// Whether this is a paper-table job: one raw frame (frame 1, independent schedule, raw).
-    pub fn is_single_frame(&self) -> bool {
-        self.frame == 1 && self.schedule == Schedule::Independent && self.pipeline == Pipeline::RAW
-    }
-
-    /// `;frame=..;schedule=..;pipeline=..` for a real-time job, empty for a single frame, so every
-    /// key of a spec without the real-time keys is what it was before they existed.
-    pub fn realtime_suffix(&self) -> String {
-        if self.is_single_frame() {
-            String::new()
-        } else {
-            format!(";frame={};schedule={};pipeline={}", self.frame, self.schedule, self.pipeline)
-        }
     }
 
     /// Everything that determines the image, as text; the version prefix lets a format change
@@ -83,10 +61,7 @@ impl Job {
             res,
             d
         );
-        s.push_str(&self.realtime_suffix());
-        if self.integrand != Integrand::Ao {
-            let _ = write!(s, ";integrand={}", self.integrand);
-        }
+        s.push_str(&self.measurement.key_suffix());
         s
     }
 
@@ -97,11 +72,7 @@ impl Job {
 
     /// Readable and unique file stem for the job's image: `<scene>-<row>-<rays>r-<replicate>-<key>`.
     pub fn file_stem(&self) -> String {
-        let rt = if self.is_single_frame() {
-            String::new()
-        } else {
-            format!("-{}-{}-f{}", self.schedule, self.pipeline, self.frame)
-        };
+        let rt = self.measurement.file_part();
         format!(
             "{}-{}-{}-{}-{}r{rt}-{}-{}",
             self.scene_name,
@@ -176,10 +147,12 @@ pub fn plan(spec: &Spec) -> Plan {
                                         seed: replicate_seed(spec.seed, replicate),
                                         resolution: spec.resolution,
                                         ao_distance: spec.ao_distance,
-                                        frame,
-                                        schedule,
-                                        pipeline,
-                                        integrand: scene.integrand,
+                                        measurement: Measurement {
+                                            integrand: scene.integrand,
+                                            frame,
+                                            schedule,
+                                            pipeline,
+                                        },
                                     };
                                     if seen.insert(job.canonical()) {
                                         jobs.push(job);
@@ -229,10 +202,7 @@ pub fn reference_jobs(spec: &Spec, scene: usize, rays: u32) -> Vec<Job> {
             seed: reference_seed(spec.reference.seed, replicate),
             resolution: spec.resolution,
             ao_distance: spec.ao_distance,
-            frame: 1,
-            schedule: Schedule::Independent,
-            pipeline: Pipeline::RAW,
-            integrand: s.integrand,
+            measurement: Measurement::of(s.integrand),
         })
         .collect()
 }
@@ -313,10 +283,10 @@ pub fn format_duration(seconds: f64) -> String {
 }
 
 /// What the timing protocol calls a unit: one configuration on one scene.
-/// A real-time job's frames, schedule and pipeline are part of its unit (`Job::realtime_suffix`):
-/// 16 frames cost 16 times one.
+/// A multi-frame measurement's frames, schedule and pipeline are part of its unit
+/// (`Measurement::frames_key`): 16 frames cost 16 times one.
 pub fn unit_key(job: &Job) -> (String, Row, u32) {
-    (format!("{}{}", job.scene_id, job.realtime_suffix()), job.row().canonical(), job.rays)
+    (format!("{}{}", job.scene_id, job.measurement.frames_key()), job.row().canonical(), job.rays)
 }
 
 /// The plan's jobs grouped into units (job indices), units in order of their first job.

@@ -11,7 +11,7 @@ pub use slopes::{Slope, SlopeFit, SweepSlopes, convergence_slopes, sweep_slopes}
 pub use split::{efficiency_spread, fill_timing};
 
 use crate::metrics::ErrorStats;
-use crate::plan::Job;
+use crate::plan::{Job, Measurement};
 use crate::spec::Row;
 use serde::{Deserialize, Serialize};
 
@@ -229,18 +229,30 @@ impl JobResult {
             image: image.into(),
             times: Vec::new(),
             walls: Vec::new(),
-            pipeline: job.pipeline.to_string(),
-            frame: job.frame,
-            schedule: job.schedule.name().into(),
+            pipeline: job.measurement.pipeline.to_string(),
+            frame: job.measurement.frame,
+            schedule: job.measurement.schedule.name().into(),
             noise_rmse: stats.rmse,
-            integrand: job.integrand.to_string(),
+            integrand: job.measurement.integrand.to_string(),
         }
     }
 
-    /// Whether this is a paper-table record (one raw frame): the aggregates, comparisons and
-    /// verdicts of the paper read only these; the real-time records have their own section.
+    /// What this record measured, its names parsed (`None` if one is a name this version does not
+    /// know: such a record belongs to no table).
+    pub fn measurement(&self) -> Option<Measurement> {
+        Some(Measurement {
+            integrand: self.integrand.parse().ok()?,
+            frame: self.frame,
+            schedule: self.schedule.parse().ok()?,
+            pipeline: self.pipeline.parse().ok()?,
+        })
+    }
+
+    /// Whether this is a paper-table record (one raw frame, `Measurement::is_single_frame`): the
+    /// aggregates, comparisons and verdicts of the paper read only these; the multi-frame records
+    /// have their own section.
     pub fn is_single_frame(&self) -> bool {
-        self.frame == 1 && self.pipeline == "raw" && self.schedule == "independent"
+        self.measurement().is_some_and(|m| m.is_single_frame())
     }
 
     /// A record of `scene` with only what the statistics read (configuration, rays, replicate,
@@ -266,10 +278,7 @@ impl JobResult {
             seed: replicate as u64,
             resolution: None,
             ao_distance: None,
-            frame: 1,
-            schedule: crate::sampling::Schedule::Independent,
-            pipeline: crate::denoise::Pipeline::RAW,
-            integrand: crate::sampling::Integrand::Ao,
+            measurement: Measurement::PAPER,
         };
         let stats = ErrorStats {
             covered: 1,
@@ -388,7 +397,10 @@ pub fn to_json(results: &[JobResult]) -> String {
 /// Records written before `noise_rmse` existed are raw images: their noise RMSE is their RMSE.
 pub fn from_json(text: &str) -> Result<Vec<JobResult>, String> {
     let mut rs: Vec<JobResult> = serde_json::from_str(text).map_err(|e| e.to_string())?;
-    for r in rs.iter_mut().filter(|r| r.noise_rmse.is_nan() && r.pipeline == "raw") {
+    let raw = |r: &JobResult| {
+        r.pipeline.parse::<crate::denoise::Pipeline>().is_ok_and(|p| p == crate::denoise::Pipeline::RAW)
+    };
+    for r in rs.iter_mut().filter(|r| r.noise_rmse.is_nan() && raw(r)) {
         r.noise_rmse = r.rmse;
     }
     Ok(rs)

@@ -16,10 +16,7 @@ pub(super) fn job(rays: u32, replicate: u32) -> Job {
         seed: crate::plan::replicate_seed(1, replicate),
         resolution: Some([4, 4]),
         ao_distance: None,
-        frame: 1,
-        schedule: crate::sampling::Schedule::Independent,
-        pipeline: crate::denoise::Pipeline::RAW,
-        integrand: crate::sampling::Integrand::Ao,
+        measurement: crate::plan::Measurement::PAPER,
     }
 }
 

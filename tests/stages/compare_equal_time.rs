@@ -41,10 +41,7 @@ fn record(row: Row, rays: u32, replicate: u32, mse: f64, z: f64, times: &[f64]) 
         seed: replicate as u64,
         resolution: None,
         ao_distance: None,
-        frame: 1,
-        schedule: hemilab::sampling::Schedule::Independent,
-        pipeline: hemilab::denoise::Pipeline::RAW,
-        integrand: hemilab::sampling::Integrand::Ao,
+        measurement: hemilab::plan::Measurement::PAPER,
     };
     let stats = ErrorStats {
         covered: 100,

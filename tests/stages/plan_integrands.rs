@@ -31,7 +31,7 @@ fn specs_without_the_key_plan_what_they_did() {
             plan(&spec)
                 .jobs
                 .iter()
-                .all(|j| j.integrand == Integrand::Ao && !j.canonical().contains("integrand"))
+                .all(|j| j.measurement.integrand == Integrand::Ao && !j.canonical().contains("integrand"))
         );
         for si in 0..spec.scenes.len() {
             assert_eq!(reference_estimator(&spec, si), spec.reference.estimator);
@@ -75,9 +75,9 @@ fn each_other_integrand_is_the_scene_again_with_its_own_reference() {
     let bare_text = text.replace(line, "");
     let bare = plan(&spec_of(&bare_text, &p));
     let ao: Vec<String> =
-        full.jobs.iter().filter(|j| j.integrand == Integrand::Ao).map(|j| j.key()).collect();
+        full.jobs.iter().filter(|j| j.measurement.integrand == Integrand::Ao).map(|j| j.key()).collect();
     let bare_table: Vec<String> =
-        bare.jobs.iter().filter(|j| j.integrand == Integrand::Ao).map(|j| j.key()).collect();
+        bare.jobs.iter().filter(|j| j.measurement.integrand == Integrand::Ao).map(|j| j.key()).collect();
     for k in &ao {
         assert!(bare_table.contains(k), "AO job {k} differs from the spec without `integrands`");
     }

@@ -184,8 +184,16 @@ pipelines = ["raw", "ema0.1+atrous"]
 frames = 4
 "#;
     let p = plan_of(text);
-    let got: Vec<String> =
-        p.jobs.iter().map(|j| format!("{} {} {} f{}", j.schedule, j.rays, j.pipeline, j.frame)).collect();
+    let got: Vec<String> = p
+        .jobs
+        .iter()
+        .map(|j| {
+            format!(
+                "{} {} {} f{}",
+                j.measurement.schedule, j.rays, j.measurement.pipeline, j.measurement.frame
+            )
+        })
+        .collect();
     let want = [
         "independent 1 raw f1",
         "independent 1 ema0.1+atrous f1",
@@ -212,7 +220,7 @@ frames = 4
         "scenes = [\"a.toml\"]\nreplicates = 1\n[[table]]\nname = \"rt\"\nrays = [1]\n\
          distributions = [\"sine-cosine\"]\nsequences = [\"fibonacci\"]\n",
     );
-    assert!(p.jobs[0].is_single_frame());
+    assert!(p.jobs[0].measurement.is_single_frame());
     assert_eq!(p.jobs[0].key(), plain.jobs[0].key());
     assert!(!p.jobs[1].canonical().ends_with("ao_distance=scene"), "{}", p.jobs[1].canonical());
 }

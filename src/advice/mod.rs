@@ -46,15 +46,12 @@ pub fn not_sensible(row: Row) -> Option<&'static str> {
         (_, _, SeedMode::Stbn) => {
             Some("for one frame, a spatiotemporal mask's slice is a 2-D blue-noise mask like `blue-noise`'s")
         }
-        // The samplers renderers ship beside the paper's (issue 28) are measured as they ship:
-        // randomized per pixel, and ZSobol also unscrambled per pixel (its Morton blocks are what
-        // spreads its error as blue noise). Their other seed modes run when named with --only; all
-        // of them would double the sweep.
-        (_, Sequence::Halton | Sequence::Pmj02bn | Sequence::R2, m) if m != SeedMode::Shift => {
-            Some("the samplers renderers ship besides the paper's run as they ship them: `shift`")
-        }
-        (_, Sequence::ZSobol, m) if !matches!(m, SeedMode::Shift | SeedMode::Static) => {
-            Some("ZSobol runs as it ships: `static` (its Morton blocks) and `shift`")
+        // The samplers renderers ship beside the paper's (`SequenceInfo::shipped`) are measured
+        // as they ship: randomized per pixel, and ZSobol also unscrambled per pixel (its Morton
+        // blocks are what spreads its error as blue noise). Their other seed modes run when named
+        // with --only; all of them would double the sweep.
+        (_, s, m) if s.info().shipped.is_some_and(|sh| !sh.modes.contains(&m)) => {
+            s.info().shipped.map(|sh| sh.why)
         }
         (Distribution::ConcentricCosine, s, SeedMode::Rotation) if s != Sequence::Random => {
             Some("through the concentric map an x offset is not a rotation about the normal")
@@ -65,11 +62,11 @@ pub fn not_sensible(row: Row) -> Option<&'static str> {
 
 /// Every distribution × sequence × seed mode that `advise` runs by default: canonical (duplicates
 /// such as `random` × `shift` = `random` × `rotation` merged) and sensible (`not_sensible`), in the
-/// order of `Distribution::ALL`, `Sequence::ALL`, `SeedMode::ALL`.
+/// order of `Distribution::ALL`, `Sequence::all()`, `SeedMode::ALL`.
 pub fn sensible_rows() -> Vec<Row> {
     let mut rows = Vec::new();
     for &d in Distribution::ALL {
-        for &s in Sequence::ALL {
+        for s in Sequence::all() {
             for &m in SeedMode::ALL {
                 let r = Row::new(d, s, m).canonical();
                 if not_sensible(r).is_none() && !rows.contains(&r) {

@@ -71,35 +71,34 @@ pub enum Claim {
 pub const SLOPE_TOLERANCE: f64 = 0.05;
 
 impl Claim {
-    pub const ALL: [Claim; 10] = [
-        Claim::CosineBeatsUniform,
-        Claim::CosineBeatsSine,
-        Claim::FibonacciBeatsRandom,
-        Claim::StaticSeedStructured,
-        Claim::RandomSlopeHalf,
-        Claim::FibonacciSteeper,
-        Claim::FibonacciBeatsAtEqualTime(Sequence::Halton),
-        Claim::FibonacciBeatsAtEqualTime(Sequence::R2),
-        Claim::FibonacciBeatsAtEqualTime(Sequence::ZSobol),
-        Claim::FibonacciBeatsAtEqualTime(Sequence::Pmj02bn),
-    ];
+    /// The paper's six claims, then one equal-time claim per sampler renderers ship
+    /// (`Sequence::shipped`, in its order).
+    pub fn all() -> Vec<Claim> {
+        let mut v = vec![
+            Claim::CosineBeatsUniform,
+            Claim::CosineBeatsSine,
+            Claim::FibonacciBeatsRandom,
+            Claim::StaticSeedStructured,
+            Claim::RandomSlopeHalf,
+            Claim::FibonacciSteeper,
+        ];
+        v.extend(Sequence::shipped().into_iter().map(Claim::FibonacciBeatsAtEqualTime));
+        v
+    }
 
-    pub fn label(self) -> &'static str {
-        match self {
+    pub fn label(self) -> String {
+        let text = match self {
             Claim::CosineBeatsUniform => "sine-cosine < uniform (pseudo-random)",
             Claim::CosineBeatsSine => "sine-cosine < sine (pseudo-random)",
             Claim::FibonacciBeatsRandom => "Fibonacci, per-pixel seed < pseudo-random",
             Claim::StaticSeedStructured => "static seed's error is structured",
             Claim::RandomSlopeHalf => "pseudo-random slope = −0.5",
             Claim::FibonacciSteeper => "Fibonacci slope steeper than pseudo-random",
-            Claim::FibonacciBeatsAtEqualTime(s) => match s {
-                Sequence::Halton => "Fibonacci per-pixel beats halton at equal time",
-                Sequence::R2 => "Fibonacci per-pixel beats r2 at equal time",
-                Sequence::ZSobol => "Fibonacci per-pixel beats zsobol at equal time",
-                Sequence::Pmj02bn => "Fibonacci per-pixel beats pmj02bn at equal time",
-                _ => "Fibonacci per-pixel beats another sampler at equal time",
-            },
-        }
+            Claim::FibonacciBeatsAtEqualTime(s) => {
+                return format!("Fibonacci per-pixel beats {} at equal time", s.name());
+            }
+        };
+        text.to_string()
     }
 }
 
@@ -358,7 +357,7 @@ pub fn scene_verdicts(rs: &[JobResult], scene: &str, rays: &[u32], sweep: &[u32]
         v.detail = format!("{a:+.3} vs {b:+.3}: {}", v.detail);
     }
     out.push(v);
-    for claim in Claim::ALL {
+    for claim in Claim::all() {
         if let Claim::FibonacciBeatsAtEqualTime(seq) = claim {
             out.push(equal_time_claim(
                 rs,

@@ -20,7 +20,7 @@ pub mod equal_time;
 
 use crate::metrics::STRUCTURED_RATIO;
 use crate::results::{Aggregate, JobResult};
-use crate::sampling::{SeedMode, Sequence};
+use crate::sampling::SeedMode;
 use crate::spec::Row;
 use crate::stats::paired_difference;
 
@@ -33,7 +33,7 @@ pub fn per_pixel_unbiased(row: Row) -> bool {
         // A blue-noise mask (2-D or spatiotemporal) shifts every pixel's set by an offset uniform over
         // runs (docs/estimators.md).
         SeedMode::Shift | SeedMode::BlueNoise | SeedMode::Stbn => true,
-        SeedMode::Rotation => row.sequence == Sequence::Random,
+        SeedMode::Rotation => row.sequence.info().fresh_per_pixel,
         SeedMode::Static => false,
     }
 }
@@ -289,7 +289,7 @@ pub fn rank_disagreements(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampling::Distribution;
+    use crate::sampling::{Distribution, Sequence};
 
     fn row(d: Distribution, s: Sequence, m: SeedMode) -> Row {
         Row::new(d, s, m)

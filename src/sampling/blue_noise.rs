@@ -63,10 +63,17 @@ impl BlueNoiseMask {
     }
 }
 
-/// The shipped x and y masks, generated on first use (a few milliseconds) and kept for the process.
+static MASKS: OnceLock<[BlueNoiseMask; 2]> = OnceLock::new();
+
+/// The shipped x and y masks, generated on first use (a few milliseconds; `SamplerConfig::prepare`
+/// makes them before any timed render) and kept for the process.
 pub fn masks() -> &'static [BlueNoiseMask; 2] {
-    static MASKS: OnceLock<[BlueNoiseMask; 2]> = OnceLock::new();
     MASKS.get_or_init(|| MASK_SEEDS.map(|s| BlueNoiseMask::void_and_cluster(MASK_SIZE, MASK_SIGMA, s)))
+}
+
+/// Whether the masks have been generated in this process.
+pub fn masks_ready() -> bool {
+    MASKS.get().is_some()
 }
 
 /// Width of one rank's cell [rank/N, (rank+1)/N) of [0,1) in 24-bit fixed point (N = 4096 ranks).

@@ -7,6 +7,8 @@
 //! truncated. (An f32 division loses every fractional bit past index 2^24.)
 
 use super::hash::{FIX_BITS, fix_add, fix_to_f32};
+use super::registry::{PixelSet, PointSequence, SequenceInfo};
+use super::seed::SeedMode;
 use glam::Vec2;
 
 /// floor(2^128 / phi_g) = floor(2^128 * (phi_g - 1)).
@@ -123,6 +125,36 @@ fn fill_with_y(index_offset: u64, dx: u32, dy: u32, y: &[u32], out: &mut [Vec2])
 }
 
 /// `fill` one point at a time: the definition the blocks must match.
+/// The paper's lattice. Its seed is an index offset: `static` one per run, `rotation` plus one per
+/// pixel (x moves by frac(offset / phi)); `shift`, `blue-noise` and `stbn` add their offsets to
+/// the run's lattice (a Cranley–Patterson shift).
+pub struct Fibonacci;
+
+impl PointSequence for Fibonacci {
+    fn info(&self) -> &SequenceInfo {
+        &SequenceInfo {
+            name: "fibonacci",
+            label: "Fibonacci",
+            words: &["lattice", "fibonacci lattice"],
+            fresh_per_pixel: false,
+            shipped: None,
+        }
+    }
+
+    fn fill(&self, set: &PixelSet, out: &mut [Vec2]) {
+        let n = set.count.max(1);
+        let run_offset = set.seed.run_key >> 24;
+        let (fx, fy) = set.frame_offsets;
+        match set.seed_mode {
+            SeedMode::Static => fill(n, run_offset, fx, fy, out),
+            SeedMode::Rotation => fill(n, run_offset + (set.seed.pixel_key >> 24), fx, fy, out),
+            SeedMode::Shift | SeedMode::BlueNoise | SeedMode::Stbn => {
+                fill(n, run_offset, set.offsets.0, set.offsets.1, out)
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 fn fill_stepped(n: u32, index_offset: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
     let n = n.max(1) as u64;

@@ -5,6 +5,8 @@
 //! Base 2 reuses [`super::sobol::owen_scramble`] (Burley 2020).
 
 use super::hash::{FIX_BITS, fix_add, fix_to_f32, hash};
+use super::registry::{PixelSet, PointSequence, SHIPS_SHIFTED, SequenceInfo, Shipped};
+use super::seed::SeedMode;
 use super::sobol::owen_scramble;
 use glam::Vec2;
 
@@ -52,5 +54,25 @@ pub fn fill(key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
         let x = owen_scramble(i.reverse_bits(), sx) >> (32 - FIX_BITS);
         let y = base3_to_fixed(owen_radical_inverse_3(i, Some(sy)));
         *p = Vec2::new(fix_to_f32(fix_add(x, dx)), fix_to_f32(fix_add(y, dy)));
+    }
+}
+
+/// Its seed modes act the common way (`PixelSet::keyed`).
+pub struct Halton;
+
+impl PointSequence for Halton {
+    fn info(&self) -> &SequenceInfo {
+        &SequenceInfo {
+            name: "halton",
+            label: "Halton",
+            words: &[],
+            fresh_per_pixel: false,
+            shipped: Some(Shipped { modes: &[SeedMode::Shift], why: SHIPS_SHIFTED, rank: 0 }),
+        }
+    }
+
+    fn fill(&self, set: &PixelSet, out: &mut [Vec2]) {
+        let (key, dx, dy) = set.keyed();
+        fill(key, dx, dy, out)
     }
 }

@@ -22,6 +22,7 @@ mod names;
 pub mod pmj02;
 pub mod r2;
 pub mod random;
+pub mod registry;
 pub mod schedule;
 pub mod seed;
 pub mod sobol;
@@ -35,6 +36,7 @@ pub mod zsobol;
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
 pub use integrand::Integrand;
+pub use registry::{PixelSet, PointSequence, RegisterError, Sequence, SequenceInfo, Shipped, register};
 pub use schedule::Schedule;
 pub use seed::SeedMode;
 pub use warp::{DirSample, Distribution};
@@ -61,23 +63,6 @@ impl fmt::Display for SamplingError {
 }
 
 impl std::error::Error for SamplingError {}
-
-/// Which numbers feed the warp.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Sequence {
-    Random,
-    Fibonacci,
-    Stratified,
-    Sobol,
-    /// Halton bases 2 and 3, Owen-scrambled ([`halton`]).
-    Halton,
-    /// Progressive multi-jittered (0,2) with blue-noise selection ([`pmj02`]).
-    Pmj02bn,
-    /// Sobol' through the pixel's Morton code ([`zsobol`]).
-    ZSobol,
-    /// The plastic-number Kronecker sequence ([`r2`]).
-    R2,
-}
 
 /// Everything that determines the points of every pixel of one image.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -115,11 +100,21 @@ impl SamplerConfig {
         Self { schedule, ..self }
     }
 
-    /// Makes the process-wide tables this configuration reads (pmj02bn's points), so that no
-    /// timed render pays for generating them.
+    /// Makes every process-wide table this configuration reads (the sequence's own, e.g. pmj02bn's
+    /// points, and the seed mode's blue-noise or spatiotemporal masks), so that no timed render
+    /// pays for generating them: the executor calls it for every job before the first timed
+    /// render (the spatiotemporal masks take seconds, half of it on a second thread that a
+    /// render's thread clock would not even count).
     pub fn prepare(&self) {
-        if self.sequence == Sequence::Pmj02bn {
-            pmj02::table();
+        self.sequence.imp().prepare();
+        match self.seed_mode {
+            SeedMode::BlueNoise => {
+                blue_noise::masks();
+            }
+            SeedMode::Stbn => {
+                stbn::stbn_masks();
+            }
+            SeedMode::Static | SeedMode::Rotation | SeedMode::Shift => {}
         }
     }
 
@@ -140,38 +135,20 @@ impl SamplerConfig {
             SeedMode::Stbn => (self.frame / stbn::STBN_DEPTH, self.frame % stbn::STBN_DEPTH),
             _ => (self.frame, 0),
         };
-        let scalar = self.seed_mode == SeedMode::Rotation && self.sequence != Sequence::Random;
+        // A rotation moves x only, unless the numbers are fresh per pixel anyway (then it is a shift).
+        let scalar = self.seed_mode == SeedMode::Rotation && !self.sequence.info().fresh_per_pixel;
         let (seed, (fx, fy)) = schedule::epoch(self.schedule, self.seed, epoch as u64, scalar);
         let ps = PixelSeed::new(seed, pixel);
         let (dx, dy) = ps.offsets_at(self.seed_mode, x, y, slice);
-        let fresh = self.seed_mode == SeedMode::Shift;
-        // Shift of a set that is already fresh per pixel (stratified, sobol and the four after
-        // them): no offset on top.
-        let (sx, sy) = if fresh { (0, 0) } else { (dx, dy) };
-        let (dx, dy, sx, sy) = (fix_add(dx, fx), fix_add(dy, fy), fix_add(sx, fx), fix_add(sy, fy));
-        match self.sequence {
-            // Fresh numbers per pixel for both rotation and shift: the paper's pseudo-random row.
-            Sequence::Random => match self.seed_mode {
-                SeedMode::BlueNoise | SeedMode::Stbn => random::fill(ps.run_key, dx, dy, out),
-                m => random::fill(ps.set_key(m != SeedMode::Static), fx, fy, out),
-            },
-            Sequence::Fibonacci => {
-                // The paper's seed is an index offset: static = one per run, rotation = + one per pixel.
-                let run_offset = ps.run_key >> 24;
-                match self.seed_mode {
-                    SeedMode::Static => fibonacci::fill(n, run_offset, fx, fy, out),
-                    SeedMode::Rotation => fibonacci::fill(n, run_offset + (ps.pixel_key >> 24), fx, fy, out),
-                    SeedMode::Shift | SeedMode::BlueNoise | SeedMode::Stbn => {
-                        fibonacci::fill(n, run_offset, dx, dy, out)
-                    }
-                }
-            }
-            Sequence::Stratified => stratified::fill(n, ps.set_key(fresh), sx, sy, out),
-            Sequence::Sobol => sobol::fill(ps.set_key(fresh), sx, sy, out),
-            Sequence::Halton => halton::fill(ps.set_key(fresh), sx, sy, out),
-            Sequence::Pmj02bn => pmj02::fill(ps.set_key(fresh), sx, sy, out),
-            Sequence::ZSobol => zsobol::fill(n, x, y, ps.set_key(fresh), sx, sy, out),
-            Sequence::R2 => r2::fill(ps.set_key(fresh), sx, sy, out),
-        }
+        let set = PixelSet {
+            count: n,
+            x,
+            y,
+            seed_mode: self.seed_mode,
+            seed: ps,
+            offsets: (fix_add(dx, fx), fix_add(dy, fy)),
+            frame_offsets: (fx, fy),
+        };
+        self.sequence.imp().fill(&set, out);
     }
 }

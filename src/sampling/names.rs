@@ -1,6 +1,7 @@
-//! The names the paper (and the CLI and spec files) use for each choice, in one place.
+//! The names the paper (and the CLI and spec files) use for each choice, in one place; the
+//! sequences' names are their registry entries' (`registry::SequenceInfo`).
 
-use super::{Distribution, Schedule, SeedMode, Sequence};
+use super::{Distribution, Schedule, SeedMode};
 use std::str::FromStr;
 
 macro_rules! named {
@@ -59,28 +60,6 @@ named!(Distribution, "distribution", [
     "concentric" => ConcentricCosine,
 ]);
 
-named!(Sequence, "sequence", [
-    Random => "random",
-    Fibonacci => "fibonacci",
-    Stratified => "stratified",
-    Sobol => "sobol",
-    Halton => "halton",
-    Pmj02bn => "pmj02bn",
-    ZSobol => "zsobol",
-    R2 => "r2",
-], words [
-    "pseudo-random" => Random,
-    "pseudorandom" => Random,
-    "sobol'" => Sobol,
-    "pmj02" => Pmj02bn,
-    "pmj" => Pmj02bn,
-    "z-sobol" => ZSobol,
-    "zsobol'" => ZSobol,
-    "kronecker" => R2,
-    "lattice" => Fibonacci,
-    "fibonacci lattice" => Fibonacci,
-]);
-
 named!(SeedMode, "seed mode", [
     Static => "static",
     Rotation => "rotation",
@@ -112,6 +91,7 @@ named!(Schedule, "schedule", [
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampling::Sequence;
 
     #[test]
     fn names_round_trip_and_unknown_lists_choices() {

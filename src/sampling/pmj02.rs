@@ -27,6 +27,8 @@
 //! makes every point uniform; it loosens, but does not undo, the blue-noise spacing.
 
 use super::hash::{FIX_BITS, fix_add, fix_to_f32, hash};
+use super::registry::{PixelSet, PointSequence, SHIPS_SHIFTED, SequenceInfo, Shipped};
+use super::seed::SeedMode;
 use super::sobol::{owen_scramble, sobol_x, sobol_y};
 use glam::Vec2;
 use std::sync::OnceLock;
@@ -224,10 +226,17 @@ pub fn generate(len: usize) -> Vec<(u32, u32)> {
     pts
 }
 
-/// The first [`TABLE_LEN`] points, generated on first use.
+static TABLE: OnceLock<Vec<(u32, u32)>> = OnceLock::new();
+
+/// The first [`TABLE_LEN`] points, generated on first use (`SamplerConfig::prepare` makes them
+/// before any timed render).
 pub fn table() -> &'static [(u32, u32)] {
-    static TABLE: OnceLock<Vec<(u32, u32)>> = OnceLock::new();
     TABLE.get_or_init(|| generate(TABLE_LEN))
+}
+
+/// Whether the table has been generated in this process.
+pub fn table_ready() -> bool {
+    TABLE.get().is_some()
 }
 
 /// Point `i` of the unrandomized pmj02bn sequence, 24-bit fixed point.
@@ -249,5 +258,29 @@ pub fn fill(key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
     for (i, p) in out.iter_mut().enumerate() {
         let (x, y) = pmj02bn_fixed(i as u32);
         *p = Vec2::new(fix_to_f32(fix_add(x ^ xor_x, dx)), fix_to_f32(fix_add(y ^ xor_y, dy)));
+    }
+}
+
+/// Its seed modes act the common way (`PixelSet::keyed`).
+pub struct Pmj02bn;
+
+impl PointSequence for Pmj02bn {
+    fn info(&self) -> &SequenceInfo {
+        &SequenceInfo {
+            name: "pmj02bn",
+            label: "pmj02bn",
+            words: &["pmj02", "pmj"],
+            fresh_per_pixel: false,
+            shipped: Some(Shipped { modes: &[SeedMode::Shift], why: SHIPS_SHIFTED, rank: 3 }),
+        }
+    }
+
+    fn prepare(&self) {
+        table();
+    }
+
+    fn fill(&self, set: &PixelSet, out: &mut [Vec2]) {
+        let (key, dx, dy) = set.keyed();
+        fill(key, dx, dy, out)
     }
 }

@@ -5,6 +5,8 @@
 //! per set.
 
 use super::hash::{FIX_BITS, fix_add, fix_to_f32, hash};
+use super::registry::{PixelSet, PointSequence, SHIPS_SHIFTED, SequenceInfo, Shipped};
+use super::seed::SeedMode;
 use glam::Vec2;
 
 /// round(2^64 / g) and round(2^64 / g^2), g the plastic number 1.32471795724474602596...
@@ -24,5 +26,25 @@ pub fn fill(key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
     for (i, p) in out.iter_mut().enumerate() {
         let (x, y) = r2_fixed(i as u64, ox, oy);
         *p = Vec2::new(fix_to_f32(fix_add(x, dx)), fix_to_f32(fix_add(y, dy)));
+    }
+}
+
+/// Its seed modes act the common way (`PixelSet::keyed`).
+pub struct R2;
+
+impl PointSequence for R2 {
+    fn info(&self) -> &SequenceInfo {
+        &SequenceInfo {
+            name: "r2",
+            label: "R2",
+            words: &["kronecker"],
+            fresh_per_pixel: false,
+            shipped: Some(Shipped { modes: &[SeedMode::Shift], why: SHIPS_SHIFTED, rank: 1 }),
+        }
+    }
+
+    fn fill(&self, set: &PixelSet, out: &mut [Vec2]) {
+        let (key, dx, dy) = set.keyed();
+        fill(key, dx, dy, out)
     }
 }

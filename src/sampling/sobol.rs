@@ -3,6 +3,7 @@
 //! crates that offer it pull in tables for hundreds of dimensions we never use.
 
 use super::hash::{FIX_BITS, fix_add, fix_to_f32, hash};
+use super::registry::{PixelSet, PointSequence, SequenceInfo};
 use glam::Vec2;
 
 /// Dimension 0 of Sobol' = van der Corput in base 2.
@@ -53,6 +54,26 @@ pub fn fill(key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
         let x = owen_scramble(sobol_x(i), sx) >> (32 - FIX_BITS);
         let y = owen_scramble(sobol_y(i), sy) >> (32 - FIX_BITS);
         *p = Vec2::new(fix_to_f32(fix_add(x, dx)), fix_to_f32(fix_add(y, dy)));
+    }
+}
+
+/// Its seed modes act the common way (`PixelSet::keyed`).
+pub struct Sobol;
+
+impl PointSequence for Sobol {
+    fn info(&self) -> &SequenceInfo {
+        &SequenceInfo {
+            name: "sobol",
+            label: "Sobol'",
+            words: &["sobol'"],
+            fresh_per_pixel: false,
+            shipped: None,
+        }
+    }
+
+    fn fill(&self, set: &PixelSet, out: &mut [Vec2]) {
+        let (key, dx, dy) = set.keyed();
+        fill(key, dx, dy, out)
     }
 }
 

@@ -78,9 +78,16 @@ impl StbnMask {
     }
 }
 
-/// The shipped x and y masks, generated on first use and kept for the process.
+static MASKS: OnceLock<[StbnMask; 2]> = OnceLock::new();
+
+/// Whether the masks have been generated in this process.
+pub fn masks_ready() -> bool {
+    MASKS.get().is_some()
+}
+
+/// The shipped x and y masks, generated on first use (1.5–2 s; `SamplerConfig::prepare` makes them
+/// before any timed render) and kept for the process.
 pub fn stbn_masks() -> &'static [StbnMask; 2] {
-    static MASKS: OnceLock<[StbnMask; 2]> = OnceLock::new();
     // The two are independent: generated on two threads (the result does not depend on which).
     MASKS.get_or_init(|| {
         let make = |s: u64| StbnMask::void_and_cluster(STBN_SIZE, STBN_DEPTH, STBN_SIGMA, s);

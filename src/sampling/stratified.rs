@@ -5,6 +5,7 @@
 //! [0,1)) — honest one-point-per-stratum rather than a grid with empty or doubled cells.
 
 use super::hash::{fix_add, fix_from_bits, fix_to_f32, hash};
+use super::registry::{PixelSet, PointSequence, SequenceInfo};
 use super::seed::StrataWalk;
 use glam::Vec2;
 
@@ -36,6 +37,26 @@ pub fn fill(n: u32, key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
             (c, xw) = (0, first_col);
             yw.advance();
         }
+    }
+}
+
+/// Its seed modes act the common way (`PixelSet::keyed`).
+pub struct Stratified;
+
+impl PointSequence for Stratified {
+    fn info(&self) -> &SequenceInfo {
+        &SequenceInfo {
+            name: "stratified",
+            label: "stratified",
+            words: &[],
+            fresh_per_pixel: false,
+            shipped: None,
+        }
+    }
+
+    fn fill(&self, set: &PixelSet, out: &mut [Vec2]) {
+        let (key, dx, dy) = set.keyed();
+        fill(set.count.max(1), key, dx, dy, out)
     }
 }
 

@@ -6,6 +6,8 @@
 //! aligned block, so its points are a (0, L, 2)-net of Sobol', Owen-scrambled (Burley 2020).
 
 use super::hash::{FIX_BITS, fix_add, fix_to_f32, hash};
+use super::registry::{PixelSet, PointSequence, SequenceInfo, Shipped};
+use super::seed::SeedMode;
 use super::sobol::{owen_scramble, sobol_x, sobol_y};
 use glam::Vec2;
 
@@ -93,5 +95,29 @@ pub fn fill(n: u32, x: u32, y: u32, key: u64, dx: u32, dy: u32, out: &mut [Vec2]
         let px = owen_scramble(sobol_x(i), sx) >> (32 - FIX_BITS);
         let py = owen_scramble(sobol_y(i), sy) >> (32 - FIX_BITS);
         *p = Vec2::new(fix_to_f32(fix_add(px, dx)), fix_to_f32(fix_add(py, dy)));
+    }
+}
+
+/// Its seed modes act the common way (`PixelSet::keyed`).
+pub struct ZSobol;
+
+impl PointSequence for ZSobol {
+    fn info(&self) -> &SequenceInfo {
+        &SequenceInfo {
+            name: "zsobol",
+            label: "ZSobol'",
+            words: &["z-sobol", "zsobol'"],
+            fresh_per_pixel: false,
+            shipped: Some(Shipped {
+                modes: &[SeedMode::Static, SeedMode::Shift],
+                why: "ZSobol runs as it ships: `static` (its Morton blocks) and `shift`",
+                rank: 2,
+            }),
+        }
+    }
+
+    fn fill(&self, set: &PixelSet, out: &mut [Vec2]) {
+        let (key, dx, dy) = set.keyed();
+        fill(set.count.max(1), set.x, set.y, key, dx, dy, out)
     }
 }

@@ -151,8 +151,10 @@ impl Row {
     /// Pseudo-random numbers are fresh per pixel whether "rotated" or "shifted", so both name the
     /// same images; `rotation` is the one kept. (`static` + random is a distinct, odd choice.)
     pub fn canonical(self) -> Self {
-        match (self.sequence, self.seed_mode) {
-            (Sequence::Random, SeedMode::Shift) => Self { seed_mode: SeedMode::Rotation, ..self },
+        match self.seed_mode {
+            SeedMode::Shift if self.sequence.info().fresh_per_pixel => {
+                Self { seed_mode: SeedMode::Rotation, ..self }
+            }
             _ => self,
         }
     }
@@ -165,19 +167,10 @@ impl Row {
     /// terminal), in the paper's words: "sine-cosine, Fibonacci, per-pixel seed". The README's
     /// "Configuration names" maps these words to the `results.csv` values (`Row::label`'s).
     pub fn name(&self) -> String {
-        let seq = match self.sequence {
-            Sequence::Random => "pseudo-random",
-            Sequence::Fibonacci => "Fibonacci",
-            Sequence::Stratified => "stratified",
-            Sequence::Sobol => "Sobol'",
-            Sequence::Halton => "Halton",
-            Sequence::Pmj02bn => "pmj02bn",
-            Sequence::ZSobol => "ZSobol'",
-            Sequence::R2 => "R2",
-        };
+        let seq = self.sequence.info().label;
         let mode = match self.seed_mode {
             // Fresh numbers per pixel: the paper's plain pseudo-random row needs no seed words.
-            SeedMode::Rotation | SeedMode::Shift if self.sequence == Sequence::Random => None,
+            SeedMode::Rotation | SeedMode::Shift if self.sequence.info().fresh_per_pixel => None,
             SeedMode::Rotation => Some("per-pixel seed"),
             SeedMode::Static => Some("static seed"),
             SeedMode::Shift => Some("shift"),

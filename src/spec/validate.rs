@@ -181,7 +181,7 @@ fn shape_hint(key: &str, message: &str) -> Option<String> {
         "name" => "give it a `name = \"...\"` (letters, digits, '-', '_')".into(),
         "rays" => "add `rays = [8, 16, 32]`, the ray counts per pixel".into(),
         "distribution" => format!("add `distribution = ..`, one of {}", names(Distribution::ALL)),
-        "sequence" => format!("add `sequence = ..`, one of {}", names(Sequence::ALL)),
+        "sequence" => format!("add `sequence = ..`, one of {}", names(&Sequence::all())),
         _ => return None,
     })
 }

@@ -23,6 +23,7 @@ mod render_stiff;
 mod sampling_blue_noise;
 mod sampling_estimators;
 mod sampling_frame;
+mod sampling_registry;
 mod sampling_samplers;
 mod sampling_schedule;
 mod sampling_sequences;

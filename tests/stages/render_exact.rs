@@ -26,7 +26,7 @@ fn placements() -> [(&'static str, Placement); 6] {
 /// Calls `check` with the output of every distribution × sequence × seed mode × ray count.
 fn every_job(scene: &Scene, mut check: impl FnMut(&str, hemilab::render::RenderOutput)) {
     for &distribution in Distribution::ALL {
-        for &sequence in Sequence::ALL {
+        for sequence in Sequence::all() {
             for &seed_mode in SeedMode::ALL {
                 for rays in RAYS {
                     let sampler = SamplerConfig::new(sequence, seed_mode, rays, 7).unwrap();

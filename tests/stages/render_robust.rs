@@ -117,7 +117,7 @@ fn occluder_over_floor_matches_the_form_factor_at_every_scale_and_distance() {
 /// Every distribution × sequence × seed mode, at 1, 32 and 1024 rays.
 fn every_job(scene: &Scene, res: (u32, u32), mut check: impl FnMut(&str, RenderOutput)) {
     for &distribution in Distribution::ALL {
-        for &sequence in Sequence::ALL {
+        for sequence in Sequence::all() {
             for &seed_mode in SeedMode::ALL {
                 for rays in [1, 32, 1024] {
                     let sampler = SamplerConfig::new(sequence, seed_mode, rays, 11).unwrap();

@@ -147,7 +147,7 @@ fn job(
 /// Every distribution × sequence × seed mode, at 8 and 256 rays.
 fn every_job(scene: &Scene, res: (u32, u32), mut check: impl FnMut(&str, &RenderJob, RenderOutput)) {
     for &distribution in Distribution::ALL {
-        for &sequence in Sequence::ALL {
+        for sequence in Sequence::all() {
             for &seed_mode in SeedMode::ALL {
                 for rays in [8, 256] {
                     let job = job(distribution, sequence, seed_mode, rays, res);

@@ -328,7 +328,7 @@ fn each_pixel_offset_is_uniform_over_run_seeds() {
 fn blue_noise_is_the_static_set_shifted_per_pixel() {
     let fix = |x: f32| (x as f64 * 16_777_216.0) as i64;
     // ZSobol's static set is a different block in every pixel (its design), so it is left out.
-    for &seq in Sequence::ALL.iter().filter(|&&s| s != Sequence::ZSobol) {
+    for seq in Sequence::all().into_iter().filter(|&s| s != Sequence::ZSobol) {
         for n in [1, 7, 16] {
             let cfg = |m| SamplerConfig::new(seq, m, n, 21).unwrap();
             let mut st = vec![Vec2::ZERO; n as usize];
@@ -388,9 +388,9 @@ fn estimate_over_seeds(d: Distribution, seq: Sequence, mode: SeedMode, c: Cap, x
 fn each_pixel_estimate_is_unbiased_over_seeds() {
     let caps = [cap(0.0, 1.0), cap(0.6, 0.5)];
     // Šidák over every check of this test (family-wise false alarm 1 %).
-    let checks = Sequence::ALL.len() * Distribution::ALL.len() * caps.len() * PIXELS.len();
+    let checks = Sequence::all().len() * Distribution::ALL.len() * caps.len() * PIXELS.len();
     let z = two_sided_z(sidak_threshold(0.01, checks));
-    for &seq in Sequence::ALL {
+    for seq in Sequence::all() {
         for &d in Distribution::ALL {
             for c in caps {
                 for (x, y) in PIXELS {

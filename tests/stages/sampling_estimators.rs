@@ -21,7 +21,7 @@ const N: u32 = 16;
 /// sequence on the axial cap for every polar map.
 fn z() -> f64 {
     let polar = Distribution::ALL.iter().filter(|&&d| is_polar(d)).count();
-    let checks = Sequence::ALL.len() * Distribution::ALL.len() * caps().len() + polar;
+    let checks = Sequence::all().len() * Distribution::ALL.len() * caps().len() + polar;
     two_sided_z(sidak_threshold(0.01, checks))
 }
 
@@ -108,7 +108,7 @@ fn is_polar(d: Distribution) -> bool {
 #[test]
 fn rotation_is_biased_on_the_axial_cap_for_lattice_sequences() {
     let axial = caps()[0];
-    for &seq in Sequence::ALL {
+    for seq in Sequence::all() {
         for &d in Distribution::ALL {
             for c in caps() {
                 let (mean, se) = estimate(d, seq, SeedMode::Rotation, c);

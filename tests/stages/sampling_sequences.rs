@@ -32,7 +32,7 @@ fn stratum(x: f32, strata: u32) -> u64 {
 
 #[test]
 fn zero_count_is_an_error_not_a_panic() {
-    for &seq in Sequence::ALL {
+    for seq in Sequence::all() {
         for &mode in SeedMode::ALL {
             assert_eq!(SamplerConfig::new(seq, mode, 0, 1), Err(SamplingError::ZeroCount));
         }
@@ -42,7 +42,7 @@ fn zero_count_is_an_error_not_a_panic() {
 
 #[test]
 fn every_point_in_unit_square_for_every_sequence_mode_count_and_pixel() {
-    for &seq in Sequence::ALL {
+    for seq in Sequence::all() {
         for &mode in SeedMode::ALL {
             for n in [1, 2, 3, 5, 7, 8, 9, 16, 17, 32, 100, 1024] {
                 for seed in [0, 1, u64::MAX] {
@@ -59,7 +59,7 @@ fn every_point_in_unit_square_for_every_sequence_mode_count_and_pixel() {
 
 #[test]
 fn fill_pixel_depends_only_on_config_and_pixel() {
-    for &seq in Sequence::ALL {
+    for seq in Sequence::all() {
         for &mode in SeedMode::ALL {
             let forward: Vec<_> = (0..64).map(|p| points(seq, mode, 16, 9, p)).collect();
             let backward: Vec<_> = (0..64).rev().map(|p| points(seq, mode, 16, 9, p)).collect();
@@ -70,7 +70,7 @@ fn fill_pixel_depends_only_on_config_and_pixel() {
 
 #[test]
 fn fill_pixel_with_other_buffer_lengths_writes_a_prefix_of_the_set() {
-    for &seq in Sequence::ALL {
+    for seq in Sequence::all() {
         let cfg = SamplerConfig::new(seq, SeedMode::Shift, 16, 3).unwrap();
         let full = points(seq, SeedMode::Shift, 16, 3, 5);
         let mut short = vec![Vec2::ZERO; 5];
@@ -86,7 +86,7 @@ fn fill_pixel_with_other_buffer_lengths_writes_a_prefix_of_the_set() {
 #[test]
 fn static_mode_gives_the_same_set_in_every_pixel_keyed_by_run_seed() {
     // ZSobol's static mode reads a different Morton block per pixel by design (sampling_samplers.rs).
-    for &seq in Sequence::ALL.iter().filter(|&&s| s != Sequence::ZSobol) {
+    for seq in Sequence::all().into_iter().filter(|&s| s != Sequence::ZSobol) {
         let first = points(seq, SeedMode::Static, 16, 42, 0);
         for pixel in [1, 2, 1000, u64::MAX] {
             assert_eq!(points(seq, SeedMode::Static, 16, 42, pixel), first, "{seq}");
@@ -97,7 +97,7 @@ fn static_mode_gives_the_same_set_in_every_pixel_keyed_by_run_seed() {
 
 #[test]
 fn shift_and_rotation_differ_from_pixel_to_pixel() {
-    for &seq in Sequence::ALL {
+    for seq in Sequence::all() {
         for mode in [SeedMode::Rotation, SeedMode::Shift] {
             let sets: HashSet<Vec<[u32; 2]>> = (0..256)
                 .map(|p| points(seq, mode, 8, 1, p).iter().map(|q| [q.x.to_bits(), q.y.to_bits()]).collect())

@@ -155,11 +155,11 @@ fn each_pixel_estimate_is_unbiased_over_seeds_in_every_frame() {
     const N: u32 = 16;
     let caps = [cap(0.0, 1.0), cap(0.6, 0.5)];
     let frames = [0u32, 5, 40];
-    let checks = Sequence::ALL.len() * caps.len() * frames.len() * 2;
+    let checks = Sequence::all().len() * caps.len() * frames.len() * 2;
     let z = two_sided_z(sidak_threshold(0.01, checks));
     let d = Distribution::SineCosine;
     let mut pts = vec![Vec2::ZERO; N as usize];
-    for &seq in Sequence::ALL {
+    for seq in Sequence::all() {
         for c in caps {
             for f in frames {
                 for schedule in [Schedule::Independent, Schedule::R1] {

@@ -50,7 +50,7 @@ fn synthetic(static_ratio: f64, cosine_vs_sine: f64) -> Vec<JobResult> {
 #[test]
 fn every_claim_holds_on_a_scene_made_to_satisfy_them() {
     let v = scene_verdicts(&synthetic(4.0, 1.1), "s", &[8, 16, 32], &[1, 2, 4, 8, 16, 32, 64]);
-    assert_eq!(v.len(), Claim::ALL.len());
+    assert_eq!(v.len(), Claim::all().len());
     // The synthetic scene has none of the equal-time samplers: those cells are not measured.
     let (paper, samplers) = v.split_at(6);
     assert!(samplers.iter().all(|x| x.outcome == Outcome::NotMeasured), "{samplers:?}");

@@ -27,7 +27,6 @@ const POINT_COUNTS: [u32; 3] = [500, 1000, 5000];
 /// prefixes are nets (pmj02bn's table ends at 4096).
 const SAMPLER_COUNTS: [u32; 3] = [256, 1024, 4096];
 /// The samplers a renderer would ship instead of the lattice (issue 28), as they ship.
-const SAMPLERS: [Sequence; 4] = [Sequence::Halton, Sequence::R2, Sequence::ZSobol, Sequence::Pmj02bn];
 
 /// The run's figures: the key figure that shows the answer (the first sweep's MSE at equal time),
 /// and the others in page order.
@@ -86,7 +85,7 @@ fn point_figures(seed: u64, out: &Path) -> Result<Vec<Figure>> {
     figs.push(write_figure(out, "table1.png", title.into(), vec![], bytes)?);
     // The same panels for the samplers beside the lattice: one row per sequence, sine-cosine.
     let mut rows = Vec::new();
-    for seq in SAMPLERS {
+    for seq in Sequence::shipped() {
         let mut r = figure_rows(&[Distribution::SineCosine], seq, SeedMode::Static, &SAMPLER_COUNTS, seed)?;
         rows.extend(r.drain(..).map(|(_, sets)| (seq.to_string(), sets)));
     }

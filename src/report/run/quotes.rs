@@ -106,9 +106,8 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
 }
 
 /// The samplers a renderer would ship instead of the lattice (issue 28), as they ship.
-const SAMPLERS: [Sequence; 4] = [Sequence::Halton, Sequence::R2, Sequence::ZSobol, Sequence::Pmj02bn];
 
-/// Each of the group's [`SAMPLERS`] rows against the lattice with a per-pixel seed at equal time
+/// Each of the group's shipped (`Sequence::shipped`) rows against the lattice with a per-pixel seed at equal time
 /// (`compare::equal_time`, total render time, one budget to each doubling of time): its MSE over
 /// the lattice's, ± 1 σ, and ln of that ratio in its standard errors (positive: the lattice has
 /// less error). `None` unless the group has the lattice and one of them.
@@ -118,7 +117,7 @@ fn equal_time_vs_lattice(g: &Group, scene: &str, records: &[JobResult]) -> Optio
         .rows
         .iter()
         .copied()
-        .filter(|r| SAMPLERS.contains(&r.sequence) && r.distribution == Distribution::SineCosine)
+        .filter(|r| Sequence::shipped().contains(&r.sequence) && r.distribution == Distribution::SineCosine)
         .collect();
     if !g.rows.contains(&lattice) || others.is_empty() {
         return None;

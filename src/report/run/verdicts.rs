@@ -86,7 +86,7 @@ pub fn tables(data: &ReportInput) -> Option<(Table, Table)> {
     if all.iter().all(|v| v.outcome == Outcome::NotMeasured) {
         return None;
     }
-    let claims: Vec<Claim> = Claim::ALL
+    let claims: Vec<Claim> = Claim::all()
         .into_iter()
         .filter(|c| all.iter().any(|v| v.claim == *c && v.outcome != Outcome::NotMeasured))
         .collect();

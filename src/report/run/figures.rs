@@ -26,8 +26,6 @@ const POINT_COUNTS: [u32; 3] = [500, 1000, 5000];
 /// Point counts of the samplers' Table 1-style panels: powers of two, where the (0,2) sequences'
 /// prefixes are nets (pmj02bn's table ends at 4096).
 const SAMPLER_COUNTS: [u32; 3] = [256, 1024, 4096];
-/// The samplers a renderer would ship instead of the lattice (issue 28), as they ship.
-
 /// The run's figures: the key figure that shows the answer (the first sweep's MSE at equal time),
 /// and the others in page order.
 pub struct Figures {

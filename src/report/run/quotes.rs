@@ -105,8 +105,6 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
     s
 }
 
-/// The samplers a renderer would ship instead of the lattice (issue 28), as they ship.
-
 /// Each of the group's shipped (`Sequence::shipped`) rows against the lattice with a per-pixel seed at equal time
 /// (`compare::equal_time`, total render time, one budget to each doubling of time): its MSE over
 /// the lattice's, ± 1 σ, and ln of that ratio in its standard errors (positive: the lattice has

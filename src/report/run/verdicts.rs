@@ -131,7 +131,7 @@ pub fn tables(data: &ReportInput) -> Option<(Table, Table)> {
             .map(|v| {
                 vec![
                     v.scene.clone(),
-                    v.claim.label().into(),
+                    v.claim.label(),
                     v.family.label().into(),
                     v.outcome.label().into(),
                     fmt_p(v.p_value),

@@ -4,8 +4,8 @@
 
 use crate::error::{Error, Result};
 use crate::io;
-use crate::jobs::runner::Geometry;
 use crate::metrics;
+use crate::plan::Geometry;
 use crate::plan::Job;
 use crate::render::{self, RenderJob};
 use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};

@@ -2,7 +2,7 @@
 //!
 //! The same stages as `run`, from an in-memory spec instead of a file (`advice::setup`): every input
 //! checked → given budgets checked against a calibrated cheapest render (`jobs::calibrate`; an
-//! impossible one is refused in seconds) → the scene's reference (`reference::store::obtain`) →
+//! impossible one is refused in seconds) → the scene's reference (`jobs::reference::obtain`) →
 //! the sweep under the timing protocol (`jobs::executor`) → the interpolated rankings → each
 //! budget's finalists rendered and timed at the integer ray count that fits it (`advice::answer`)
 //! → the answers, the winner maps → advice.json, advice.md, index.html, figures.
@@ -23,7 +23,7 @@ use hemilab::jobs::calibrate;
 use hemilab::jobs::executor;
 use hemilab::jobs::runner::JobRunner;
 use hemilab::jobs::sweep;
-use hemilab::reference::store::{self as refs, Policy};
+use hemilab::reference::store::Policy;
 use hemilab::results::JobResult;
 use hemilab::timing::Protocol;
 use hemilab::{advice, outdir};
@@ -66,7 +66,14 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     }
     let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
     let policy = if args.from.is_some() { Policy::ReuseOnly } else { Policy::ReuseOrBuild };
-    let reference = refs::obtain(spec, 0, &setup.loaded.scenes[0], &setup.reference_dir, policy, &runner)?;
+    let reference = hemilab::jobs::reference::obtain(
+        spec,
+        0,
+        &setup.loaded.scenes[0],
+        &setup.reference_dir,
+        policy,
+        &runner,
+    )?;
 
     // Earlier records: --from's directory, the output directory's, a killed run's stage.
     let mut sources: Vec<PathBuf> = Vec::new();

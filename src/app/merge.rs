@@ -56,7 +56,16 @@ pub fn run(args: MergeArgs) -> Result<()> {
     }
     let runner = JobRunner::new(None, args.quiet)?;
     let references = (0..loaded.scenes.len())
-        .map(|si| refs::obtain(spec, si, &loaded.scenes[si], &ref_dir, Policy::ReuseOnly, &runner))
+        .map(|si| {
+            hemilab::jobs::reference::obtain(
+                spec,
+                si,
+                &loaded.scenes[si],
+                &ref_dir,
+                Policy::ReuseOnly,
+                &runner,
+            )
+        })
         .collect::<Result<Vec<_>>>()?;
     let keys: Vec<String> = plan
         .jobs

@@ -18,7 +18,7 @@ pub fn run(args: ReferenceArgs) -> Result<()> {
     let policy = if args.force { Policy::Rebuild } else { Policy::ReuseOrBuild };
     for (si, scene) in loaded.scenes.iter().enumerate() {
         let kept = policy == Policy::ReuseOrBuild && refs::missing(&loaded.spec, si, scene, &dir)?.is_none();
-        let r = refs::obtain(&loaded.spec, si, scene, &dir, policy, &runner)?;
+        let r = hemilab::jobs::reference::obtain(&loaded.spec, si, scene, &dir, policy, &runner)?;
         println!(
             "{}: noise floor {:.3e} ({} x {} rays){}",
             r.exr.display(),

@@ -33,7 +33,9 @@ pub fn run(args: RunArgs) -> Result<()> {
     let protocol = protocol(args.common.threads, args.timing_repeats, &loaded.spec);
     long_run::warn_if_long(&args.spec, protocol, &loaded, &full, &plan, &previous, &ref_dir)?;
     let references = (0..loaded.scenes.len())
-        .map(|si| refs::obtain(&loaded.spec, si, &loaded.scenes[si], &ref_dir, policy, &runner))
+        .map(|si| {
+            hemilab::jobs::reference::obtain(&loaded.spec, si, &loaded.scenes[si], &ref_dir, policy, &runner)
+        })
         .collect::<Result<Vec<_>>>()?;
 
     if let Some(s) = shard {

@@ -196,7 +196,7 @@ pub fn provenance(
     output: &RenderOutput,
 ) -> Provenance {
     let (w, h) = (output.ao.width, output.ao.height);
-    let d = super::runner::Geometry::of(job.resolution, job.ao_distance, scene).distance.canonical();
+    let d = plan::Geometry::of(job.resolution, job.ao_distance, scene).distance.canonical();
     let reference_file =
         reference.exr.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
     let json = serde_json::json!({

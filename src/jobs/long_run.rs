@@ -3,9 +3,9 @@
 //! of calibration renders), so that an 8000x8000 spec does not start for hours unannounced.
 
 use crate::error::Result;
-use crate::jobs::runner::Geometry;
 use crate::load::Loaded;
 use crate::outdir;
+use crate::plan::Geometry;
 use crate::plan::{self, Job, Plan, cost};
 use crate::reference::store as refs;
 use crate::results::JobResult;

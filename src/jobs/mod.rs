@@ -7,6 +7,7 @@ pub mod calibrate;
 pub mod executor;
 pub mod long_run;
 pub mod measure;
+pub mod reference;
 pub mod runner;
 pub mod sweep;
 

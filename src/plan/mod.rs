@@ -8,8 +8,10 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 pub mod cost;
+mod geometry;
 mod measurement;
 
+pub use geometry::Geometry;
 pub use measurement::Measurement;
 
 /// One image to render.

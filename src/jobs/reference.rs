@@ -1,0 +1,167 @@
+//! Rendering a reference the store has not got: its replicates (and an adaptive reference's pilot
+//! pass) on every thread, then stored by `reference::store`. `obtain` is the one door: reuse a
+//! stored reference whose manifest matches, else build one (unless told not to).
+
+use super::runner::JobRunner;
+use crate::error::{Error, Result};
+use crate::image::Image;
+use crate::io;
+use crate::plan::{self, Geometry};
+use crate::reference::store::{self, Policy, Reference};
+use crate::reference::{self, Adaptive, Manifest};
+use crate::scene::Scene;
+use crate::spec::{MAX_REFERENCE_RAYS, Spec};
+use std::path::Path;
+use std::time::Instant;
+
+/// The reference of scene `si`, from `dir` or freshly rendered into it.
+///
+/// Shards of one spec may start together on a shared filesystem: each takes the reference's lock
+/// file (`<stem>.lock`, an OS lock released even if the process is killed) before it looks, so one
+/// builds while the others wait and then reuse its result. The image and the manifest are each
+/// written atomically, image first, so no reader ever sees a half-written file or a manifest
+/// without its image. Where the lock cannot be taken (a read-only reference directory, a filesystem
+/// without locks) the run goes on without it: then build the references in a step of their own
+/// (`hemilab reference`) and run the shards with `--no-build-reference`.
+pub fn obtain(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    dir: &Path,
+    policy: Policy,
+    runner: &JobRunner,
+) -> Result<Reference> {
+    let geometry = Geometry::of(spec.resolution, spec.ao_distance, scene);
+    let wanted = store::wanted_manifest(spec, si, scene, geometry);
+    let (exr, json) = store::paths(dir, &wanted);
+    let lock_path = dir.join(format!("{}.lock", wanted.file_stem()));
+    if policy != Policy::ReuseOnly && !io::exists(dir) {
+        // Nothing to reuse: it will be built here, and the lock file needs the directory.
+        io::ensure_writable_dir(dir)?;
+        io::create_dir_all(dir)?;
+    }
+    let waiting = |holder: &str| {
+        eprintln!("reference for '{}': waiting for {holder} ({})", scene.name, lock_path.display())
+    };
+    let (_lock, unlocked) = match io::exists(dir).then(|| io::lock(&lock_path, waiting)).transpose()? {
+        Some(Ok(lock)) => (Some(lock), None),
+        Some(Err(why)) => (None, Some(why)),
+        None => (None, None),
+    };
+    if policy != Policy::Rebuild {
+        match store::load_if_matching(spec, &wanted, &exr, &json)? {
+            Ok(r) => return Ok(r),
+            Err((file, why)) if policy == Policy::ReuseOnly => {
+                let flag = if dir == spec.reference_dir {
+                    String::new()
+                } else {
+                    format!(" --reference-dir {}", dir.display())
+                };
+                return Err(Error::input(
+                    &file,
+                    format!(
+                        "{why}: no usable reference for scene '{}' in {}; build it with `hemilab reference \
+                         {}{flag}`, pass --reference-dir DIR if it is stored elsewhere, or drop \
+                         --no-build-reference",
+                        scene.name,
+                        dir.display(),
+                        spec.path.display()
+                    ),
+                ));
+            }
+            Err((file, why)) => {
+                // Fail before the (long) reference render, not after it, if it could not be saved.
+                io::ensure_writable_dir(dir)?;
+                eprintln!("reference for '{}': {}: {why}; rendering a new one", scene.name, file.display())
+            }
+        }
+    }
+    io::ensure_writable_dir(dir)?;
+    if let Some(why) = unlocked {
+        eprintln!("warning: {why}; another run started now could build this reference at the same time");
+    }
+    build(spec, si, scene, wanted, dir, runner)
+}
+
+fn build(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    mut manifest: Manifest,
+    dir: &Path,
+    runner: &JobRunner,
+) -> Result<Reference> {
+    let jobs = plan::reference_jobs(spec, si, manifest.rays);
+    let start = Instant::now();
+    let mut images = Vec::with_capacity(jobs.len());
+    let mut coverage = None;
+    let counts = match &manifest.adaptive {
+        Some(a) => Some(allocation(spec, si, scene, &manifest, a, runner)?),
+        None => None,
+    };
+    for (i, job) in jobs.iter().enumerate() {
+        let label = format!("reference {}/{}", i + 1, jobs.len());
+        let done = match &counts {
+            Some(c) => runner.render_counts(job, scene, c, &label)?,
+            None => runner.render_pass(job, scene, &label)?,
+        };
+        coverage.get_or_insert(done.output.coverage);
+        images.push(done.output.ao);
+    }
+    if let (Some(a), Some(c)) = (manifest.adaptive.as_mut(), &counts) {
+        a.total_rays = Some(c.iter().map(|&n| n as u64).sum());
+        a.max_rays = c.iter().copied().max();
+    }
+    let coverage =
+        coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
+    let (mean, stderr) = reference::mean_and_stderr(&images).map_err(Error::Refused)?;
+    store::save(manifest, mean, stderr, coverage, dir, &scene.name, start)
+}
+
+/// Rays per pixel of an adaptive reference: a pilot pass (the reference estimator at the manifest's
+/// `rays`, replicates with seeds of their own stream, so the allocation is independent of the final
+/// renders) gives each pixel's spread; `reference::allocate` turns it into counts. Under `rays =
+/// "auto"` the target floor is `FLOOR_RATIO` of the pilot's single-render RMS error, the error of the
+/// reference estimator at the largest ray count the spec measures.
+fn allocation(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    manifest: &Manifest,
+    a: &Adaptive,
+    runner: &JobRunner,
+) -> Result<Vec<u32>> {
+    let mut pilots = Vec::new();
+    let mut coverage = None;
+    let mut jobs = plan::reference_jobs(spec, si, manifest.rays);
+    for (i, job) in jobs.iter_mut().enumerate() {
+        job.seed = plan::reference_seed(spec.reference.seed ^ PILOT_STREAM, job.replicate);
+        let done = runner.render_pass(
+            job,
+            scene,
+            &format!("reference pilot {}/{}", i + 1, spec.reference.replicates),
+        )?;
+        coverage.get_or_insert(done.output.coverage);
+        pilots.push(done.output.ao);
+    }
+    let coverage =
+        coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
+    let (_, se) = reference::mean_and_stderr(&pilots).map_err(Error::Refused)?;
+    let k = pilots.len() as f32;
+    let sd = Image::from_vec(se.width, se.height, se.data.iter().map(|x| x * k.sqrt()).collect());
+    let sd = reference::neighbourhood_max(&sd, &coverage);
+    let single_render_error = reference::noise_floor(&sd, &coverage);
+    let target = reference::target_floor(single_render_error);
+    let allocation = reference::Allocation {
+        replicates: manifest.replicates,
+        pilot_rays: manifest.rays,
+        budget: a.budget,
+        target_floor: target,
+        min_rays: a.min_rays,
+        max_rays: MAX_REFERENCE_RAYS,
+    };
+    Ok(reference::allocate(&sd, &coverage, &allocation))
+}
+
+/// Pilot seeds are their own stream (the reference's seed xor "pilot").
+const PILOT_STREAM: u64 = 0x0070_696c_6f74;

@@ -21,8 +21,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let spec_path = root.join(format!("experiments/{name}.toml"));
         let spec = spec::parse_spec(&io::read_string(&spec_path)?, &spec_path)?;
         let records = results::from_json(&io::read_string(&out.join("results.json"))?)?;
-        let timing: serde_json::Value = serde_json::from_str(&io::read_string(&out.join("timing.json"))?)?;
-        let text = quotes::quotes(&spec, &records, Cost::of_timing(&timing, records.len()));
+        let timing = hemilab::timing::RunTiming::from_json(&io::read_string(&out.join("timing.json"))?)?;
+        let text = quotes::quotes(&spec, &records, Some(Cost::of(&timing.session, records.len())));
         io::write_atomic(&out.join("quotes.md"), text.as_bytes())?;
         known.extend(quotes::blocks(&text));
     }

@@ -253,7 +253,7 @@ pub fn host_tag() -> String {
 /// The CPU model (`model name` in `/proc/cpuinfo`) and its logical CPU count, e.g.
 /// "AMD EPYC 7B13 (2 CPUs)"; the architecture where `/proc` has no model name.
 pub fn cpu_model() -> String {
-    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cpus = crate::timing::cores();
     let model = fs::read_to_string("/proc/cpuinfo").ok().and_then(|t| {
         t.lines()
             .find(|l| l.starts_with("model name"))

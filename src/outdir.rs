@@ -9,7 +9,7 @@ use crate::plan::Job;
 use crate::render::RenderOutput;
 use crate::results::{self, Aggregate, JobResult};
 use crate::spec::Spec;
-use crate::timing::Summary;
+use crate::timing::{RunTiming, SessionRecord, Summary};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -116,35 +116,33 @@ pub fn previous_results(out: &Path) -> Result<HashMap<String, JobResult>> {
 }
 
 /// `timing.json`.
-pub fn write_timing(out: &Path, timing: &serde_json::Value) -> Result<()> {
+pub fn write_timing(out: &Path, timing: &RunTiming) -> Result<()> {
+    io::write_atomic(&out.join(TIMING_JSON), timing.to_json().as_bytes())
+}
+
+/// A merged run's `timing.json` (its shards' records side by side: `shard::merge::timing_json`).
+pub fn write_merged_timing(out: &Path, timing: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(timing).unwrap_or_default();
     io::write_atomic(&out.join(TIMING_JSON), text.as_bytes())
 }
 
-/// `dir`'s `timing.json`, if it is there and parses.
-pub fn read_timing(dir: &Path) -> Option<serde_json::Value> {
-    serde_json::from_str(&io::read_string(&dir.join(TIMING_JSON)).ok()?).ok()
+/// `dir`'s `timing.json` of a run, if it is there and parses.
+pub fn read_timing(dir: &Path) -> Option<RunTiming> {
+    RunTiming::from_json(&io::read_string(&dir.join(TIMING_JSON)).ok()?).ok()
 }
 
 /// The overhead an earlier session measured (`timing.json`), for a run that rendered nothing.
 pub fn previous_overhead(out: &Path, spec: &Spec) -> Vec<Option<Summary>> {
     let v = read_timing(out);
-    spec.scenes
-        .iter()
-        .map(|s| {
-            let list = v.as_ref()?.get("overhead")?.as_array()?;
-            let e = list.iter().find(|e| e.get("scene").and_then(|n| n.as_str()) == Some(s.name.as_str()))?;
-            serde_json::from_value(e.get("overhead_s")?.clone()).ok()
-        })
-        .collect()
+    spec.scenes.iter().map(|s| v.as_ref()?.overhead_of(&s.name)).collect()
 }
 
 /// The `session` an earlier run recorded in `timing.json` (what rendering these records cost), for
 /// a rerun that rendered nothing: it keeps that record rather than replacing it with its own
 /// zero-render session, so the cost a README quotes survives a resume.
-pub fn previous_session(out: &Path) -> Option<serde_json::Value> {
-    let s = read_timing(out)?.get("session")?.clone();
-    (s.get("timed_renders")?.as_u64()? > 0).then_some(s)
+pub fn previous_session(out: &Path) -> Option<SessionRecord> {
+    let s = read_timing(out)?.session;
+    (s.timed_renders > 0).then_some(s)
 }
 
 /// `aggregates.csv` and `slopes.json`.

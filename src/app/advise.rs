@@ -25,7 +25,6 @@ use hemilab::jobs::runner::JobRunner;
 use hemilab::jobs::sweep;
 use hemilab::reference::store::Policy;
 use hemilab::results::JobResult;
-use hemilab::timing::Protocol;
 use hemilab::{advice, outdir};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -55,16 +54,14 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let out = args.out.clone().or_else(|| args.from.clone()).unwrap_or_else(default_out);
     outdir::check_advise_out(&out)?;
     let stage_at = outdir::advise_stage(&out)?;
-    let workers = match args.common.threads {
-        Some(t) => t as usize,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
+    let threads = hemilab::jobs::Threads::resolve(args.common.threads);
+    let workers = threads.workers;
     let spec = &setup.loaded.spec;
-    let protocol = Protocol::new(spec.timing.repeats, spec.timing.seed, workers);
+    let protocol = threads.protocol(None, spec);
     if args.from.is_none() && !args.budget_ms.is_empty() {
         refuse_impossible(&setup, &args.budget_ms, workers)?;
     }
-    let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
+    let runner = JobRunner::new(threads, args.common.quiet)?;
     let policy = if args.from.is_some() { Policy::ReuseOnly } else { Policy::ReuseOrBuild };
     let reference = hemilab::jobs::reference::obtain(
         spec,
@@ -151,7 +148,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         + verify_session.as_ref().map_or(0, |s| verified.len().saturating_sub(s.reused));
     let reused = results.len() + verified.len() - rendered;
     analysis::measure(&mut analysis, &verified, replicates);
-    outdir::write_timing(&stage, &session.timing_json(spec, protocol))?;
+    outdir::write_timing(&stage, &session.timing(spec, protocol))?;
     let measured = Measured {
         setup: &setup,
         reference: &reference,

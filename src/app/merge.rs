@@ -17,7 +17,7 @@ use hemilab::results::JobResult;
 use hemilab::shard::manifest;
 use hemilab::shard::merge::{
     check_manifests, match_records, merged_overhead, missing_message, provenance, read_shard, same_dir,
-    session_field, timing_json,
+    session_of, timing_json,
 };
 use hemilab::timing::Protocol;
 use std::path::Path;
@@ -54,7 +54,7 @@ pub fn run(args: MergeArgs) -> Result<()> {
             )));
         }
     }
-    let runner = JobRunner::new(None, args.quiet)?;
+    let runner = JobRunner::new(hemilab::jobs::Threads::resolve(None), args.quiet)?;
     let references = (0..loaded.scenes.len())
         .map(|si| {
             hemilab::jobs::reference::obtain(
@@ -96,17 +96,18 @@ pub fn run(args: MergeArgs) -> Result<()> {
     let overhead = merged_overhead(&loaded.spec, &shards);
     let session = Session {
         overhead: overhead.clone(),
-        renders: shards.iter().map(|s| session_field(s, "timed_renders") as usize).sum(),
-        cpu_s: shards.iter().map(|s| session_field(s, "timed_cpu_s")).sum(),
-        wall_s: shards.iter().map(|s| session_field(s, "wall_s")).sum(),
+        renders: shards.iter().map(|s| session_of(s).timed_renders).sum(),
+        cpu_s: shards.iter().map(|s| session_of(s).timed_cpu_s).sum(),
+        wall_s: shards.iter().map(|s| session_of(s).wall_s).sum(),
         reused: 0,
     };
     let m0 = &shards[0].manifest;
     let protocol = Protocol::new(m0.timing.repeats, m0.timing.seed, m0.timing.workers);
     let note = provenance(&shards);
     let timing = timing_json(&shards, &found, protocol, &note);
-    outdir::write_timing(&out, &timing)?;
-    let cost = report::run::quotes::Cost::of_timing(&timing, merged.len());
+    outdir::write_merged_timing(&out, &timing)?;
+    // A merged run's cost is its shards' (each shard's own timing.json); the whole has none.
+    let cost = None;
     let summary = report::run::write(
         &loaded,
         &references,

@@ -20,9 +20,7 @@ pub fn run(args: PlanArgs) -> Result<()> {
     let full = plan::plan(spec);
     let count = args.shard.map(|s| s.count).or(args.shards);
     let selected = args.shard.map_or_else(|| full.clone(), |s| shard::select(&loaded, &full, s));
-    let threads = args
-        .threads
-        .map_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()), |t| t as usize);
+    let threads = hemilab::jobs::Threads::resolve(args.threads).workers;
 
     let ref_dir = refs::dir(args.reference_dir.as_deref(), spec);
     let builds: Vec<Option<Manifest>> = (0..loaded.scenes.len())

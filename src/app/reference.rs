@@ -11,7 +11,7 @@ pub fn run(args: ReferenceArgs) -> Result<()> {
     let loaded = load(&args.spec)?;
     let dir = refs::dir(args.reference_dir.as_deref(), &loaded.spec);
     io::ensure_writable_dir(&dir)?;
-    let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
+    let runner = JobRunner::new(hemilab::jobs::Threads::resolve(args.common.threads), args.common.quiet)?;
     // A stored reference that serves the spec is kept: for `rays = "auto"` it may hold far more
     // rays than this spec asks (the paper's, shared with a smaller spec), and rebuilding it would
     // throw them away.

@@ -45,7 +45,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     let bar = progress::bar(width as u64 * height as u64, "render", args.common.quiet);
     let start = Instant::now();
-    let result = hemilab::render::pool(args.common.threads)?
+    let result = hemilab::jobs::Threads::resolve(args.common.threads)
+        .pool()?
         .install(|| render::render_integrand(&scene, &job, args.integrand, &|n| bar.inc(n)));
     let secs = start.elapsed().as_secs_f64();
     bar.finish_and_clear();

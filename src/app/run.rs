@@ -5,7 +5,7 @@
 use crate::cli::RunArgs;
 use hemilab::error::{Error, Result};
 use hemilab::jobs::runner::JobRunner;
-use hemilab::jobs::{executor, long_run, protocol};
+use hemilab::jobs::{Threads, executor, long_run};
 use hemilab::load::load;
 use hemilab::outdir;
 use hemilab::plan;
@@ -26,11 +26,12 @@ pub fn run(args: RunArgs) -> Result<()> {
     let full = plan::plan(&loaded.spec);
     let plan = shard.map_or_else(|| full.clone(), |s| shard::select(&loaded, &full, s));
     let previous = if args.force { HashMap::new() } else { outdir::previous_results(&out)? };
-    let runner = JobRunner::new(args.common.threads, args.common.quiet)?;
+    let threads = Threads::resolve(args.common.threads);
+    let runner = JobRunner::new(threads, args.common.quiet)?;
 
     let policy = if args.no_build_reference { Policy::ReuseOnly } else { Policy::ReuseOrBuild };
     let ref_dir = refs::dir(args.reference_dir.as_deref(), &loaded.spec);
-    let protocol = protocol(args.common.threads, args.timing_repeats, &loaded.spec);
+    let protocol = threads.protocol(args.timing_repeats, &loaded.spec);
     long_run::warn_if_long(&args.spec, protocol, &loaded, &full, &plan, &previous, &ref_dir)?;
     let references = (0..loaded.scenes.len())
         .map(|si| {
@@ -50,17 +51,17 @@ pub fn run(args: RunArgs) -> Result<()> {
     if session.renders == 0 {
         session.overhead = outdir::previous_overhead(&out, &loaded.spec);
     }
-    let mut timing = session.timing_json(&loaded.spec, protocol);
+    let mut timing = session.timing(&loaded.spec, protocol);
     if session.renders == 0
         && let Some(earlier) = outdir::previous_session(&out)
     {
-        timing["session"] = earlier;
+        timing.session = earlier;
     }
     outdir::write_timing(&out, &timing)?;
     // "12 rendered, 428 reused": what the run did, for its closing line.
     let counts =
         format!("{} rendered, {} reused", results.len().saturating_sub(session.reused), session.reused);
-    let cost = report::run::quotes::Cost::of_timing(&timing, results.len());
+    let cost = Some(report::run::quotes::Cost::of(&timing.session, results.len()));
     if let Some(s) = shard {
         // A shard's report would be of a part; `merge` writes the whole one.
         println!(

@@ -37,26 +37,21 @@ pub struct Session {
 }
 
 impl Session {
+    /// The session's totals, as `timing.json` records them.
+    pub fn record(&self) -> timing::SessionRecord {
+        timing::SessionRecord { timed_cpu_s: self.cpu_s, timed_renders: self.renders, wall_s: self.wall_s }
+    }
+
     /// `timing.json`: how the run was timed, what a time includes, each scene's overhead, and the
     /// session's totals (a resumed run's older records keep the times of the session that made them).
-    pub fn timing_json(&self, spec: &crate::spec::Spec, protocol: Protocol) -> serde_json::Value {
-        let overhead: Vec<serde_json::Value> = spec
+    pub fn timing(&self, spec: &crate::spec::Spec, protocol: Protocol) -> timing::RunTiming {
+        let overhead = spec
             .scenes
             .iter()
             .zip(&self.overhead)
-            .map(|(s, o)| serde_json::json!({ "scene": s.name, "overhead_s": o }))
+            .map(|(s, o)| timing::SceneOverhead { scene: s.name.clone(), overhead_s: *o })
             .collect();
-        serde_json::json!({
-            "clock": timing::clock::NAME,
-            "time_includes": timing::TIME_INCLUDES,
-            "protocol": protocol,
-            "overhead": overhead,
-            "session": {
-                "timed_renders": self.renders,
-                "timed_cpu_s": self.cpu_s,
-                "wall_s": self.wall_s,
-            },
-        })
+        timing::RunTiming::new(protocol, overhead, self.record())
     }
 }
 

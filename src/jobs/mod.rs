@@ -4,6 +4,7 @@
 //! long-run warning, `long_run`) can say how long a run will take on this machine.
 
 pub mod calibrate;
+pub mod config;
 pub mod executor;
 pub mod long_run;
 pub mod measure;
@@ -11,15 +12,4 @@ pub mod reference;
 pub mod runner;
 pub mod sweep;
 
-use crate::spec::Spec;
-use crate::timing::Protocol;
-
-/// The timing protocol of a run of `spec`: `--timing-repeats` (`repeats`) over `[timing] repeats`;
-/// one one-thread worker per thread (`--threads`, default one per core).
-pub fn protocol(threads: Option<u32>, repeats: Option<u32>, spec: &Spec) -> Protocol {
-    let workers = match threads {
-        Some(t) => t as usize,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
-    Protocol::new(repeats.unwrap_or(spec.timing.repeats), spec.timing.seed, workers)
-}
+pub use config::Threads;

@@ -21,8 +21,9 @@ pub struct JobRunner {
 }
 
 impl JobRunner {
-    pub fn new(threads: Option<u32>, quiet: bool) -> Result<Self> {
-        Ok(Self { pool: render::pool(threads)?, bar: progress::bar(0, "", quiet) })
+    /// On a pool of `threads.pool_threads`.
+    pub fn new(threads: super::Threads, quiet: bool) -> Result<Self> {
+        Ok(Self { pool: threads.pool()?, bar: progress::bar(0, "", quiet) })
     }
 
     /// `job` with `counts[i]` rays in pixel i instead of `job.rays` (adaptive references), as a

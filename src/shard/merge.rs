@@ -25,7 +25,7 @@ pub struct ShardDir {
     pub manifest: Manifest,
     pub records: Vec<JobResult>,
     /// `timing.json`, if the shard got that far.
-    pub timing: Option<serde_json::Value>,
+    pub timing: Option<timing::RunTiming>,
 }
 
 /// Every record to its planned job (by run key); the first directory given wins among identical
@@ -81,7 +81,8 @@ pub fn read_shard(dir: &Path) -> Result<ShardDir> {
     // None yet: started, nothing finished.
     let records = outdir::read_results(dir, &|e| format!("not a results file ({e})"))?;
     let tpath = dir.join(outdir::TIMING_JSON);
-    let timing = if io::exists(&tpath) { serde_json::from_str(&io::read_string(&tpath)?).ok() } else { None };
+    let timing =
+        if io::exists(&tpath) { timing::RunTiming::from_json(&io::read_string(&tpath)?).ok() } else { None };
     Ok(ShardDir { dir: dir.to_path_buf(), manifest, records, timing })
 }
 
@@ -172,15 +173,14 @@ pub fn same_dir(a: &Path, b: &Path) -> bool {
     }
 }
 
-pub fn session_field(s: &ShardDir, key: &str) -> f64 {
-    s.timing.as_ref().and_then(|t| t.get("session")?.get(key)?.as_f64()).unwrap_or(0.0)
+/// The session a shard recorded (nothing, if it has no `timing.json`).
+pub fn session_of(s: &ShardDir) -> timing::SessionRecord {
+    s.timing.as_ref().map(|t| t.session).unwrap_or_default()
 }
 
 /// The overhead each shard measured for scene `name`.
 pub fn shard_overhead(s: &ShardDir, name: &str) -> Option<Summary> {
-    let list = s.timing.as_ref()?.get("overhead")?.as_array()?;
-    let e = list.iter().find(|e| e.get("scene").and_then(|n| n.as_str()) == Some(name))?;
-    serde_json::from_value(e.get("overhead_s")?.clone()).ok()
+    s.timing.as_ref()?.overhead_of(name)
 }
 
 /// Per scene, the overhead for the report's figures and text: one shard's as it is; several
@@ -272,8 +272,8 @@ pub fn timing_json(
                 "host": m.host,
                 "cpu": m.cpu,
                 "timing": m.timing,
-                "overhead": s.timing.as_ref().and_then(|t| t.get("overhead")).cloned(),
-                "session": s.timing.as_ref().and_then(|t| t.get("session")).cloned(),
+                "overhead": s.timing.as_ref().map(|t| &t.overhead),
+                "session": s.timing.as_ref().map(|t| t.session),
                 "records": keys,
             })
         })

@@ -27,8 +27,10 @@
 //!   median time minus that overhead; divided by its AO rays it is the marginal cost of a ray.
 
 pub mod clock;
+pub mod record;
 mod workers;
 
+pub use record::{RunTiming, SceneOverhead, SessionRecord};
 pub use workers::{Time, Worker, run_queue, workers};
 
 use serde::{Deserialize, Serialize};
@@ -55,8 +57,13 @@ pub const MIN_TOTAL_S: f64 = 0.25;
 /// … but no more samples than this in all.
 pub const MAX_REPEATS: u32 = 15;
 
+/// The cores this process may use (1 if unknown): the one default of every thread count.
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
 /// How the renders of a run are timed.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Protocol {
     /// Timing samples per unit, at least (its replicates count; re-renders make up the rest).
     pub repeats: u32,

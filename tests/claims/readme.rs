@@ -33,9 +33,10 @@ fn rebuilt(name: &str, out: &Path) -> String {
     let spec = hemilab::spec::parse_spec(&std::fs::read_to_string(&spec_path).unwrap(), &spec_path)
         .unwrap_or_else(|e| panic!("{}: {e}", spec_path.display()));
     let records = results::from_json(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
-    let timing: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("timing.json")).unwrap()).unwrap();
-    quotes::quotes(&spec, &records, Cost::of_timing(&timing, records.len()))
+    let timing =
+        hemilab::timing::RunTiming::from_json(&std::fs::read_to_string(out.join("timing.json")).unwrap())
+            .unwrap();
+    quotes::quotes(&spec, &records, Some(Cost::of(&timing.session, records.len())))
 }
 
 #[test]

@@ -19,7 +19,7 @@ use std::time::Instant;
 /// 0.3 d and unbounded), `repeats` timed samples each. Returns the JSON `hemilab bench --json`
 /// prints.
 pub fn measure(scene: &Scene, job: &RenderJob, distances: Option<&[f32]>, repeats: u32) -> Result<Value> {
-    let all = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+    let all = crate::timing::cores();
     let threads: Vec<usize> = if all > 1 { vec![1, all] } else { vec![1] };
 
     let one = time_renders(scene, job, 1)?;

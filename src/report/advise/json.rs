@@ -232,7 +232,8 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
             "budgets": maps,
         },
         "configurations": configurations,
-        "session": { "timed_renders": m.session.renders, "cpu_s": m.session.cpu_s, "wall_s": m.session.wall_s },
-        "finalists_session": m.verify_session.as_ref().map(|s| json!({ "timed_renders": s.renders, "cpu_s": s.cpu_s, "wall_s": s.wall_s })),
+        // The sessions as `timing.json` records them (`timing::SessionRecord`).
+        "session": m.session.record(),
+        "finalists_session": m.verify_session.as_ref().map(|s| s.record()),
     })
 }

@@ -31,15 +31,9 @@ pub struct Cost {
 }
 
 impl Cost {
-    /// From `timing.json` (`None` if it has no session, e.g. a merged run's).
-    pub fn of_timing(timing: &serde_json::Value, jobs: usize) -> Option<Self> {
-        let s = timing.get("session")?;
-        Some(Self {
-            jobs,
-            timed_renders: s.get("timed_renders")?.as_u64()? as usize,
-            cpu_s: s.get("timed_cpu_s")?.as_f64()?,
-            wall_s: s.get("wall_s")?.as_f64()?,
-        })
+    /// From `timing.json`'s session record, for `jobs` records.
+    pub fn of(s: &crate::timing::SessionRecord, jobs: usize) -> Self {
+        Self { jobs, timed_renders: s.timed_renders, cpu_s: s.timed_cpu_s, wall_s: s.wall_s }
     }
 }
 

@@ -1,4 +1,5 @@
-//! How a reference manifest records its camera: as JSON now, as a debug string before.
+//! How a reference manifest records its camera: as JSON now, as a debug string before (whose text
+//! `WorldCamera::canonical` now writes out explicitly).
 
 use crate::scene::{Camera, WorldCamera};
 use glam::DVec3;
@@ -50,7 +51,7 @@ impl CameraRecord {
                     up: v(*up),
                     fov_y_deg: *fov_y_deg,
                 };
-                format!("{c:?}")
+                c.canonical()
             }
             CameraRecord::Json(CameraJson::Orthographic { eye, target, up, view_width }) => {
                 let c: WorldCamera = Camera::Orthographic {
@@ -59,7 +60,7 @@ impl CameraRecord {
                     up: v(*up),
                     view_width: *view_width,
                 };
-                format!("{c:?}")
+                c.canonical()
             }
         }
     }

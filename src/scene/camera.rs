@@ -52,6 +52,29 @@ impl<V: Copy> Camera<V> {
 }
 
 impl WorldCamera {
+    /// The camera as text, for the stored identities that name it (reference manifests and file
+    /// names, scene hashes, run keys): written out here, number by number (Rust's shortest
+    /// round-trip form of each), so that the text cannot change under a dependency upgrade. It is
+    /// the text glam's and the derived `Debug` gave when it was first stored (a test checks), so
+    /// every committed reference keeps its name.
+    pub fn canonical(&self) -> String {
+        let v = |p: DVec3| format!("DVec3({:?}, {:?}, {:?})", p.x, p.y, p.z);
+        match *self {
+            Camera::Perspective { eye, target, up, fov_y_deg } => format!(
+                "Perspective {{ eye: {}, target: {}, up: {}, fov_y_deg: {fov_y_deg:?} }}",
+                v(eye),
+                v(target),
+                v(up)
+            ),
+            Camera::Orthographic { eye, target, up, view_width } => format!(
+                "Orthographic {{ eye: {}, target: {}, up: {}, view_width: {view_width:?} }}",
+                v(eye),
+                v(target),
+                v(up)
+            ),
+        }
+    }
+
     /// The same camera relative to `origin` (its positions minus `origin`, subtracted in f64 and then
     /// rounded once to f32).
     pub fn relative_to(&self, origin: DVec3) -> Camera {

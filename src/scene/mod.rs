@@ -144,7 +144,7 @@ impl Scene {
 
     /// The camera as reference manifests record it: the world placement, as the scene gives it.
     pub fn camera_description(&self) -> String {
-        format!("{:?}", self.view)
+        self.view.canonical()
     }
 
     /// A scene made in code (tests, validation), in world coordinates: unusable triangles are
@@ -156,7 +156,8 @@ impl Scene {
         ao_distance: f32,
         triangles: Vec<[DVec3; 3]>,
     ) -> Result<Scene, String> {
-        let mut bytes = format!("{name} {view:?} {resolution:?} {ao_distance}").into_bytes();
+        let (w, h) = resolution;
+        let mut bytes = format!("{name} {} ({w}, {h}) {ao_distance}", view.canonical()).into_bytes();
         for v in triangles.iter().flatten() {
             for c in v.to_array() {
                 bytes.extend_from_slice(&c.to_le_bytes());

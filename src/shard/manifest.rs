@@ -78,7 +78,21 @@ pub fn resolve(
 /// the timing settings. Shards of one spec have the same; `merge` refuses any other.
 pub fn fingerprint(loaded: &Loaded, plan: &Plan) -> String {
     let spec = &loaded.spec;
-    let mut text = format!("{};{:?};{:?}", spec.name, spec.reference, spec.timing);
+    let r = &spec.reference;
+    let rays = match r.rays {
+        crate::spec::ReferenceRays::Auto => "auto".to_string(),
+        crate::spec::ReferenceRays::Fixed(n) => n.to_string(),
+    };
+    let mut text = format!(
+        "{};reference:rays={rays},replicates={},seed={},estimator={},adaptive={};timing:repeats={},seed={}",
+        spec.name,
+        r.replicates,
+        r.seed,
+        r.estimator.label(),
+        r.adaptive,
+        spec.timing.repeats,
+        spec.timing.seed
+    );
     for job in &plan.jobs {
         text.push(';');
         text.push_str(&job.canonical());

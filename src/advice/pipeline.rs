@@ -8,32 +8,34 @@
 //! spatial filter the structure rule is not applied (see `as_ranked`).
 
 use crate::denoise::Pipeline;
+use crate::plan::Measurement;
 use crate::results::{self, JobResult};
-
-/// The frames a job of `pipeline` measured at frame `frames` renders: all of them when the
-/// pipeline accumulates, the last one when it only filters.
-pub fn frames_rendered(pipeline: Pipeline, frames: u32) -> u32 {
-    if pipeline.is_temporal() { frames.max(1) } else { 1 }
-}
 
 /// The records as the paper-table images advise ranks: pipeline `raw`, frame 1, independent
 /// schedule, every time (and the rays cast) divided by the frames rendered, the timing split and
 /// efficiency recomputed from those per-frame times with the record's own overhead. Records that
-/// are already single frames come back unchanged.
-pub fn as_ranked(records: &[JobResult]) -> Vec<JobResult> {
+/// are already single frames come back unchanged. A record whose pipeline, schedule or integrand
+/// this version cannot read is refused (the message names it), never read as raw.
+pub fn as_ranked(records: &[JobResult]) -> Result<Vec<JobResult>, String> {
     let mut out: Vec<JobResult> = records
         .iter()
         .map(|r| {
-            if r.is_single_frame() {
-                return r.clone();
+            let m: Measurement = r.measurement().ok_or_else(|| {
+                format!(
+                    "record {} names a pipeline '{}', schedule '{}' or integrand '{}' this version does not know",
+                    r.key, r.pipeline, r.schedule, r.integrand
+                )
+            })?;
+            if m.is_single_frame() {
+                return Ok(r.clone());
             }
-            let p: Pipeline = r.pipeline.parse().unwrap_or(Pipeline::RAW);
-            let k = frames_rendered(p, r.frame) as f64;
+            let p = m.pipeline;
+            let k = m.frames_rendered().len() as f64;
             // A spatial filter makes every error low-frequency, white noise's too, so the
             // low-frequency ratio of a filtered image says nothing about the sampler: not measured
             // (advise's structure rule then holds nothing back; the report's crops show the image).
             let lowfreq_ratio = if p.spatial.is_some() { f64::NAN } else { r.lowfreq_ratio };
-            JobResult {
+            Ok(JobResult {
                 lowfreq_ratio,
                 pipeline: Pipeline::RAW.to_string(),
                 frame: 1,
@@ -44,14 +46,14 @@ pub fn as_ranked(records: &[JobResult]) -> Vec<JobResult> {
                 walls: r.walls.iter().map(|t| t / k).collect(),
                 rays_cast: (r.rays_cast as f64 / k).round() as u64,
                 ..r.clone()
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, String>>()?;
     let overhead = |scene: &str| {
         records.iter().find(|r| r.scene == scene && r.overhead_s.is_finite()).map(|r| r.overhead_s)
     };
     if records.iter().any(|r| !r.is_single_frame()) {
         results::fill_timing(&mut out, &overhead);
     }
-    out
+    Ok(out)
 }

@@ -112,7 +112,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         session.overhead = outdir::previous_overhead(sources.first().map_or(&stage, |d| d), spec);
     }
     // What advise ranks: the images after the pipeline, at the time of one frame (`as_ranked`).
-    let results = as_ranked(&results);
+    let results = as_ranked(&results).map_err(Error::Refused)?;
     let mut analysis = analysis::analyse(&setup, &results, &args.budget_ms);
     let replicates = analysis::verify_replicates(spec.replicates);
     let vplan = setup::verify_jobs(spec, &analysis::finalists(&analysis), replicates);
@@ -142,7 +142,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let errors = sweep::error_images(&vplan, &verified, &reference, &stage)?;
     let verified: Vec<JobResult> = verified.into_iter().flatten().collect();
     store.add(&verified)?;
-    let verified = as_ranked(&verified);
+    let verified = as_ranked(&verified).map_err(Error::Refused)?;
     // Rendered: what the sessions rendered; with --from nothing is (the records are all reused).
     let rendered = results.len() - session.reused
         + verify_session.as_ref().map_or(0, |s| verified.len().saturating_sub(s.reused));

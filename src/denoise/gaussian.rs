@@ -6,8 +6,8 @@
 use crate::image::{Image, covered};
 use rayon::prelude::*;
 
-/// σ of the `gauss` filter, in pixels; also `metrics::LOWPASS_SIGMA`, the width of the low pass
-/// error is measured with (wide enough to average pixel noise away, narrow enough to keep bands).
+/// σ of the `gauss` filter, in pixels: the width of the low pass error is measured with
+/// (`metrics::LOWPASS_SIGMA`), so that the filter removes what that measure calls noise.
 pub const GAUSS_SIGMA: f64 = 1.5;
 
 /// The taps g(k) = exp(−k² / 2σ²), k = −⌈3σ⌉..=⌈3σ⌉, of the separable Gaussian (unnormalized).

@@ -58,8 +58,10 @@ pub struct ErrorStats {
     pub lowfreq_ratio: f64,
 }
 
-/// Width of the low-pass: wide enough to average pixel noise away, narrow enough to keep bands.
-pub const LOWPASS_SIGMA: f64 = crate::denoise::GAUSS_SIGMA;
+/// Width of the low-pass, in pixels: wide enough to average pixel noise away, narrow enough to keep
+/// bands. A property of the error measure, set here; that the `gauss` filter has the same width
+/// (`denoise::GAUSS_SIGMA`) is the filter's choice.
+pub const LOWPASS_SIGMA: f64 = 1.5;
 
 fn check(image: &Image, other: &Image, what: &'static str) -> Result<(), MetricsError> {
     if image.same_size(other) {

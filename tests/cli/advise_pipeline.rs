@@ -45,7 +45,7 @@ fn advise_ranks_the_image_after_the_pipeline_at_one_frames_time() {
         assert!(r.rmse.is_finite() && r.noise_rmse.is_finite() && r.rmse > 0.0);
     }
     // Each stored record renders 4 frames; what advise ranks is the time of one.
-    let ranked = hemilab::advice::pipeline::as_ranked(&records);
+    let ranked = hemilab::advice::pipeline::as_ranked(&records).unwrap();
     for (r, k) in records.iter().zip(&ranked) {
         assert!(k.is_single_frame());
         assert_eq!((k.rmse, k.rays), (r.rmse, r.rays));

@@ -79,6 +79,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     Ok(())
 }
 
+/// Appends `bytes` to `path` (created if missing) and flushes them to the OS: a journal line that a
+/// killed process has written is on disk for the next one (a cut-off last line is its reader's to
+/// drop).
+pub fn append(path: &Path, bytes: &[u8]) -> Result<()> {
+    let mut f =
+        fs::OpenOptions::new().create(true).append(true).open(path).map_err(|e| Error::io(path, e))?;
+    f.write_all(bytes).and_then(|()| f.flush()).map_err(|e| Error::io(path, e))
+}
+
 /// Removes the temporary files that `write_atomic` and `link_or_copy` of a process that is gone left
 /// in `dir` (a `kill -9`, a power cut: `.NAME.tmp-HOST-PID`, `.NAME.link-HOST-PID`), and returns
 /// them. Only that pattern, and only where no writer can still be at work: on this host, a PID that

@@ -15,6 +15,8 @@ use std::path::{Path, PathBuf};
 
 /// One record per image, as JSON (the resume source) and CSV.
 pub const RESULTS_JSON: &str = "results.json";
+/// Records a run has made since results.json was last written whole, one JSON line each.
+pub const RESULTS_JOURNAL: &str = "results.journal.jsonl";
 pub const RESULTS_CSV: &str = "results.csv";
 /// One line per configuration.
 pub const AGGREGATES_CSV: &str = "aggregates.csv";
@@ -92,21 +94,92 @@ pub fn has_image(out: &Path, image: &str) -> bool {
     image.is_empty() || io::exists(&out.join(image))
 }
 
-/// `results.json` and `results.csv`, rewritten whole after every job.
+/// `results.json` and `results.csv`, written whole (at the end of a run, and by phases of advise);
+/// the journal of the records before them is then removed.
 pub fn write_results(out: &Path, results: &[JobResult]) -> Result<()> {
     io::write_atomic(&out.join(RESULTS_JSON), results::to_json(results).as_bytes())?;
-    io::write_atomic(&out.join(RESULTS_CSV), results::to_csv(results).as_bytes())
+    io::write_atomic(&out.join(RESULTS_CSV), results::to_csv(results).as_bytes())?;
+    io::remove_file_if_exists(&out.join(RESULTS_JOURNAL))
 }
 
-/// The records in `dir`'s `results.json` (none if there is no such file). A results file that
-/// cannot be read is an error naming it (`explain` words the parse error), not something to
-/// overwrite.
+/// Appends records a run has just made to the journal beside `results.json`, one JSON line each:
+/// what a killed run keeps. Writing every record again after every job would cost time growing
+/// with the square of the records (a 4,000-job real-time run spent most of its wall time so).
+pub fn append_results(out: &Path, records: &[JobResult]) -> Result<()> {
+    let mut text = String::new();
+    for r in records {
+        text.push_str(&serde_json::to_string(r).expect("plain records always serialize"));
+        text.push('\n');
+    }
+    io::append(&out.join(RESULTS_JOURNAL), text.as_bytes())
+}
+
+/// How a running command saves its records: each render's new ones appended to the journal at
+/// once, and `results.json` (with `results.csv`) rewritten whole from every record so far at most
+/// every `EVERY` (then the journal starts again), so the files a person opens stay current and a
+/// kill loses nothing.
+pub struct Saver<'a> {
+    out: &'a Path,
+    last: std::sync::Mutex<Option<std::time::Instant>>,
+}
+
+impl<'a> Saver<'a> {
+    /// How often `results.json` is rewritten while jobs finish.
+    pub const EVERY: std::time::Duration = std::time::Duration::from_secs(2);
+
+    pub fn new(out: &'a Path) -> Self {
+        Self { out, last: std::sync::Mutex::new(None) }
+    }
+
+    /// Saves `new`; `so_far` is every record of the run so far (new ones included).
+    pub fn save(&self, new: &[JobResult], so_far: &[Option<JobResult>]) -> Result<()> {
+        append_results(self.out, new)?;
+        let mut last = self.last.lock().unwrap_or_else(|e| e.into_inner());
+        if last.is_none_or(|t| t.elapsed() >= Self::EVERY) {
+            write_results(self.out, &so_far.iter().flatten().cloned().collect::<Vec<_>>())?;
+            *last = Some(std::time::Instant::now());
+        }
+        Ok(())
+    }
+}
+
+/// The records in `dir`'s `results.json` and then its journal (a record of the journal replaces
+/// the one of the same key), none if neither is there. A results file that cannot be read is an
+/// error naming it (`explain` words the parse error), not something to overwrite; a journal's
+/// cut-off last line (a run killed mid-write) is dropped.
 pub fn read_results(dir: &Path, explain: &dyn Fn(String) -> String) -> Result<Vec<JobResult>> {
     let path = dir.join(RESULTS_JSON);
-    if !io::exists(&path) {
-        return Ok(Vec::new());
+    let mut list = if io::exists(&path) {
+        results::from_json(&io::read_string(&path)?)
+            .map_err(|e| Error::input(&path, explain(e.to_string())))?
+    } else {
+        Vec::new()
+    };
+    let journal = dir.join(RESULTS_JOURNAL);
+    if io::exists(&journal) {
+        let text = io::read_string(&journal)?;
+        let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
+        let mut at: HashMap<String, usize> =
+            list.iter().enumerate().map(|(i, r)| (r.key.clone(), i)).collect();
+        for (n, line) in lines.iter().enumerate() {
+            let r = match results::from_json(&format!("[{line}]")) {
+                Ok(mut v) if v.len() == 1 => v.remove(0),
+                // The last line of a killed run may be cut off: it is redone.
+                _ if n + 1 == lines.len() && !text.ends_with('\n') => break,
+                Ok(_) | Err(_) => {
+                    return Err(Error::input(&journal, explain(format!("line {} is not a record", n + 1))));
+                }
+            };
+            match at.get(&r.key) {
+                Some(&i) => list[i] = r,
+                None => {
+                    at.insert(r.key.clone(), list.len());
+                    list.push(r);
+                }
+            }
+        }
     }
-    results::from_json(&io::read_string(&path)?).map_err(|e| Error::input(&path, explain(e.to_string())))
+    Ok(list)
 }
 
 /// Finished records of an earlier run, by key.

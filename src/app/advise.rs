@@ -92,18 +92,18 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         None => {
             let none =
                 |_: usize, _: &hemilab::plan::Job, _: &hemilab::render::RenderOutput| Ok(String::new());
-            let write = |r: &[JobResult]| store.write(r, false);
-            let ran = executor::measure_jobs(
-                &setup.loaded,
-                &setup.plan,
-                std::slice::from_ref(&reference),
-                &previous,
-                &stage,
+            let write = |s: &executor::Saved| store.write(s.new, false);
+            let jobs = executor::Jobs {
+                loaded: &setup.loaded,
+                plan: &setup.plan,
+                references: std::slice::from_ref(&reference),
+                previous: &previous,
+                out: &stage,
                 protocol,
-                &runner.bar,
-                &write,
-                &none,
-            )?;
+                bar: &runner.bar,
+                write: &write,
+            };
+            let ran = executor::measure_jobs(&jobs, &none)?;
             (ran.0, ran.1)
         }
     };
@@ -124,18 +124,18 @@ pub fn run(args: AdviseArgs) -> Result<()> {
             let p = executor::provenance(&setup.loaded.spec.name, job, scene, &reference, o);
             outdir::write_image(&stage, job, o, &p)
         };
-        let write = |r: &[JobResult]| store.write(r, false);
-        let (r, s) = executor::measure_jobs(
-            &setup.loaded,
-            &vplan,
-            std::slice::from_ref(&reference),
-            &previous,
-            &stage,
+        let write = |s: &executor::Saved| store.write(s.new, false);
+        let jobs = executor::Jobs {
+            loaded: &setup.loaded,
+            plan: &vplan,
+            references: std::slice::from_ref(&reference),
+            previous: &previous,
+            out: &stage,
             protocol,
-            &runner.bar,
-            &write,
-            &keep,
-        )?;
+            bar: &runner.bar,
+            write: &write,
+        };
+        let (r, s) = executor::measure_jobs(&jobs, &keep)?;
         (r.into_iter().map(Some).collect(), Some(s))
     };
     runner.bar.finish_and_clear();

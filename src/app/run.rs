@@ -42,12 +42,22 @@ pub fn run(args: RunArgs) -> Result<()> {
     if let Some(s) = shard {
         shard::Manifest::new(&loaded, &full, s, plan.jobs.len(), protocol).write(&out)?;
     }
-    let write = |r: &[hemilab::results::JobResult]| outdir::write_results(&out, r);
+    let saver = outdir::Saver::new(&out);
+    let write = |s: &executor::Saved| saver.save(s.new, s.so_far);
     // After a signal the message says the finished jobs are here, for a rerun to resume.
     hemilab::interrupt::saves_to(&out);
-    let (results, mut session) =
-        executor::run_jobs(&loaded, &plan, &references, &previous, &out, protocol, &runner.bar, &write)?;
+    let (results, mut session) = executor::run_jobs(&executor::Jobs {
+        loaded: &loaded,
+        plan: &plan,
+        references: &references,
+        previous: &previous,
+        out: &out,
+        protocol,
+        bar: &runner.bar,
+        write: &write,
+    })?;
     runner.bar.finish_and_clear();
+    outdir::write_results(&out, &results)?;
     if session.renders == 0 {
         session.overhead = outdir::previous_overhead(&out, &loaded.spec);
     }

@@ -10,12 +10,13 @@
 //!   against the reference under the same spatial filter (the noise part, `noise_rmse`), so a
 //!   filter's bias and the sampler's noise stay apart.
 //!
-//! The time of a job (`time_s` and the timing columns) is the CPU time of `render`: every frame it
-//! renders (all `frame` frames when the pipeline accumulates, the one last frame when it does not)
-//! and accumulating them; the spatial filter in `measure` is not timed (it costs the same for
-//! every sampler, so it cannot change which sampler wins at equal time). A single frame rendered
-//! by `Frames` would be the same image bit for bit: `SingleFrame` exists so that the paper's path
-//! stays one render and one measurement, with nothing of the frames' machinery around it.
+//! A series of frames is rendered once, to its last reported frame, and each reported frame's
+//! image is taken on the way (`plan::series`). The time of a reported frame's record (`time_s`
+//! and the timing columns) is the CPU time of rendering the frames up to it and accumulating
+//! them; the spatial filter is not timed (it costs the same for every sampler, so it cannot change
+//! which sampler wins at equal time). A single frame's time is that of its whole render. A single
+//! frame rendered by `Frames` would be the same image bit for bit: `SingleFrame` exists so that
+//! the paper's path stays one render, with nothing of the frames' machinery around it.
 
 use crate::denoise::{Pipeline, Spatial};
 use crate::image::Image;
@@ -23,6 +24,7 @@ use crate::metrics::{self, ErrorStats, MetricsError};
 use crate::plan::Measurement;
 use crate::render::{self, GBuffer, RenderJob, RenderOutput};
 use crate::scene::Scene;
+use crate::timing::{Time, clock};
 use std::collections::HashMap;
 
 /// The reference images a measurement compares with, and the guide of its filters.
@@ -35,35 +37,57 @@ pub struct Against<'a> {
     pub filtered_reference: Option<&'a Image>,
 }
 
-/// The measured image, its error statistics and its noise RMSE (the RMSE against the equally
-/// filtered reference; the RMSE itself without a filter).
-pub type Measured = (RenderOutput, ErrorStats, f64);
+/// The image of one reported frame: after the whole pipeline, with the rays of every frame so
+/// far, and the render time of those frames (`None`: the caller's time of the whole render).
+pub struct FrameImage {
+    /// The frame, counted from 1.
+    pub frame: u32,
+    pub output: RenderOutput,
+    pub time: Option<Time>,
+}
 
 /// One kind of measurement.
 pub trait Measure: Sync {
-    /// Renders what the job renders (timed by the caller): `ao` of the output is the image before
-    /// any spatial filter, `rays` counts every frame's AO rays.
-    fn render(&self, scene: &Scene, rj: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -> RenderOutput;
+    /// Renders what the job renders (timed by the caller as a whole) and returns the image at each
+    /// of `reported` (ascending frames from 1; a single frame reports `[1]`).
+    fn render(
+        &self,
+        scene: &Scene,
+        rj: &RenderJob,
+        reported: &[u32],
+        against: &Against,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Vec<FrameImage>;
 
-    /// The image after the measurement's filters, and its errors.
-    fn measure(&self, rendered: RenderOutput, against: &Against) -> Result<Measured, MetricsError>;
-
-    /// How many frames `render` renders (for progress and cost).
+    /// How many frames a render to the job's own frame renders (for progress and cost).
     fn frames(&self) -> u64;
+}
+
+/// A reported frame's error statistics against the reference and its noise RMSE: against the
+/// reference under the same spatial filter (`Against::filtered_reference`), else the RMSE itself.
+pub fn errors(image: &Image, against: &Against) -> Result<(ErrorStats, f64), MetricsError> {
+    let stats = metrics::measure(image, against.reference, against.coverage)?;
+    let noise = match against.filtered_reference {
+        Some(f) => metrics::measure(image, f, against.coverage)?.rmse,
+        None => stats.rmse,
+    };
+    Ok((stats, noise))
 }
 
 /// One raw frame.
 pub struct SingleFrame(pub Measurement);
 
 impl Measure for SingleFrame {
-    fn render(&self, scene: &Scene, rj: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -> RenderOutput {
-        render::render_integrand(scene, rj, self.0.integrand, progress)
-    }
-
-    fn measure(&self, rendered: RenderOutput, against: &Against) -> Result<Measured, MetricsError> {
-        let stats = metrics::measure(&rendered.ao, against.reference, against.coverage)?;
-        let noise = stats.rmse;
-        Ok((rendered, stats, noise))
+    fn render(
+        &self,
+        scene: &Scene,
+        rj: &RenderJob,
+        _reported: &[u32],
+        _against: &Against,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Vec<FrameImage> {
+        let output = render::render_integrand(scene, rj, self.0.integrand, progress);
+        vec![FrameImage { frame: 1, output, time: None }]
     }
 
     fn frames(&self) -> u64 {
@@ -75,42 +99,45 @@ impl Measure for SingleFrame {
 pub struct Frames(pub Measurement);
 
 impl Measure for Frames {
-    fn render(&self, scene: &Scene, rj: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -> RenderOutput {
+    fn render(
+        &self,
+        scene: &Scene,
+        rj: &RenderJob,
+        reported: &[u32],
+        against: &Against,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Vec<FrameImage> {
         let m = &self.0;
+        let last = reported.iter().copied().max().unwrap_or(m.frame).max(1);
+        // A pipeline that does not accumulate shows one frame: the last one alone is rendered.
+        let rendered: Vec<u32> = if m.pipeline.is_temporal() { (0..last).collect() } else { vec![last - 1] };
         let mut acc = m.pipeline.accumulator();
-        let mut last: Option<RenderOutput> = None;
         let (mut rays, mut occluded) = (0u64, 0u64);
-        for f in m.frames_rendered() {
+        let mut spent = Time { cpu_s: 0.0, wall_s: 0.0 };
+        let mut out = Vec::with_capacity(reported.len());
+        for f in rendered {
             let frame = RenderJob { sampler: rj.sampler.with_frame(f).with_schedule(m.schedule), ..*rj };
-            let out = render::render_integrand(scene, &frame, m.integrand, progress);
-            rays += out.rays;
-            occluded += out.occluded_rays;
+            let (c0, w0) = (clock::thread_cpu_s(), clock::wall_s());
+            let mut o = render::render_integrand(scene, &frame, m.integrand, progress);
             if let Some(a) = acc.as_mut() {
-                a.push(&out.ao);
+                a.push(&o.ao);
             }
-            last = Some(out);
+            (spent.cpu_s, spent.wall_s) =
+                (spent.cpu_s + clock::thread_cpu_s() - c0, spent.wall_s + clock::wall_s() - w0);
+            rays += o.rays;
+            occluded += o.occluded_rays;
+            if !reported.contains(&(f + 1)) {
+                continue;
+            }
+            let shown = acc.as_ref().map_or_else(|| o.ao.clone(), |a| a.image());
+            o.ao = match (m.pipeline.spatial, against.gbuffer) {
+                (Some(_), Some(g)) => m.pipeline.apply_spatial(&shown, g),
+                _ => shown,
+            };
+            (o.rays, o.occluded_rays) = (rays, occluded);
+            out.push(FrameImage { frame: f + 1, output: o, time: Some(spent) });
         }
-        let mut out = last.expect("a measurement renders at least one frame");
-        if let Some(a) = acc {
-            out.ao = a.image();
-        }
-        out.rays = rays;
-        out.occluded_rays = occluded;
         out
-    }
-
-    fn measure(&self, rendered: RenderOutput, against: &Against) -> Result<Measured, MetricsError> {
-        let pipeline = self.0.pipeline;
-        let img = match (pipeline.spatial, against.gbuffer) {
-            (Some(_), Some(g)) => pipeline.apply_spatial(&rendered.ao, g),
-            _ => rendered.ao.clone(),
-        };
-        let stats = metrics::measure(&img, against.reference, against.coverage)?;
-        let noise = match against.filtered_reference {
-            Some(f) => metrics::measure(&img, f, against.coverage)?.rmse,
-            None => stats.rmse,
-        };
-        Ok((RenderOutput { ao: img, ..rendered }, stats, noise))
     }
 
     fn frames(&self) -> u64 {

@@ -86,6 +86,8 @@ pub struct Store<'a> {
     dir: &'a Path,
     /// Finished phases' records, then the earlier ones they do not replace.
     kept: Mutex<Vec<JobResult>>,
+    /// The running phase's records so far.
+    current: Mutex<Vec<JobResult>>,
     last: Mutex<Instant>,
 }
 
@@ -93,15 +95,23 @@ impl<'a> Store<'a> {
     pub fn new(dir: &'a Path, previous: &HashMap<String, JobResult>) -> Self {
         let mut kept: Vec<JobResult> = previous.values().cloned().collect();
         kept.sort_by(|a, b| a.key.cmp(&b.key));
-        Self { dir, kept: Mutex::new(kept), last: Mutex::new(Instant::now()) }
+        Self {
+            dir,
+            kept: Mutex::new(kept),
+            current: Mutex::new(Vec::new()),
+            last: Mutex::new(Instant::now()),
+        }
     }
 
     fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
         m.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// `current` (a running phase's records so far) and the kept ones, if `now` or it is time.
-    pub fn write(&self, current: &[JobResult], now: bool) -> Result<()> {
+    /// A running phase's new records join its earlier ones; those and the kept ones are written if
+    /// `now` or it is time.
+    pub fn write(&self, new: &[JobResult], now: bool) -> Result<()> {
+        let mut current = Self::lock(&self.current);
+        current.extend_from_slice(new);
         let mut last = Self::lock(&self.last);
         if !now && last.elapsed() < WRITE_EVERY {
             return Ok(());
@@ -117,6 +127,7 @@ impl<'a> Store<'a> {
 
     /// A finished phase's records join the kept ones (replacing theirs), and all are written.
     pub fn add(&self, done: &[JobResult]) -> Result<()> {
+        Self::lock(&self.current).clear();
         {
             let mut kept = Self::lock(&self.kept);
             let mine: std::collections::HashSet<&str> = done.iter().map(|r| r.key.as_str()).collect();

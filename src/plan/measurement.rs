@@ -75,6 +75,17 @@ impl Measurement {
         }
     }
 
+    /// What the jobs of one series of frames share (`plan::series`): for a pipeline that
+    /// accumulates, the frames part without the frame, so that every reported frame of one
+    /// sequence is read from one render of it; otherwise `frames_key`. Part of the timing unit.
+    pub fn series_key(&self) -> String {
+        if self.pipeline.is_temporal() {
+            format!(";schedule={};pipeline={}", self.schedule, self.pipeline)
+        } else {
+            self.frames_key()
+        }
+    }
+
     /// Everything this measurement adds to a job's canonical text: the frames part, then
     /// `;integrand=..` unless it is AO.
     pub fn key_suffix(&self) -> String {

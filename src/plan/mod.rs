@@ -284,11 +284,48 @@ pub fn format_duration(seconds: f64) -> String {
     }
 }
 
-/// What the timing protocol calls a unit: one configuration on one scene.
-/// A multi-frame measurement's frames, schedule and pipeline are part of its unit
-/// (`Measurement::frames_key`): 16 frames cost 16 times one.
+/// What the timing protocol calls a unit: one configuration on one scene. A multi-frame
+/// measurement's schedule and pipeline are part of its unit (`Measurement::series_key`), and so
+/// every reported frame of one series of frames (`series`) is in one unit, so in one shard.
 pub fn unit_key(job: &Job) -> (String, Row, u32) {
-    (format!("{}{}", job.scene_id, job.measurement.frames_key()), job.row().canonical(), job.rays)
+    (format!("{}{}", job.scene_id, job.measurement.series_key()), job.row().canonical(), job.rays)
+}
+
+/// The jobs one render produces: a job of a pipeline that accumulates frames is measured at
+/// frame k of a series of frames that its jobs at the other reported frames share, so the series
+/// is rendered once, to its last reported frame (the `leader`), and every member's image is read
+/// from that one render on the way (each frame's image depends only on the frames before it).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Series {
+    /// The member with the most frames: the job that is rendered.
+    pub leader: usize,
+    /// Every job of the series (plan indices), the leader among them, in plan order.
+    pub members: Vec<usize>,
+}
+
+/// The plan's jobs grouped into series (every other job a series of one), in order of their first
+/// job.
+pub fn series(plan: &Plan) -> Vec<Series> {
+    let mut index: std::collections::HashMap<String, usize> = Default::default();
+    let mut out: Vec<Series> = Vec::new();
+    for (i, job) in plan.jobs.iter().enumerate() {
+        let key = if job.measurement.pipeline.is_temporal() {
+            let first = Job { measurement: Measurement { frame: 1, ..job.measurement }, ..job.clone() };
+            first.canonical()
+        } else {
+            job.canonical()
+        };
+        let s = *index.entry(key).or_insert_with(|| {
+            out.push(Series { leader: i, members: Vec::new() });
+            out.len() - 1
+        });
+        let series = &mut out[s];
+        series.members.push(i);
+        if job.measurement.frame > plan.jobs[series.leader].measurement.frame {
+            series.leader = i;
+        }
+    }
+    out
 }
 
 /// The plan's jobs grouped into units (job indices), units in order of their first job.

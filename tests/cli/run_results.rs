@@ -419,3 +419,36 @@ seed_modes = ["shift"]
     let a: Vec<JobResult> = recs.iter().map(timeless).collect();
     assert_eq!(records(&t.path("one")).iter().map(timeless).collect::<Vec<_>>(), a);
 }
+
+/// The journal beside results.json: records are saved as they are made, a later line replaces an
+/// earlier record of its key, a cut-off last line (a kill mid-write) is dropped, and writing
+/// results.json whole empties the journal.
+#[test]
+fn the_journal_keeps_every_record_a_killed_run_made() {
+    let t = Tmp::new("journal");
+    t.spec("s.toml", &tiny_spec(64, ""));
+    let o = t.run_ok(&t.path("s.toml"), "out", "ref", &[]);
+    assert!(o.status.success());
+    let out = t.path("out");
+    let all = records(&out);
+    assert!(
+        all.len() >= 2 && !out.join(hemilab::outdir::RESULTS_JOURNAL).exists(),
+        "a finished run has none"
+    );
+    // A run killed after saving two records whole and one in its journal, mid-way through a fourth.
+    hemilab::outdir::write_results(&out, &all[..2]).unwrap();
+    let mut changed = all[0].clone();
+    changed.rmse = 0.5;
+    hemilab::outdir::append_results(&out, &[all[2].clone(), changed]).unwrap();
+    let cut = serde_json::to_string(&all[3 % all.len()]).unwrap();
+    hemilab::io::append(&out.join(hemilab::outdir::RESULTS_JOURNAL), cut[..cut.len() / 2].as_bytes())
+        .unwrap();
+    let read = records(&out);
+    assert_eq!(read.len(), 3, "two whole, one journalled, the cut-off line dropped");
+    assert_eq!((read[0].rmse, &read[1], &read[2]), (0.5, &all[1], &all[2]));
+    // A rerun resumes from them and writes results.json whole again.
+    let o = t.run_ok(&t.path("s.toml"), "out", "ref", &[]);
+    assert!(stdout(&o).contains("reused"), "{}", stdout(&o));
+    assert!(!out.join(hemilab::outdir::RESULTS_JOURNAL).exists());
+    assert_eq!(records(&out).len(), all.len());
+}

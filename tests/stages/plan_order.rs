@@ -215,6 +215,28 @@ frames = 4
     assert_eq!(got, want);
     let keys: std::collections::HashSet<String> = p.jobs.iter().map(|j| j.key()).collect();
     assert_eq!(keys.len(), p.jobs.len(), "keys must be unique");
+    // Each accumulated sequence is one series, rendered once by its frame-4 job; every other job
+    // is a series of its own.
+    let series = hemilab::plan::series(&p);
+    let shape: Vec<(usize, Vec<usize>)> = series.iter().map(|s| (s.leader, s.members.clone())).collect();
+    assert_eq!(
+        shape,
+        [
+            (0, vec![0]),
+            (3, vec![1, 2, 3]),
+            (4, vec![4]),
+            (7, vec![5, 6, 7]),
+            (8, vec![8]),
+            (11, vec![9, 10, 11]),
+            (12, vec![12]),
+            (15, vec![13, 14, 15]),
+        ]
+    );
+    // A series is one timing unit (so one shard).
+    for s in &series {
+        let u = hemilab::plan::unit_key(&p.jobs[s.leader]);
+        assert!(s.members.iter().all(|&i| hemilab::plan::unit_key(&p.jobs[i]) == u));
+    }
     // The raw independent frame-1 job is the paper-table job: the same key as without the keys.
     let plain = plan_of(
         "scenes = [\"a.toml\"]\nreplicates = 1\n[[table]]\nname = \"rt\"\nrays = [1]\n\

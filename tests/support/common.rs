@@ -137,10 +137,9 @@ pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
+/// The records a run in `out` has saved: its `results.json` and the journal of records since.
 pub fn records(out: &Path) -> Vec<JobResult> {
-    let path = out.join("results.json");
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    hemilab::results::from_json(&text).unwrap()
+    hemilab::outdir::read_results(out, &|e| e).unwrap_or_else(|e| panic!("{}: {e}", out.display()))
 }
 
 /// A record with its run-time fields blanked: what must be identical between runs.

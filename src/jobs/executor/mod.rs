@@ -19,6 +19,9 @@ use crate::results::{self, JobResult};
 use crate::scene::Scene;
 use crate::spec::Row;
 use crate::timing::{self, Need, Protocol, Slot, Summary, Time};
+use state::{Done, State};
+
+mod state;
 use indicatif::ProgressBar;
 use std::collections::HashMap;
 use std::path::Path;
@@ -97,88 +100,44 @@ fn stop_if_interrupted() -> Result<()> {
     Ok(())
 }
 
-/// Whatever a worker hands back for one slot.
-struct Done {
-    time: Time,
-    record: Option<JobResult>,
-}
-
-/// What the finished renders have produced so far.
-struct State {
-    /// By plan position: resumed, or filled as jobs finish.
-    records: Vec<Option<JobResult>>,
-    /// Timing-only renders that finished before their job's first render did.
-    pending: HashMap<usize, Vec<Time>>,
-    /// Per scene: the no-AO-ray renders' times.
-    overhead_samples: Vec<Vec<f64>>,
-    renders: usize,
-    cpu_s: f64,
-}
-
-impl State {
-    /// Files one finished render (`n`: the plan's job count; ids from `n` on are overhead renders).
-    /// A new record is written out at once, so a killed run keeps it.
-    fn done(
-        &mut self,
-        n: usize,
-        slot: &Slot,
-        d: Done,
-        write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
-    ) -> Result<()> {
-        self.renders += 1;
-        self.cpu_s += d.time.cpu_s;
-        if slot.job >= n {
-            self.overhead_samples[slot.job - n].push(d.time.cpu_s);
-            return Ok(());
-        }
-        match (d.record, &mut self.records[slot.job]) {
-            (Some(mut rec), r) => {
-                rec.add_time(d.time.cpu_s, d.time.wall_s);
-                for t in self.pending.remove(&slot.job).unwrap_or_default() {
-                    rec.add_time(t.cpu_s, t.wall_s);
-                }
-                *r = Some(rec);
-                write(&self.records.iter().flatten().cloned().collect::<Vec<_>>())?;
-                interrupt::jobs_done(self.records.iter().flatten().count());
-            }
-            (None, Some(rec)) => rec.add_time(d.time.cpu_s, d.time.wall_s),
-            (None, None) => self.pending.entry(slot.job).or_default().push(d.time),
-        }
-        Ok(())
-    }
-
-    /// Every timed render of job `i` so far.
-    fn samples(&self, i: usize) -> Vec<f64> {
-        let mut v: Vec<f64> = self.records[i].as_ref().map(|r| r.times.clone()).unwrap_or_default();
-        v.extend(self.pending.get(&i).into_iter().flatten().map(|t| t.cpu_s));
-        v
-    }
-}
-
 /// What becomes of a measured job's image (plan index, job, the render): `run` writes it as EXR
 /// under `images/`; `advise` keeps its error in memory. Returns the record's `image` column.
 pub type Keep<'a> = dyn Fn(usize, &Job, &RenderOutput) -> Result<String> + Sync + 'a;
 
-/// Renders and measures every job of `plan` not already in `previous` (by key, with its image),
+/// Everything a run of measured jobs reads and where its records go.
+pub struct Jobs<'a> {
+    pub loaded: &'a Loaded,
+    pub plan: &'a Plan,
+    /// By spec scene (`Loaded::scene_of`).
+    pub references: &'a [Reference],
+    /// Earlier records by run key: a job found there (with its image) is not rendered again.
+    pub previous: &'a HashMap<String, JobResult>,
+    pub out: &'a Path,
+    pub protocol: Protocol,
+    pub bar: &'a ProgressBar,
+    /// Called after each render that made records, as soon as they are made (a killed run keeps them).
+    pub write: &'a Write<'a>,
+}
+
+/// What a render added: its new records, and every record of the plan so far (by plan position).
+pub struct Saved<'a> {
+    pub new: &'a [JobResult],
+    pub so_far: &'a [Option<JobResult>],
+}
+
+/// Where a run's records go as they are made (`Jobs::write`).
+pub type Write<'a> = dyn Fn(&Saved) -> Result<()> + Sync + 'a;
+
+/// Renders and measures every job of the plan not already in `previous` (by key, with its image),
 /// times everything per the protocol, and returns the records in plan order; each image is written
 /// as EXR under `out`.
-#[allow(clippy::too_many_arguments)]
-pub fn run_jobs(
-    loaded: &Loaded,
-    plan: &Plan,
-    references: &[Reference],
-    previous: &HashMap<String, JobResult>,
-    out: &Path,
-    protocol: Protocol,
-    bar: &ProgressBar,
-    write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
-) -> Result<(Vec<JobResult>, Session)> {
+pub fn run_jobs(j: &Jobs) -> Result<(Vec<JobResult>, Session)> {
     let keep = |_: usize, job: &Job, output: &RenderOutput| {
-        let (si, scene) = loaded.scene_of(job);
-        let provenance = provenance(&loaded.spec.name, job, scene, &references[si], output);
-        outdir::write_image(out, job, output, &provenance)
+        let (si, scene) = j.loaded.scene_of(job);
+        let provenance = provenance(&j.loaded.spec.name, job, scene, &j.references[si], output);
+        outdir::write_image(j.out, job, output, &provenance)
     };
-    measure_jobs(loaded, plan, references, previous, out, protocol, bar, write, &keep)
+    measure_jobs(j, &keep)
 }
 
 /// A measured image's provenance, for its EXR header: the configuration, rays, seed, scene and
@@ -229,18 +188,8 @@ pub fn provenance(
 }
 
 /// `run_jobs` with the image handed to `keep` instead of written.
-#[allow(clippy::too_many_arguments)]
-pub fn measure_jobs(
-    loaded: &Loaded,
-    plan: &Plan,
-    references: &[Reference],
-    previous: &HashMap<String, JobResult>,
-    out: &Path,
-    protocol: Protocol,
-    bar: &ProgressBar,
-    write: &(dyn Fn(&[JobResult]) -> Result<()> + Sync),
-    keep: &Keep,
-) -> Result<(Vec<JobResult>, Session)> {
+pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> {
+    let Jobs { loaded, plan, references, previous, out, protocol, bar, write } = *j;
     let start = Instant::now();
     let n = plan.jobs.len();
     let scenes = loaded.scenes.len();
@@ -257,20 +206,26 @@ pub fn measure_jobs(
     // From here a signal lets the renders in progress finish (and be saved) before the run stops.
     let _phase = interrupt::jobs_phase(reused, n);
 
+    // Each series of frames is rendered once, by its leader, for every member's image; it is
+    // rendered again (every member's record made anew) unless every member has its record.
+    let series = plan::series(plan);
+    let mut members_of: HashMap<usize, Vec<usize>> = HashMap::new();
+    for s in &series {
+        members_of.insert(s.leader, s.members.clone());
+    }
     // One unit per configuration: its replicates cost the same.
     let mut unit_of: HashMap<(String, Row, u32), usize> = HashMap::new();
     let mut needs: Vec<Need> = Vec::new();
-    for (i, job) in plan.jobs.iter().enumerate() {
-        let u = *unit_of.entry(plan::unit_key(job)).or_insert_with(|| {
+    for s in &series {
+        let u = *unit_of.entry(plan::unit_key(&plan.jobs[s.leader])).or_insert_with(|| {
             needs.push(Need { repeats: protocol.repeats, ..Need::default() });
             needs.len() - 1
         });
-        match &records[i] {
-            None => needs[u].fresh.push(i),
-            Some(r) => {
-                needs[u].again.push(i);
-                needs[u].have += r.times.len();
-            }
+        if s.members.iter().all(|&i| records[i].is_some()) {
+            needs[u].again.push(s.leader);
+            needs[u].have += records[s.leader].as_ref().map_or(0, |r| r.times.len());
+        } else {
+            needs[u].fresh.push(s.leader);
         }
     }
     // Render jobs (ids < n), then one overhead job per scene (id n + scene), timed when something
@@ -278,7 +233,7 @@ pub fn measure_jobs(
     // a record was never split (a run killed after its last job, before the end).
     let mut jobs: Vec<RenderJob> =
         plan.jobs.iter().map(|j| render_job(loaded, j, j.rays)).collect::<Result<_>>()?;
-    // Tables generated on first use (pmj02bn) are made here, outside every timed render.
+    // Every table and mask a configuration reads is made here, outside every timed render.
     jobs.iter().for_each(|j| j.sampler.prepare());
     let mut warm: Vec<Option<RenderJob>> = vec![None; scenes];
     for j in &plan.jobs {
@@ -337,31 +292,43 @@ pub fn measure_jobs(
         // Overhead renders (ids from n) are single AO frames.
         let single = super::measure::SingleFrame(crate::plan::Measurement::PAPER);
         let measure: &dyn super::measure::Measure = measures.get(slot.job).map_or(&single, |m| &**m);
-        let (output, time): (RenderOutput, Time) =
-            worker.timed(|| measure.render(scene, rj, &|px| bar.inc(px * rays)));
-        if !slot.record {
-            return Ok(Done { time, record: None });
-        }
-        let job = &plan.jobs[slot.job];
+        let members: Vec<usize> = members_of.get(&slot.job).cloned().unwrap_or_else(|| vec![slot.job]);
+        let frame_of = |i: usize| plan.jobs.get(i).map_or(1, |j| j.measurement.frame);
+        let mut reported: Vec<u32> = members.iter().map(|&i| frame_of(i)).collect();
+        reported.sort_unstable();
+        reported.dedup();
+        let job = plan.jobs.get(slot.job);
         let reference = &references[si];
-        let refuse = |e: metrics::MetricsError| Error::Refused(format!("job {}: {e}", job.file_stem()));
-        let against = guides.against(si, &job.measurement, &reference.mean, &reference.coverage);
-        let (output, stats, noise_rmse) = measure.measure(output, &against).map_err(refuse)?;
-        let image = keep(slot.job, job, &output)?;
-        let mut record = JobResult::new(job, &stats, output.rays, image);
-        record.noise_rmse = noise_rmse;
-        record.key = keys[slot.job].clone();
-        record.timing_threads = protocol.threads_per_render as u32;
-        Ok(Done { time, record: Some(record) })
+        let against = match job {
+            Some(job) => guides.against(si, &job.measurement, &reference.mean, &reference.coverage),
+            None => {
+                guides.against(si, &crate::plan::Measurement::PAPER, &reference.mean, &reference.coverage)
+            }
+        };
+        let (images, time): (Vec<super::measure::FrameImage>, Time) =
+            worker.timed(|| measure.render(scene, rj, &reported, &against, &|px| bar.inc(px * rays)));
+        let mut parts = Vec::with_capacity(members.len());
+        for &i in &members {
+            let img = images.iter().find(|f| f.frame == frame_of(i)).expect("every reported frame rendered");
+            let t = img.time.unwrap_or(time);
+            if !slot.record {
+                parts.push((i, t, None));
+                continue;
+            }
+            let job = &plan.jobs[i];
+            let refuse = |e: metrics::MetricsError| Error::Refused(format!("job {}: {e}", job.file_stem()));
+            let (stats, noise_rmse) = super::measure::errors(&img.output.ao, &against).map_err(refuse)?;
+            let image = keep(i, job, &img.output)?;
+            let mut record = JobResult::new(job, &stats, img.output.rays, image);
+            record.noise_rmse = noise_rmse;
+            record.key = keys[i].clone();
+            record.timing_threads = protocol.threads_per_render as u32;
+            parts.push((i, t, Some(record)));
+        }
+        Ok(Done { time, parts })
     };
 
-    let mut state = State {
-        records,
-        pending: HashMap::new(),
-        overhead_samples: vec![Vec::new(); scenes],
-        renders: 0,
-        cpu_s: 0.0,
-    };
+    let mut state = State::new(records, scenes);
     let workers = timing::workers(protocol.workers).map_err(Error::Refused)?;
     let queued = timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write));
     stop_if_interrupted()?;
@@ -403,7 +370,6 @@ pub fn measure_jobs(
     if renders > 0 {
         results::fill_timing(&mut records, &by_name);
     }
-    write(&records)?;
     let wall_s = start.elapsed().as_secs_f64();
     Ok((records, Session { overhead, renders, cpu_s, wall_s, reused }))
 }

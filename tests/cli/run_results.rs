@@ -441,7 +441,7 @@ fn the_journal_keeps_every_record_a_killed_run_made() {
     changed.rmse = 0.5;
     hemilab::outdir::append_results(&out, &[all[2].clone(), changed]).unwrap();
     let cut = serde_json::to_string(&all[3 % all.len()]).unwrap();
-    hemilab::io::append(&out.join(hemilab::outdir::RESULTS_JOURNAL), cut[..cut.len() / 2].as_bytes())
+    hemilab::io::append(&out.join(hemilab::outdir::RESULTS_JOURNAL), &cut.as_bytes()[..cut.len() / 2])
         .unwrap();
     let read = records(&out);
     assert_eq!(read.len(), 3, "two whole, one journalled, the cut-off line dropped");

@@ -161,7 +161,7 @@ pub fn decode_exr_provenance(bytes: &[u8]) -> Result<Option<Provenance>, String>
     Ok(Some(Provenance { summary, json }))
 }
 
-/// 8-bit grey PNG of values in [0,1] (clamped), for previews.
+/// 8-bit grey PNG of values in \[0, 1\] (clamped), for previews.
 pub fn encode_png_gray(image: &Image) -> Result<Vec<u8>, String> {
     let pixels: Vec<u8> = image.data.iter().map(|&v| to_u8(v)).collect();
     encode_png(image.width, image.height, ::image::ExtendedColorType::L8, &pixels)
@@ -186,7 +186,7 @@ fn encode_png(
     Ok(out)
 }
 
-/// Quantizes [0,1] to 0..=255, treating NaN as 0.
+/// Quantizes \[0, 1\] to 0..=255, treating NaN as 0.
 pub fn to_u8(v: f32) -> u8 {
     if v.is_nan() { 0 } else { (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8 }
 }

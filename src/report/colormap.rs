@@ -8,7 +8,7 @@ pub const BACKGROUND: [u8; 3] = [96, 112, 128];
 /// The red end is the same colour with red and blue swapped, which makes the map exactly symmetric.
 const BLUE: [f32; 3] = [36.0, 72.0, 204.0];
 
-/// AO value in [0,1] (clamped) as grey; NaN shows as the background colour.
+/// AO value in \[0, 1\] (clamped) as grey; NaN shows as the background colour.
 pub fn grey(v: f32) -> [u8; 3] {
     if v.is_nan() {
         return BACKGROUND;

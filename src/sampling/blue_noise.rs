@@ -9,7 +9,7 @@
 //! the same bit for bit on every run. Here the energy is an integer sum of a quantized Gaussian
 //! (the only floating point is the ~200 kernel taps, each rounded once), so incremental updates
 //! are exact (no drift, no order dependence) and ties are broken by the lowest index; the
-//! generator ([`super::void_cluster`]) is shared with the spatiotemporal masks of [`super::stbn`].
+//! generator (`void_cluster`) is shared with the spatiotemporal masks of [`super::stbn`].
 //!
 //! Two independent masks (different initial patterns) give the x and y offsets, not one mask for
 //! both: the same mask for both would put every pixel's offset on the diagonal x = y (+ const),

@@ -4,7 +4,7 @@
 //! Local frame: z is the normal, theta is measured from z, phi = atan2(y, x).
 //!
 //! Directions leaving here are finite, unit (to f32 rounding), have z >= 0 and no -0.0; inputs
-//! outside [0,1]^2 (or NaN) are clamped first, so no input can produce a NaN.
+//! outside \[0,1\]^2 (or NaN) are clamped first, so no input can produce a NaN.
 
 use super::frame::canonical;
 use super::trig::{sin_cos_quarter, sin_cos_turns};
@@ -34,7 +34,7 @@ pub struct DirSample {
 }
 
 impl Distribution {
-    /// Maps (u, v) in [0,1]^2 to a unit direction (z >= 0) and its AO weight.
+    /// Maps (u, v) in \[0,1\]^2 to a unit direction (z >= 0) and its AO weight.
     #[inline(always)]
     pub fn sample(self, u: Vec2) -> DirSample {
         let u = clamp_unit(u);

@@ -67,7 +67,7 @@ pub fn mean_and_standard_error(xs: &[f64]) -> (f64, f64) {
     (mean, (var / n).sqrt())
 }
 
-/// ln(mean(b) / mean(a)) over paired samples (a[i] and b[i] share a seed) and its standard error
+/// ln(mean(b) / mean(a)) over paired samples (`a[i]` and `b[i]` share a seed) and its standard error
 /// by the delta method: var ≈ (var(a)/ā² + var(b)/b̄² − 2 cov(a, b)/(ā b̄)) / n. Pairing takes out the
 /// variation the two share, which an unpaired √(se_a² + se_b²) would count twice. The error is
 /// NaN with fewer than two pairs (nothing to estimate a spread from).

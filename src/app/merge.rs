@@ -98,16 +98,19 @@ pub fn run(args: MergeArgs) -> Result<()> {
     let timing = timing_json(&shards, &found, protocol, &note);
     outdir::write_timing(&out, &timing)?;
     let cost = report::run::quotes::Cost::of_timing(&timing, merged.len());
-    let summary = report::run::write(
-        &loaded,
-        &references,
-        &merged,
+    let images = |r: &JobResult| outdir::record_image(&out, r);
+    let run = report::run::Run {
+        loaded: &loaded,
+        references: &references,
+        results: &merged,
         protocol,
-        &session,
+        session: &session,
         cost,
-        vec![note.clone()],
-        &out,
-    )?;
+        notes: vec![note.clone()],
+        images: &images,
+    };
+    let report::run::Report { files, summary } = report::run::report(run)?;
+    outdir::write_files(&out, &files, &[])?;
     for w in &summary.warnings {
         eprintln!("{w}");
     }

@@ -2,9 +2,11 @@
 //! AO image tables and their signed-error maps (Tables 2-3), convergence and banding plots, and one
 //! offline HTML / Markdown page.
 //!
-//! Every function takes plain data defined here (so the report does not depend on the runner's
-//! types) and returns bytes or a `String`: the report never touches the filesystem and never
-//! renders AO; `app` writes what it returns through `io`.
+//! Every function takes plain data (the records and `compare`'s comparisons; the drawing kit's own
+//! types here) and returns bytes or a `String`: the report does no statistics of its own, never
+//! touches the filesystem and never renders AO. `run/` and `advise/` return their files
+//! (`outdir::File`), which the command writes through `outdir::write_files`; an image a figure
+//! shows is read for it by the command (`outdir::record_image`).
 //!
 //! Text is drawn with plotters' `ab_glyph` rasterizer and the DejaVu Sans font shipped inside the
 //! `dejavu` crate, so no system font library is needed at run time.

@@ -105,7 +105,7 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
     s
 }
 
-/// The samplers a renderer would ship instead of the lattice (issue 28), as they ship.
+/// The samplers a renderer would ship instead of the lattice, as they ship.
 const SAMPLERS: [Sequence; 4] = [Sequence::Halton, Sequence::R2, Sequence::ZSobol, Sequence::Pmj02bn];
 
 /// Each of the group's [`SAMPLERS`] rows against the lattice with a per-pixel seed at equal time

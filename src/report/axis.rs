@@ -1,7 +1,7 @@
 //! Log axes with ticks chosen here, shared by every log-log figure (convergence, efficiency,
 //! advise's error against time).
 
-use super::FONT;
+use super::backend::FONT;
 use plotters::coord::Shift;
 use plotters::coord::combinators::{LogCoord, WithKeyPoints};
 use plotters::prelude::*;

@@ -4,8 +4,8 @@
 //! count), and the structured-error (banding) metric per configuration.
 
 use super::axis::{Frame, log_log_chart};
+use super::backend::{FONT, Format, render};
 use super::canvas::text_size;
-use super::{FONT, Format, render};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -276,7 +276,7 @@ fn draw_convergence<DB: DrawingBackend>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::decode_png;
+    use crate::report::backend::decode_png;
 
     fn signed(k: f64) -> String {
         format!("{}{:.2}", if k < 0.0 { "−" } else { "+" }, k.abs())

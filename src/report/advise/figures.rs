@@ -3,9 +3,9 @@
 //! the least error at a budget).
 
 use crate::report::axis::{Frame, log_log_chart, tick};
+use crate::report::backend::{FONT, Format, render};
 use crate::report::canvas::{Align, Canvas, text_size};
 use crate::report::plot::PALETTE;
-use crate::report::{FONT, Format, render};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -219,7 +219,7 @@ fn shorten(s: &str, max: u32) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::decode_png;
+    use crate::report::backend::decode_png;
 
     #[test]
     fn error_time_plot_marks_budgets_and_names_highlights() {

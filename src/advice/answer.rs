@@ -205,9 +205,9 @@ pub struct Answer {
     pub lowpass_scores: Vec<RankScored>,
 }
 
-/// What the page and advice.json say of one finalist: its time, RMSE and low-pass RMSE ± 1 σ, its gains
-/// over the paper's default at the budget (`model::gain`; `None` without the default among the
-/// finalists) and how far it trails the recommendation (`model::behind`; `None` for the
+/// What the page and advice.json say of one finalist: its time, RMSE and low-pass RMSE ± 1 σ, its
+/// gains over the paper's default at the budget (`model::gain`; `None` without the default among
+/// the finalists) and how far it trails the recommendation (`model::behind`; `None` for the
 /// recommendation itself, or without one).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Scored {

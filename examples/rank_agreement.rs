@@ -9,7 +9,8 @@
 //! Also prints, per ray count, the median-time ratio of the rows that trace the same number of
 //! rays with the same cost (Fibonacci shift against rotation) in each run.
 
-use hemilab::compare::{rank_disagreements, row_of};
+use hemilab::compare::efficiency::rank_disagreements;
+use hemilab::compare::row_of;
 use hemilab::results::{Aggregate, aggregate, from_json};
 use hemilab::spec::Row;
 use std::path::Path;

@@ -11,12 +11,14 @@
 //!                                     denoise/)
 //! ```
 //!
-//! `load` reads a spec and its scenes and refuses bad input before any work; `denoise` filters and accumulates images (no IO); `reference` owns what
-//! a reference is and how it is stored; `shard` splits a plan over machines and merges it back;
-//! `timing` is how a render's cost is measured (thread CPU time, interleaved repeats, per-image
-//! overhead apart from per-ray cost); `compare` turns records into paired comparisons, the
-//! paper's claims and `run`'s equal-time ranking; `advice` ranks configurations at equal time for
-//! `hemilab advise`, with the interpolation `compare::equal_time` calls too. `outdir` names
+//! `load` reads a spec and its scenes and refuses bad input before any work; `denoise` filters and
+//! accumulates images (no IO); `reference` owns what a reference is and how it is stored; `shard`
+//! splits a plan over machines and merges it back; `timing` is how a render's cost is measured
+//! (thread CPU time, interleaved repeats, per-image overhead apart from per-ray cost). `compare`
+//! does every statistic on records — the one paired margin, the equal-time model and its error
+//! model, the structure rule, the paper's claims and the real-time and integrand verdicts — and
+//! `advice` uses it to answer `hemilab advise` (pure: its inputs are loaded by the command); the
+//! report only formats what they computed and returns bytes. `outdir` names, reads and writes
 //! every output file once and `io` is the only module that touches the filesystem. The command
 //! line (`cli`) and the commands (`app`, one thin file each) are the binary's.
 //!

@@ -7,7 +7,7 @@ use crate::image::{Channel, Provenance};
 use crate::io;
 use crate::plan::Job;
 use crate::render::RenderOutput;
-use crate::results::{self, Aggregate, JobResult};
+use crate::results::{self, JobResult};
 use crate::spec::Spec;
 use crate::timing::{RunTiming, SessionRecord, Summary};
 use std::collections::HashMap;
@@ -218,27 +218,46 @@ pub fn previous_session(out: &Path) -> Option<SessionRecord> {
     (s.timed_renders > 0).then_some(s)
 }
 
-/// `aggregates.csv` and `slopes.json`.
-pub fn write_aggregates(out: &Path, spec: &Spec, aggs: &[Aggregate]) -> Result<()> {
-    io::write_atomic(&out.join(AGGREGATES_CSV), results::aggregates_to_csv(aggs).as_bytes())?;
-    let slopes = serde_json::to_string_pretty(&results::sweep_slopes(spec, aggs)).unwrap_or_default();
-    io::write_atomic(&out.join(SLOPES_JSON), slopes.as_bytes())
+/// A file a report made (`report::run`, `report::advise`): its name in the output directory and
+/// its bytes. The report only makes them; [`write_files`] writes them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct File {
+    pub name: String,
+    pub bytes: Vec<u8>,
 }
 
-/// A figure (or any other file the report names) by its file name.
-pub fn write_file(out: &Path, name: &str, bytes: &[u8]) -> Result<()> {
-    io::write_atomic(&out.join(name), bytes)
+impl File {
+    pub fn new(name: &str, bytes: impl Into<Vec<u8>>) -> Self {
+        Self { name: name.to_string(), bytes: bytes.into() }
+    }
 }
 
-/// Removes a file an earlier run left that this one does not write (it would mislead).
-pub fn remove_file(out: &Path, name: &str) -> Result<()> {
-    io::remove_file_if_exists(&out.join(name))
+/// The one door of a report's files: each of `files` written atomically, in order (a report puts
+/// its page last, so a page never names a figure not yet there), then each of `stale` removed — a
+/// file an earlier run left that this one does not make, which would mislead.
+pub fn write_files(out: &Path, files: &[File], stale: &[&str]) -> Result<()> {
+    for f in files {
+        io::write_atomic(&out.join(&f.name), &f.bytes)?;
+    }
+    for name in stale {
+        io::remove_file_if_exists(&out.join(name))?;
+    }
+    Ok(())
 }
 
-/// The report's page: `index.html` and its Markdown twin `md` (`report.md` or `advice.md`).
-pub fn write_page(out: &Path, html: &str, md_name: &str, md: &str) -> Result<()> {
-    io::write_atomic(&out.join(md_name), md.as_bytes())?;
-    io::write_atomic(&out.join(INDEX_HTML), html.as_bytes())
+/// A record's kept image (`Y`, what was measured) and its coverage (`A`), read from `out`: what
+/// the report's image figures are drawn from.
+pub fn record_image(out: &Path, r: &JobResult) -> Result<(crate::image::Image, crate::image::Image)> {
+    let path = out.join(&r.image);
+    let channels = io::read_exr(&path)?;
+    let take = |name: &str| {
+        channels
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, img)| img.clone())
+            .ok_or_else(|| Error::input(&path, format!("image lacks channel '{name}'")))
+    };
+    Ok((take("Y")?, take("A")?))
 }
 
 /// The report's entry point, for the closing line.

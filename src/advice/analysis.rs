@@ -1,11 +1,14 @@
-//! advise's analysis: the sweep's records → each configuration's ladder (`Curve`) → the budgets'
-//! interpolated rankings (`advice`) → the finalists to measure → the answers from their records
-//! (`advice::answer`) → the winner maps. `report::advise` draws and writes what it finds.
+//! advise's analysis: the sweep's records → each configuration's ladder (`compare::equal_time::curve`,
+//! the ladders `run` compares too) → the budgets' interpolated rankings (`compare::budget::rank`) →
+//! the finalists to measure → the answers from their records (`advice::answer`) → the winner maps.
+//! `report::advise` formats what it finds.
 
 use crate::advice::answer::{self, Answer};
 use crate::advice::setup::Setup;
 use crate::advice::winner::{self, Pixel};
-use crate::advice::{self, Curve, Metric, PAPER_DEFAULT, Point, model, structure};
+use crate::compare::PAPER_DEFAULT;
+use crate::compare::budget::{Curve, Metric, rank};
+use crate::compare::equal_time::{TimeView, curve};
 use crate::jobs::executor::Session;
 use crate::metrics::covered;
 use crate::reference::store::Reference;
@@ -67,9 +70,8 @@ pub struct Analysis {
     pub default_budgets: bool,
     /// Per budget.
     pub answers: Vec<Answer>,
+    /// Per measured budget, the winner map (`winner_maps`).
     pub maps: Vec<Map>,
-    /// Configurations coloured in the winner map, most pixels first, with their colours.
-    pub colours: Vec<(Row, [u8; 3])>,
     /// The finalists' session's median times over the sweep's at the counts both measured
     /// (geometric mean): how much slower (> 1) the machine ran then. `None`: nothing in common.
     pub session_ratio: Option<f64>,
@@ -80,28 +82,15 @@ pub fn analyse(setup: &Setup, results: &[JobResult], budgets_ms: &[f64]) -> Anal
     let curves = curves(setup, results);
     let default = curves.iter().find(|c| c.row == PAPER_DEFAULT).expect("the paper default is always run");
     let (budgets_s, defaulted) = if budgets_ms.is_empty() {
-        (advice::default_budgets(default), true)
+        (crate::advice::default_budgets(default), true)
     } else {
         (budgets_ms.iter().map(|b| b * 1e-3).collect(), false)
     };
     let answers = budgets_s
         .iter()
-        .map(|&b| {
-            Answer::interpolated(
-                advice::rank(&curves, b, Metric::Rmse),
-                advice::rank(&curves, b, Metric::Lowpass),
-            )
-        })
+        .map(|&b| Answer::interpolated(rank(&curves, b, Metric::Rmse), rank(&curves, b, Metric::Lowpass)))
         .collect();
-    Analysis {
-        curves,
-        budgets_s,
-        default_budgets: defaulted,
-        answers,
-        maps: vec![],
-        colours: vec![],
-        session_ratio: None,
-    }
+    Analysis { curves, budgets_s, default_budgets: defaulted, answers, maps: vec![], session_ratio: None }
 }
 
 /// Every (configuration, ray count) some budget's answer measures (`answer::counts`), each once.
@@ -144,36 +133,12 @@ pub fn measure(a: &mut Analysis, verified: &[JobResult], replicates: u32) {
         .collect();
 }
 
-/// Each configuration's ladder from the sweep's records: per ray count, the median of every
-/// timed render of it and that median's σ, and each replicate's MSE, low-pass MSE and structure.
+/// Each configuration's ladder from the sweep's records (`compare::equal_time::curve`, by total
+/// render time): per ray count, the median of every timed render of it and that median's σ, and
+/// each replicate's MSE, low-pass MSE and structure.
 fn curves(setup: &Setup, results: &[JobResult]) -> Vec<Curve> {
-    let is = |r: &JobResult, row: Row, n: u32| r.rays == n && r.is_row(row);
-    setup
-        .rows
-        .iter()
-        .map(|&row| {
-            let points = setup
-                .rays
-                .iter()
-                .filter_map(|&n| {
-                    let rs: Vec<&JobResult> = results.iter().filter(|r| is(r, row, n)).collect();
-                    let times: Vec<f64> = rs.iter().flat_map(|r| r.times.iter().copied()).collect();
-                    let t = Summary::of(&times)?;
-                    Some(Point {
-                        rays: n,
-                        time_s: t.median,
-                        time_sigma_ln: model::median_sigma_ln(&times),
-                        timings: t.n,
-                        replicates: rs.iter().map(|r| r.replicate).collect(),
-                        mse: rs.iter().map(|r| r.rmse * r.rmse).collect(),
-                        lowpass_mse: rs.iter().map(|r| r.lowpass_rmse * r.lowpass_rmse).collect(),
-                        structure: rs.iter().map(|r| structure::of(r)).collect(),
-                    })
-                })
-                .collect();
-            Curve { row, points }
-        })
-        .collect()
+    let scene = &setup.loaded.spec.scenes[0].name;
+    setup.rows.iter().map(|&row| curve(results, scene, row, &setup.rays, TimeView::Total)).collect()
 }
 
 /// Per measured budget: every pixel's winner by MSE among its finalists, each at its own ray

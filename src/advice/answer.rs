@@ -1,6 +1,6 @@
 //! What advise ships at a budget, measured at the ray count it names.
 //!
-//! The sweep's interpolation (`advice::rank`) ranks every configuration at the budget, but it is
+//! The sweep's interpolation (`compare::budget::rank`) ranks every configuration at the budget, but it is
 //! not what is shipped: the shipped ray count is an integer, and a lattice's error depends on its
 //! count itself — measured, the shifted Fibonacci lattice's MSE differs from the log-log
 //! interpolation between its neighbours by ×0.85–1.13 (replicate σ about 1 %), about the gaps
@@ -14,9 +14,13 @@
 //!
 //! Without those renders (`advise --from` at a new budget) a budget's answer is the sweep's
 //! interpolation, and says so (`Answer::measured` false).
+//!
+//! Every gain, error and distance an answer states is computed once, when the answer is made
+//! (`Scored`, `RankScored`): the page, advice.json and the printed lines read the same numbers.
 
-use super::model::{self, Gain, Side};
-use super::{AtBudget, Estimate, Metric, PAPER_DEFAULT, Ranking, structure};
+use crate::compare::budget::{AtBudget, Metric, Ranking};
+use crate::compare::model::{self, Estimate, Gain, Side};
+use crate::compare::{PAPER_DEFAULT, structure};
 use crate::results::JobResult;
 use crate::spec::Row;
 use crate::timing::Summary;
@@ -194,6 +198,56 @@ pub struct Answer {
     pub finalists: Vec<Candidate>,
     /// The finalists' session's times over the sweep's (`Candidate::fits`); 1 when interpolated.
     pub session_ratio: f64,
+    /// Per finalist, in the same order: what is said of it.
+    pub scores: Vec<Scored>,
+    /// Per configuration of `ranking` and of `lowpass`, in their order: what is said of it.
+    pub ranking_scores: Vec<RankScored>,
+    pub lowpass_scores: Vec<RankScored>,
+}
+
+/// What the page and advice.json say of one finalist: its time, RMSE and low-pass RMSE ± 1 σ, its
+/// gains over the paper's default at the budget (`model::gain`; `None` without the default among
+/// the finalists) and how far it trails the recommendation (`model::behind`; `None` for the
+/// recommendation itself, or without one).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scored {
+    /// Its time per image in ms ± 1 σ (the session's factor and the median's scatter).
+    pub time_ms: Estimate,
+    pub rmse: Estimate,
+    pub lowpass_rmse: Estimate,
+    pub gain: Option<Gain>,
+    pub lowpass_gain: Option<Gain>,
+    pub behind: Option<f64>,
+}
+
+/// What the page and advice.json say of one configuration of an interpolated ranking: its RMSE
+/// and low-pass RMSE ± 1 σ, and, by the ranking's metric, its gain over the paper's default and
+/// how far it trails the first (`None` for the first itself).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RankScored {
+    pub rmse: Estimate,
+    pub lowpass_rmse: Estimate,
+    pub gain: Option<Gain>,
+    pub behind_best: Option<f64>,
+}
+
+/// Every configuration of `r` scored against the paper's default and the first.
+fn rank_scores(r: &Ranking) -> Vec<RankScored> {
+    let m = r.metric;
+    let default = r.ranked.iter().find(|d| d.row == PAPER_DEFAULT);
+    r.ranked
+        .iter()
+        .map(|x| RankScored {
+            rmse: x.rmse(Metric::Rmse),
+            lowpass_rmse: x.rmse(Metric::Lowpass),
+            gain: default.map(|d| model::gain(&d.side(m), &x.side(m))),
+            behind_best: r
+                .ranked
+                .first()
+                .filter(|b| b.row != x.row)
+                .map(|b| model::behind(&b.side(m), &x.side(m))),
+        })
+        .collect()
 }
 
 impl Answer {
@@ -202,7 +256,18 @@ impl Answer {
         let b = ranking.budget_s;
         let finalists =
             finalists(&ranking, &lowpass).into_iter().map(|a| Candidate::interpolated(a, b)).collect();
-        Self::sorted(Self { budget_s: b, ranking, lowpass, measured: false, finalists, session_ratio: 1.0 })
+        let (ranking_scores, lowpass_scores) = (rank_scores(&ranking), rank_scores(&lowpass));
+        Self::sorted(Self {
+            budget_s: b,
+            ranking,
+            lowpass,
+            measured: false,
+            finalists,
+            session_ratio: 1.0,
+            scores: Vec::new(),
+            ranking_scores,
+            lowpass_scores,
+        })
     }
 
     /// The answer from the finalists' measurements: `records(row, rays)` are a configuration's
@@ -241,10 +306,32 @@ impl Answer {
         }
     }
 
+    /// The finalists least MSE first, and what is said of each (`Scored`).
     fn sorted(mut self) -> Self {
         let m = |c: &Candidate| c.mean_mse(Metric::Rmse).value;
         self.finalists.sort_by(|a, b| m(a).total_cmp(&m(b)));
+        let gain =
+            |c: &Candidate, m: Metric| self.paper_default().map(|d| model::gain(&d.side(m), &c.side(m)));
+        let best = self.recommended().map(|b| b.side(Metric::Rmse));
+        self.scores = self
+            .finalists
+            .iter()
+            .map(|c| Scored {
+                time_ms: Estimate { value: c.time_s * 1e3, se: c.time_s * 1e3 * c.time_sigma_ln_total() },
+                rmse: c.rmse(Metric::Rmse),
+                lowpass_rmse: c.rmse(Metric::Lowpass),
+                gain: gain(c, Metric::Rmse),
+                lowpass_gain: gain(c, Metric::Lowpass),
+                behind: best.filter(|b| b.row != c.row).map(|b| model::behind(&b, &c.side(Metric::Rmse))),
+            })
+            .collect();
         self
+    }
+
+    /// What is said of `c`, one of this answer's finalists.
+    pub fn score(&self, c: &Candidate) -> &Scored {
+        let i = self.finalists.iter().position(|f| f.row == c.row).expect("a finalist of this answer");
+        &self.scores[i]
     }
 
     /// What to ship: the finalist with the least MSE whose error is not structured, because a
@@ -279,15 +366,5 @@ impl Answer {
     /// Whether `c`'s measured time fits this budget (`Candidate::fits`).
     pub fn fits(&self, c: &Candidate) -> bool {
         c.fits(self.budget_s, self.session_ratio)
-    }
-
-    /// `c`'s gain over the paper's default at this budget (`model::gain`).
-    pub fn gain(&self, c: &Candidate, m: Metric) -> Option<Gain> {
-        self.paper_default().map(|d| model::gain(&d.side(m), &c.side(m)))
-    }
-
-    /// How far `other` trails the recommendation, in σ of the model (`model::margin`).
-    pub fn margin(&self, other: &Candidate) -> Option<f64> {
-        self.recommended().map(|b| model::margin(&b.side(Metric::Rmse), &other.side(Metric::Rmse)))
     }
 }

@@ -1,5 +1,5 @@
 //! `advise --pipeline P [--frames K]`: advice for the image a real-time renderer shows — K frames
-//! accumulated by P's temporal part, then P's spatial filter — instead of one raw frame (issue 26).
+//! accumulated by P's temporal part, then P's spatial filter — instead of one raw frame.
 //! The sweep's jobs are real-time jobs measured at frame K alone; the analysis, the finalists and
 //! the report read them as the images they rank (`as_ranked`), with the time of *one frame*, since a
 //! real-time budget is a frame's: a configuration fits a budget of B ms when each of its frames

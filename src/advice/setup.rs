@@ -1,13 +1,14 @@
 //! `hemilab advise`'s set-up: the flags become a spec with one convergence sweep (every
 //! configuration × the ray ladder × the replicates), at a resolution and with reference settings
 //! chosen so that a stored reference of the scene is reused where `run` would reuse it. Every
-//! input is read and checked here, before any work; nothing is written.
+//! input is checked here, before any work: the flags on their own (`check`), then with what the
+//! command loaded for them (`Inputs`: the scene, its stored references). Nothing is read or written
+//! here.
 
 use crate::advice;
-use crate::compare::per_pixel_unbiased;
+use crate::compare::{PAPER_DEFAULT, per_pixel_unbiased};
 use crate::error::{Error, Result};
-use crate::io;
-use crate::load::{Loaded, check_pixels, check_view, dropped_warning, load_scene};
+use crate::load::{Loaded, check_pixels, check_view};
 use crate::plan::Geometry;
 use crate::plan::{self, Plan};
 use crate::reference::Manifest;
@@ -37,7 +38,7 @@ pub struct Request {
     pub pipeline: crate::denoise::Pipeline,
     /// The frame whose image is ranked (frames accumulated by a temporal pipeline), 1 for raw.
     pub frames: u32,
-    /// What the rays integrate (issue 27); `ao` in a request written before it existed.
+    /// What the rays integrate; `ao` in a request written before integrands existed.
     pub integrand: Integrand,
 }
 
@@ -112,9 +113,17 @@ pub struct Setup {
     pub reference_dir: PathBuf,
 }
 
-/// Reads and checks every input, decides the resolution and reference settings, and plans the
-/// jobs; writes nothing.
-pub fn setup(args: &Request) -> Result<Setup> {
+/// A request's flags checked on their own, before any file is read.
+pub struct Checked {
+    /// The ray ladder, sorted, without duplicates.
+    pub rays: Vec<u32>,
+    /// The configurations to sweep (`advice::select`), the paper's default first.
+    pub rows: Vec<Row>,
+}
+
+/// Checks the flags that need no file: at least two ray counts, `--only`, an integrand the paper's
+/// default has a finite variance for, `--frames` only with a temporal pipeline.
+pub fn check(args: &Request) -> Result<Checked> {
     let mut rays = args.rays.clone();
     rays.sort_unstable();
     rays.dedup();
@@ -130,7 +139,7 @@ pub fn setup(args: &Request) -> Result<Setup> {
     // Advise measures every gain against the paper's default, sine-cosine, whose weights are
     // unbounded on unweighted visibility (infinite variance: no RMSE of it means anything). So
     // that integrand is refused here rather than ranked; `run` measures it (experiments/integrands.toml).
-    if args.integrand.closed_room_variance(advice::PAPER_DEFAULT.distribution).is_infinite() {
+    if args.integrand.closed_room_variance(PAPER_DEFAULT.distribution).is_infinite() {
         return Err(Error::Usage(format!(
             "--integrand {}: the paper's default (sine-cosine) has infinite variance for it, and advise \
              ranks against that default; allowed here: ao, cos-lobe-N (measure {} with `hemilab run`, \
@@ -138,13 +147,6 @@ pub fn setup(args: &Request) -> Result<Setup> {
             args.integrand, args.integrand
         )));
     }
-    let scene = load_scene(&args.scene)?;
-    if let Some(w) = dropped_warning(&scene) {
-        eprintln!("{w}");
-    }
-    let name = args.scene.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let stem = name.strip_suffix(".toml").unwrap_or(&name).to_string();
-    let given_id = spec::normalize(&args.scene.to_string_lossy());
     if args.frames > 1 && !args.pipeline.is_temporal() {
         return Err(Error::Usage(format!(
             "--frames {}: pipeline '{}' accumulates no frames (each frame is filtered on its own); give a \
@@ -152,6 +154,26 @@ pub fn setup(args: &Request) -> Result<Setup> {
             args.frames, args.pipeline
         )));
     }
+    Ok(Checked { rays, rows })
+}
+
+/// What the set-up needs from files, loaded by the command that owns them (`app::advise`): the
+/// scene, where its references are (`reference::store::dir_of_scene`) and the manifests stored
+/// there with their images (`reference::store::stored_of_scene`).
+pub struct Inputs {
+    pub scene: Scene,
+    pub reference_dir: PathBuf,
+    pub stored: Vec<(Manifest, PathBuf)>,
+}
+
+/// Decides the resolution and reference settings from the checked flags and the loaded inputs, and
+/// plans the jobs.
+pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> {
+    let Checked { rays, rows } = checked;
+    let Inputs { scene, reference_dir, stored } = inputs;
+    let name = args.scene.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let stem = name.strip_suffix(".toml").unwrap_or(&name).to_string();
+    let given_id = spec::normalize(&args.scene.to_string_lossy());
     let sketch = AdviseSpec {
         path: &args.scene,
         stem: &stem,
@@ -162,8 +184,6 @@ pub fn setup(args: &Request) -> Result<Setup> {
         frames: args.frames,
         integrand: args.integrand,
     };
-    let reference_dir = reference_dir(args, &scene)?;
-    let stored = stored_references(&reference_dir, &scene)?;
     let usable = |m: &Manifest| sketch.reuses(m, &scene);
     let (resolution, how) = match args.resolution {
         Some((w, h)) => {
@@ -305,46 +325,6 @@ fn default_reference() -> ReferenceSpec {
         ),
         adaptive: false,
     }
-}
-
-/// `--reference-dir`, else `reference/` beside the scene file, or the scene folder's parent's
-/// `reference/` when that one holds a reference of this scene (this repository's layout: the
-/// committed references of `scenes/*.toml` are in `reference/`). Like a spec's references, never
-/// relative to the current directory, so the committed ones are found from anywhere and a user's
-/// own scene keeps its references beside it.
-fn reference_dir(args: &Request, scene: &Scene) -> Result<PathBuf> {
-    if let Some(dir) = &args.reference_dir {
-        return Ok(dir.clone());
-    }
-    let folder = args.scene.parent().unwrap_or(Path::new(""));
-    let beside = folder.join("reference");
-    let parent = folder.join("..").join("reference");
-    if stored_references(&beside, scene)?.is_empty() && !stored_references(&parent, scene)?.is_empty() {
-        return Ok(parent);
-    }
-    Ok(beside)
-}
-
-/// Manifests in `dir` of this scene's content (scene and mesh hash), camera and hemilab version
-/// whose image is there, with their image's path. Unreadable or foreign JSON files are skipped:
-/// they are not this scene's references.
-fn stored_references(dir: &Path, scene: &Scene) -> Result<Vec<(Manifest, PathBuf)>> {
-    let mut out = Vec::new();
-    for json in io::list_dir(dir)?.into_iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
-        let Ok(m) = io::read_string(&json).and_then(|t| Manifest::from_json(&t).map_err(Error::Refused))
-        else {
-            continue;
-        };
-        let exr = json.with_extension("exr");
-        if m.scene_hash == scene.content_hash
-            && m.camera == scene.camera_description()
-            && m.hemilab_version == env!("CARGO_PKG_VERSION")
-            && io::exists(&exr)
-        {
-            out.push((m, exr));
-        }
-    }
-    Ok(out)
 }
 
 /// The largest resolution with a reusable stored reference of at most `DEFAULT_MAX_PIXELS`

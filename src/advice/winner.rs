@@ -47,9 +47,9 @@ pub fn pooled_squared_error(err: &[f32], covered: &[bool], width: usize) -> Vec<
 }
 
 /// Two ray counts' pooled images at weight `w` along log time, geometrically per pixel as
-/// `advice::at_budget` does for a whole image's MSE (exact at the ends; a zero stays zero).
+/// `compare::budget::at_budget` does for a whole image's MSE (exact at the ends; a zero stays zero).
 pub fn interpolate(a: &[f64], b: &[f64], w: f64) -> Vec<f64> {
-    a.iter().zip(b).map(|(&x, &y)| super::geo(x, y, w)).collect()
+    a.iter().zip(b).map(|(&x, &y)| crate::compare::budget::geo(x, y, w)).collect()
 }
 
 /// The false discovery rate the coloured pixels of one map are held to (Benjamini–Hochberg).

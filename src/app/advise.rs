@@ -1,8 +1,9 @@
 //! `hemilab advise SCENE.toml`: which configuration to ship for this scene at a time budget.
 //!
-//! The same stages as `run`, from an in-memory spec instead of a file (`advice::setup`): every input
-//! checked → given budgets checked against a calibrated cheapest render (`jobs::calibrate`; an
-//! impossible one is refused in seconds) → the scene's reference (`jobs::reference::obtain`) →
+//! The same stages as `run`, from an in-memory spec instead of a file (`advice::setup`, from the
+//! scene and stored references loaded here): every input checked → given budgets checked against a
+//! calibrated cheapest render (`jobs::calibrate`; an impossible one is refused in seconds) → the
+//! scene's reference (`jobs::reference::obtain`) →
 //! the sweep under the timing protocol (`jobs::executor`) → the interpolated rankings → each
 //! budget's finalists rendered and timed at the integer ray count that fits it (`advice::answer`)
 //! → the answers, the winner maps → advice.json, advice.md, index.html, figures.
@@ -18,12 +19,14 @@ use crate::cli::AdviseArgs;
 use hemilab::advice::analysis::{self, Measured};
 use hemilab::advice::pipeline::as_ranked;
 use hemilab::advice::setup::{self, Request, Setup};
+use hemilab::compare::budget::round_significant;
 use hemilab::error::{Error, Result};
 use hemilab::jobs::calibrate;
 use hemilab::jobs::executor;
 use hemilab::jobs::runner::JobRunner;
 use hemilab::jobs::sweep;
-use hemilab::reference::store::Policy;
+use hemilab::load::{dropped_warning, load_scene};
+use hemilab::reference::store::{self as refs, Policy};
 use hemilab::results::JobResult;
 use hemilab::{advice, outdir};
 use std::collections::HashMap;
@@ -49,7 +52,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
             integrand: args.integrand,
         },
     };
-    let setup = setup::setup(&request)?;
+    let setup = set_up(&request)?;
     let default_out = || Path::new("out").join(format!("advise-{}", setup.stem));
     let out = args.out.clone().or_else(|| args.from.clone()).unwrap_or_else(default_out);
     outdir::check_advise_out(&out)?;
@@ -163,10 +166,28 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         protocol,
         from: args.from.clone(),
     };
-    let summary = hemilab::report::advise::write(&measured, analysis, &stage, &out)?;
+    analysis.maps = analysis::winner_maps(&measured, &analysis);
+    let report = hemilab::report::advise::report(&measured, &analysis, &out)?;
+    outdir::write_files(&stage, &report.files, &report.stale)?;
     outdir::commit_advise_stage(&stage, &out)?;
-    print!("{summary}");
+    for w in &report.warnings {
+        eprintln!("{w}");
+    }
+    print!("{}", report.text);
     Ok(())
+}
+
+/// The request checked on its own, then with what it names loaded here, where files are read: the
+/// scene (its warnings printed) and the references stored for it (`reference::store`).
+fn set_up(request: &Request) -> Result<Setup> {
+    let checked = setup::check(request)?;
+    let scene = load_scene(&request.scene)?;
+    if let Some(w) = dropped_warning(&scene) {
+        eprintln!("{w}");
+    }
+    let reference_dir = refs::dir_of_scene(request.reference_dir.as_deref(), &request.scene, &scene)?;
+    let stored = refs::stored_of_scene(&reference_dir, &scene)?;
+    setup::setup(request, checked, setup::Inputs { scene, reference_dir, stored })
 }
 
 /// Refuses (exit 2, in seconds) budgets no configuration can render an image in, naming the
@@ -180,7 +201,7 @@ fn refuse_impossible(setup: &Setup, budgets_ms: &[f64], workers: usize) -> Resul
         return Ok(());
     }
     let [w, h] = setup.loaded.spec.resolution.unwrap_or([0, 0]);
-    let ms = |s: f64| advice::round_significant(s * 1e3, 2);
+    let ms = |s: f64| round_significant(s * 1e3, 2);
     Err(Error::Usage(format!(
         "--budget-ms {}: below the cheapest render here — {} at {} ray{} per pixel takes about {} ms per \
          image at {w}x{h} (a calibration on this machine, now, which tends to over-predict by up to a \

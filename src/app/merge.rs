@@ -108,16 +108,19 @@ pub fn run(args: MergeArgs) -> Result<()> {
     outdir::write_merged_timing(&out, &timing)?;
     // A merged run's cost is its shards' (each shard's own timing.json); the whole has none.
     let cost = None;
-    let summary = report::run::write(
-        &loaded,
-        &references,
-        &merged,
+    let images = |r: &JobResult| outdir::record_image(&out, r);
+    let run = report::run::Run {
+        loaded: &loaded,
+        references: &references,
+        results: &merged,
         protocol,
-        &session,
+        session: &session,
         cost,
-        vec![note.clone()],
-        &out,
-    )?;
+        notes: vec![note.clone()],
+        images: &images,
+    };
+    let report::run::Report { files, summary } = report::run::report(run)?;
+    outdir::write_files(&out, &files, &[])?;
     for w in &summary.warnings {
         eprintln!("{w}");
     }

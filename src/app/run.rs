@@ -82,8 +82,19 @@ pub fn run(args: RunArgs) -> Result<()> {
         );
         return Ok(());
     }
-    let summary =
-        report::run::write(&loaded, &references, &results, protocol, &session, cost, Vec::new(), &out)?;
+    let images = |r: &hemilab::results::JobResult| outdir::record_image(&out, r);
+    let run = report::run::Run {
+        loaded: &loaded,
+        references: &references,
+        results: &results,
+        protocol,
+        session: &session,
+        cost,
+        notes: Vec::new(),
+        images: &images,
+    };
+    let report::run::Report { files, summary } = report::run::report(run)?;
+    outdir::write_files(&out, &files, &[])?;
     for w in &summary.warnings {
         eprintln!("{w}");
     }

@@ -1,11 +1,9 @@
 //! Does each of the paper's claims hold on each scene? Pure: records in, verdicts out; the page
 //! (`report::run::verdicts`) prints them as the report's first table and `tests/claims/scenes.rs` asserts them.
 //!
-//! Every margin is in standard errors of a *paired* difference: replicate r of every configuration
-//! uses the same seed (`plan::replicate_seed`), so configurations are compared replicate by
-//! replicate, d_r = worse_r − better_r, and the standard error is sd(d) / √n. Pairing removes the
-//! variation the two share (the same random numbers through two warps, the same scene), so it is
-//! both the right error bar and a much tighter one than the unpaired √(sd_a²/n + sd_b²/n).
+//! Every margin is in standard errors of a *paired* difference (`margin::paired`): replicate r of
+//! every configuration uses the same seed, so configurations are compared replicate by replicate,
+//! d_r = worse_r − better_r, with the standard error sd(d) / √n.
 //!
 //! A claim *holds* when its margin is at least the two-sided 1 % quantile of Student's t with n − 1
 //! degrees of freedom at every ray count it is checked at, *fails* when the opposite is that
@@ -19,9 +17,9 @@
 //! within the cell) — and Holm's step-down procedure over the table's measured cells
 //! (`stats::holm_adjusted`) keeps the chance of any false verdict in the table at most `ALPHA`.
 
-use crate::compare::{equally, is_structured};
+use crate::compare::margin::{self, Margin, paired};
+use crate::compare::structure::{equally, is_structured};
 use crate::metrics::STRUCTURED_RATIO;
-use crate::metrics::loglog_slope;
 use crate::results::JobResult;
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use crate::spec::Row;
@@ -53,14 +51,14 @@ pub enum Claim {
     /// Table 3: the Fibonacci lattice with a per-pixel seed has lower RMSE than pseudo-random numbers.
     FibonacciBeatsRandom,
     /// Table 3: the static seed's error is structured: its low-frequency ratio above the per-pixel
-    /// seed's and structured by `compare::is_structured` (mean ratio above `STRUCTURED_RATIO`, the
+    /// seed's and structured by `structure::is_structured` (mean ratio above `STRUCTURED_RATIO`, the
     /// verdict the report and `advise` use; the whiteness z would flag blue noise too).
     StaticSeedStructured,
     /// Convergence: pseudo-random RMSE falls as rays^−½ (slope within ±`SLOPE_TOLERANCE` of −0.5).
     RandomSlopeHalf,
     /// Convergence: the lattice with a per-pixel seed converges faster (steeper slope) than pseudo-random.
     FibonacciSteeper,
-    /// Equal time (issue 28): the lattice with a per-pixel seed has less MSE than the sampler a
+    /// Equal time: the lattice with a per-pixel seed has less MSE than each sampler a
     /// renderer would ship instead (sine-cosine, randomized per pixel by `shift`), at every time
     /// budget both were measured at (`compare::equal_time`). Fails where that sampler wins.
     FibonacciBeatsAtEqualTime(Sequence),
@@ -122,47 +120,15 @@ impl Outcome {
     }
 }
 
-/// Mean of the paired differences and its standard error.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Margin {
-    pub mean: f64,
-    pub se: f64,
-    pub n: usize,
-}
-
-impl Margin {
-    /// The mean in standard errors (±∞ when every pair differs by the same amount).
-    pub fn in_se(&self) -> f64 {
-        if self.se > 0.0 {
-            self.mean / self.se
-        } else if self.mean == 0.0 {
-            0.0
-        } else {
-            self.mean.signum() * f64::INFINITY
-        }
-    }
-}
-
-/// Paired margin of `b − a`, over the replicates present in both (values keyed by replicate).
-/// `None` with fewer than two pairs.
-pub fn paired(a: &[(u32, f64)], b: &[(u32, f64)]) -> Option<Margin> {
-    let (va, vb): (Vec<f64>, Vec<f64>) = a
-        .iter()
-        .filter_map(|&(r, va)| b.iter().find(|x| x.0 == r).map(|&(_, vb)| (va, vb)))
-        .filter(|(va, vb)| (vb - va).is_finite())
-        .unzip();
-    if va.len() < 2 {
-        return None;
-    }
-    let (mean, se) = crate::stats::paired_difference(&va, &vb);
-    Some(Margin { mean, se, n: va.len() })
-}
-
-/// The margin (in SE) a paired comparison of `n` pairs needs to be significant at `ALPHA`:
-/// Student's t quantile with n − 1 degrees of freedom (statrs).
+/// The margin (in SE) a paired comparison of `n` pairs needs to be significant at `ALPHA`
+/// (`margin::critical_se`).
 pub fn critical_se(n: usize) -> f64 {
-    let t = crate::stats::student_t_quantile(ALPHA, (n.max(2) - 1) as f64);
-    if t.is_nan() { f64::INFINITY } else { t }
+    margin::critical_se(ALPHA, n)
+}
+
+/// `b − a` where it can carry a verdict: `margin::paired` over at least two pairs.
+fn measured(a: &[(u32, f64)], b: &[(u32, f64)]) -> Option<Margin> {
+    paired(a, b).measured()
 }
 
 /// One cell of the verdict table.
@@ -211,15 +177,9 @@ pub fn replicate_slopes(rs: &[JobResult], scene: &str, c: Config, rays: &[u32]) 
                 return None;
             }
             let (x, y): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
-            loglog_slope(&x, &y).map(|s| (rep, s))
+            crate::stats::loglog_fit(&x, &y).map(|f| (rep, f.slope))
         })
         .collect()
-}
-
-/// The two-sided p-value of a margin (Student's t, n − 1 degrees of freedom; 0 at ±∞).
-fn p_of(m: &Margin) -> f64 {
-    let t = m.in_se();
-    if t.is_infinite() { 0.0 } else { crate::stats::student_t_two_sided_p(t, (m.n.max(2) - 1) as f64) }
 }
 
 /// A cell's p-value from its margins: the largest when every one is positive (all must be
@@ -227,9 +187,9 @@ fn p_of(m: &Margin) -> f64 {
 /// margins (any one significant makes it fail), capped at 1.
 fn cell_p(margins: &[Margin]) -> f64 {
     if margins.iter().all(|m| m.in_se() > 0.0) {
-        margins.iter().map(p_of).fold(0.0, f64::max)
+        margins.iter().map(Margin::p_two_sided).fold(0.0, f64::max)
     } else {
-        let least = margins.iter().filter(|m| m.in_se() <= 0.0).map(p_of).fold(1.0, f64::min);
+        let least = margins.iter().filter(|m| m.in_se() <= 0.0).map(Margin::p_two_sided).fold(1.0, f64::min);
         (least * margins.len() as f64).min(1.0)
     }
 }
@@ -317,7 +277,7 @@ pub fn scene_verdicts(rs: &[JobResult], scene: &str, rays: &[u32], sweep: &[u32]
     let rmse = |c: Config, n: u32| values(rs, scene, c, n, |r| r.rmse);
     let ratio = |c: Config, n: u32| values(rs, scene, c, n, |r| r.lowfreq_ratio);
     let lower = |better: Config, worse: Config| -> Vec<(String, Option<Margin>)> {
-        rays.iter().map(|&n| (n.to_string(), paired(&rmse(better, n), &rmse(worse, n)))).collect()
+        rays.iter().map(|&n| (n.to_string(), measured(&rmse(better, n), &rmse(worse, n)))).collect()
     };
     let mut out = vec![
         judge(scene, Claim::CosineBeatsUniform, lower(COSINE_RANDOM, UNIFORM_RANDOM), true),
@@ -326,7 +286,7 @@ pub fn scene_verdicts(rs: &[JobResult], scene: &str, rays: &[u32], sweep: &[u32]
     ];
     let structured: Vec<(String, Option<Margin>)> = rays
         .iter()
-        .map(|&n| (n.to_string(), paired(&ratio(COSINE_FIB_PIXEL, n), &ratio(COSINE_FIB_STATIC, n))))
+        .map(|&n| (n.to_string(), measured(&ratio(COSINE_FIB_PIXEL, n), &ratio(COSINE_FIB_STATIC, n))))
         .collect();
     let above = rays
         .iter()
@@ -341,17 +301,17 @@ pub fn scene_verdicts(rs: &[JobResult], scene: &str, rays: &[u32], sweep: &[u32]
 
     let random = replicate_slopes(rs, scene, COSINE_RANDOM, sweep);
     // |slope + 0.5| below the tolerance: the margin is tolerance − |deviation|, in SE of the mean slope.
-    let half = paired(&random.iter().map(|&(r, _)| (r, 0.0)).collect::<Vec<_>>(), &random)
+    let half = measured(&random.iter().map(|&(r, _)| (r, 0.0)).collect::<Vec<_>>(), &random)
         .map(|m| Margin { mean: SLOPE_TOLERANCE - (m.mean + 0.5).abs(), ..m });
     let mut v = judge(scene, Claim::RandomSlopeHalf, vec![("slope".into(), half)], true);
-    if let Some(m) = paired(&random.iter().map(|&(r, _)| (r, 0.0)).collect::<Vec<_>>(), &random) {
+    if let Some(m) = measured(&random.iter().map(|&(r, _)| (r, 0.0)).collect::<Vec<_>>(), &random) {
         v.detail =
             format!("slope {:+.3} ± {:.3} (SE); margin to ±{SLOPE_TOLERANCE}: {}", m.mean, m.se, v.detail);
     }
     out.push(v);
     let fib = replicate_slopes(rs, scene, COSINE_FIB_PIXEL, sweep);
     // Steeper = more negative: the margin is random − fibonacci.
-    let steeper = paired(&fib, &random);
+    let steeper = measured(&fib, &random);
     let mut v = judge(scene, Claim::FibonacciSteeper, vec![("slopes".into(), steeper)], true);
     if let (Some(a), Some(b)) = (mean(&random), mean(&fib)) {
         v.detail = format!("{a:+.3} vs {b:+.3}: {}", v.detail);
@@ -377,15 +337,15 @@ pub fn scene_verdicts(rs: &[JobResult], scene: &str, rays: &[u32], sweep: &[u32]
 /// paired by replicate), over the replicates of the lattice's first ray count.
 fn equal_time_claim(rs: &[JobResult], scene: &str, claim: Claim, other: Config, sweep: &[u32]) -> Verdict {
     use crate::compare::equal_time::{TimeView, equal_time};
-    let measured = |c: Config| sweep.iter().any(|&n| rs.iter().any(|r| r.is(scene, c, n)));
+    let swept = |c: Config| sweep.iter().any(|&n| rs.iter().any(|r| r.is(scene, c, n)));
     let mut margins: Vec<(String, Option<Margin>)> = Vec::new();
-    if measured(other) && measured(COSINE_FIB_PIXEL) {
+    if swept(other) && swept(COSINE_FIB_PIXEL) {
         let n = values(rs, scene, COSINE_FIB_PIXEL, sweep[0], |r| r.rmse).len();
         let et = equal_time(rs, scene, &[COSINE_FIB_PIXEL, other], sweep, TimeView::Total, 1);
         for at in &et.at {
             if let (Some(a), Some(b)) = (at.entry(other), at.entry(COSINE_FIB_PIXEL)) {
                 let r = crate::compare::equal_time::Ratio::of(&a.at, &b.at);
-                let m = Margin { mean: r.value.ln(), se: r.se / r.value, n };
+                let m = Margin { mean: r.value.ln(), se: r.se / r.value, n, base: f64::NAN };
                 margins.push((format!("{:.3} ms (MSE ×{:.2})", at.budget_s * 1e3, r.value), Some(m)));
             }
         }

@@ -1,6 +1,6 @@
-//! Configurations compared by their error at equal time (pure: records in, rankings out), with
-//! advise's arithmetic (`advice::{at_budget, rank, gain}`), so that `run` and `advise` answer the
-//! same question the same way.
+//! Configurations compared by their error at equal time (pure: records in, rankings out), with the
+//! ranking advise uses (`budget::{at_budget, rank}`, `model::gain`), so that `run` and `advise`
+//! answer the same question the same way.
 //!
 //! Why not efficiency, 1 / (MSE · time)? It ranks two configurations as their MSEs at equal time
 //! only where MSE ∝ 1/time. The lattice's MSE falls as time^−2.1…−2.5, so a 13 % time penalty costs
@@ -14,13 +14,15 @@
 //!   ranks by); AO time (less the scene's per-image overhead) as a second view (`TimeView`).
 //! - **Error model** (1 σ): the replicates' spread of the MSE at the two neighbouring points,
 //!   interpolated replicate by replicate and paired across configurations by seed, plus each
-//!   time's spread moving the budget along the line (`advice::gain`).
+//!   time's spread moving the budget along the line (`model::gain`).
 //! - **The answer** at a budget is advise's rule: the least MSE among configurations whose error is
-//!   not structured (`compare::is_structured`); a structured one ranked above it is rejected, not
+//!   not structured (`structure::is_structured`); a structured one ranked above it is rejected, not
 //!   the answer.
 
-use crate::advice::{self, AtBudget, Curve, Metric, Place, Point};
-use crate::compare::{is_structured, per_pixel_unbiased};
+use crate::compare::budget::{self, AtBudget, Curve, Metric, Place, Point};
+use crate::compare::model;
+use crate::compare::structure::{self, is_structured};
+use crate::compare::{PAPER_DEFAULT, per_pixel_unbiased};
 use crate::results::JobResult;
 use crate::spec::Row;
 use crate::timing::Summary;
@@ -53,7 +55,8 @@ impl TimeView {
 
 /// One configuration's ladder on `scene` from the run's records: per ray count of `rays`, the
 /// median of every timed render (less the overhead in the AO view; a point whose AO time is not
-/// positive is left out) and that median's spread, and each replicate's MSE and structure measure (`advice::structure`).
+/// positive is left out) and that median's spread, and each replicate's MSE and structure measure
+/// (`structure::of`). `advise` reads its sweep's ladders through here too.
 pub fn curve(results: &[JobResult], scene: &str, row: Row, rays: &[u32], view: TimeView) -> Curve {
     let points = rays
         .iter()
@@ -68,12 +71,12 @@ pub fn curve(results: &[JobResult], scene: &str, row: Row, rays: &[u32], view: T
             (time_s > 0.0 && time_s.is_finite()).then(|| Point {
                 rays: n,
                 time_s,
-                time_sigma_ln: advice::model::median_sigma_ln(&times),
-                timings: times.len(),
+                time_sigma_ln: model::median_sigma_ln(&times),
+                timings: t.n,
                 replicates: rs.iter().map(|r| r.replicate).collect(),
                 mse: rs.iter().map(|r| r.rmse * r.rmse).collect(),
                 lowpass_mse: rs.iter().map(|r| r.lowpass_rmse * r.lowpass_rmse).collect(),
-                structure: rs.iter().map(|r| advice::structure::of(r)).collect(),
+                structure: rs.iter().map(|r| structure::of(r)).collect(),
             })
         })
         .collect();
@@ -90,7 +93,7 @@ const INSIDE: f64 = 1e-9;
 /// no range, over the `baseline`'s own (the others are then not measured at some budgets).
 pub fn budgets(curves: &[Curve], baseline: Row, per_doubling: usize) -> Vec<f64> {
     let range = |c: &Curve| {
-        let lt = advice::monotone_log_times(&c.points);
+        let lt = budget::monotone_log_times(&c.points);
         (lt.len() >= 2).then(|| (lt[0], lt[lt.len() - 1]))
     };
     let ranges: Vec<(f64, f64)> = curves.iter().filter_map(range).collect();
@@ -111,7 +114,7 @@ pub fn budgets(curves: &[Curve], baseline: Row, per_doubling: usize) -> Vec<f64>
     let mut out: Vec<f64> = Vec::new();
     for i in 0..=steps {
         let x = lo + (hi - lo) * i as f64 / steps as f64;
-        let rounded = advice::round_significant(x.exp(), 2);
+        let rounded = budget::round_significant(x.exp(), 2);
         let t = if (lo..=hi).contains(&rounded.ln()) { rounded } else { x.exp() };
         if out.last() != Some(&t) {
             out.push(t);
@@ -129,22 +132,14 @@ pub struct Ratio {
 
 impl Ratio {
     pub fn of(a: &AtBudget, b: &AtBudget) -> Self {
-        let g = advice::model::gain(&a.side(Metric::Rmse), &b.side(Metric::Rmse));
+        let g = model::gain(&a.side(Metric::Rmse), &b.side(Metric::Rmse));
         Self { value: g.value, se: g.se }
     }
 
     /// ln(ratio) in its standard errors (delta method: se(ln r) = se / r); 0 for a ratio of exactly
     /// 1 without error (a configuration against itself).
     pub fn in_se(&self) -> f64 {
-        let l = self.value.ln();
-        let s = self.se / self.value;
-        if s > 0.0 {
-            l / s
-        } else if l == 0.0 {
-            0.0
-        } else {
-            l.signum() * f64::INFINITY
-        }
+        crate::compare::margin::in_se(self.value.ln(), self.se / self.value)
     }
 }
 
@@ -212,7 +207,7 @@ pub fn equal_time(
     per_doubling: usize,
 ) -> EqualTime {
     let curves: Vec<Curve> = rows.iter().map(|&r| curve(results, scene, r, rays, view)).collect();
-    let baseline = if rows.contains(&advice::PAPER_DEFAULT) { advice::PAPER_DEFAULT } else { rows[0] };
+    let baseline = if rows.contains(&PAPER_DEFAULT) { PAPER_DEFAULT } else { rows[0] };
     let at = budgets(&curves, baseline, per_doubling)
         .into_iter()
         .map(|b| at_time(results, scene, &curves, baseline, b))
@@ -222,7 +217,7 @@ pub fn equal_time(
 
 /// Every curve at `budget_s` (advise's `rank`), with its structure and its ratio to `baseline`.
 pub fn at_time(results: &[JobResult], scene: &str, curves: &[Curve], baseline: Row, budget_s: f64) -> AtTime {
-    let ranking = advice::rank(curves, budget_s, Metric::Rmse);
+    let ranking = budget::rank(curves, budget_s, Metric::Rmse);
     let base = ranking.ranked.iter().find(|a| a.row == baseline).cloned();
     let ranked = ranking
         .ranked

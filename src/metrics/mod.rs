@@ -163,26 +163,6 @@ pub fn efficiency(rmse: f64, time_s: f64) -> Option<f64> {
     (p > 0.0 && p.is_finite()).then(|| 1.0 / p)
 }
 
-/// Least-squares slope of ln y against ln x, over points with x, y > 0 and finite;
-/// `None` with fewer than two distinct x.
-pub fn loglog_slope(xs: &[f64], ys: &[f64]) -> Option<f64> {
-    let pts: Vec<(f64, f64)> = xs
-        .iter()
-        .zip(ys)
-        .filter(|(x, y)| **x > 0.0 && **y > 0.0 && x.is_finite() && y.is_finite())
-        .map(|(x, y)| (x.ln(), y.ln()))
-        .collect();
-    if pts.len() < 2 {
-        return None;
-    }
-    let n = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    (sxx > 1e-12).then(|| sxy / sxx)
-}
-
 /// Mean and sample standard deviation (n − 1; 0 for a single value) of the finite values.
 pub fn mean_sd(values: &[f64]) -> (f64, f64) {
     let v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
@@ -211,13 +191,5 @@ mod tests {
         let (m, s) = mean_sd(&[1.0, 2.0, 3.0]);
         assert!((m - 2.0).abs() < 1e-12 && (s - 1.0).abs() < 1e-12);
         assert_eq!(mean_sd(&[5.0]), (5.0, 0.0));
-    }
-
-    #[test]
-    fn slope_needs_two_distinct_x() {
-        assert_eq!(loglog_slope(&[4.0, 4.0], &[1.0, 2.0]), None);
-        assert_eq!(loglog_slope(&[4.0], &[1.0]), None);
-        let s = loglog_slope(&[1.0, 10.0], &[1.0, 10.0]).unwrap();
-        assert!((s - 1.0).abs() < 1e-12);
     }
 }

@@ -34,6 +34,46 @@ pub fn dir(flag: Option<&Path>, spec: &Spec) -> PathBuf {
     flag.map_or_else(|| spec.reference_dir.clone(), Path::to_path_buf)
 }
 
+/// Where `advise` finds a scene file's references: `--reference-dir` (`flag`), else `reference/`
+/// beside the scene file, or the scene folder's parent's `reference/` when that one holds a
+/// reference of this scene (this repository's layout: the committed references of `scenes/*.toml`
+/// are in `reference/`). Like a spec's references, never relative to the current directory, so the
+/// committed ones are found from anywhere and a user's own scene keeps its references beside it.
+pub fn dir_of_scene(flag: Option<&Path>, scene_file: &Path, scene: &Scene) -> Result<PathBuf> {
+    if let Some(dir) = flag {
+        return Ok(dir.to_path_buf());
+    }
+    let folder = scene_file.parent().unwrap_or(Path::new(""));
+    let beside = folder.join("reference");
+    let parent = folder.join("..").join("reference");
+    if stored_of_scene(&beside, scene)?.is_empty() && !stored_of_scene(&parent, scene)?.is_empty() {
+        return Ok(parent);
+    }
+    Ok(beside)
+}
+
+/// Manifests in `dir` of this scene's content (scene and mesh hash), camera and hemilab version
+/// whose image is there, with their image's path: the references `advise` may reuse. Unreadable or
+/// foreign JSON files are skipped: they are not this scene's references.
+pub fn stored_of_scene(dir: &Path, scene: &Scene) -> Result<Vec<(Manifest, PathBuf)>> {
+    let mut out = Vec::new();
+    for json in io::list_dir(dir)?.into_iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
+        let Ok(m) = io::read_string(&json).and_then(|t| Manifest::from_json(&t).map_err(Error::Refused))
+        else {
+            continue;
+        };
+        let exr = json.with_extension("exr");
+        if m.scene_hash == scene.content_hash
+            && m.camera == scene.camera_description()
+            && m.hemilab_version == env!("CARGO_PKG_VERSION")
+            && io::exists(&exr)
+        {
+            out.push((m, exr));
+        }
+    }
+    Ok(out)
+}
+
 /// What to do when the stored reference is missing or does not match.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Policy {

@@ -1,13 +1,21 @@
 //! Log axes with ticks chosen here, shared by every log-log figure (convergence, efficiency,
 //! advise's error against time).
 
-use super::FONT;
+use super::backend::FONT;
 use plotters::coord::Shift;
 use plotters::coord::combinators::{LogCoord, WithKeyPoints};
 use plotters::prelude::*;
 
 /// The caption's type size, when the title fits.
 const TITLE_PX: f64 = 27.0;
+
+/// A log-log figure's frame: its data ranges (x0, x1, y0, y1), and its legend's entries and width
+/// in pixels.
+pub(super) struct Frame<'a> {
+    pub ranges: (f64, f64, f64, f64),
+    pub entries: &'a [String],
+    pub legend_w: u32,
+}
 
 /// A log-log chart's coordinates.
 pub(super) type LogLog = Cartesian2d<WithKeyPoints<LogCoord<f64>>, WithKeyPoints<LogCoord<f64>>>;

@@ -1,8 +1,8 @@
 //! The banding figure: a structured-error metric per configuration as horizontal bars.
 
+use super::backend::{FONT, Format, render};
 use super::canvas::text_size;
 use super::plot::{W, bounds, series_style};
-use super::{FONT, Format, render};
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::SegmentValue;
 use plotters::prelude::*;
@@ -135,7 +135,7 @@ fn draw_banding<DB: DrawingBackend>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::decode_png;
+    use crate::report::backend::decode_png;
 
     #[test]
     fn banding_plot_lists_every_configuration() {

@@ -1,7 +1,7 @@
 //! An RGB pixel buffer that image tables are composed on: pixels are copied in directly (exact,
 //! nearest-neighbour) and labels are drawn with plotters' text rasterizer at the end.
 
-use super::{FONT, ensure_fonts};
+use super::backend::{FONT, ensure_fonts};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 

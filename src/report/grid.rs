@@ -281,7 +281,7 @@ pub(crate) fn fmt_scale(v: f32) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::decode_png;
+    use crate::report::backend::decode_png;
 
     fn gradient(w: u32, h: u32) -> Image {
         Image::from_vec(w, h, (0..w * h).map(|i| (i % w) as f32 / (w - 1) as f32).collect())

@@ -3,9 +3,9 @@
 //! reference's own noise as a floor and the per-image overhead as a wall; efficiency against ray
 //! count), and the structured-error (banding) metric per configuration.
 
-use super::axis::log_log_chart;
+use super::axis::{Frame, log_log_chart};
+use super::backend::{FONT, Format, render};
 use super::canvas::text_size;
-use super::{FONT, Format, render};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -186,9 +186,7 @@ pub fn convergence_plot(
             (x_label, y_label),
             series,
             (guides, &shown),
-            ranges,
-            &entries,
-            legend_w,
+            Frame { ranges, entries: &entries, legend_w },
         )
     })
 }
@@ -197,17 +195,15 @@ pub(super) fn bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
     v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)))
 }
 
-#[allow(clippy::too_many_arguments)]
 fn draw_convergence<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
     (x_label, y_label): (&str, &str),
     series: &[Series],
     (guides, shown): (&[Guide], &[Guide]),
-    (x0, x1, y0, y1): (f64, f64, f64, f64),
-    entries: &[String],
-    legend_w: u32,
+    frame: Frame,
 ) -> Result<(), String> {
+    let Frame { ranges: (x0, x1, y0, y1), entries, legend_w } = frame;
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (w, _) = root.dim_in_pixel();
     let (plot, legend) = root.split_horizontally(w - legend_w);
@@ -280,7 +276,7 @@ fn draw_convergence<DB: DrawingBackend>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::decode_png;
+    use crate::report::backend::decode_png;
 
     fn signed(k: f64) -> String {
         format!("{}{:.2}", if k < 0.0 { "−" } else { "+" }, k.abs())

@@ -2,8 +2,8 @@
 //! unit disk (x, y), and optionally a side view (x, z) that shows how points crowd towards the pole
 //! or thin out towards the horizon.
 
+use super::backend::{FONT, Format, render};
 use super::canvas::text_size;
-use super::{FONT, Format, render};
 use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use glam::{Vec2, Vec3};
 use plotters::coord::Shift;
@@ -193,7 +193,7 @@ pub fn figure_rows(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::decode_png;
+    use crate::report::backend::decode_png;
 
     fn ring(n: usize, z: f32) -> Vec<Vec3> {
         let s = (1.0 - z * z).sqrt();

@@ -214,6 +214,8 @@ mod tests {
         assert!(linear_fit(&[1.0, 1.0], &[1.0, 2.0], None).is_none());
         let p = loglog_fit(&[1.0, 4.0, 16.0, 0.0], &[1.0, 0.5, 0.25, 3.0]).unwrap();
         assert!((p.slope + 0.5).abs() < 1e-12 && p.n == 3);
+        assert!(loglog_fit(&[4.0, 4.0], &[1.0, 2.0]).is_none() && loglog_fit(&[4.0], &[1.0]).is_none());
+        assert!((loglog_fit(&[1.0, 10.0], &[1.0, 10.0]).unwrap().slope - 1.0).abs() < 1e-12);
     }
 
     #[test]

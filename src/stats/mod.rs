@@ -1,5 +1,6 @@
 //! Leaf statistics module (imports nothing of the crate): ln Gamma, the mean with its standard
-//! error, the log ratio of two paired means and Holm's multiplicity adjustment here; fits with confidence intervals, paired differences and medians in `stats/fit.rs`. The
+//! error, the log ratio of two paired means and Holm's multiplicity adjustment here; fits with
+//! confidence intervals, paired differences and medians in `stats/fit.rs`. The
 //! distributions themselves come from the statrs crate. The tests' chi-square goodness of fit and
 //! "within k standard errors" bounds are in `tests/support/stats.rs`; the chi-square tail and the
 //! normal quantile they build on (unit tests here use them too) exist only for tests (`cfg(test)`
@@ -68,10 +69,18 @@ pub fn mean_and_standard_error(xs: &[f64]) -> (f64, f64) {
 }
 
 /// ln(mean(b) / mean(a)) over paired samples (`a[i]` and `b[i]` share a seed) and its standard error
-/// by the delta method: var ≈ (var(a)/ā² + var(b)/b̄² − 2 cov(a, b)/(ā b̄)) / n. Pairing takes out the
-/// variation the two share, which an unpaired √(se_a² + se_b²) would count twice. The error is
-/// NaN with fewer than two pairs (nothing to estimate a spread from).
+/// by the delta method ([`paired_log_ratio_variance`]). Pairing takes out the variation the two
+/// share, which an unpaired √(se_a² + se_b²) would count twice. The error is NaN with fewer than
+/// two pairs (nothing to estimate a spread from).
 pub fn paired_log_ratio(a: &[f64], b: &[f64]) -> (f64, f64) {
+    let (value, var) = paired_log_ratio_variance(a, b);
+    (value, var.sqrt())
+}
+
+/// ln(mean(b) / mean(a)) and its variance by the delta method: var ≈ (var(a)/ā² + var(b)/b̄² −
+/// 2 cov(a, b)/(ā b̄)) / n; NaN with fewer than two pairs. The variance itself, for a caller that
+/// adds other independent parts to it before the square root.
+pub fn paired_log_ratio_variance(a: &[f64], b: &[f64]) -> (f64, f64) {
     let n = a.len().min(b.len());
     let (a, b) = (&a[..n], &b[..n]);
     let nf = n as f64;
@@ -85,7 +94,7 @@ pub fn paired_log_ratio(a: &[f64], b: &[f64]) -> (f64, f64) {
     };
     let v =
         cov(a, ma, a, ma) / (ma * ma) + cov(b, mb, b, mb) / (mb * mb) - 2.0 * cov(a, ma, b, mb) / (ma * mb);
-    (value, (v.max(0.0) / nf).sqrt())
+    (value, v.max(0.0) / nf)
 }
 
 /// Holm's step-down adjustment (Holm 1979) of a family of p-values: the i-th smallest (i from 1) is

@@ -1,6 +1,6 @@
-//! The paper's theory section as claims (issue 27): `experiments/integrands.toml` (three scenes at
+//! The paper's theory section as claims: `experiments/integrands.toml` (three scenes at
 //! 96x72, 8 replicates, fixed seeds) run through the real binary against the committed references
-//! of each integrand. Each statement of `report::run::integrands::STATEMENTS` is asserted on a
+//! of each integrand. Each statement of `compare::integrands::STATEMENTS` is asserted on a
 //! scene where theory backs it, by at least `MIN_SE` standard errors of the paired RMSE difference
 //! at 8, 16 and 32 rays (pseudo-random numbers: the independent rays the closed forms are about),
 //! the crossover included: uniform in the angles beats sine-cosine on the sharp lobe (n = 32)
@@ -13,7 +13,8 @@
 
 use crate::support::common;
 
-use hemilab::report::run::integrands::{self as integrands, STATEMENTS, margin};
+use hemilab::compare::integrands::{STATEMENTS, margin};
+use hemilab::report::run::integrands;
 use hemilab::results::JobResult;
 use hemilab::sampling::{Distribution, Integrand};
 use std::sync::OnceLock;

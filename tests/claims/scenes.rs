@@ -2,17 +2,18 @@
 //! 8 replicates, fixed seeds) run through the real binary against the committed references. Each
 //! claim is asserted only where theory backs it, by at least `MIN_SE` standard errors of the *paired*
 //! difference (replicate r shares its seed across configurations: `compare::claims`). And on the
-//! slat scene, where the lag-1 autocorrelation misses the static seed's diagonal moiré (issue 10),
+//! slat scene, where the lag-1 autocorrelation misses the static seed's diagonal moiré (a diagonal pattern the row and column lags do not see),
 //! the whiteness z-score must separate the static seed from the per-pixel seed by many replicate
 //! spreads at 8, 16 and 32 rays.
 
 use crate::support::common;
 
 use hemilab::compare::claims::{
-    self as claims, COSINE_FIB_PIXEL, COSINE_FIB_STATIC, COSINE_RANDOM, Claim, Config, Margin, Outcome,
-    SINE_RANDOM, SLOPE_TOLERANCE, UNIFORM_RANDOM,
+    self as claims, COSINE_FIB_PIXEL, COSINE_FIB_STATIC, COSINE_RANDOM, Claim, Config, Outcome, SINE_RANDOM,
+    SLOPE_TOLERANCE, UNIFORM_RANDOM,
 };
 use hemilab::compare::equal_time::{Ratio, TimeView, equal_time};
+use hemilab::compare::margin::{Margin, paired};
 use hemilab::metrics::whiteness::STRUCTURED_Z;
 use hemilab::results::JobResult;
 use hemilab::sampling::{Distribution, SeedMode, Sequence};
@@ -77,7 +78,7 @@ fn assert_margin(m: Option<Margin>, what: &str) -> f64 {
 fn assert_lower(scene: &str, better: Config, worse: Config, claim: &str) {
     for rays in RAYS {
         let (b, w) = (values(scene, better, rays, |r| r.rmse), values(scene, worse, rays, |r| r.rmse));
-        assert_margin(claims::paired(&b, &w), &format!("{scene}, {claim}, {rays} rays"));
+        assert_margin(paired(&b, &w).measured(), &format!("{scene}, {claim}, {rays} rays"));
     }
 }
 
@@ -92,7 +93,7 @@ fn table2_sine_cosine_beats_uniform_and_sine_where_occluders_are_above_the_horiz
             for rays in RAYS {
                 let c = values(scene, COSINE_RANDOM, rays, |r| r.rmse);
                 let s = values(scene, SINE_RANDOM, rays, |r| r.rmse);
-                let m = claims::paired(&c, &s).expect("pairs");
+                let m = paired(&c, &s).measured().expect("pairs");
                 eprintln!("{scene}, sine-cosine < sine, {rays} rays (not asserted): {:+.1} SE", m.in_se());
             }
         }
@@ -115,7 +116,7 @@ fn table3_the_static_seeds_error_is_structured_on_every_scene() {
             let stat = values(scene, COSINE_FIB_STATIC, rays, |r| r.whiteness_z);
             let pixel = values(scene, COSINE_FIB_PIXEL, rays, |r| r.whiteness_z);
             let what = format!("{scene}, static seed structured, {rays} rays");
-            assert_margin(claims::paired(&pixel, &stat), &what);
+            assert_margin(paired(&pixel, &stat).measured(), &what);
             let mean = stat.iter().map(|v| v.1).sum::<f64>() / stat.len() as f64;
             assert!(mean > STRUCTURED_Z, "{what}: mean whiteness z {mean:.1} of the static seed");
             // The per-pixel seed's error is white: z stays within the N(0, 1) range in every replicate.
@@ -133,7 +134,7 @@ fn convergence_slopes_on_every_scene() {
         // Independent rays: MSE ∝ 1/rays exactly, so the slope is −0.5 (within the tolerance the
         // reference's noise floor allows), by ≥ MIN_SE SE of the mean slope.
         let zero: Vec<(u32, f64)> = random.iter().map(|&(r, _)| (r, 0.0)).collect();
-        let m = claims::paired(&zero, &random).expect("slopes");
+        let m = paired(&zero, &random).measured().expect("slopes");
         let inside = Margin { mean: SLOPE_TOLERANCE - (m.mean + 0.5).abs(), ..m };
         assert_margin(
             Some(inside),
@@ -141,7 +142,7 @@ fn convergence_slopes_on_every_scene() {
         );
         // The lattice (low discrepancy; about −0.75 for integrands with edges, Brauchart et al. 2014)
         // converges faster than independent rays.
-        assert_margin(claims::paired(&fib, &random), &format!("{scene}, Fibonacci slope steeper"));
+        assert_margin(paired(&fib, &random).measured(), &format!("{scene}, Fibonacci slope steeper"));
     }
 }
 
@@ -188,7 +189,7 @@ fn whiteness_separates_the_static_seed_on_the_slats_where_lag1_autocorrelation_d
     }
 }
 
-/// The samplers a renderer would ship instead (issue 28), as they ship (sine-cosine, `shift`).
+/// The samplers a renderer would ship instead, as they ship (sine-cosine, `shift`).
 fn sampler(s: Sequence) -> Config {
     Config::new(Distribution::SineCosine, s, SeedMode::Shift)
 }

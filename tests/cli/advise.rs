@@ -83,7 +83,7 @@ pub fn label(c: &Value) -> String {
     )
 }
 
-/// Independently of `advice::model`: the gain of `better` over `base` (two finalist entries) and
+/// Independently of `compare::model`: the gain of `better` over `base` (two finalist entries) and
 /// its σ as advice.json's `error_model` states it — paired replicate part plus (k₁ − k₂)² σ_u² +
 /// k₁² σ_e₁² + k₂² σ_e₂²; 1 ± 0 for a configuration against itself.
 fn gain_and_sigma(base: &Value, better: &Value, run_factor: f64) -> (f64, f64) {

@@ -153,3 +153,54 @@ fn point_figures_must_be_a_boolean() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("point_figures") && err.contains("line 2"), "{err}");
 }
+
+/// Every file below `dir`, by its path relative to `dir`, with its bytes.
+fn files(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    let mut out = std::collections::BTreeMap::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                todo.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
+                out.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+/// The report is made from the records and `timing.json` alone: run again on a finished output
+/// directory whose report files were deleted, reusing every record and rendering nothing, `run`
+/// writes every file — the page, quotes.md, equal_time.csv, aggregates.csv, slopes.json and each
+/// figure — byte for byte as the first run did. This is what lets a change to the report be held
+/// against the code before it: the old binary's output directory, copied and rerun by the new
+/// binary, must come out identical (`diff -r`).
+#[test]
+fn a_rerun_on_the_same_records_writes_the_same_report() {
+    let t = common::Tmp::new("same-report");
+    let realtime = "\n[[table]]\nname = \"rt\"\nrays = [1]\ndistributions = [\"sine-cosine\"]\n\
+                    sequences = [\"random\", \"fibonacci\"]\nseed_modes = [\"rotation\", \"blue-noise\", \"stbn\"]\n\
+                    pipelines = [\"raw\", \"ema0.1+atrous\"]\nframes = 2\n";
+    let spec = t.spec("tiny.toml", &(common::tiny_spec(16, "") + realtime));
+    t.run_ok(&spec, "out", "ref", &[]);
+    let out = t.path("out");
+    let first = files(&out);
+    for name in ["index.html", "report.md", "quotes.md", "equal_time.csv", "c_equal_time.png", "rt_final.png"]
+    {
+        assert!(first.contains_key(name), "{name} missing: {:?}", first.keys().collect::<Vec<_>>());
+    }
+    let kept = ["results.json", "timing.json"];
+    for name in first.keys().filter(|n| !n.contains('/') && !kept.contains(&n.as_str())) {
+        std::fs::remove_file(out.join(name)).unwrap();
+    }
+    let o = t.run_ok(&spec, "out", "ref", &[]);
+    assert!(common::stdout(&o).contains(" 0 rendered, "), "{}", common::stdout(&o));
+    let second = files(&out);
+    assert_eq!(first.keys().collect::<Vec<_>>(), second.keys().collect::<Vec<_>>());
+    for (name, bytes) in &first {
+        assert!(second[name] == *bytes, "{name} differs between the run and the rerun on its records");
+    }
+}

@@ -94,7 +94,7 @@ fn equal_time_interpolation_reproduces_an_exact_power_law() {
         let at = at_time(&rs, "s", &curves, RANDOM, t);
         assert!(at.outside.is_empty(), "{t}: every configuration is measured there");
         let get = |r: Row| at.entry(r).unwrap();
-        let mse = |r: Row| get(r).at.mean_mse(hemilab::advice::Metric::Rmse).value;
+        let mse = |r: Row| get(r).at.mean_mse(hemilab::compare::budget::Metric::Rmse).value;
         let exact_pixel = mean_noise * c_pixel * t.powf(-2.2);
         let exact_random = mean_noise * c_random * t.powf(-1.0);
         assert!((mse(PIXEL) / exact_pixel - 1.0).abs() < 1e-9, "{t}: {} vs {exact_pixel}", mse(PIXEL));
@@ -116,7 +116,11 @@ fn equal_time_interpolation_reproduces_an_exact_power_law() {
     let below = at_time(&rs, "s", &curves, RANDOM, 1.105e-3);
     assert_eq!(below.ranked.iter().map(|e| e.at.row).collect::<Vec<_>>(), [RANDOM]);
     assert_eq!(below.outside.len(), 1);
-    assert!(matches!(below.outside[0], (PIXEL, hemilab::advice::Place::Below { .. })), "{:?}", below.outside);
+    assert!(
+        matches!(below.outside[0], (PIXEL, hemilab::compare::budget::Place::Below { .. })),
+        "{:?}",
+        below.outside
+    );
 }
 
 #[test]

@@ -2,10 +2,10 @@
 //! configuration with the budgets marked, and the winner map (per pixel, which configuration has
 //! the least error at a budget).
 
-use crate::report::axis::{log_log_chart, tick};
+use crate::report::axis::{Frame, log_log_chart, tick};
+use crate::report::backend::{FONT, Format, render};
 use crate::report::canvas::{Align, Canvas, text_size};
 use crate::report::plot::PALETTE;
-use crate::report::{FONT, Format, render};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -54,21 +54,19 @@ pub fn error_time_plot(
     let legend_w = entries.iter().map(|e| text_size(e, LEGEND_PX, false).0).max().unwrap_or(0) + 70;
     let h = H.max(90 + 24 * entries.len() as u32);
     render!(format, W + legend_w, h, |root: &DrawingArea<_, Shift>| {
-        draw(root, title, y_label, curves, budgets_ms, ranges, &entries, legend_w)
+        draw(root, title, y_label, curves, budgets_ms, Frame { ranges, entries: &entries, legend_w })
     })
 }
 
-#[allow(clippy::too_many_arguments)]
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
     y_label: &str,
     curves: &[TimeCurve],
     budgets_ms: &[f64],
-    (x0, x1, y0, y1): (f64, f64, f64, f64),
-    entries: &[String],
-    legend_w: u32,
+    frame: Frame,
 ) -> Result<(), String> {
+    let Frame { ranges: (x0, x1, y0, y1), entries, legend_w } = frame;
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (w, _) = root.dim_in_pixel();
     let (plot, legend) = root.split_horizontally(w - legend_w);
@@ -221,7 +219,7 @@ fn shorten(s: &str, max: u32) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::decode_png;
+    use crate::report::backend::decode_png;
 
     #[test]
     fn error_time_plot_marks_budgets_and_names_highlights() {

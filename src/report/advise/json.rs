@@ -4,9 +4,12 @@
 //! and structure value), the error model every ± is 1 σ of, and the winner map's counts.
 
 use super::text::{advice_line, outside_note, status};
-use crate::advice::analysis::{Analysis, Measured, mean};
-use crate::advice::answer::{Answer, Candidate, FINALISTS};
-use crate::advice::{self, AtBudget, Metric, PAPER_DEFAULT, Place, Ranking, model, setup, structure, winner};
+use crate::advice::analysis::{Analysis, Measured};
+use crate::advice::answer::{self, Answer, Candidate, FINALISTS, RankScored};
+use crate::advice::{setup, winner};
+use crate::compare::budget::{AtBudget, Metric, Place, Ranking, round_significant};
+use crate::compare::model;
+use crate::compare::{PAPER_DEFAULT, structure};
 use crate::spec::Row;
 use crate::timing;
 use serde_json::{Value, json};
@@ -14,7 +17,7 @@ use serde_json::{Value, json};
 /// Seconds as ms for advice.json, without the float noise of the conversion (5.1, not
 /// 5.1000000000000005).
 fn ms_value(s: f64) -> f64 {
-    advice::round_significant(s * 1e3, 15)
+    round_significant(s * 1e3, 15)
 }
 
 fn conf(row: Row) -> Value {
@@ -28,10 +31,8 @@ fn conf(row: Row) -> Value {
 /// A finalist: measured at `rays` (or interpolated at the budget, `measured` false), with what a
 /// recomputation needs: per-replicate values, its time's σ parts, its slopes.
 fn entry(c: &Candidate, a: &Answer) -> Value {
-    let (e, l) = (c.rmse(Metric::Rmse), c.rmse(Metric::Lowpass));
-    let g = a.gain(c, Metric::Rmse);
-    let lg = a.gain(c, Metric::Lowpass);
-    let t = super::text::time_ms(c);
+    let sc = a.score(c);
+    let (e, l, g, lg, t) = (sc.rmse, sc.lowpass_rmse, sc.gain, sc.lowpass_gain, sc.time_ms);
     json!({
         "configuration": conf(c.row),
         "measured": c.measured,
@@ -61,20 +62,17 @@ fn entry(c: &Candidate, a: &Answer) -> Value {
         "gain_se_timing": g.map(|g| g.se_timing),
         "lowpass_gain_vs_paper_default": lg.map(|g| g.value),
         "lowpass_gain_vs_paper_default_se": lg.map(|g| g.se),
-        "sigma_behind_recommended": a.margin(c).filter(|_| a.recommended().is_some_and(|b| b.row != c.row)),
+        "sigma_behind_recommended": sc.behind,
     })
 }
 
-/// A configuration in the sweep's interpolated ranking at the budget.
-fn ranked(x: &AtBudget, r: &Ranking) -> Value {
-    let (e, l) = (x.rmse(Metric::Rmse), x.rmse(Metric::Lowpass));
-    let default = r.ranked.iter().find(|d| d.row == PAPER_DEFAULT);
-    let g = default.map(|d| model::gain(&d.side(r.metric), &x.side(r.metric)));
-    let best = r.ranked.first().filter(|b| b.row != x.row);
+/// A configuration in the sweep's interpolated ranking at the budget, as the answer scored it.
+fn ranked(x: &AtBudget, sc: &RankScored) -> Value {
+    let (e, l, g) = (sc.rmse, sc.lowpass_rmse, sc.gain);
     json!({
         "configuration": conf(x.row),
         "rays_interpolated": x.rays,
-        "rays": advice::answer::rays_for(x),
+        "rays": answer::rays_for(x),
         "rmse": e.value,
         "rmse_se": e.se,
         "lowpass_rmse": l.value,
@@ -83,7 +81,7 @@ fn ranked(x: &AtBudget, r: &Ranking) -> Value {
         "structured": x.structured(),
         "gain_vs_paper_default": g.map(|g| g.value),
         "gain_vs_paper_default_se": g.map(|g| g.se),
-        "sigma_behind_best": best.map(|b| model::margin(&b.side(r.metric), &x.side(r.metric))),
+        "sigma_behind_best": sc.behind_best,
     })
 }
 
@@ -118,9 +116,11 @@ fn recommendation(a: &Answer) -> Value {
     o.insert("runner_up".into(), or_null(a.runner_up()));
     o.insert("best_lowpass".into(), or_null(a.best_lowpass()));
     o.insert("finalists".into(), Value::Array(a.finalists.iter().map(|c| entry(c, a)).collect()));
-    o.insert("ranking".into(), Value::Array(r.ranked.iter().map(|x| ranked(x, r)).collect()));
-    let low = &a.lowpass;
-    o.insert("lowpass_ranking".into(), Value::Array(low.ranked.iter().map(|x| ranked(x, low)).collect()));
+    let scored = |r: &Ranking, s: &[RankScored]| {
+        Value::Array(r.ranked.iter().zip(s).map(|(x, s)| ranked(x, s)).collect())
+    };
+    o.insert("ranking".into(), scored(r, &a.ranking_scores));
+    o.insert("lowpass_ranking".into(), scored(&a.lowpass, &a.lowpass_scores));
     o.insert("outside".into(), Value::Array(outside));
     v
 }
@@ -138,15 +138,15 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
                     json!({
                         "rays": p.rays,
                         "time_ms": p.time_s * 1e3,
-                        "time_sigma_ms": p.time_s * 1e3 * model::time_sigma_ln(p.time_sigma_ln),
+                        "time_sigma_ms": p.time_ms().se,
                         "time_sigma_ln": p.time_sigma_ln,
                         "timings": p.timings,
                         "replicates": p.replicates,
                         "mse": p.mse,
                         "lowpass_mse": p.lowpass_mse,
                         "structure": p.structure,
-                        "rmse": mean(&p.mse).sqrt(),
-                        "lowpass_rmse": mean(&p.lowpass_mse).sqrt(),
+                        "rmse": p.rmse(Metric::Rmse).value,
+                        "lowpass_rmse": p.rmse(Metric::Lowpass).value,
                     })
                 })
                 .collect();
@@ -206,7 +206,7 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
                      time steps there) and the sweep's count below the budget; each is shipped at the most of \
                      those whose measured time, on the sweep's time scale, is not above the budget by more than \
                      2 σ of the session factor; the answer is decided on those measurements",
-            "fits_sigma": advice::answer::FITS_SIGMA,
+            "fits_sigma": answer::FITS_SIGMA,
         },
         "reference": {
             "file": m.reference.exr.display().to_string(),

@@ -1,23 +1,27 @@
 //! advise's figures: RMSE and low-pass RMSE against time for every configuration, and the winner
-//! maps (which configuration has the least error in each pixel at each budget).
+//! maps (which configuration has the least error in each pixel at each budget, `advice::winner`),
+//! as bytes.
 
 use super::text::label;
 use crate::advice::analysis::{Analysis, Map, Measured};
 use crate::advice::winner::{self, Pixel};
-use crate::advice::{self, Metric, PAPER_DEFAULT, Point, model};
+use crate::compare::PAPER_DEFAULT;
+use crate::compare::budget::{Metric, Point, round_significant};
 use crate::error::{Error, Result};
 use crate::metrics::covered;
-use crate::outdir;
+use crate::outdir::File;
 use crate::report::advise::figures::{
     self as fig, OTHER_WINNER, Panel, TimeCurve, UNRESOLVED, WINNER_COLOURS,
 };
 use crate::report::colormap::{BACKGROUND, grey};
 use crate::report::{Figure, Format};
 use crate::spec::Row;
-use std::path::Path;
 
 /// The winner map figure.
-const WINNER_MAP: &str = "winner_map.png";
+pub const WINNER_MAP: &str = "winner_map.png";
+
+/// A configuration's colour in the winner map and its legend.
+pub type Colours = [(Row, [u8; 3])];
 
 /// Colours for the configurations that win pixels, most pixels over all maps first; those beyond
 /// the palette share `OTHER_WINNER`.
@@ -39,8 +43,9 @@ pub fn colours(maps: &[Map]) -> Vec<(Row, [u8; 3])> {
         .collect()
 }
 
-/// error_time.png, lowpass_time.png and winner_map.png (when there is a map).
-pub fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
+/// error_time.png, lowpass_time.png and winner_map.png (when there is a map, in `colours`), added
+/// to `files`.
+pub fn figures(m: &Measured, a: &Analysis, colours: &Colours, files: &mut Vec<File>) -> Result<Vec<Figure>> {
     let [w, h] = m.setup.loaded.spec.resolution.unwrap_or([0, 0]);
     let mut highlight: Vec<Row> = vec![PAPER_DEFAULT];
     for x in &a.answers {
@@ -70,7 +75,7 @@ pub fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
         let title = format!("{what} against time per image, {} at {w}x{h}", m.setup.stem);
         let png =
             fig::error_time_plot(&title, what, &curves, &budgets_ms, Format::Png).map_err(Error::Refused)?;
-        outdir::write_file(out, file, &png)?;
+        files.push(File::new(file, png));
         figs.push(Figure {
             path: file.into(),
             caption: format!(
@@ -84,30 +89,16 @@ pub fn figures(m: &Measured, a: &Analysis, out: &Path) -> Result<Vec<Figure>> {
             links: vec![],
         });
     }
-    if a.maps.is_empty() {
-        // No budget to map: a map left by an earlier advise in this directory would mislead.
-        outdir::remove_file(out, WINNER_MAP)?;
-    } else {
-        let png = winner_png(m, a)?;
-        outdir::write_file(out, WINNER_MAP, &png)?;
+    // No budget to map: no map (the caller removes one an earlier advise left: it would mislead).
+    if !a.maps.is_empty() {
+        files.push(File::new(WINNER_MAP, winner_png(m, a, colours)?));
         figs.push(Figure { path: WINNER_MAP.into(), caption: winner_note(m), links: vec![] });
     }
     Ok(figs)
 }
-/// (median time in ms, √(mean MSE), its σ over the replicates: `model::mean_mse` at a ray count).
+/// (median time in ms, √(mean MSE), its σ over the replicates: `Point::rmse`).
 fn point(p: &Point, metric: Metric) -> (f64, f64, f64) {
-    let values = match metric {
-        Metric::Rmse => &p.mse,
-        Metric::Lowpass => &p.lowpass_mse,
-    };
-    let side = model::Side {
-        row: PAPER_DEFAULT,
-        replicates: &p.replicates,
-        values,
-        slope: 0.0,
-        time_sigma_ln: p.time_sigma_ln,
-    };
-    let e = model::rmse(model::mean_mse(&side, false));
+    let e = p.rmse(metric);
     (p.time_s * 1e3, e.value, if e.se.is_finite() { e.se } else { 0.0 })
 }
 /// What a coloured pixel means on the map.
@@ -125,7 +116,7 @@ pub fn winner_note(m: &Measured) -> String {
         100.0 * (1.0 - winner::FDR)
     )
 }
-fn winner_png(m: &Measured, a: &Analysis) -> Result<Vec<u8>> {
+fn winner_png(m: &Measured, a: &Analysis, colours: &Colours) -> Result<Vec<u8>> {
     let r = &m.reference;
     let (w, h) = (r.mean.width, r.mean.height);
     let mut panels = vec![Panel {
@@ -137,7 +128,7 @@ fn winner_png(m: &Measured, a: &Analysis) -> Result<Vec<u8>> {
             .collect(),
     }];
     for map in &a.maps {
-        let colour_of = |row: Row| a.colours.iter().find(|(r, _)| *r == row).map_or(OTHER_WINNER, |c| c.1);
+        let colour_of = |row: Row| colours.iter().find(|(r, _)| *r == row).map_or(OTHER_WINNER, |c| c.1);
         let rgb = map
             .pixels
             .iter()
@@ -152,7 +143,7 @@ fn winner_png(m: &Measured, a: &Analysis) -> Result<Vec<u8>> {
         panels.push(Panel {
             caption: format!(
                 "{} ms: {share:.0} % of pixels resolved",
-                advice::round_significant(map.budget_s * 1e3, 3)
+                round_significant(map.budget_s * 1e3, 3)
             ),
             width: w,
             height: h,
@@ -160,14 +151,13 @@ fn winner_png(m: &Measured, a: &Analysis) -> Result<Vec<u8>> {
         });
     }
     let mut legend: Vec<(String, [u8; 3])> = Vec::new();
-    for (i, (row, c)) in a.colours.iter().enumerate() {
+    for (i, (row, c)) in colours.iter().enumerate() {
         if i < WINNER_COLOURS.len() {
             legend.push((label(*row), *c));
         }
     }
-    if a.colours.len() > WINNER_COLOURS.len() {
-        legend
-            .push((format!("{} other configurations", a.colours.len() - WINNER_COLOURS.len()), OTHER_WINNER));
+    if colours.len() > WINNER_COLOURS.len() {
+        legend.push((format!("{} other configurations", colours.len() - WINNER_COLOURS.len()), OTHER_WINNER));
     }
     legend.push(("no discovery".into(), UNRESOLVED));
     legend.push(("no surface".into(), BACKGROUND));

@@ -1,5 +1,6 @@
-//! `hemilab advise`'s outputs: its page, `advice.json`, and its figures (error against time, winner
-//! maps).
+//! `hemilab advise`'s outputs as bytes: its page, `advice.json`, and its figures (error against
+//! time, winner maps). The analysis (`advice::analysis`) has computed every number; this module
+//! formats them and returns the files, which `outdir::write_files` writes.
 
 pub mod figures;
 pub mod json;
@@ -7,15 +8,27 @@ pub mod maps;
 pub mod page;
 pub mod text;
 
-use crate::advice::analysis::{self, Analysis, Measured};
+use crate::advice::analysis::{Analysis, Measured};
 use crate::error::Result;
+use crate::outdir::File;
 use std::path::Path;
 
-/// The winner maps, then figures, advice.json and the pages, into `dir`; returns the text to
-/// print, which names `shown` (where the output set will be) as the page's place.
-pub fn write(m: &Measured, mut a: Analysis, dir: &Path, shown: &Path) -> Result<String> {
-    a.maps = analysis::winner_maps(m, &a);
-    a.colours = maps::colours(&a.maps);
-    let figures = maps::figures(m, &a, dir)?;
-    page::write(m, &a, &figures, dir, shown)
+/// advise's files in the order to write them (the page last), the files an earlier advise may have
+/// left that this one does not make (they would mislead), the lines to print and the warnings.
+pub struct Report {
+    pub files: Vec<File>,
+    pub stale: Vec<&'static str>,
+    pub text: String,
+    pub warnings: Vec<String>,
+}
+
+/// The figures, advice.json and the pages of `a` (its winner maps already made); the text names
+/// `shown` (where the output set will be) as the page's place.
+pub fn report(m: &Measured, a: &Analysis, shown: &Path) -> Result<Report> {
+    let colours = maps::colours(&a.maps);
+    let mut files = Vec::new();
+    let figures = maps::figures(m, a, &colours, &mut files)?;
+    let stale = if a.maps.is_empty() { vec![maps::WINNER_MAP] } else { Vec::new() };
+    let (text, warnings) = page::page(m, a, &figures, &mut files, shown);
+    Ok(Report { files, stale, text, warnings })
 }

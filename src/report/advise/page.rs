@@ -3,12 +3,12 @@
 //! measured, the interpolated rankings, and every measured point.
 
 use super::maps::winner_note;
-use super::text::{advice_line, label, model_text, ms, pm, status, time_ms};
-use crate::advice::analysis::{Analysis, Measured, mean};
-use crate::advice::answer::{Answer, FINALISTS};
-use crate::advice::{self, Metric, PAPER_DEFAULT, Ranking, model, structure};
-use crate::error::Result;
-use crate::outdir;
+use super::text::{advice_line, label, model_text, ms, pm, status};
+use crate::advice::analysis::{Analysis, Measured};
+use crate::advice::answer::{Answer, FINALISTS, RankScored};
+use crate::compare::budget::{Metric, Ranking};
+use crate::compare::{PAPER_DEFAULT, structure};
+use crate::outdir::{self, File};
 use crate::report::{self, Figure, Table};
 use crate::timing;
 use std::fmt::Write as _;
@@ -17,9 +17,15 @@ use std::path::Path;
 /// Rows of a budget's ranking table shown in the page (all are in advice.json).
 const SHOWN: usize = 10;
 
-/// Writes advice.json, advice.md and index.html into `dir`; returns the lines to print, naming
-/// `shown` (where the output set will be) as the page's place.
-pub fn write(m: &Measured, a: &Analysis, figures: &[Figure], dir: &Path, shown: &Path) -> Result<String> {
+/// advice.json, advice.md and index.html, added to `files`; returns the lines to print, naming
+/// `shown` (where the output set will be) as the page's place, and the warnings.
+pub fn page(
+    m: &Measured,
+    a: &Analysis,
+    figures: &[Figure],
+    files: &mut Vec<File>,
+    shown: &Path,
+) -> (String, Vec<String>) {
     let json = crate::report::advise::json::advice_json(m, a);
     let mut text = serde_json::to_string_pretty(&json).unwrap_or_default();
     text.push('\n');
@@ -70,10 +76,14 @@ pub fn write(m: &Measured, a: &Analysis, figures: &[Figure], dir: &Path, shown: 
     let intro = intro.join("\n\n");
     let mut tables = vec![summary_table(a)];
     tables.extend(a.answers.iter().filter(|x| !x.finalists.is_empty()).map(finalists_table));
-    tables
-        .extend(a.answers.iter().filter(|x| !x.ranking.ranked.is_empty()).map(|x| ranking_table(&x.ranking)));
+    tables.extend(
+        a.answers
+            .iter()
+            .filter(|x| !x.ranking.ranked.is_empty())
+            .map(|x| ranking_table(&x.ranking, &x.ranking_scores)),
+    );
     let collapsed = vec![ladder_table(a)];
-    outdir::write_file(dir, outdir::ADVICE_JSON, text.as_bytes())?;
+    files.push(File::new(outdir::ADVICE_JSON, text));
     let page = report::Page {
         title: &title,
         lead: &[],
@@ -82,19 +92,25 @@ pub fn write(m: &Measured, a: &Analysis, figures: &[Figure], dir: &Path, shown: 
         figures,
         collapsed: &collapsed,
     };
-    outdir::write_page(dir, &report::html_page(&page), outdir::ADVICE_MD, &report::markdown_page(&page))?;
+    files.push(File::new(outdir::ADVICE_MD, report::markdown_page(&page)));
+    files.push(File::new(outdir::INDEX_HTML, report::html_page(&page)));
     let mut s = String::new();
     for l in &lines {
         let _ = writeln!(s, "{l}");
     }
+    let mut warnings = Vec::new();
     let floor = m.reference.noise_floor();
-    let smallest =
-        a.curves.iter().flat_map(|c| &c.points).map(|p| mean(&p.mse).sqrt()).fold(f64::INFINITY, f64::min);
+    let smallest = a
+        .curves
+        .iter()
+        .flat_map(|c| &c.points)
+        .map(|p| p.rmse(Metric::Rmse).value)
+        .fold(f64::INFINITY, f64::min);
     if smallest.is_finite() && floor > crate::reference::target_floor(smallest) {
-        eprintln!(
+        warnings.push(format!(
             "warning: reference noise floor {floor:.2e} is above a tenth of the smallest RMSE measured \
              ({smallest:.2e}); errors near it are not resolved"
-        );
+        ));
     }
     let cpu: f64 = [Some(&m.session), m.verify_session.as_ref()].iter().flatten().map(|s| s.cpu_s).sum();
     let renders: usize =
@@ -106,7 +122,7 @@ pub fn write(m: &Measured, a: &Analysis, figures: &[Figure], dir: &Path, shown: 
         m.reused,
         outdir::index(shown).display()
     );
-    Ok(s)
+    (s, warnings)
 }
 
 fn summary_table(a: &Analysis) -> Table {
@@ -120,16 +136,17 @@ fn summary_table(a: &Analysis) -> Table {
                 row.resize(8, String::new());
                 return row;
             };
-            let gain = x.gain(best, Metric::Rmse).map_or("—".into(), |g| pm(g.estimate(), 2));
+            let sc = x.score(best);
+            let gain = sc.gain.map_or("—".into(), |g| pm(g.estimate(), 2));
             let second = x.runner_up().map_or(String::new(), |r| {
-                format!("{} ({:.1} σ)", label(r.row), x.margin(r).unwrap_or(f64::NAN))
+                format!("{} ({:.1} σ)", label(r.row), x.score(r).behind.unwrap_or(f64::NAN))
             });
             vec![
                 b,
                 label(best.row),
                 best.rays.to_string(),
-                if x.measured { pm(time_ms(best), 2) } else { "not measured".into() },
-                pm(best.rmse(Metric::Rmse), 4),
+                if x.measured { pm(sc.time_ms, 2) } else { "not measured".into() },
+                pm(sc.rmse, 4),
                 gain,
                 second,
                 x.best_lowpass().map_or(String::new(), |l| label(l.row)),
@@ -159,19 +176,20 @@ fn finalists_table(x: &Answer) -> Table {
     let rows = x
         .finalists
         .iter()
-        .map(|c| {
+        .zip(&x.scores)
+        .map(|(c, sc)| {
             vec![
                 format!("{}{}", label(c.row), if Some(c.row) == best { " ← ship" } else { "" }),
                 c.rays.to_string(),
-                if c.measured { pm(time_ms(c), 2) } else { "—".into() },
-                pm(c.rmse(Metric::Rmse), 4),
-                pm(c.rmse(Metric::Lowpass), 4),
+                if c.measured { pm(sc.time_ms, 2) } else { "—".into() },
+                pm(sc.rmse, 4),
+                pm(sc.lowpass_rmse, 4),
                 format!("{:.1}{}", c.structure_mean(), if c.structured() { " (structured)" } else { "" }),
-                x.gain(c, Metric::Rmse).map_or("—".into(), |g| pm(g.estimate(), 2)),
+                sc.gain.map_or("—".into(), |g| pm(g.estimate(), 2)),
                 if Some(c.row) == best {
                     String::new()
                 } else {
-                    format!("{:.1}", x.margin(c).unwrap_or(f64::NAN))
+                    format!("{:.1}", sc.behind.unwrap_or(f64::NAN))
                 },
             ]
         })
@@ -202,33 +220,23 @@ fn finalists_table(x: &Answer) -> Table {
     }
 }
 
-fn ranking_table(r: &Ranking) -> Table {
+fn ranking_table(r: &Ranking, scores: &[RankScored]) -> Table {
     let mut shown: Vec<usize> = (0..r.ranked.len().min(SHOWN)).collect();
     if let Some(i) = r.ranked.iter().position(|a| a.row == PAPER_DEFAULT).filter(|&i| i >= SHOWN) {
         shown.push(i);
     }
-    let default = r.ranked.iter().find(|a| a.row == PAPER_DEFAULT);
-    let best = &r.ranked[0];
     let rows = shown
         .into_iter()
         .map(|i| {
-            let a = &r.ranked[i];
-            let gain = default.map_or("—".into(), |d| {
-                pm(model::gain(&d.side(Metric::Rmse), &a.side(Metric::Rmse)).estimate(), 2)
-            });
-            let z = if i == 0 {
-                String::new()
-            } else {
-                format!("{:.1}", model::margin(&best.side(Metric::Rmse), &a.side(Metric::Rmse)))
-            };
+            let (a, sc) = (&r.ranked[i], &scores[i]);
             vec![
                 (i + 1).to_string(),
                 label(a.row),
                 format!("{:.1}", a.rays),
-                pm(a.rmse(Metric::Rmse), 4),
-                pm(a.rmse(Metric::Lowpass), 4),
-                gain,
-                z,
+                pm(sc.rmse, 4),
+                pm(sc.lowpass_rmse, 4),
+                sc.gain.map_or("—".into(), |g| pm(g.estimate(), 2)),
+                sc.behind_best.map_or(String::new(), |z| format!("{z:.1}")),
             ]
         })
         .collect();
@@ -262,21 +270,7 @@ fn ladder_table(a: &Analysis) -> Table {
     let mut rows = Vec::new();
     for c in &a.curves {
         for p in &c.points {
-            let at = |values: &[f64]| {
-                let side = model::Side {
-                    row: c.row,
-                    replicates: &p.replicates,
-                    values,
-                    slope: 0.0,
-                    time_sigma_ln: 0.0,
-                };
-                model::rmse(model::mean_mse(&side, false))
-            };
-            let (e, l) = (at(&p.mse), at(&p.lowpass_mse));
-            let t = advice::Estimate {
-                value: p.time_s * 1e3,
-                se: p.time_s * 1e3 * model::time_sigma_ln(p.time_sigma_ln),
-            };
+            let (t, e, l) = (p.time_ms(), p.rmse(Metric::Rmse), p.rmse(Metric::Lowpass));
             rows.push(vec![label(c.row), p.rays.to_string(), pm(t, 3), pm(e, 4), pm(l, 4)]);
         }
     }

@@ -1,13 +1,15 @@
 //! The sentences and small facts advise's page and advice.json share: the answer per budget, why a
 //! budget has no answer, how numbers print.
 
-use crate::advice::answer::{Answer, Candidate};
-use crate::advice::{self, Metric, PAPER_DEFAULT, Place, Ranking, model, structure};
+use crate::advice::answer::Answer;
+use crate::compare::budget::{Place, Ranking, round_significant};
+use crate::compare::model::{self, Estimate};
+use crate::compare::{PAPER_DEFAULT, structure};
 use crate::spec::Row;
 use std::fmt::Write as _;
 
 pub fn ms(s: f64) -> String {
-    format!("{}", advice::round_significant(s * 1e3, 3))
+    format!("{}", round_significant(s * 1e3, 3))
 }
 
 fn rays(n: u32) -> String {
@@ -15,16 +17,18 @@ fn rays(n: u32) -> String {
 }
 
 /// One sentence per budget: what to ship, measured at its ray count, and what it gains; or why
-/// there is no answer. Every ± and margin is 1 σ of advise's error model (`advice::model`).
+/// there is no answer. Every ± and margin is 1 σ of the error model (`compare::model`), as the
+/// answer scored it (`Answer::score`).
 pub fn advice_line(a: &Answer) -> String {
     let b = ms(a.budget_s);
     let Some(best) = a.recommended() else {
         return format!("At {b} ms per image: {}.", outside_note(&a.ranking));
     };
-    let e = best.rmse(Metric::Rmse);
+    let scored = a.score(best);
+    let e = scored.rmse;
     let mut s = format!("At {b} ms per image: ship {} with {} per pixel", label(best.row), rays(best.rays));
     if a.measured {
-        let _ = write!(s, " (measured there: RMSE {}, {} ms per image)", pm(e, 4), pm(time_ms(best), 2));
+        let _ = write!(s, " (measured there: RMSE {}, {} ms per image)", pm(e, 4), pm(scored.time_ms, 2));
         if !a.fits(best) {
             let _ = write!(
                 s,
@@ -53,7 +57,7 @@ pub fn advice_line(a: &Answer) -> String {
     match a.paper_default() {
         Some(d) if d.row == best.row => s += ": the paper's default is the best here",
         Some(d) => {
-            let g = a.gain(best, Metric::Rmse).expect("the default is there");
+            let g = scored.gain.expect("the default is there");
             let _ = write!(
                 s,
                 ": {} × less MSE than the paper's default with {} at the same budget",
@@ -64,7 +68,7 @@ pub fn advice_line(a: &Answer) -> String {
         None => s += "; the paper's default is outside its measured times here",
     }
     if let Some(second) = a.runner_up() {
-        let z = a.margin(second).unwrap_or(f64::NAN);
+        let z = a.score(second).behind.unwrap_or(f64::NAN);
         let _ = write!(s, "; runner-up {} with {} ({z:.1} σ behind)", label(second.row), rays(second.rays));
     }
     if let Some(top) = a.least_structured() {
@@ -72,7 +76,7 @@ pub fn advice_line(a: &Answer) -> String {
             s,
             "; {} has {:.0} % less RMSE but its error is structured ({} {:.1}), so it is not advised",
             label(top.row),
-            100.0 * (1.0 - top.rmse(Metric::Rmse).value / e.value),
+            100.0 * (1.0 - a.score(top).rmse.value / e.value),
             structure::MEASURE,
             top.structure_mean()
         );
@@ -88,11 +92,6 @@ pub fn advice_line(a: &Answer) -> String {
         );
     }
     s + "."
-}
-
-/// A candidate's time per image in ms ± 1 σ (the session's factor and the median's scatter).
-pub fn time_ms(c: &Candidate) -> advice::Estimate {
-    advice::Estimate { value: c.time_s * 1e3, se: c.time_s * 1e3 * c.time_sigma_ln_total() }
 }
 
 /// Why a budget has no ranked configuration.
@@ -146,14 +145,14 @@ pub fn label(row: Row) -> String {
 
 /// "value ± σ" with at least `digits` decimals, and more where the ± would round to zero (it
 /// shows its first significant digit: "0.03330 ± 0.00004", not "0.0333 ± 0.0000").
-pub fn pm(e: advice::Estimate, digits: usize) -> String {
+pub fn pm(e: Estimate, digits: usize) -> String {
     let need =
         if e.se > 0.0 && e.se.is_finite() { (-e.se.log10()).ceil().clamp(0.0, 8.0) as usize } else { 0 };
     let d = digits.max(need);
     format!("{:.d$} ± {:.d$}", e.value, e.se)
 }
 
-/// The error model, once, as the page and advice.json state it (`advice::model`).
+/// The error model, once, as the page and advice.json state it (`compare::model`).
 pub fn model_text() -> String {
     format!(
         "Every ± and margin is 1 σ of one error model. Replicates: replicate r has the same seed in every \

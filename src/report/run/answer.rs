@@ -6,13 +6,10 @@
 //! is identical by construction, the AO-time view); and the tables. Every sentence quotes a table
 //! below it.
 
-use crate::advice::PAPER_DEFAULT;
+use crate::compare::claims::{ALPHA, critical_se};
 use crate::compare::cost::{pooled_time_ratio, same_expected_error};
 use crate::compare::equal_time::{AtTime, Entry, EqualTime, Ratio, TimeView};
-use crate::compare::{
-    self,
-    claims::{ALPHA, critical_se},
-};
+use crate::compare::{self, PAPER_DEFAULT};
 use crate::metrics::STRUCTURED_RATIO;
 use crate::report::Table;
 use crate::report::run::data::{ReportInput, row_label};
@@ -295,7 +292,7 @@ fn identities(data: &ReportInput, g: &Group, scene: &str) -> Vec<String> {
                 .iter()
                 .filter_map(|&n| compare::paired_rmse(data.results, scene, pixel, fixed, n))
                 .filter(|p| p.n >= 2)
-                .map(|p| p.t())
+                .map(|p| p.in_se())
                 .collect();
             let pairs = g.replicates as usize;
             let same = format!(

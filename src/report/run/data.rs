@@ -3,6 +3,8 @@
 //! depend on this module and never on each other.
 
 use crate::compare::equal_time::{self, EqualTime, TimeView};
+use crate::error::Result;
+use crate::image::Image;
 use crate::load::Loaded;
 use crate::metrics::mean_sd;
 use crate::reference::store::Reference;
@@ -21,18 +23,15 @@ pub struct ReportInput<'a> {
     pub overhead: Vec<Option<Summary>>,
     /// Paragraphs the page adds after its timing text (e.g. `merge`: which shard ran where).
     pub notes: Vec<String>,
+    /// A record's kept image and its coverage, read by the command that owns the files
+    /// (`outdir::record_image`): the image figures' only input from disk.
+    pub images: &'a dyn Fn(&JobResult) -> Result<(Image, Image)>,
 }
 
 impl<'a> ReportInput<'a> {
-    pub fn new(
-        loaded: &'a Loaded,
-        references: &'a [Reference],
-        results: &'a [JobResult],
-        aggs: Vec<Aggregate>,
-        protocol: Protocol,
-        overhead: Vec<Option<Summary>>,
-    ) -> Self {
-        Self { loaded, references, results, aggs, protocol, overhead, notes: Vec::new() }
+    /// A record's kept image (what was measured) and its coverage.
+    pub fn image(&self, r: &JobResult) -> Result<(Image, Image)> {
+        (self.images)(r)
     }
 
     /// Sweep `g` on `scene` at equal time (`compare::equal_time`), `per_doubling` budgets to each
@@ -52,7 +51,6 @@ impl<'a> ReportInput<'a> {
     }
 }
 
-/// A readable name of a row, as the paper says it (`Row::name`: one vocabulary everywhere).
 /// Whether a group has paper-table images (one raw frame, independent schedule): a real-time group
 /// without the `raw` pipeline or the independent schedule has none, only its own figures.
 pub fn has_single_frames(g: &Group) -> bool {
@@ -60,6 +58,7 @@ pub fn has_single_frames(g: &Group) -> bool {
         && g.schedules.contains(&crate::sampling::Schedule::Independent)
 }
 
+/// A readable name of a row, as the paper says it (`Row::name`: one vocabulary everywhere).
 pub fn row_label(row: Row) -> String {
     row.name()
 }

@@ -1,68 +1,49 @@
 //! What every figure of a run's report does the same way: turning a drawing error into one that
-//! names the file, writing a figure into the output directory, a log-log plot as PNG with its SVG
-//! beside it, and reading a record's kept image back. `figures` and `realtime_figures` both draw
-//! through here and never through each other.
+//! names the file, adding a figure's bytes to the report's files, and a log-log plot as PNG with
+//! its SVG beside it. `figures` and `realtime_figures` both draw through here and never through
+//! each other. Nothing here touches the filesystem: the files are written by `outdir`.
 
 use crate::error::{Error, Result};
 use crate::image::Image;
-use crate::io;
-use crate::outdir;
+use crate::outdir::File;
 use crate::report::{self, Figure, Format, GridCell, Guide, Series};
-use crate::results::JobResult;
-use std::path::Path;
 
-pub fn drawn(path: &Path, r: std::result::Result<Vec<u8>, String>) -> Result<Vec<u8>> {
-    r.map_err(|e| Error::Refused(format!("{}: cannot draw the figure: {e}", path.display())))
+/// A drawing's bytes, or an error naming the file it was for.
+pub fn drawn(name: &str, r: std::result::Result<Vec<u8>, String>) -> Result<Vec<u8>> {
+    r.map_err(|e| Error::Refused(format!("{name}: cannot draw the figure: {e}")))
 }
 
-pub fn write_figure(
-    out: &Path,
+/// Adds `bytes` as the file `name` to `files`, and returns the page's entry for it.
+pub fn add_figure(
+    files: &mut Vec<File>,
     name: &str,
     caption: String,
     links: Vec<String>,
     bytes: Result<Vec<u8>>,
 ) -> Result<Figure> {
-    outdir::write_file(out, name, &bytes?)?;
+    files.push(File::new(name, bytes?));
     Ok(Figure { path: name.to_string(), caption, links })
 }
 
-/// A log-log figure as PNG (on the page) and SVG (linked below it).
-#[allow(clippy::too_many_arguments)]
-pub fn log_log(
-    out: &Path,
-    base: &str,
-    title: &str,
-    (x_label, y_label): (&str, &str),
-    series: &[Series],
-    guides: &[Guide],
-    caption: String,
-) -> Result<Figure> {
-    let svg = format!("{base}.svg");
-    let bytes = drawn(
-        &out.join(&svg),
-        report::convergence_plot(title, x_label, y_label, series, guides, Format::Svg),
-    );
-    io::write_atomic(&out.join(&svg), &bytes?)?;
-    let png = format!("{base}.png");
-    let bytes = drawn(
-        &out.join(&png),
-        report::convergence_plot(title, x_label, y_label, series, guides, Format::Png),
-    );
-    write_figure(out, &png, caption, vec![svg], bytes)
+/// What a log-log figure shows: its title, axis labels (x, y), series and guides.
+pub struct LogLog<'a> {
+    pub title: &'a str,
+    pub axes: (&'a str, &'a str),
+    pub series: &'a [Series],
+    pub guides: &'a [Guide],
 }
 
-/// A record's kept image (`Y`, what was measured) and its coverage (`A`), read from `out`.
-pub fn record_image(out: &Path, r: &JobResult) -> Result<(Image, Image)> {
-    let path = out.join(&r.image);
-    let channels = io::read_exr(&path)?;
-    let take = |name: &str| {
-        channels
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, img)| img.clone())
-            .ok_or_else(|| Error::input(&path, format!("image lacks channel '{name}'")))
+/// A log-log figure as `base.png` (on the page) and `base.svg` (linked below it).
+pub fn log_log(files: &mut Vec<File>, base: &str, plot: LogLog, caption: String) -> Result<Figure> {
+    let draw = |format| {
+        let (x, y) = plot.axes;
+        report::convergence_plot(plot.title, x, y, plot.series, plot.guides, format)
     };
-    Ok((take("Y")?, take("A")?))
+    let svg = format!("{base}.svg");
+    files.push(File::new(&svg, drawn(&svg, draw(Format::Svg))?));
+    let png = format!("{base}.png");
+    let bytes = drawn(&png, draw(Format::Png));
+    add_figure(files, &png, caption, vec![svg], bytes)
 }
 
 /// Grid cells borrowing rows of (image, coverage, caption), as `report::image_grid` takes them.

@@ -3,6 +3,7 @@
 //! the one-factor pairs at equal time. The numbers are `compare::equal_time`'s; this file words
 //! and formats them (and the answer's sentences, `answer.rs`, use the same formatting).
 
+use crate::compare::budget::Metric;
 use crate::compare::equal_time::{AtTime, EqualTime, Ratio};
 use crate::compare::one_factor_pairs;
 use crate::report::Table;
@@ -85,7 +86,7 @@ pub fn table(et: &EqualTime, sweep: &str) -> Table {
             Some(e) => {
                 let ratio = e.vs_baseline.map_or("–".into(), |x| ratio_cell(&x));
                 let base = if c.row == et.baseline {
-                    format!("MSE {:.2e}", e.at.mean_mse(crate::advice::Metric::Rmse).value)
+                    format!("MSE {:.2e}", e.at.mean_mse(Metric::Rmse).value)
                 } else {
                     ratio
                 };
@@ -182,7 +183,7 @@ pub fn csv(all: &[(String, EqualTime)]) -> String {
                 match at.ranked.iter().position(|e| e.at.row == r) {
                     Some(i) => {
                         let e = &at.ranked[i];
-                        let m = e.at.mean_mse(crate::advice::Metric::Rmse);
+                        let m = e.at.mean_mse(Metric::Rmse);
                         let (v, se) = e.vs_baseline.map_or((f64::NAN, f64::NAN), |x| (x.value, x.se));
                         f.extend([
                             "true".into(),

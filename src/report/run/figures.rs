@@ -2,24 +2,24 @@
 //! grids (the paper's Tables 2 and 3), every `[[convergence]]` as MSE at equal time (the key figure:
 //! what the answer says), RMSE against rays and against render time and its efficiency against rays, the banding metric of the tables' configurations,
 //! and the paper's point figures when the spec asks. Drawing is `report`'s job; this module picks
-//! the data from `data::ReportInput` and writes the bytes. The page (`page.rs`) lists what it returns.
+//! the data from `data::ReportInput` and adds the bytes to the report's files. The page (`page.rs`)
+//! lists what it returns.
 
 use crate::compare::equal_time::{Entry, TimeView};
 use crate::error::{Error, Result};
 use crate::image::Image;
-use crate::io;
 use crate::metrics::{LOWPASS_SIGMA, STRUCTURED_RATIO};
+use crate::outdir::File;
 use crate::report::figure_rows;
 use crate::report::run::data::{
     ReportInput, banding_stat, has_single_frames, lowfreq_stat, row_label, sweep_points, sweep_slope,
     table_configs,
 };
-use crate::report::run::draw::{drawn, grid_cells, log_log, record_image, write_figure};
+use crate::report::run::draw::{LogLog, add_figure, drawn, grid_cells, log_log};
 use crate::report::{self, Figure, Format, GridCell, Guide, Series};
 use crate::results;
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use crate::spec::{Group, GroupKind, Row};
-use std::path::Path;
 
 /// Point counts of the paper's Table 1 and Figures 2-4.
 const POINT_COUNTS: [u32; 3] = [500, 1000, 5000];
@@ -33,13 +33,13 @@ pub struct Figures {
     pub other: Vec<Figure>,
 }
 
-/// Writes every figure of the run into `out`.
-pub fn write_all(data: &ReportInput, out: &Path) -> Result<Figures> {
+/// Every figure of the run, its files added to `files`.
+pub fn all(data: &ReportInput, files: &mut Vec<File>) -> Result<Figures> {
     let spec = &data.loaded.spec;
     let mut figures = Vec::new();
     let mut key = Vec::new();
     if spec.point_figures {
-        figures.extend(point_figures(spec.seed, out)?);
+        figures.extend(point_figures(spec.seed, files)?);
     }
     for g in &spec.groups {
         for &si in &g.scenes {
@@ -50,37 +50,36 @@ pub fn write_all(data: &ReportInput, out: &Path) -> Result<Figures> {
             };
             match g.kind {
                 GroupKind::Table if has_single_frames(g) => {
-                    figures.extend(table_figures(data, g, si, &stem, out)?)
+                    figures.extend(table_figures(data, g, si, &stem, files)?)
                 }
                 GroupKind::Table => {}
                 GroupKind::Convergence => {
-                    let et = equal_time_figure(data, g, si, &stem, out)?;
+                    let et = equal_time_figure(data, g, si, &stem, files)?;
                     if key.is_empty() {
                         key = et
                     } else {
                         figures.extend(et)
                     }
-                    figures.extend(convergence_rays(data, g, si, &stem, out)?);
-                    figures.extend(convergence_time(data, g, si, &stem, out)?);
-                    figures.extend(efficiency_figure(data, g, si, &stem, out)?);
+                    figures.extend(convergence_rays(data, g, si, &stem, files)?);
+                    figures.extend(convergence_time(data, g, si, &stem, files)?);
+                    figures.extend(efficiency_figure(data, g, si, &stem, files)?);
                 }
             }
         }
     }
-    figures.extend(banding_figure(data, out)?);
+    figures.extend(banding_figure(data, files)?);
     Ok(Figures { key, other: figures })
 }
 
 /// Table 1 (Fibonacci lattice through the three distributions) and Figures 2-4 (pseudo-random
 /// points, one figure per distribution), at 500 / 1000 / 5000 points.
-fn point_figures(seed: u64, out: &Path) -> Result<Vec<Figure>> {
+fn point_figures(seed: u64, files: &mut Vec<File>) -> Result<Vec<Figure>> {
     let ds = [Distribution::Uniform, Distribution::Sine, Distribution::SineCosine];
     let mut figs = Vec::new();
     let rows = figure_rows(&ds, Sequence::Fibonacci, SeedMode::Static, &POINT_COUNTS, seed)?;
     let title = "Table 1: the Fibonacci lattice through the three distributions";
-    let path = out.join("table1.png");
-    let bytes = drawn(&path, report::point_panels(title, &rows, true, Format::Png));
-    figs.push(write_figure(out, "table1.png", title.into(), vec![], bytes)?);
+    let bytes = drawn("table1.png", report::point_panels(title, &rows, true, Format::Png));
+    figs.push(add_figure(files, "table1.png", title.into(), vec![], bytes)?);
     // The same panels for the samplers beside the lattice: one row per sequence, sine-cosine.
     let mut rows = Vec::new();
     for seq in Sequence::shipped() {
@@ -88,25 +87,24 @@ fn point_figures(seed: u64, out: &Path) -> Result<Vec<Figure>> {
         rows.extend(r.drain(..).map(|(_, sets)| (seq.to_string(), sets)));
     }
     let title = "Table 1, the samplers beside the lattice: sine-cosine points of one pixel";
-    let bytes =
-        drawn(&out.join("table1_samplers.png"), report::point_panels(title, &rows, true, Format::Png));
-    figs.push(write_figure(out, "table1_samplers.png", title.into(), vec![], bytes)?);
+    let bytes = drawn("table1_samplers.png", report::point_panels(title, &rows, true, Format::Png));
+    figs.push(add_figure(files, "table1_samplers.png", title.into(), vec![], bytes)?);
     for (k, d) in ds.iter().enumerate() {
         let name = format!("figure{}.png", k + 2);
         let rows = figure_rows(&[*d], Sequence::Random, SeedMode::Static, &POINT_COUNTS, seed)?;
         let title = format!("Figure {}: pseudo-random points, {} distribution", k + 2, d);
-        let bytes = drawn(&out.join(&name), report::point_panels(&title, &rows, true, Format::Png));
-        figs.push(write_figure(out, &name, title, vec![], bytes)?);
+        let bytes = drawn(&name, report::point_panels(&title, &rows, true, Format::Png));
+        figs.push(add_figure(files, &name, title, vec![], bytes)?);
     }
     Ok(figs)
 }
 
 /// The AO image of replicate 0 (the lowest replicate present) of a configuration, with its coverage.
-fn cell_image(data: &ReportInput, out: &Path, scene: &str, row: Row, rays: u32) -> Result<(Image, Image)> {
+fn cell_image(data: &ReportInput, scene: &str, row: Row, rays: u32) -> Result<(Image, Image)> {
     let r = data.results.iter().filter(|r| r.is(scene, row, rays)).min_by_key(|r| r.replicate).ok_or_else(
         || Error::Refused(format!("no result for {} at {rays} rays on '{scene}'", row.label())),
     )?;
-    record_image(out, r)
+    data.image(r)
 }
 
 fn caption(data: &ReportInput, scene: &str, row: Row, rays: u32) -> String {
@@ -119,14 +117,20 @@ fn caption(data: &ReportInput, scene: &str, row: Row, rays: u32) -> String {
     }
 }
 
-fn table_figures(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+fn table_figures(
+    data: &ReportInput,
+    g: &Group,
+    si: usize,
+    stem: &str,
+    files: &mut Vec<File>,
+) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
     let reference = &data.references[si];
     let mut images: Vec<Vec<(Image, Image, String)>> = Vec::new();
     for &row in &g.rows {
         let mut cells = Vec::new();
         for &rays in &g.rays {
-            let (img, cov) = cell_image(data, out, scene, row, rays)?;
+            let (img, cov) = cell_image(data, scene, row, rays)?;
             cells.push((img, cov, caption(data, scene, row, rays)));
         }
         images.push(cells);
@@ -146,10 +150,7 @@ fn table_figures(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &Pat
     let reps = g.replicates;
     let title = format!("{}: ambient occlusion (1 = open), '{scene}', replicate 0", g.name);
     let name = format!("{stem}.png");
-    let bytes = drawn(
-        &out.join(&name),
-        report::image_grid(&title, &row_labels, &col_labels, &cells, Some(&ref_cell)),
-    );
+    let bytes = drawn(&name, report::image_grid(&title, &row_labels, &col_labels, &cells, Some(&ref_cell)));
     let cap = format!(
         "{}: AO images of replicate 0 on '{scene}' (rows × rays), the reference beside; captions: RMSE mean \
          ± sd over {reps} replicates, ρ, the mean lag-1 error autocorrelation (0 = noise, 1 = bands), and R, \
@@ -157,19 +158,16 @@ fn table_figures(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &Pat
          structured).",
         g.name
     );
-    let mut figs = vec![write_figure(out, &name, cap, vec![], bytes)?];
+    let mut figs = vec![add_figure(files, &name, cap, vec![], bytes)?];
     let title = format!("{}: signed error (image − reference), replicate 0", g.name);
     let name = format!("{stem}_error.png");
-    let bytes = drawn(
-        &out.join(&name),
-        report::error_grid(&title, &row_labels, &col_labels, &cells, &ref_cell, None),
-    );
+    let bytes = drawn(&name, report::error_grid(&title, &row_labels, &col_labels, &cells, &ref_cell, None));
     let cap = format!(
         "{}: signed error of the images above (red = too open, blue = too occluded), one scale for the \
          whole table; structured error shows as blotches and bands, noise as speckle.",
         g.name
     );
-    figs.push(write_figure(out, &name, cap, vec![], bytes)?);
+    figs.push(add_figure(files, &name, cap, vec![], bytes)?);
     Ok(figs)
 }
 
@@ -195,7 +193,7 @@ fn equal_time_figure(
     g: &Group,
     si: usize,
     stem: &str,
-    out: &Path,
+    files: &mut Vec<File>,
 ) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
     let et = data.equal_time(g, scene, TimeView::Total, 4);
@@ -236,11 +234,22 @@ fn equal_time_figure(
         row_label(et.baseline)
     );
     let axes = ("time budget per image (ms, one thread)", "MSE over the baseline's at equal time");
-    Ok(vec![log_log(out, &format!("{stem}_equal_time"), &title, axes, &series, &[], cap)?])
+    Ok(vec![log_log(
+        files,
+        &format!("{stem}_equal_time"),
+        LogLog { title: &title, axes, series: &series, guides: &[] },
+        cap,
+    )?])
 }
 
 /// RMSE against rays per pixel, mean ± sd over replicates, slope and its 95 % interval in the legend.
-fn convergence_rays(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+fn convergence_rays(
+    data: &ReportInput,
+    g: &Group,
+    si: usize,
+    stem: &str,
+    files: &mut Vec<File>,
+) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
     let series: Vec<Series> = g
         .rows
@@ -264,12 +273,23 @@ fn convergence_rays(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &
         g.name, g.replicates
     );
     let axes = ("rays per pixel", "RMSE");
-    Ok(vec![log_log(out, &format!("{stem}_rays"), &title, axes, &series, &floor_guide(data, si), cap)?])
+    Ok(vec![log_log(
+        files,
+        &format!("{stem}_rays"),
+        LogLog { title: &title, axes, series: &series, guides: &floor_guide(data, si) },
+        cap,
+    )?])
 }
 
 /// RMSE against the median render time (min..max of the timed renders as x bars), the
 /// no-AO-ray overhead as a wall; slope against AO time in the legend.
-fn convergence_time(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &Path) -> Result<Vec<Figure>> {
+fn convergence_time(
+    data: &ReportInput,
+    g: &Group,
+    si: usize,
+    stem: &str,
+    files: &mut Vec<File>,
+) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
     let mut series = Vec::new();
     for &row in &g.rows {
@@ -309,7 +329,12 @@ fn convergence_time(data: &ReportInput, g: &Group, si: usize, stem: &str, out: &
         g.replicates
     );
     let axes = ("render time per image (ms, one thread)", "RMSE");
-    Ok(vec![log_log(out, &format!("{stem}_time"), &title, axes, &series, &guides, cap)?])
+    Ok(vec![log_log(
+        files,
+        &format!("{stem}_time"),
+        LogLog { title: &title, axes, series: &series, guides: &guides },
+        cap,
+    )?])
 }
 
 /// Efficiency 1 / (MSE · AO time) against rays per pixel, ± its spread.
@@ -318,7 +343,7 @@ fn efficiency_figure(
     g: &Group,
     si: usize,
     stem: &str,
-    out: &Path,
+    files: &mut Vec<File>,
 ) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
     let series: Vec<Series> = g
@@ -345,14 +370,19 @@ fn efficiency_figure(
         g.name
     );
     let axes = ("rays per pixel", "efficiency (1/(MSE·s))");
-    Ok(vec![log_log(out, &format!("{stem}_efficiency"), &title, axes, &series, &[], cap)?])
+    Ok(vec![log_log(
+        files,
+        &format!("{stem}_efficiency"),
+        LogLog { title: &title, axes, series: &series, guides: &[] },
+        cap,
+    )?])
 }
 
 /// The structured-error metric of every table configuration — the low-frequency ratio, the measure
 /// the verdicts use — so Table 3's banding is a number: one figure for a single scene
 /// (`banding.png`), one per scene otherwise (`banding_<scene>.png`), so that no figure grows beyond
 /// a screen or two.
-fn banding_figure(data: &ReportInput, out: &Path) -> Result<Vec<Figure>> {
+fn banding_figure(data: &ReportInput, files: &mut Vec<File>) -> Result<Vec<Figure>> {
     let configs = table_configs(data);
     let mut scenes: Vec<String> = Vec::new();
     for (scene, _, _) in &configs {
@@ -379,10 +409,9 @@ fn banding_figure(data: &ReportInput, out: &Path) -> Result<Vec<Figure>> {
         let marks = [(1.0, "white".to_string()), (STRUCTURED_RATIO, "structured above".to_string())];
         let svg = format!("{stem}.svg");
         let plot = |f| report::banding_plot(&title, x_label, &bars, &marks, f);
-        let bytes = drawn(&out.join(&svg), plot(Format::Svg));
-        io::write_atomic(&out.join(&svg), &bytes?)?;
+        files.push(File::new(&svg, drawn(&svg, plot(Format::Svg))?));
         let png = format!("{stem}.png");
-        let bytes = drawn(&out.join(&png), plot(Format::Png));
+        let bytes = drawn(&png, plot(Format::Png));
         let cap = format!(
             "Banding on '{scene}': the low-frequency ratio of the error image — its energy after a Gaussian \
              blur of σ = {LOWPASS_SIGMA} px over the energy independent per-pixel errors of the same sizes \
@@ -392,7 +421,7 @@ fn banding_figure(data: &ReportInput, out: &Path) -> Result<Vec<Figure>> {
              structured error, although their RMSE may be no worse. The whiteness z-score (a test of any \
              correlation, negative included) is in the tables."
         );
-        figs.push(write_figure(out, &png, cap, vec![svg], bytes)?);
+        figs.push(add_figure(files, &png, cap, vec![svg], bytes)?);
     }
     Ok(figs)
 }

@@ -6,10 +6,9 @@
 //! convergence slopes and costs) and every other figure `figures.rs` wrote, linked by relative
 //! paths; the long tables (verdict margins, every aggregate) folded at the end.
 
-use crate::error::Result;
 use crate::metrics::whiteness::STRUCTURED_Z;
 use crate::metrics::{LOWPASS_SIGMA, STRUCTURED_RATIO};
-use crate::outdir;
+use crate::outdir::{self, File};
 use crate::report::run::answer;
 use crate::report::run::data::{
     ReportInput, agg_label, banding_stat, has_single_frames, row_label, sweep_slope,
@@ -19,9 +18,9 @@ use crate::report::{self, Table};
 use crate::results::{self, SlopeFit, Stat};
 use crate::spec::{GroupKind, Row};
 use crate::timing;
-use std::path::Path;
 
-pub fn write(data: &ReportInput, figures: &Figures, out: &Path) -> Result<()> {
+/// The page (`report.md`, then `index.html`) and `equal_time.csv` before it, added to `files`.
+pub fn page(data: &ReportInput, figures: &Figures, files: &mut Vec<File>) {
     let spec = &data.loaded.spec;
     let answer = answer::answer(data);
     let (mut lead, mut tables, mut collapsed) = (Vec::new(), Vec::new(), Vec::new());
@@ -47,7 +46,7 @@ pub fn write(data: &ReportInput, figures: &Figures, out: &Path) -> Result<()> {
     lead.extend(super::realtime::paper_table(data.results));
     lead.extend(super::realtime::stbn_table(data.results));
     lead.extend(super::realtime::seeds_table(data.results));
-    // The integrand verdicts lead: a spec with several integrands is run for them (issue 27).
+    // The integrand verdicts lead: a spec with several integrands is run for them.
     lead.extend(super::integrands::tables(data.results));
     tables.push(reference_table(data));
     for g in spec.groups.iter().filter(|g| g.kind == GroupKind::Table && has_single_frames(g)) {
@@ -61,7 +60,7 @@ pub fn write(data: &ReportInput, figures: &Figures, out: &Path) -> Result<()> {
         if many { collapsed.push(slopes) } else { tables.push(slopes) }
     }
     collapsed.push(aggregate_table(data));
-    outdir::write_file(out, outdir::EQUAL_TIME_CSV, super::equal_time::csv(&answer.equal_time).as_bytes())?;
+    files.push(File::new(outdir::EQUAL_TIME_CSV, super::equal_time::csv(&answer.equal_time)));
     let title = format!("hemilab: {}", spec.name);
     let mut findings = answer.findings;
     findings.extend(super::verdicts::family_text(data));
@@ -105,12 +104,8 @@ pub fn write(data: &ReportInput, figures: &Figures, out: &Path) -> Result<()> {
         collapsed: &collapsed,
     };
     let opening = report::Opening { answer: &answer_text, figures: &figures.key, method: &method };
-    outdir::write_page(
-        out,
-        &report::html_page_opened(&page, &opening),
-        outdir::REPORT_MD,
-        &report::markdown_page_opened(&page, &opening),
-    )
+    files.push(File::new(outdir::REPORT_MD, report::markdown_page_opened(&page, &opening)));
+    files.push(File::new(outdir::INDEX_HTML, report::html_page_opened(&page, &opening)));
 }
 
 /// What a time is and how it was measured.

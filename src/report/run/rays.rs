@@ -3,8 +3,9 @@
 //! the most efficient configuration per ray count (efficiency as a column, not the ranking), and
 //! the rows that differ in one choice.
 
-use crate::compare::claims::critical_se;
-use crate::compare::{self, Best};
+use crate::compare::claims::{ALPHA, critical_se};
+use crate::compare::efficiency::{Best, best_per_ray_count};
+use crate::compare::{self, per_pixel_unbiased};
 use crate::report::Table;
 use crate::report::run::data::{ReportInput, agg_label, row_label};
 use crate::report::run::equal_time::range;
@@ -39,14 +40,12 @@ pub fn head_to_head(data: &ReportInput, g: &Group, scene: &str, w: Row, r: Row) 
     for &n in &g.rays {
         if let Some(p) = compare::paired_rmse(data.results, scene, r, w, n) {
             crit = critical_se(p.n);
-            let bucket = if p.t() <= -crit {
-                &mut lower
-            } else if p.t() >= crit {
-                &mut higher
-            } else {
-                &mut within
+            let bucket = match p.sign(ALPHA) {
+                -1 => &mut lower,
+                1 => &mut higher,
+                _ => &mut within,
             };
-            bucket.push((n, 100.0 * p.relative));
+            bucket.push((n, 100.0 * p.relative()));
         }
         let t = |x: Row| lookup(&data.aggs, scene, x, n).and_then(|a| a.time).map(|t| t.median);
         if let (Some(tw), Some(tr)) = (t(w), t(r)) {
@@ -102,15 +101,8 @@ fn best_cells(b: Option<&Best>) -> [String; 3] {
 
 /// The most efficient configuration at each ray count, overall and among the per-pixel-unbiased.
 pub fn best_table(data: &ReportInput, g: &Group, scene: &str) -> Table {
-    let all = compare::best_per_ray_count(&data.aggs, data.results, scene, &g.rows, &g.rays, |_| true);
-    let unbiased = compare::best_per_ray_count(
-        &data.aggs,
-        data.results,
-        scene,
-        &g.rows,
-        &g.rays,
-        compare::per_pixel_unbiased,
-    );
+    let all = best_per_ray_count(&data.aggs, data.results, scene, &g.rows, &g.rays, |_| true);
+    let unbiased = best_per_ray_count(&data.aggs, data.results, scene, &g.rows, &g.rays, per_pixel_unbiased);
     let header = [
         "rays",
         "most efficient",
@@ -173,14 +165,14 @@ pub fn paired_table(data: &ReportInput, g: &Group, scene: &str) -> Table {
 
 fn paired_cell(data: &ReportInput, scene: &str, a: Row, b: Row, n: u32) -> String {
     let Some(p) = compare::paired_rmse(data.results, scene, a, b, n) else { return "–".into() };
-    let t = p.t();
+    let t = p.in_se();
     let t = if t.is_finite() { format!("t {t:+.1}") } else { "every replicate".into() };
     let time = |r: Row| lookup(&data.aggs, scene, r, n).and_then(|x| x.time).map(|t| t.median);
     let ratio = match (time(a), time(b)) {
         (Some(ta), Some(tb)) if ta > 0.0 => format!("; time ×{:.2}", tb / ta),
         _ => String::new(),
     };
-    format!("{:+.1} % ({t}){ratio}", 100.0 * p.relative)
+    format!("{:+.1} % ({t}){ratio}", 100.0 * p.relative())
 }
 
 #[cfg(test)]

@@ -1,27 +1,27 @@
-//! The real-time figures (issue 26), for every group with frames, schedules or pipelines: the noise
+//! The real-time figures, for every group with frames, schedules or pipelines: the noise
 //! left after k accumulated frames, one plot per schedule, and a crop grid of the final frames
 //! (every configuration × every pipeline at its last frame, the reference beside). Both at the
 //! group's fewest rays per frame, where real-time engines work and samplers differ most.
 
 use super::data::{ReportInput, row_label};
-use super::draw::{drawn, grid_cells, log_log, record_image, write_figure};
+use super::draw::{LogLog, add_figure, drawn, grid_cells, log_log};
 use crate::denoise::Pipeline;
 use crate::error::{Error, Result};
 use crate::image::Image;
+use crate::outdir::File;
 use crate::report::{self, Figure, GridCell, Series};
 use crate::results::JobResult;
 use crate::sampling::Schedule;
 use crate::spec::{Group, Row};
 use std::collections::BTreeMap;
-use std::path::Path;
 
 /// Whether a group measures anything beyond the paper's one raw frame.
 pub fn is_realtime(g: &Group) -> bool {
     g.frames > 1 || g.schedules.len() > 1 || g.pipelines.iter().any(|p| *p != Pipeline::RAW)
 }
 
-/// Every real-time group's figures, per scene.
-pub fn write_all(data: &ReportInput, out: &Path) -> Result<Vec<Figure>> {
+/// Every real-time group's figures, per scene, their files added to `files`.
+pub fn all(data: &ReportInput, files: &mut Vec<File>) -> Result<Vec<Figure>> {
     let spec = &data.loaded.spec;
     let mut figs = Vec::new();
     for g in spec.groups.iter().filter(|g| is_realtime(g)) {
@@ -29,8 +29,8 @@ pub fn write_all(data: &ReportInput, out: &Path) -> Result<Vec<Figure>> {
         for &si in &g.scenes {
             let scene = &spec.scenes[si].name;
             let stem = if g.scenes.len() > 1 { format!("{}_{scene}", g.name) } else { g.name.clone() };
-            figs.extend(frame_curves(data, g, scene, rays, &stem, out)?);
-            figs.extend(final_crops(data, g, si, rays, &stem, out)?);
+            figs.extend(frame_curves(data, g, scene, rays, &stem, files)?);
+            figs.extend(final_crops(data, g, si, rays, &stem, files)?);
         }
     }
     Ok(figs)
@@ -57,7 +57,7 @@ fn frame_curves(
     scene: &str,
     rays: u32,
     stem: &str,
-    out: &Path,
+    files: &mut Vec<File>,
 ) -> Result<Vec<Figure>> {
     let Some(&pipeline) = g.pipelines.iter().find(|p| p.is_temporal()) else { return Ok(vec![]) };
     let mut figs = Vec::new();
@@ -95,7 +95,17 @@ fn frame_curves(
             schedule.name()
         );
         let base = format!("{stem}_frames_{}", schedule.name());
-        figs.push(log_log(out, &base, &title, ("frames accumulated", "noise RMSE"), &series, &[], caption)?);
+        figs.push(log_log(
+            files,
+            &base,
+            LogLog {
+                title: &title,
+                axes: ("frames accumulated", "noise RMSE"),
+                series: &series,
+                guides: &[],
+            },
+            caption,
+        )?);
     }
     Ok(figs)
 }
@@ -140,7 +150,7 @@ fn final_crops(
     si: usize,
     rays: u32,
     stem: &str,
-    out: &Path,
+    files: &mut Vec<File>,
 ) -> Result<Vec<Figure>> {
     let scene = &data.loaded.spec.scenes[si].name;
     let Some(&schedule) = g.schedules.first() else { return Ok(vec![]) };
@@ -156,7 +166,7 @@ fn final_crops(
                 rs.iter().filter(|r| Some(r.frame) == last).min_by_key(|r| r.replicate).ok_or_else(|| {
                     Error::Refused(format!("no {p} result for {} at {rays} rays on '{scene}'", row.label()))
                 })?;
-            let (img, cov) = record_image(out, r)?;
+            let (img, cov) = data.image(r)?;
             let caption = format!("frame {}: RMSE {:.4}, noise {:.4}", r.frame, r.rmse, r.noise_rmse);
             cells.push((img.crop(x, y, w, h), cov.crop(x, y, w, h), caption));
         }
@@ -174,10 +184,7 @@ fn final_crops(
         schedule.name()
     );
     let name = format!("{stem}_final.png");
-    let bytes = drawn(
-        &out.join(&name),
-        report::image_grid(&title, &row_labels, &col_labels, &cells, Some(&ref_cell)),
-    );
+    let bytes = drawn(&name, report::image_grid(&title, &row_labels, &col_labels, &cells, Some(&ref_cell)));
     let caption = format!(
         "{}: what a real-time user sees on '{scene}' at {rays} {per} per frame — each configuration's last \
          measured frame after each pipeline (replicate 0, schedule {}), cropped to the {w}×{h} px window at \
@@ -186,7 +193,7 @@ fn final_crops(
         g.name,
         schedule.name()
     );
-    Ok(vec![write_figure(out, &name, caption, vec![], bytes)?])
+    Ok(vec![add_figure(files, &name, caption, vec![], bytes)?])
 }
 
 #[cfg(test)]

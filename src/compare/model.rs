@@ -1,5 +1,6 @@
-//! advise's one error model. Every ± advise prints and every margin it states is one standard
-//! deviation (1 σ) of this model, propagated by the delta method; nothing else adds to them.
+//! The one error model of every comparison at equal time. Every ± advise prints and every margin
+//! it states, and every ratio of `run`'s equal-time tables, is one standard deviation (1 σ) of this
+//! model, propagated by the delta method; nothing else adds to them.
 //!
 //! - **Replicates.** Replicate r has the same seed in every configuration (`plan::replicate_seed`),
 //!   so a configuration's MSE at a ray count is the mean over its replicates (σ = sd / √n) and two
@@ -19,8 +20,16 @@
 //! the replicates' σ, and its time √(σ_u² + σ_e²); a quantity at a budget (a gain, a margin, an
 //! RMSE interpolated at the budget) carries both through the slope.
 
-use super::Estimate;
+use crate::compare::margin::{in_se, pairs};
 use crate::spec::Row;
+use crate::stats::paired_log_ratio_variance;
+
+/// Mean and its standard error.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate {
+    pub value: f64,
+    pub se: f64,
+}
 
 /// σ of ln(time) that a session shares with every render it times (see the module notes).
 pub const RUN_FACTOR: f64 = crate::timing::RUN_TO_RUN;
@@ -77,16 +86,10 @@ impl Gain {
     }
 }
 
-/// The two sides' values over the replicates both have, in the same order.
+/// The two sides' values over the replicates both have, in `a`'s order (`margin::pairs`).
 fn shared(a: &Side, b: &Side) -> (Vec<f64>, Vec<f64>) {
-    let (mut xa, mut xb) = (Vec::new(), Vec::new());
-    for (i, r) in a.replicates.iter().enumerate() {
-        if let Some(j) = b.replicates.iter().position(|x| x == r) {
-            xa.push(a.values[i]);
-            xb.push(b.values[j]);
-        }
-    }
-    (xa, xb)
+    let keyed = |s: &Side| s.replicates.iter().copied().zip(s.values.iter().copied()).collect::<Vec<_>>();
+    pairs(&keyed(a), &keyed(b))
 }
 
 /// How many times less MSE `better` has than `baseline` at the same budget: mean of `baseline` /
@@ -98,16 +101,8 @@ pub fn gain(baseline: &Side, better: &Side) -> Gain {
     let n = xa.len() as f64;
     let (ma, mb) = (xa.iter().sum::<f64>() / n, xb.iter().sum::<f64>() / n);
     let value = ma / mb;
-    let rel2 = if n > 1.0 {
-        let cov = |x: &[f64], mx: f64, y: &[f64], my: f64| {
-            x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum::<f64>() / (n - 1.0)
-        };
-        let v = cov(&xa, ma, &xa, ma) / (ma * ma) + cov(&xb, mb, &xb, mb) / (mb * mb)
-            - 2.0 * cov(&xa, ma, &xb, mb) / (ma * mb);
-        v.max(0.0) / n
-    } else {
-        f64::NAN
-    };
+    // var(ln ratio) of the paired means (`stats::paired_log_ratio_variance`; NaN below two pairs).
+    let (_, rel2) = paired_log_ratio_variance(&xa, &xb);
     let timing2 = if baseline.row == better.row {
         0.0
     } else {
@@ -122,15 +117,14 @@ pub fn gain(baseline: &Side, better: &Side) -> Gain {
 }
 
 /// How far `other` trails `best` at the same budget, in σ of the model: ln(MSE_other / MSE_best)
-/// over its σ (∞ when that σ is 0, NaN with fewer than two shared replicates). The same model as a
-/// gain's, so a margin and a gain never disagree about what is resolved.
-pub fn margin(best: &Side, other: &Side) -> f64 {
+/// over its σ (`margin::in_se`: ∞ when that σ is 0; NaN with fewer than two shared replicates).
+/// The same model as a gain's, so a distance and a gain never disagree about what is resolved.
+pub fn behind(best: &Side, other: &Side) -> f64 {
     if shared(best, other).0.len() < 2 {
         return f64::NAN;
     }
     let g = gain(other, best);
-    let rel = g.se / g.value;
-    if rel > 0.0 { g.value.ln() / rel } else { g.value.ln().signum() * f64::INFINITY }
+    in_se(g.value.ln(), g.se / g.value)
 }
 
 /// A configuration's mean MSE ± σ: over its replicates only for a measured ray count
@@ -201,8 +195,8 @@ mod tests {
         assert!((steep.se_timing / steep.value - RUN_FACTOR).abs() < 1e-12, "{steep:?}");
         let own = gain(&side(a, &va, &reps, -1.0, 0.01), &side(a, &va, &reps, -1.0, 0.01));
         assert_eq!((own.value, own.se), (1.0, 0.0));
-        // The margin is ln(gain) over its relative σ: the same numbers.
-        let m = margin(&side(b, &vb, &reps, -1.0, 0.02), &side(a, &va, &reps, -1.0, 0.01));
+        // The distance behind is ln(gain) over its relative σ: the same numbers.
+        let m = behind(&side(b, &vb, &reps, -1.0, 0.02), &side(a, &va, &reps, -1.0, 0.01));
         assert!((m - 4f64.ln() / 0.01f64.hypot(0.02)).abs() < 1e-9, "{m}");
         // One configuration's MSE at a budget carries its whole time σ; at a ray count it does not.
         let at = mean_mse(&side(b, &vb, &reps, -1.0, 0.04), true);

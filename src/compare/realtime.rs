@@ -1,0 +1,311 @@
+//! The real-time verdicts, as plain data (`report::run::realtime` words them): the records of a
+//! spec's `frames`/`pipelines`/`schedules` groups (`JobResult::is_single_frame` false, plus the raw
+//! frame-1 records beside them) read as two questions. (1) After each pipeline, at its last
+//! measured frame, does the paper's sine-cosine × Fibonacci × per-pixel seed (independent schedule)
+//! still have the least error of every configuration measured with it? (2) Under the accumulating
+//! pipelines, does spatiotemporal blue noise (Wolfe, Morrical & Ramamoorthi 2022) beat the 2-D
+//! blue-noise mask drawn afresh each frame (the same sequence, the independent schedule), as its
+//! paper reports for AO? And, at the fewest rays per frame, the noise each seed mode leaves.
+//!
+//! Both are read on the RMSE against the reference (what the user sees) and on the noise RMSE
+//! against the equally filtered reference (`noise_rmse`): after a spatial filter the first holds the
+//! filter's bias, which is the same for every sampler, so a small margin there with a large one in
+//! the noise part says the filter, not the sampler, sets the error. A margin is the paired
+//! difference over replicates (`margin::paired`), relative to the paper's (or blue noise's) mean; a
+//! verdict is called only beyond Student's t at [`ALPHA`] two-sided, else a tie. The "best other"
+//! is the least mean of many, so its margin is biased towards it (the winner's curse): a tie there
+//! is a tie.
+
+use crate::compare::margin::{self, Margin};
+use crate::compare::model::Estimate;
+use crate::results::JobResult;
+use crate::stats::mean_and_standard_error;
+use std::collections::BTreeMap;
+
+/// Two-sided level of a real-time verdict: a sweep of many cells at few replicates each, read as
+/// a screen (how often the paper's configuration wins), not as the paper's claims (1 %, `claims`).
+pub const ALPHA: f64 = 0.05;
+
+/// The paper's configuration, as the cells label a configuration
+/// (`distribution/sequence/seed_mode/schedule`).
+pub const PAPER: &str = "sine-cosine/fibonacci/rotation/independent";
+
+/// One record's errors: (replicate, RMSE against the reference, against the filtered reference).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Measured {
+    replicate: u32,
+    rmse: f64,
+    noise: f64,
+}
+
+/// (scene, rays, pipeline, frame) → configuration label → its replicates, in replicate order.
+type Cells<'a> = BTreeMap<(&'a str, u32, &'a str, u32), BTreeMap<String, Vec<Measured>>>;
+
+fn cells(results: &[JobResult]) -> Cells<'_> {
+    let mut out: Cells = BTreeMap::new();
+    for r in results {
+        let label = format!("{}/{}/{}/{}", r.distribution, r.sequence, r.seed_mode, r.schedule);
+        out.entry((&r.scene, r.rays, &r.pipeline, r.frame))
+            .or_default()
+            .entry(label)
+            .or_default()
+            .push(Measured { replicate: r.replicate, rmse: r.rmse, noise: r.noise_rmse });
+    }
+    for configs in out.values_mut() {
+        configs.values_mut().for_each(|v| v.sort_by_key(|m| m.replicate));
+    }
+    out
+}
+
+/// Whether the spec measured anything real-time (more than one frame, schedule or pipeline).
+pub fn any(results: &[JobResult]) -> bool {
+    results.iter().any(|r| !r.is_single_frame())
+}
+
+/// Which error a margin is of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Of {
+    Rmse,
+    Noise,
+}
+
+fn keyed(v: &[Measured], of: Of) -> Vec<(u32, f64)> {
+    v.iter().map(|m| (m.replicate, if of == Of::Rmse { m.rmse } else { m.noise })).collect()
+}
+
+/// A configuration's mean error over its replicates and that mean's standard error (∞ for one).
+fn estimate(v: &[Measured], of: Of) -> Estimate {
+    let (value, se) = mean_and_standard_error(&keyed(v, of).into_iter().map(|x| x.1).collect::<Vec<_>>());
+    Estimate { value, se }
+}
+
+fn mean_rmse(v: &[Measured]) -> f64 {
+    v.iter().map(|m| m.rmse).sum::<f64>() / v.len() as f64
+}
+
+/// `b` against `a`: the paired margin b − a (`relative()` to a's mean) and its verdict at
+/// [`ALPHA`]: +1 when b has significantly more error (a wins), −1 less (b wins), 0 a tie (or
+/// fewer than two pairs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Versus {
+    pub margin: Margin,
+    pub sign: i32,
+}
+
+impl Versus {
+    fn of(a: &[Measured], b: &[Measured], of: Of) -> Self {
+        let margin = margin::paired(&keyed(a, of), &keyed(b, of));
+        Self { margin, sign: margin.sign(ALPHA) }
+    }
+}
+
+/// Question (1) in one cell: a pipeline at its last frame, for one scene and rays per frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PaperCell {
+    pub scene: String,
+    pub rays: u32,
+    pub pipeline: String,
+    pub frame: u32,
+    /// The paper's RMSE, and the other estimator of least mean RMSE with its RMSE.
+    pub paper: Estimate,
+    pub best: String,
+    pub best_rmse: Estimate,
+    /// The best other against the paper (positive: the paper's has less error), on the RMSE and
+    /// on the noise RMSE.
+    pub rmse: Versus,
+    pub noise: Versus,
+}
+
+/// Question (1): one cell per (scene, rays, pipeline at its last frame) where the paper's
+/// configuration was measured; `None` when the spec measured nothing real-time.
+pub fn paper_cells(results: &[JobResult]) -> Option<Vec<PaperCell>> {
+    if !any(results) {
+        return None;
+    }
+    let cells = cells(results);
+    let last = |scene: &str, rays: u32, p: &str| {
+        cells.keys().filter(|k| k.0 == scene && k.1 == rays && k.2 == p).map(|k| k.3).max()
+    };
+    let mut out = Vec::new();
+    for (&(scene, rays, pipeline, frame), configs) in &cells {
+        if Some(frame) != last(scene, rays, pipeline) {
+            continue;
+        }
+        let Some(paper) = configs.get(PAPER) else { continue };
+        // Other estimators only: the paper's under another schedule is still the paper's (and at
+        // frame 1 the very same image).
+        let estimator = |l: &str| l.rsplit_once('/').map_or("", |x| x.0).to_string();
+        let others = configs.iter().filter(|(l, _)| estimator(l) != estimator(PAPER));
+        let Some((best, b)) = others.min_by(|x, y| mean_rmse(x.1).total_cmp(&mean_rmse(y.1))) else {
+            continue;
+        };
+        out.push(PaperCell {
+            scene: scene.to_string(),
+            rays,
+            pipeline: pipeline.to_string(),
+            frame,
+            paper: estimate(paper, Of::Rmse),
+            best: best.clone(),
+            best_rmse: estimate(b, Of::Rmse),
+            rmse: Versus::of(paper, b, Of::Rmse),
+            noise: Versus::of(paper, b, Of::Noise),
+        });
+    }
+    Some(out)
+}
+
+/// Whether a pipeline accumulates frames (`mean`, `emaA`, either with a spatial filter after).
+fn accumulating(pipeline: &str) -> bool {
+    pipeline.starts_with("ema") || pipeline.starts_with("mean")
+}
+
+/// Question (2) in one cell: stbn against per-frame-independent blue noise of one distribution and
+/// sequence (`prefix`, `distribution/sequence`) under an accumulating pipeline at its last frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StbnCell {
+    pub scene: String,
+    pub rays: u32,
+    pub pipeline: String,
+    pub frame: u32,
+    pub prefix: String,
+    /// RMSE with `blue-noise` and with `stbn`.
+    pub blue_noise: Estimate,
+    pub stbn: Estimate,
+    /// stbn against blue noise (negative: stbn has less error).
+    pub rmse: Versus,
+    pub noise: Versus,
+}
+
+/// Question (2): every accumulating pipeline at its last frame, per (scene, rays, distribution and
+/// sequence) measured with both masks.
+pub fn stbn_cells(results: &[JobResult]) -> Vec<StbnCell> {
+    let cells = cells(results);
+    let mut out = Vec::new();
+    for (&(scene, rays, pipeline, frame), configs) in &cells {
+        if !accumulating(pipeline) {
+            continue;
+        }
+        if cells.keys().any(|k| k.0 == scene && k.1 == rays && k.2 == pipeline && k.3 > frame) {
+            continue;
+        }
+        for (label, bn) in configs {
+            let Some(prefix) = label.strip_suffix("/blue-noise/independent") else { continue };
+            let Some(st) = configs.get(&format!("{prefix}/stbn/independent")) else { continue };
+            out.push(StbnCell {
+                scene: scene.to_string(),
+                rays,
+                pipeline: pipeline.to_string(),
+                frame,
+                prefix: prefix.to_string(),
+                blue_noise: estimate(bn, Of::Rmse),
+                stbn: estimate(st, Of::Rmse),
+                rmse: Versus::of(bn, st, Of::Rmse),
+                noise: Versus::of(bn, st, Of::Noise),
+            });
+        }
+    }
+    out
+}
+
+/// The noise each seed mode leaves after accumulation, for one distribution and sequence.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeedsCell {
+    pub scene: String,
+    pub pipeline: String,
+    pub frame: u32,
+    pub prefix: String,
+    /// Noise RMSE with a per-pixel rotation, the 2-D blue-noise offsets and stbn.
+    pub rotation: Estimate,
+    pub blue_noise: Estimate,
+    pub stbn: Estimate,
+    /// Blue noise against rotation, on the noise RMSE.
+    pub blue_noise_vs_rotation: Margin,
+}
+
+/// At the fewest rays per frame (returned with the cells), under every accumulating pipeline at
+/// its last frame: the noise RMSE of each sequence with a per-pixel rotation, the 2-D blue-noise
+/// offsets and spatiotemporal blue noise (independent schedule). A rotation leaves a lattice's
+/// elevations where they are, so with one or two points per pixel no number of frames moves them:
+/// its accumulated image keeps a bias that an offset, new each frame, averages away. `None` when
+/// nothing but raw frames was measured.
+pub fn seeds_cells(results: &[JobResult]) -> Option<(u32, Vec<SeedsCell>)> {
+    let cells = cells(results);
+    let fewest = cells.keys().filter(|k| k.2 != "raw").map(|k| k.1).min()?;
+    let mut out = Vec::new();
+    for (&(scene, rays, pipeline, frame), configs) in &cells {
+        if rays != fewest || !accumulating(pipeline) {
+            continue;
+        }
+        if cells.keys().any(|k| k.0 == scene && k.1 == rays && k.2 == pipeline && k.3 > frame) {
+            continue;
+        }
+        for (label, rot) in configs {
+            let Some(prefix) = label.strip_suffix("/rotation/independent") else { continue };
+            let get = |mode: &str| configs.get(&format!("{prefix}/{mode}/independent"));
+            let (Some(bn), Some(st)) = (get("blue-noise"), get("stbn")) else { continue };
+            out.push(SeedsCell {
+                scene: scene.to_string(),
+                pipeline: pipeline.to_string(),
+                frame,
+                prefix: prefix.to_string(),
+                rotation: estimate(rot, Of::Noise),
+                blue_noise: estimate(bn, Of::Noise),
+                stbn: estimate(st, Of::Noise),
+                blue_noise_vs_rotation: Versus::of(rot, bn, Of::Noise).margin,
+            });
+        }
+    }
+    Some((fewest, out))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::{Distribution as D, SeedMode as M, Sequence as S};
+    use crate::spec::Row;
+
+    /// Two replicates of a configuration at `rmse` ± `d`, noise RMSE half of it.
+    fn recs(seq: S, mode: M, pipeline: &str, frame: u32, rmse: f64, d: f64) -> Vec<JobResult> {
+        (0..2)
+            .map(|rep| {
+                let v = rmse + if rep == 0 { -d } else { d };
+                let mut r = JobResult::for_test("k", Row::new(D::SineCosine, seq, mode), 2, rep, v, 1.0);
+                r.pipeline = pipeline.into();
+                r.frame = frame;
+                r.noise_rmse = v / 2.0;
+                r
+            })
+            .collect()
+    }
+
+    #[test]
+    fn cells_are_read_at_the_last_frame_with_paired_margins() {
+        let rs: Vec<JobResult> = [
+            recs(S::Fibonacci, M::Rotation, "raw", 1, 0.10, 0.001),
+            recs(S::Random, M::Rotation, "raw", 1, 0.12, 0.001),
+            recs(S::Fibonacci, M::Rotation, "ema0.1+atrous", 1, 0.05, 0.001),
+            recs(S::Random, M::BlueNoise, "ema0.1+atrous", 1, 0.01, 0.001),
+            recs(S::Fibonacci, M::Rotation, "ema0.1+atrous", 16, 0.02, 0.001),
+            recs(S::Random, M::BlueNoise, "ema0.1+atrous", 16, 0.03, 0.002),
+            recs(S::Random, M::Stbn, "ema0.1+atrous", 16, 0.015, 0.001),
+        ]
+        .concat();
+        let paper = paper_cells(&rs).unwrap();
+        assert_eq!(paper.len(), 2);
+        assert_eq!((paper[0].pipeline.as_str(), paper[0].frame), ("ema0.1+atrous", 16));
+        // Best other: stbn at 0.015 against 0.02; the paired differences are exactly −0.005 twice.
+        assert_eq!(paper[0].best, "sine-cosine/random/stbn/independent");
+        let m = paper[0].rmse.margin;
+        assert!((m.relative() + 0.25).abs() < 1e-9 && m.n == 2, "{m:?}");
+        assert_eq!((paper[0].rmse.sign, paper[0].noise.sign), (-1, -1));
+        assert_eq!(paper[1].rmse.sign, 1, "raw: the paper's 0.10 against 0.12");
+        let stbn = stbn_cells(&rs);
+        assert_eq!(stbn.len(), 1);
+        // stbn − blue noise: −0.016 and −0.014 → −50 % ± 3.3 % of 0.03: beyond t(1 dof) = 12.7 SE.
+        let m = stbn[0].rmse.margin;
+        assert!((m.relative() + 0.5).abs() < 1e-9 && (m.relative_se() - 0.1 / 3.0).abs() < 1e-9, "{m:?}");
+        assert_eq!(stbn[0].rmse.sign, -1);
+        assert_eq!(seeds_cells(&rs).map(|s| s.1.len()), Some(0), "no rotation/blue-noise/stbn triple");
+        assert!(paper_cells(&rs[..4]).is_none(), "single frames only: nothing real-time");
+    }
+}

@@ -7,9 +7,11 @@
 pub mod accumulate;
 pub mod atrous;
 pub mod gaussian;
+pub mod motion;
 pub mod pipeline;
 
 pub use accumulate::{Accumulator, Temporal};
 pub use atrous::{AtrousParams, atrous};
 pub use gaussian::{GAUSS_SIGMA, gaussian};
+pub use motion::{Motion, Tap};
 pub use pipeline::{Pipeline, PipelineError, Spatial};

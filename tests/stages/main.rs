@@ -9,6 +9,7 @@ mod compare_equal_time;
 mod denoise_filters;
 mod denoise_gbuffer;
 mod fuzz_inputs;
+mod metrics_flicker;
 mod metrics_known;
 mod plan_integrands;
 mod plan_order;

@@ -4,6 +4,7 @@
 //! leak across a depth step or a normal crease (synthetic and rendered); the running mean and the
 //! EMA are their closed forms; everything is the same for any thread count.
 
+use crate::support::images::{cornell, image, normals, synthetic};
 use glam::Vec3;
 use hemilab::denoise::{Accumulator, AtrousParams, GAUSS_SIGMA, Pipeline, Temporal, atrous, gaussian};
 use hemilab::image::Image;
@@ -11,33 +12,14 @@ use hemilab::load::load_scene;
 use hemilab::render::{GBuffer, gbuffer};
 use std::path::Path;
 
-/// SplitMix64-based standard normals (Box–Muller), fixed seeds: the tests cannot flake.
-fn normals(n: usize, seed: u64) -> Vec<f64> {
-    hemilab::stats::normals_from_state(n, seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x1234_5678)
-}
-
-fn image(w: u32, h: u32, f: impl Fn(u32, u32) -> f32) -> Image {
-    Image::from_vec(w, h, (0..w * h).map(|i| f(i % w, i / w)).collect())
-}
-
-/// A synthetic G-buffer: every pixel covered, depth and normal by pixel.
-fn synthetic(w: u32, h: u32, depth: impl Fn(u32, u32) -> f32, normal: impl Fn(u32, u32) -> Vec3) -> GBuffer {
-    GBuffer {
-        width: w,
-        height: h,
-        depth: image(w, h, &depth),
-        normal: (0..w * h).map(|i| normal(i % w, i / w)).collect(),
-        coverage: image(w, h, |_, _| 1.0),
-    }
-}
-
-fn cornell(w: u32, h: u32) -> GBuffer {
-    let scene = load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml")).unwrap();
-    gbuffer(&scene, w, h)
+/// Dammertz's five passes, which the edge-stopping tests below were written for (the default is a
+/// share of the image: one pass on these small images).
+fn five() -> AtrousParams {
+    AtrousParams::default().with_iterations(5)
 }
 
 fn with_value(sigma: f32) -> AtrousParams {
-    AtrousParams { sigma_value: Some(sigma), ..AtrousParams::default() }
+    AtrousParams { sigma_value: Some(sigma), ..five() }
 }
 
 #[test]
@@ -56,6 +38,7 @@ fn every_filter_keeps_a_constant_and_leaves_the_background() {
         let filtered = [
             ("gauss", gaussian(&img, &g.coverage, GAUSS_SIGMA)),
             ("atrous", atrous(&img, &g, &AtrousParams::default())),
+            ("atrous:5", atrous(&img, &g, &five())),
             ("atrous+value", atrous(&img, &g, &with_value(0.1))),
             ("pipeline atrous", "atrous".parse::<Pipeline>().unwrap().apply_spatial(&img, &g)),
             ("pipeline raw", Pipeline::RAW.apply_spatial(&img, &g)),
@@ -155,15 +138,14 @@ fn atrous_on_a_flat_plane_reduces_white_noise_variance_by_its_kernels_sum_of_squ
         k = next;
     }
     let margin = (k.len() / 2) as u32;
-    let (got, want, sd) =
-        variance_ratio(w, h, &k, margin, 32, |img| atrous(img, &g, &AtrousParams::default()));
+    let (got, want, sd) = variance_ratio(w, h, &k, margin, 32, |img| atrous(img, &g, &five()));
     eprintln!("atrous on a plane: variance × {got:.6}, Σ K² = {want:.6} ± {sd:.6}");
     assert!((got - want).abs() < 4.0 * sd, "{got} vs {want} ± {sd}");
     assert!(got < 0.01, "variance down by more than 100×: {got}");
     // Over the whole image, border included, still far down.
     let n = normals((w * h) as usize, 99);
     let noisy = Image::from_vec(w, h, n.iter().map(|&v| v as f32).collect());
-    let out = atrous(&noisy, &g, &AtrousParams::default());
+    let out = atrous(&noisy, &g, &five());
     let var = out.data.iter().map(|&v| (v as f64).powi(2)).sum::<f64>() / out.len() as f64;
     assert!(var < 0.02, "whole-image variance × {var}");
 }
@@ -209,10 +191,10 @@ fn atrous_does_not_leak_across_a_depth_step_or_a_normal_crease() {
         ("30° crease", crease(w, h, 15f32.to_radians()), 1e-5),
     ];
     for (name, g, bound) in cases {
-        let out = atrous(&img, &g, &AtrousParams::default());
+        let out = atrous(&img, &g, &five());
         // The clean step filtered alone shows the leak apart from the noise's removal.
         let clean = image(w, h, |x, _| if x < 32 { 0.0 } else { 1.0 });
-        let clean_out = atrous(&clean, &g, &AtrousParams::default());
+        let clean_out = atrous(&clean, &g, &five());
         let (l, r) = (leak(&clean, &clean_out, left), leak(&clean, &clean_out, |x, y| !left(x, y)));
         eprintln!("{name}: leak left {l:.2e}, right {r:.2e}");
         assert!(l < bound && r < bound, "{name}: leak {l:e} / {r:e} (bound {bound:e})");
@@ -240,7 +222,7 @@ fn atrous_keeps_the_rendered_rectangle_apart_from_the_floor() {
     let on_rect = |i: usize| g.depth.data[i] < 9.5;
     let img =
         Image::from_vec(w, h, (0..(w * h) as usize).map(|i| if on_rect(i) { 1.0 } else { 0.0 }).collect());
-    let out = atrous(&img, &g, &AtrousParams::default());
+    let out = atrous(&img, &g, &five());
     let worst = (0..img.len()).map(|i| (out.data[i] - img.data[i]).abs()).fold(0.0, f32::max);
     assert!(worst < 1e-6, "leak across the rendered step: {worst:e}");
 }
@@ -283,7 +265,7 @@ fn filters_are_bit_identical_for_any_thread_count() {
         pool.install(|| {
             (
                 gaussian(&img, &g.coverage, GAUSS_SIGMA),
-                atrous(&img, &g, &AtrousParams::default()),
+                atrous(&img, &g, &five()),
                 atrous(&img, &g, &with_value(0.2)),
             )
         })

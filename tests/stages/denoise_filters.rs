@@ -2,11 +2,14 @@
 //! à-trous filter (on a flat plane, where every edge-stopping weight is 1) reduce white noise's
 //! variance by Σ K² of their kernel, within a stated number of standard errors; à-trous does not
 //! leak across a depth step or a normal crease (synthetic and rendered); the running mean and the
-//! EMA are their closed forms; everything is the same for any thread count.
+//! warm-started EMA are their closed forms; everything (every pipeline run frame by frame too) is
+//! the same for any thread count.
 
 use crate::support::images::{cornell, image, normals, synthetic};
 use glam::Vec3;
-use hemilab::denoise::{Accumulator, AtrousParams, GAUSS_SIGMA, Pipeline, Temporal, atrous, gaussian};
+use hemilab::denoise::{
+    Accumulator, AtrousParams, GAUSS_SIGMA, Motion, Pipeline, Temporal, atrous, gaussian,
+};
 use hemilab::image::Image;
 use hemilab::load::load_scene;
 use hemilab::render::{GBuffer, gbuffer};
@@ -42,7 +45,10 @@ fn every_filter_keeps_a_constant_and_leaves_the_background() {
             ("atrous+value", atrous(&img, &g, &with_value(0.1))),
             ("pipeline atrous", "atrous".parse::<Pipeline>().unwrap().apply_spatial(&img, &g)),
             ("pipeline raw", Pipeline::RAW.apply_spatial(&img, &g)),
-        ];
+        ]
+        .into_iter()
+        .map(|(n, o)| (n.to_string(), o))
+        .chain(every_pipeline_on(&img, &g));
         for (name, out) in filtered {
             for i in 0..img.len() {
                 let want = img.data[i];
@@ -58,12 +64,41 @@ fn every_filter_keeps_a_constant_and_leaves_the_background() {
     for mode in [Temporal::Mean, Temporal::Ema(0.1), Temporal::Ema(1.0)] {
         let mut acc = Accumulator::new(mode);
         let frame = image(5, 4, |x, y| 0.1 * (x + 7 * y) as f32 + 0.013);
+        assert_eq!(acc.image(), Image::from_vec(0, 0, vec![]));
         for _ in 0..20 {
             acc.push(&frame);
         }
         assert_eq!(acc.image(), frame, "{mode:?}");
         assert_eq!(acc.frames(), 20);
     }
+}
+
+/// Every pipeline kind, run by `Pipeline::start` over 6 frames of `img` (static camera): the
+/// last output.
+fn every_pipeline_on(img: &Image, g: &GBuffer) -> Vec<(String, Image)> {
+    let names = [
+        "raw",
+        "gauss",
+        "atrous:5",
+        "mean+atrous",
+        "ema0.1+gauss",
+        "taa0.1",
+        "taa0.1+atrous:3",
+        "svgf",
+        "svgf:5",
+    ];
+    names
+        .iter()
+        .map(|name| {
+            let mut f = name.parse::<Pipeline>().unwrap().start(img.width, img.height);
+            let still = Motion::identity(img.width, img.height);
+            let mut out = img.clone();
+            for _ in 0..6 {
+                out = f.push(img, g, &still);
+            }
+            (format!("pipeline {name}"), out)
+        })
+        .collect()
 }
 
 /// Σ_l (k⋆k)_l² / (Σ_l k_l²)² of a 1-D kernel: for white noise filtered by k ⊗ k, the relative
@@ -229,25 +264,27 @@ fn atrous_keeps_the_rendered_rectangle_apart_from_the_floor() {
 
 #[test]
 fn running_mean_and_ema_match_their_closed_forms() {
+    // The warm-started EMA: s_n = s_{n−1} + a_n (x_n − s_{n−1}), a_n = max(α, 1/n), so the weight
+    // of frame j in s_n is a_j Π_{i=j+1..n} (1 − a_i) (a_1 = 1); the mean is α = 0.
     let (w, h, frames) = (7u32, 5u32, 30usize);
     let xs: Vec<Vec<f64>> = (0..frames).map(|k| normals((w * h) as usize, 1000 + k as u64)).collect();
     let frame = |k: usize| Image::from_vec(w, h, xs[k].iter().map(|&v| v as f32).collect());
     for mode in [Temporal::Mean, Temporal::Ema(0.1), Temporal::Ema(0.5)] {
+        let alpha = match mode {
+            Temporal::Ema(a) => a as f64,
+            _ => 0.0,
+        };
+        let a = |n: usize| alpha.max(1.0 / n as f64);
         let mut acc = Accumulator::new(mode);
         for k in 0..frames {
             acc.push(&frame(k));
             let got = acc.image();
+            let n = k + 1;
             for (i, &g) in got.data.iter().enumerate() {
                 let x = |j: usize| xs[j][i] as f32 as f64;
-                let want = match mode {
-                    Temporal::Mean => (0..=k).map(x).sum::<f64>() / (k + 1) as f64,
-                    // s_k = (1−α)^k x_0 + Σ_{j=1..k} α (1−α)^(k−j) x_j.
-                    Temporal::Ema(a) => {
-                        let a = a as f64;
-                        (1.0 - a).powi(k as i32) * x(0)
-                            + (1..=k).map(|j| a * (1.0 - a).powi((k - j) as i32) * x(j)).sum::<f64>()
-                    }
-                };
+                let want: f64 = (1..=n)
+                    .map(|j| a(j) * ((j + 1)..=n).map(|m| 1.0 - a(m)).product::<f64>() * x(j - 1))
+                    .sum();
                 assert!((g as f64 - want).abs() < 1e-6, "{mode:?} frame {k} pixel {i}");
             }
         }
@@ -267,6 +304,7 @@ fn filters_are_bit_identical_for_any_thread_count() {
                 gaussian(&img, &g.coverage, GAUSS_SIGMA),
                 atrous(&img, &g, &five()),
                 atrous(&img, &g, &with_value(0.2)),
+                every_pipeline_on(&img, &g),
             )
         })
     };

@@ -3,27 +3,32 @@
 //! functions of SVGF's spatial filter (Schied et al. 2017, "Spatiotemporal Variance-Guided
 //! Filtering", eq. 3-5): iteration i convolves with the 5 × 5 B3-spline kernel h(kx)·h(ky),
 //! h = (1, 4, 6, 4, 1)/16, its taps 2^i pixels apart ("with holes"), each tap also weighted by
+//! the depth and normal weights of `edges` (w_z, w_n) and by
 //!
-//!   w_z = exp(−|z_p − z_q| / (σ_z |∇z_p · (q − p)| + ε z_p))      depth, scaled by its gradient
-//!   w_n = max(0, n_p · n_q)^σ_n                                   normal
 //!   w_l = exp(−(l_p − l_q)² / (σ_l² 2^−i))                        value (optional, Dammertz's)
 //!
-//! and normalized by the weights' sum, over covered pixels inside the image only. The depth
-//! gradient is the smaller one-sided difference on each axis (so a pixel at a depth step takes its
-//! own surface's slope, not the step's); ε z_p (ε = 10⁻³) keeps a fronto-parallel plane, whose
-//! gradient is 0, open to its own rounding. The value weight is Dammertz's (σ halved each
-//! iteration) rather than SVGF's variance-scaled one, since one frame has no variance estimate;
-//! it is off by default: at a few AO rays per pixel the noise is as large as any edge in the value.
+//! and normalized by the weights' sum, over covered pixels inside the image only. The value weight
+//! is Dammertz's (σ halved each iteration) rather than SVGF's variance-scaled one (`svgf`), since
+//! one frame has no variance estimate; it is off by default: at a few AO rays per pixel the noise
+//! is as large as any edge in the value. The number of iterations defaults to a share of the
+//! image (`edges::default_iterations`).
+//!
+//! `atrous_pair` is the joint application of the noise/bias split: the weights computed on the
+//! (noisy) image applied to a second one, the reference, so that RMSE(F_w(noisy), F_w(reference))
+//! is the filtered noise and RMSE(F_w(reference), reference) the filter's bias. Without a value
+//! weight the weights do not depend on the image and it is `atrous` applied to each.
 
+use super::edges::{Guide, Taps, default_iterations};
 use crate::image::Image;
 use crate::render::GBuffer;
 use rayon::prelude::*;
 
-/// The filter's parameters; `Default` is SVGF's σ_z = 1, σ_n = 128 and Dammertz's five iterations
-/// (taps 1…16 pixels apart: a 125 × 125 footprint), no value weight.
+/// The filter's parameters; `Default` is SVGF's σ_z = 1, σ_n = 128, the share-of-image iteration
+/// count (`edges::default_iterations`) and no value weight.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AtrousParams {
-    pub iterations: u32,
+    /// The number of passes; None: `edges::default_iterations` of the image's size.
+    pub iterations: Option<u32>,
     /// σ_z: how many depth gradients' worth of difference weighs e⁻¹.
     pub sigma_depth: f32,
     /// σ_n: the exponent on the normals' cosine.
@@ -34,51 +39,42 @@ pub struct AtrousParams {
 
 impl Default for AtrousParams {
     fn default() -> Self {
-        Self { iterations: 5, sigma_depth: 1.0, sigma_normal: 128.0, sigma_value: None }
+        Self { iterations: None, sigma_depth: 1.0, sigma_normal: 128.0, sigma_value: None }
     }
 }
 
-/// ε: the depth difference relative to the depth itself that is always tolerated.
-const DEPTH_EPS: f32 = 1e-3;
+impl AtrousParams {
+    /// `params` with `iterations` passes.
+    pub fn with_iterations(self, iterations: u32) -> Self {
+        Self { iterations: Some(iterations), ..self }
+    }
 
-/// The B3-spline taps at offsets −2..=2.
-const B3: [f64; 5] = [1.0 / 16.0, 4.0 / 16.0, 6.0 / 16.0, 4.0 / 16.0, 1.0 / 16.0];
-
-/// The per-pixel depth gradient (d/dx, d/dy): on each axis the one-sided difference of smaller
-/// magnitude among covered neighbours (0 with none).
-fn depth_gradient(g: &GBuffer) -> Vec<(f32, f32)> {
-    let (w, h) = (g.width as i64, g.height as i64);
-    let z = &g.depth.data;
-    let at = |x: i64, y: i64| -> Option<f32> {
-        let i = (y * w + x) as usize;
-        (x >= 0 && y >= 0 && x < w && y < h && g.is_covered(i)).then(|| z[i])
-    };
-    let axis = |c: f32, a: Option<f32>, b: Option<f32>| -> f32 {
-        match (a.map(|a| c - a), b.map(|b| b - c)) {
-            (Some(d0), Some(d1)) => {
-                if d0.abs() <= d1.abs() {
-                    d0
-                } else {
-                    d1
-                }
-            }
-            (Some(d), None) | (None, Some(d)) => d,
-            (None, None) => 0.0,
-        }
-    };
-    (0..w * h)
-        .map(|i| {
-            let (x, y) = (i % w, i / w);
-            let c = z[i as usize];
-            (axis(c, at(x - 1, y), at(x + 1, y)), axis(c, at(x, y - 1), at(x, y + 1)))
-        })
-        .collect()
+    /// The number of passes on a `width` × `height` image.
+    pub fn iterations_for(&self, width: u32, height: u32) -> u32 {
+        self.iterations.unwrap_or_else(|| default_iterations(width, height))
+    }
 }
 
 /// `img` filtered by the edge-avoiding à-trous transform guided by `gbuf` (module doc). Background
 /// pixels are left as they are and never contribute. Rows in parallel, every sum in a fixed
 /// order: bit-identical for any thread count.
 pub fn atrous(img: &Image, gbuf: &GBuffer, params: &AtrousParams) -> Image {
+    run(img, None, gbuf, params).0
+}
+
+/// The joint application (module doc): `img` filtered as by `atrous`, and `reference` filtered
+/// with the weights computed on `img` (each pass's weights from that pass's `img`).
+pub fn atrous_pair(img: &Image, reference: &Image, gbuf: &GBuffer, params: &AtrousParams) -> (Image, Image) {
+    let (out, r) = run(img, Some(reference), gbuf, params);
+    (out, r.expect("a reference was given"))
+}
+
+fn run(
+    img: &Image,
+    reference: Option<&Image>,
+    gbuf: &GBuffer,
+    params: &AtrousParams,
+) -> (Image, Option<Image>) {
     assert!(
         img.width == gbuf.width && img.height == gbuf.height,
         "atrous: the image is {}x{}, its G-buffer {}x{}",
@@ -87,65 +83,66 @@ pub fn atrous(img: &Image, gbuf: &GBuffer, params: &AtrousParams) -> Image {
         gbuf.width,
         gbuf.height
     );
-    let (w, h) = (img.width as i64, img.height as i64);
-    let grad = depth_gradient(gbuf);
-    let z = &gbuf.depth.data;
-    let n = &gbuf.normal;
+    if let Some(r) = reference {
+        assert!(
+            r.same_size(img),
+            "atrous: the reference is {}x{}, the image {}x{}",
+            r.width,
+            r.height,
+            img.width,
+            img.height
+        );
+    }
+    let guide = Guide::new(gbuf, params.sigma_depth, params.sigma_normal);
+    let w = img.width as usize;
     let mut cur = img.data.clone();
-    // A whole σ_n (SVGF's 128) by repeated squaring: within a few ulp of `powf`, at a fraction of
-    // its cost (it was a third of a real-time run's filtering time).
-    let normal_power = (params.sigma_normal.fract() == 0.0 && (0.0..=1024.0).contains(&params.sigma_normal))
-        .then_some(params.sigma_normal as i32);
-    for it in 0..params.iterations {
-        let step = 1i64 << it.min(30);
+    let mut cur_ref = reference.map(|r| r.data.clone());
+    for it in 0..params.iterations_for(img.width, img.height) {
         let value_scale = params.sigma_value.map(|s| 1.0 / ((s as f64).powi(2) * 0.5f64.powi(it as i32)));
-        let src = &cur;
+        let (src, src_ref) = (&cur, cur_ref.as_deref());
         let mut next = vec![0.0f32; src.len()];
-        next.par_chunks_mut(w.max(1) as usize).enumerate().for_each(|(y, row)| {
-            let y = y as i64;
-            for (x, out) in row.iter_mut().enumerate() {
-                let x = x as i64;
-                let p = (y * w + x) as usize;
-                if !gbuf.is_covered(p) {
-                    *out = src[p];
+        let mut next_ref = vec![0.0f32; if src_ref.is_some() { src.len() } else { 0 }];
+        let pass = |y: usize, row: &mut [f32], row_ref: Option<&mut [f32]>| {
+            let mut taps: Taps = [(0, 0.0); 25];
+            let mut row_ref = row_ref;
+            for x in 0..row.len() {
+                let p = y * w + x;
+                if !guide.is_covered(p) {
+                    row[x] = src[p];
+                    if let (Some(rr), Some(sr)) = (row_ref.as_deref_mut(), src_ref) {
+                        rr[x] = sr[p];
+                    }
                     continue;
                 }
-                let (zp, np, lp, (gx, gy)) = (z[p], n[p], src[p] as f64, grad[p]);
-                let (mut sum, mut wsum) = (0.0f64, 0.0f64);
-                for (ky, hy) in B3.iter().enumerate() {
-                    let dy = (ky as i64 - 2) * step;
-                    let qy = y + dy;
-                    if qy < 0 || qy >= h {
-                        continue;
+                let k = guide.atrous_taps(x as i64, y as i64, it, &mut taps);
+                let lp = src[p] as f64;
+                let (mut sum, mut sum_ref, mut wsum) = (0.0f64, 0.0f64, 0.0f64);
+                for &(q, g) in &taps[..k] {
+                    let lq = src[q] as f64;
+                    let wl = value_scale.map_or(1.0, |s| (-(lp - lq) * (lp - lq) * s).exp());
+                    let wgt = g * wl;
+                    sum += wgt * lq;
+                    if let Some(sr) = src_ref {
+                        sum_ref += wgt * sr[q] as f64;
                     }
-                    for (kx, hx) in B3.iter().enumerate() {
-                        let dx = (kx as i64 - 2) * step;
-                        let qx = x + dx;
-                        let q = (qy * w + qx) as usize;
-                        if qx < 0 || qx >= w || !gbuf.is_covered(q) {
-                            continue;
-                        }
-                        let dz = (zp - z[q]).abs();
-                        let scale =
-                            params.sigma_depth * (gx * dx as f32 + gy * dy as f32).abs() + DEPTH_EPS * zp;
-                        let wz =
-                            if dz == 0.0 { 1.0 } else { (-(dz / scale.max(f32::MIN_POSITIVE)) as f64).exp() };
-                        let c = np.dot(n[q]).max(0.0) as f64;
-                        let wn = match normal_power {
-                            Some(k) => c.powi(k),
-                            None => c.powf(params.sigma_normal as f64),
-                        };
-                        let lq = src[q] as f64;
-                        let wl = value_scale.map_or(1.0, |s| (-(lp - lq) * (lp - lq) * s).exp());
-                        let wgt = hx * hy * wz * wn * wl;
-                        sum += wgt * lq;
-                        wsum += wgt;
-                    }
+                    wsum += wgt;
                 }
-                *out = if wsum > 0.0 { (sum / wsum) as f32 } else { src[p] };
+                row[x] = if wsum > 0.0 { (sum / wsum) as f32 } else { src[p] };
+                if let (Some(rr), Some(sr)) = (row_ref.as_deref_mut(), src_ref) {
+                    rr[x] = if wsum > 0.0 { (sum_ref / wsum) as f32 } else { sr[p] };
+                }
             }
-        });
+        };
+        if src_ref.is_some() {
+            next.par_chunks_mut(w.max(1))
+                .zip(next_ref.par_chunks_mut(w.max(1)))
+                .enumerate()
+                .for_each(|(y, (row, row_ref))| pass(y, row, Some(row_ref)));
+            cur_ref = Some(next_ref);
+        } else {
+            next.par_chunks_mut(w.max(1)).enumerate().for_each(|(y, row)| pass(y, row, None));
+        }
         cur = next;
     }
-    Image::from_vec(img.width, img.height, cur)
+    (Image::from_vec(img.width, img.height, cur), cur_ref.map(|d| Image::from_vec(img.width, img.height, d)))
 }

@@ -1,9 +1,17 @@
 //! What is done to the rendered frames before the image is measured, by name: an optional temporal
-//! part (`mean`, `emaA`) then an optional spatial one (`gauss`, `atrous`), joined by `+`; `raw` is
-//! neither. Names round-trip: `"ema0.1+atrous".parse::<Pipeline>()?.to_string() == "ema0.1+atrous"`.
+//! part (`mean`, `emaA`, `taaA`) then an optional spatial one (`gauss`, `atrous`), joined by `+`;
+//! `svgf` is a whole pipeline on its own (its temporal part and à-trous filter are one: its
+//! history is its first à-trous pass); `raw` is nothing. `atrous` and `svgf` take an optional
+//! iteration count, `atrous:3`, `svgf:5` (default: `edges::default_iterations`, a share of the
+//! image). Names round-trip: `"ema0.1+atrous".parse::<Pipeline>()?.to_string() == "ema0.1+atrous"`.
+//!
+//! `Pipeline::start` gives the stateful per-run filter (`FrameFilter`) that runs any pipeline
+//! frame by frame; `accumulator` and `apply_spatial` are the older two-step path (accumulate all
+//! frames, then filter the result), for the pipelines it can express (no `taa`, no `svgf`).
 
 use super::accumulate::{Accumulator, Temporal};
 use super::atrous::{AtrousParams, atrous};
+use super::filter::{FrameFilter, Run};
 use super::gaussian::{GAUSS_SIGMA, gaussian};
 use crate::image::Image;
 use crate::render::GBuffer;
@@ -15,8 +23,9 @@ use std::str::FromStr;
 pub enum Spatial {
     /// The normalized Gaussian of σ = `GAUSS_SIGMA` pixels over covered pixels (`gaussian`).
     Gauss,
-    /// The edge-avoiding à-trous filter with `AtrousParams::default()` (`atrous`).
-    Atrous,
+    /// The edge-avoiding à-trous filter with `AtrousParams::default()` (`atrous`) and this many
+    /// passes (None: the share-of-image default).
+    Atrous(Option<u32>),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,10 +34,14 @@ pub struct Pipeline {
     pub spatial: Option<Spatial>,
 }
 
+/// The most à-trous passes a name may ask for (a 16381 px footprint).
+pub const MAX_ITERATIONS: u32 = 12;
+
 /// What a pipeline name may be, for errors.
-pub const ALLOWED: &str = "raw, gauss, atrous, mean, emaA (0 < A <= 1, e.g. ema0.1), or a temporal part \
-                           (mean, emaA) then a spatial one (gauss, atrous) joined by '+', e.g. \
-                           ema0.1+atrous, mean+gauss";
+pub const ALLOWED: &str = "raw, gauss, atrous, mean, emaA, taaA (0 < A <= 1, e.g. ema0.1, taa0.1), svgf, \
+                           or a temporal part (mean, emaA, taaA) then a spatial one (gauss, atrous) joined \
+                           by '+', e.g. ema0.1+atrous, taa0.1+atrous, mean+gauss; atrous and svgf take an \
+                           iteration count 1..=12 after ':', e.g. atrous:3, svgf:5";
 
 impl Pipeline {
     pub const RAW: Pipeline = Pipeline { temporal: None, spatial: None };
@@ -38,7 +51,15 @@ impl Pipeline {
         self.temporal.is_some()
     }
 
-    /// A fresh accumulator for the temporal part, if there is one.
+    /// The stateful filter of one run of `width` × `height` frames: each `push` takes the next
+    /// frame and returns the image after the whole pipeline (`FrameFilter`). Default iteration
+    /// counts are settled here, from the size.
+    pub fn start(&self, width: u32, height: u32) -> Box<dyn FrameFilter> {
+        Box::new(Run::new(*self, width, height))
+    }
+
+    /// A fresh accumulator for the temporal part, if there is one (the older path; panics for
+    /// `taa` and `svgf`, which only `start` runs).
     pub fn accumulator(&self) -> Option<Accumulator> {
         self.temporal.map(Accumulator::new)
     }
@@ -50,7 +71,9 @@ impl Pipeline {
         match self.spatial {
             None => img.clone(),
             Some(Spatial::Gauss) => gaussian(img, &gbuf.coverage, GAUSS_SIGMA),
-            Some(Spatial::Atrous) => atrous(img, gbuf, &AtrousParams::default()),
+            Some(Spatial::Atrous(k)) => {
+                atrous(img, gbuf, &AtrousParams { iterations: k, ..AtrousParams::default() })
+            }
         }
     }
 }
@@ -67,21 +90,49 @@ impl fmt::Display for PipelineError {
 
 impl std::error::Error for PipelineError {}
 
-fn temporal(part: &str) -> Option<Result<Temporal, String>> {
-    if part == "mean" {
-        return Some(Ok(Temporal::Mean));
+/// `name` or `name:K`: (name, K).
+fn iterations(part: &str) -> Result<(&str, Option<u32>), String> {
+    match part.split_once(':') {
+        None => Ok((part, None)),
+        Some((name, k)) => match k.parse::<u32>() {
+            Ok(k) if (1..=MAX_ITERATIONS).contains(&k) && (name == "atrous" || name == "svgf") => {
+                Ok((name, Some(k)))
+            }
+            Ok(_) | Err(_) if name == "atrous" || name == "svgf" => {
+                Err(format!("the iteration count in '{part}' must be a whole number in 1..={MAX_ITERATIONS}"))
+            }
+            _ => Err(format!("'{part}': only atrous and svgf take an iteration count")),
+        },
     }
-    let a = part.strip_prefix("ema")?;
+}
+
+fn weight(part: &str, prefix: &str) -> Option<Result<f32, String>> {
+    let a = part.strip_prefix(prefix)?;
     Some(match a.parse::<f32>() {
-        Ok(alpha) if alpha > 0.0 && alpha <= 1.0 => Ok(Temporal::Ema(alpha)),
-        _ => Err(format!("the EMA weight in '{part}' must be a number in (0, 1], e.g. ema0.1")),
+        Ok(alpha) if alpha > 0.0 && alpha <= 1.0 => Ok(alpha),
+        _ => Err(format!("the weight in '{part}' must be a number in (0, 1], e.g. {prefix}0.1")),
     })
 }
 
-fn spatial(part: &str) -> Option<Spatial> {
-    match part {
-        "gauss" => Some(Spatial::Gauss),
-        "atrous" => Some(Spatial::Atrous),
+fn temporal(part: &str) -> Option<Result<Temporal, String>> {
+    let (name, k) = match iterations(part) {
+        Ok(v) => v,
+        Err(e) => return part.starts_with("svgf").then_some(Err(e)),
+    };
+    match name {
+        "mean" => Some(Ok(Temporal::Mean)),
+        "svgf" => Some(Ok(Temporal::Svgf(k))),
+        _ => weight(name, "ema")
+            .map(|r| r.map(Temporal::Ema))
+            .or_else(|| weight(name, "taa").map(|r| r.map(Temporal::Taa))),
+    }
+}
+
+fn spatial(part: &str) -> Option<Result<Spatial, String>> {
+    match iterations(part) {
+        Ok(("gauss", None)) => Some(Ok(Spatial::Gauss)),
+        Ok(("atrous", k)) => Some(Ok(Spatial::Atrous(k))),
+        Err(e) if part.starts_with("atrous") || part.starts_with("gauss") => Some(Err(e)),
         _ => None,
     }
 }
@@ -98,7 +149,7 @@ impl FromStr for Pipeline {
         match parts.as_slice() {
             [one] => {
                 if let Some(sp) = spatial(one) {
-                    return Ok(Pipeline { temporal: None, spatial: Some(sp) });
+                    return Ok(Pipeline { temporal: None, spatial: Some(sp.map_err(refuse)?) });
                 }
                 match temporal(one) {
                     Some(Ok(t)) => Ok(Pipeline { temporal: Some(t), spatial: None }),
@@ -108,20 +159,34 @@ impl FromStr for Pipeline {
             }
             [t, sp] => {
                 let t = match temporal(t) {
+                    Some(Ok(Temporal::Svgf(_))) => {
+                        return Err(refuse(format!(
+                            "'{t}' has its own spatial part and takes none after it"
+                        )));
+                    }
                     Some(Ok(t)) => t,
                     Some(Err(e)) => return Err(refuse(e)),
                     None => {
                         return Err(refuse(format!(
-                            "'{t}' is no temporal part (mean, emaA); it comes first"
+                            "'{t}' is no temporal part (mean, emaA, taaA); it comes first"
                         )));
                     }
                 };
-                let sp = spatial(sp)
-                    .ok_or_else(|| refuse(format!("'{sp}' is no spatial filter (gauss, atrous)")))?;
+                let sp = match spatial(sp) {
+                    Some(r) => r.map_err(refuse)?,
+                    None => return Err(refuse(format!("'{sp}' is no spatial filter (gauss, atrous)"))),
+                };
                 Ok(Pipeline { temporal: Some(t), spatial: Some(sp) })
             }
             _ => Err(refuse("at most one temporal and one spatial part".into())),
         }
+    }
+}
+
+fn with_iterations(name: &str, k: Option<u32>) -> String {
+    match k {
+        None => name.to_string(),
+        Some(k) => format!("{name}:{k}"),
     }
 }
 
@@ -130,10 +195,12 @@ impl fmt::Display for Pipeline {
         let t = self.temporal.map(|t| match t {
             Temporal::Mean => "mean".to_string(),
             Temporal::Ema(a) => format!("ema{a}"),
+            Temporal::Taa(a) => format!("taa{a}"),
+            Temporal::Svgf(k) => with_iterations("svgf", k),
         });
         let s = self.spatial.map(|s| match s {
             Spatial::Gauss => "gauss".to_string(),
-            Spatial::Atrous => "atrous".to_string(),
+            Spatial::Atrous(k) => with_iterations("atrous", k),
         });
         match (t, s) {
             (None, None) => f.write_str("raw"),
@@ -150,22 +217,60 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_bad_ones_say_what_is_allowed() {
-        for name in ["raw", "gauss", "atrous", "mean", "ema0.1", "ema0.1+atrous", "mean+atrous", "ema1+gauss"]
-        {
+        for name in [
+            "raw",
+            "gauss",
+            "atrous",
+            "atrous:3",
+            "mean",
+            "ema0.1",
+            "ema0.1+atrous",
+            "ema0.1+atrous:5",
+            "mean+atrous",
+            "ema1+gauss",
+            "taa0.1",
+            "taa0.1+atrous",
+            "taa0.25+gauss",
+            "svgf",
+            "svgf:4",
+            "svgf:12",
+        ] {
             let p: Pipeline = name.parse().unwrap();
             assert_eq!(p.to_string(), name);
         }
         assert_eq!("ema0.1+atrous".parse::<Pipeline>().unwrap().temporal, Some(Temporal::Ema(0.1)));
+        assert_eq!(
+            "taa0.1+atrous:2".parse::<Pipeline>().unwrap(),
+            Pipeline { temporal: Some(Temporal::Taa(0.1)), spatial: Some(Spatial::Atrous(Some(2))) }
+        );
+        assert_eq!(
+            "svgf:4".parse::<Pipeline>().unwrap(),
+            Pipeline { temporal: Some(Temporal::Svgf(Some(4))), spatial: None }
+        );
+        assert!("svgf".parse::<Pipeline>().unwrap().is_temporal());
         for bad in [
             "",
             "blur",
             "ema0",
             "ema1.5",
             "emax",
+            "taa0",
+            "taa2",
             "atrous+mean",
             "mean+ema0.1",
             "raw+atrous",
             "mean+atrous+gauss",
+            "svgf+atrous",
+            "svgf+gauss",
+            "atrous+svgf",
+            "atrous:0",
+            "atrous:13",
+            "atrous:x",
+            "atrous:",
+            "svgf:0",
+            "gauss:2",
+            "ema0.1:3",
+            "mean+atrous:0",
         ] {
             let e = bad.parse::<Pipeline>().unwrap_err().to_string();
             assert!(e.contains(&format!("'{bad}'")) && e.contains(ALLOWED), "{bad}: {e}");

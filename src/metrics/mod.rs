@@ -3,11 +3,13 @@
 //! ratio (`lowfreq`: low-pass energy against white noise's, with a sign: < 1 blue, > 1 clumped), the
 //! whiteness z-score (`whiteness`: a test of any correlation, every short lag, every direction), the
 //! lag-1 autocorrelation and the low-pass RMSE say whether the error is *structured* — the paper's
-//! Table 3 banding, which RMSE alone cannot see.
+//! Table 3 banding, which RMSE alone cannot see. `flicker` is a sequence's temporal stability.
 
+pub mod flicker;
 pub mod lowfreq;
 pub mod whiteness;
 
+pub use flicker::{flicker, flicker_sequence};
 pub use lowfreq::{STRUCTURED_RATIO, lowfreq_ratio, lowpass_rmse};
 
 use crate::image::Image;

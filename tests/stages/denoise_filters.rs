@@ -2,42 +2,27 @@
 //! à-trous filter (on a flat plane, where every edge-stopping weight is 1) reduce white noise's
 //! variance by Σ K² of their kernel, within a stated number of standard errors; à-trous does not
 //! leak across a depth step or a normal crease (synthetic and rendered); the running mean and the
-//! EMA are their closed forms; everything is the same for any thread count.
+//! warm-started EMA are their closed forms; everything (every pipeline run frame by frame too) is
+//! the same for any thread count.
 
+use crate::support::images::{cornell, image, normals, synthetic};
 use glam::Vec3;
-use hemilab::denoise::{Accumulator, AtrousParams, GAUSS_SIGMA, Pipeline, Temporal, atrous, gaussian};
+use hemilab::denoise::{
+    Accumulator, AtrousParams, GAUSS_SIGMA, Motion, Pipeline, Temporal, atrous, gaussian,
+};
 use hemilab::image::Image;
 use hemilab::load::load_scene;
 use hemilab::render::{GBuffer, gbuffer};
 use std::path::Path;
 
-/// SplitMix64-based standard normals (Box–Muller), fixed seeds: the tests cannot flake.
-fn normals(n: usize, seed: u64) -> Vec<f64> {
-    hemilab::stats::normals_from_state(n, seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x1234_5678)
-}
-
-fn image(w: u32, h: u32, f: impl Fn(u32, u32) -> f32) -> Image {
-    Image::from_vec(w, h, (0..w * h).map(|i| f(i % w, i / w)).collect())
-}
-
-/// A synthetic G-buffer: every pixel covered, depth and normal by pixel.
-fn synthetic(w: u32, h: u32, depth: impl Fn(u32, u32) -> f32, normal: impl Fn(u32, u32) -> Vec3) -> GBuffer {
-    GBuffer {
-        width: w,
-        height: h,
-        depth: image(w, h, &depth),
-        normal: (0..w * h).map(|i| normal(i % w, i / w)).collect(),
-        coverage: image(w, h, |_, _| 1.0),
-    }
-}
-
-fn cornell(w: u32, h: u32) -> GBuffer {
-    let scene = load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml")).unwrap();
-    gbuffer(&scene, w, h)
+/// Dammertz's five passes, which the edge-stopping tests below were written for (the default is a
+/// share of the image: one pass on these small images).
+fn five() -> AtrousParams {
+    AtrousParams::default().with_iterations(5)
 }
 
 fn with_value(sigma: f32) -> AtrousParams {
-    AtrousParams { sigma_value: Some(sigma), ..AtrousParams::default() }
+    AtrousParams { sigma_value: Some(sigma), ..five() }
 }
 
 #[test]
@@ -56,10 +41,14 @@ fn every_filter_keeps_a_constant_and_leaves_the_background() {
         let filtered = [
             ("gauss", gaussian(&img, &g.coverage, GAUSS_SIGMA)),
             ("atrous", atrous(&img, &g, &AtrousParams::default())),
+            ("atrous:5", atrous(&img, &g, &five())),
             ("atrous+value", atrous(&img, &g, &with_value(0.1))),
             ("pipeline atrous", "atrous".parse::<Pipeline>().unwrap().apply_spatial(&img, &g)),
             ("pipeline raw", Pipeline::RAW.apply_spatial(&img, &g)),
-        ];
+        ]
+        .into_iter()
+        .map(|(n, o)| (n.to_string(), o))
+        .chain(every_pipeline_on(&img, &g));
         for (name, out) in filtered {
             for i in 0..img.len() {
                 let want = img.data[i];
@@ -75,12 +64,41 @@ fn every_filter_keeps_a_constant_and_leaves_the_background() {
     for mode in [Temporal::Mean, Temporal::Ema(0.1), Temporal::Ema(1.0)] {
         let mut acc = Accumulator::new(mode);
         let frame = image(5, 4, |x, y| 0.1 * (x + 7 * y) as f32 + 0.013);
+        assert_eq!(acc.image(), Image::from_vec(0, 0, vec![]));
         for _ in 0..20 {
             acc.push(&frame);
         }
         assert_eq!(acc.image(), frame, "{mode:?}");
         assert_eq!(acc.frames(), 20);
     }
+}
+
+/// Every pipeline kind, run by `Pipeline::start` over 6 frames of `img` (static camera): the
+/// last output.
+fn every_pipeline_on(img: &Image, g: &GBuffer) -> Vec<(String, Image)> {
+    let names = [
+        "raw",
+        "gauss",
+        "atrous:5",
+        "mean+atrous",
+        "ema0.1+gauss",
+        "taa0.1",
+        "taa0.1+atrous:3",
+        "svgf",
+        "svgf:5",
+    ];
+    names
+        .iter()
+        .map(|name| {
+            let mut f = name.parse::<Pipeline>().unwrap().start(img.width, img.height);
+            let still = Motion::identity(img.width, img.height);
+            let mut out = img.clone();
+            for _ in 0..6 {
+                out = f.push(img, g, &still);
+            }
+            (format!("pipeline {name}"), out)
+        })
+        .collect()
 }
 
 /// Σ_l (k⋆k)_l² / (Σ_l k_l²)² of a 1-D kernel: for white noise filtered by k ⊗ k, the relative
@@ -155,15 +173,14 @@ fn atrous_on_a_flat_plane_reduces_white_noise_variance_by_its_kernels_sum_of_squ
         k = next;
     }
     let margin = (k.len() / 2) as u32;
-    let (got, want, sd) =
-        variance_ratio(w, h, &k, margin, 32, |img| atrous(img, &g, &AtrousParams::default()));
+    let (got, want, sd) = variance_ratio(w, h, &k, margin, 32, |img| atrous(img, &g, &five()));
     eprintln!("atrous on a plane: variance × {got:.6}, Σ K² = {want:.6} ± {sd:.6}");
     assert!((got - want).abs() < 4.0 * sd, "{got} vs {want} ± {sd}");
     assert!(got < 0.01, "variance down by more than 100×: {got}");
     // Over the whole image, border included, still far down.
     let n = normals((w * h) as usize, 99);
     let noisy = Image::from_vec(w, h, n.iter().map(|&v| v as f32).collect());
-    let out = atrous(&noisy, &g, &AtrousParams::default());
+    let out = atrous(&noisy, &g, &five());
     let var = out.data.iter().map(|&v| (v as f64).powi(2)).sum::<f64>() / out.len() as f64;
     assert!(var < 0.02, "whole-image variance × {var}");
 }
@@ -209,10 +226,10 @@ fn atrous_does_not_leak_across_a_depth_step_or_a_normal_crease() {
         ("30° crease", crease(w, h, 15f32.to_radians()), 1e-5),
     ];
     for (name, g, bound) in cases {
-        let out = atrous(&img, &g, &AtrousParams::default());
+        let out = atrous(&img, &g, &five());
         // The clean step filtered alone shows the leak apart from the noise's removal.
         let clean = image(w, h, |x, _| if x < 32 { 0.0 } else { 1.0 });
-        let clean_out = atrous(&clean, &g, &AtrousParams::default());
+        let clean_out = atrous(&clean, &g, &five());
         let (l, r) = (leak(&clean, &clean_out, left), leak(&clean, &clean_out, |x, y| !left(x, y)));
         eprintln!("{name}: leak left {l:.2e}, right {r:.2e}");
         assert!(l < bound && r < bound, "{name}: leak {l:e} / {r:e} (bound {bound:e})");
@@ -240,32 +257,34 @@ fn atrous_keeps_the_rendered_rectangle_apart_from_the_floor() {
     let on_rect = |i: usize| g.depth.data[i] < 9.5;
     let img =
         Image::from_vec(w, h, (0..(w * h) as usize).map(|i| if on_rect(i) { 1.0 } else { 0.0 }).collect());
-    let out = atrous(&img, &g, &AtrousParams::default());
+    let out = atrous(&img, &g, &five());
     let worst = (0..img.len()).map(|i| (out.data[i] - img.data[i]).abs()).fold(0.0, f32::max);
     assert!(worst < 1e-6, "leak across the rendered step: {worst:e}");
 }
 
 #[test]
 fn running_mean_and_ema_match_their_closed_forms() {
+    // The warm-started EMA: s_n = s_{n−1} + a_n (x_n − s_{n−1}), a_n = max(α, 1/n), so the weight
+    // of frame j in s_n is a_j Π_{i=j+1..n} (1 − a_i) (a_1 = 1); the mean is α = 0.
     let (w, h, frames) = (7u32, 5u32, 30usize);
     let xs: Vec<Vec<f64>> = (0..frames).map(|k| normals((w * h) as usize, 1000 + k as u64)).collect();
     let frame = |k: usize| Image::from_vec(w, h, xs[k].iter().map(|&v| v as f32).collect());
     for mode in [Temporal::Mean, Temporal::Ema(0.1), Temporal::Ema(0.5)] {
+        let alpha = match mode {
+            Temporal::Ema(a) => a as f64,
+            _ => 0.0,
+        };
+        let a = |n: usize| alpha.max(1.0 / n as f64);
         let mut acc = Accumulator::new(mode);
         for k in 0..frames {
             acc.push(&frame(k));
             let got = acc.image();
+            let n = k + 1;
             for (i, &g) in got.data.iter().enumerate() {
                 let x = |j: usize| xs[j][i] as f32 as f64;
-                let want = match mode {
-                    Temporal::Mean => (0..=k).map(x).sum::<f64>() / (k + 1) as f64,
-                    // s_k = (1−α)^k x_0 + Σ_{j=1..k} α (1−α)^(k−j) x_j.
-                    Temporal::Ema(a) => {
-                        let a = a as f64;
-                        (1.0 - a).powi(k as i32) * x(0)
-                            + (1..=k).map(|j| a * (1.0 - a).powi((k - j) as i32) * x(j)).sum::<f64>()
-                    }
-                };
+                let want: f64 = (1..=n)
+                    .map(|j| a(j) * ((j + 1)..=n).map(|m| 1.0 - a(m)).product::<f64>() * x(j - 1))
+                    .sum();
                 assert!((g as f64 - want).abs() < 1e-6, "{mode:?} frame {k} pixel {i}");
             }
         }
@@ -283,8 +302,9 @@ fn filters_are_bit_identical_for_any_thread_count() {
         pool.install(|| {
             (
                 gaussian(&img, &g.coverage, GAUSS_SIGMA),
-                atrous(&img, &g, &AtrousParams::default()),
+                atrous(&img, &g, &five()),
                 atrous(&img, &g, &with_value(0.2)),
+                every_pipeline_on(&img, &g),
             )
         })
     };

@@ -9,7 +9,7 @@
 //! frame by frame; `accumulator` and `apply_spatial` are the older two-step path (accumulate all
 //! frames, then filter the result), for the pipelines it can express (no `taa`, no `svgf`).
 
-use super::accumulate::{Accumulator, Temporal};
+use super::accumulate::Temporal;
 use super::atrous::{AtrousParams, atrous};
 use super::filter::{FrameFilter, Run};
 use super::gaussian::{GAUSS_SIGMA, gaussian};
@@ -56,12 +56,6 @@ impl Pipeline {
     /// counts are settled here, from the size.
     pub fn start(&self, width: u32, height: u32) -> Box<dyn FrameFilter> {
         Box::new(Run::new(*self, width, height))
-    }
-
-    /// A fresh accumulator for the temporal part, if there is one (the older path; panics for
-    /// `taa` and `svgf`, which only `start` runs).
-    pub fn accumulator(&self) -> Option<Accumulator> {
-        self.temporal.map(Accumulator::new)
     }
 
     /// The spatial part applied to `img` (a frame, or the accumulated frames), guided by `gbuf`

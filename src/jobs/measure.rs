@@ -18,7 +18,7 @@
 //! frame rendered by `Frames` would be the same image bit for bit: `SingleFrame` exists so that
 //! the paper's path stays one render, with nothing of the frames' machinery around it.
 
-use crate::denoise::{Pipeline, Spatial};
+use crate::denoise::Motion;
 use crate::image::Image;
 use crate::metrics::{self, ErrorStats, MetricsError};
 use crate::plan::Measurement;
@@ -31,18 +31,19 @@ use std::collections::HashMap;
 pub struct Against<'a> {
     pub reference: &'a Image,
     pub coverage: &'a Image,
-    /// The scene's G-buffer at the job's size (`None` when no planned pipeline filters).
+    /// The scene's G-buffer at the job's size (`None` for a single frame).
     pub gbuffer: Option<&'a GBuffer>,
-    /// The reference under the measurement's spatial filter (`None`: no spatial part).
-    pub filtered_reference: Option<&'a Image>,
 }
 
 /// The image of one reported frame: after the whole pipeline, with the rays of every frame so
-/// far, and the render time of those frames (`None`: the caller's time of the whole render).
+/// far, the reference under the same filter weights (`denoise::FrameFilter::push_pair`: the noise
+/// part of its error is against that), and the render time of those frames (`None`: the caller's
+/// time of the whole render).
 pub struct FrameImage {
     /// The frame, counted from 1.
     pub frame: u32,
     pub output: RenderOutput,
+    pub filtered_reference: Option<Image>,
     pub time: Option<Time>,
 }
 
@@ -64,11 +65,11 @@ pub trait Measure: Sync {
 }
 
 /// A reported frame's error statistics against the reference and its noise RMSE: against the
-/// reference under the same spatial filter (`Against::filtered_reference`), else the RMSE itself.
-pub fn errors(image: &Image, against: &Against) -> Result<(ErrorStats, f64), MetricsError> {
-    let stats = metrics::measure(image, against.reference, against.coverage)?;
-    let noise = match against.filtered_reference {
-        Some(f) => metrics::measure(image, f, against.coverage)?.rmse,
+/// reference under the same filter weights, else (no filter) the RMSE itself.
+pub fn errors(image: &FrameImage, against: &Against) -> Result<(ErrorStats, f64), MetricsError> {
+    let stats = metrics::measure(&image.output.ao, against.reference, against.coverage)?;
+    let noise = match &image.filtered_reference {
+        Some(f) => metrics::measure(&image.output.ao, f, against.coverage)?.rmse,
         None => stats.rmse,
     };
     Ok((stats, noise))
@@ -87,7 +88,7 @@ impl Measure for SingleFrame {
         progress: &(dyn Fn(u64) + Sync),
     ) -> Vec<FrameImage> {
         let output = render::render_integrand(scene, rj, self.0.integrand, progress);
-        vec![FrameImage { frame: 1, output, time: None }]
+        vec![FrameImage { frame: 1, output, filtered_reference: None, time: None }]
     }
 
     fn frames(&self) -> u64 {
@@ -95,7 +96,10 @@ impl Measure for SingleFrame {
     }
 }
 
-/// Frames accumulated and filtered by a pipeline.
+/// Frames pushed through a pipeline (`denoise::Pipeline::start`): every frame the pipeline shows
+/// is filtered in order, since its history is its own output; the reference is pushed beside them
+/// under the same weights, so that the noise part of the error is measured for a non-linear
+/// filter too.
 pub struct Frames(pub Measurement);
 
 impl Measure for Frames {
@@ -111,7 +115,9 @@ impl Measure for Frames {
         let last = reported.iter().copied().max().unwrap_or(m.frame).max(1);
         // A pipeline that does not accumulate shows one frame: the last one alone is rendered.
         let rendered: Vec<u32> = if m.pipeline.is_temporal() { (0..last).collect() } else { vec![last - 1] };
-        let mut acc = m.pipeline.accumulator();
+        let gbuf = against.gbuffer.expect("a filtered measurement has its G-buffer");
+        let motion = Motion::identity(rj.width, rj.height);
+        let mut filter = m.pipeline.start(rj.width, rj.height);
         let (mut rays, mut occluded) = (0u64, 0u64);
         let mut spent = Time { cpu_s: 0.0, wall_s: 0.0 };
         let mut out = Vec::with_capacity(reported.len());
@@ -119,23 +125,21 @@ impl Measure for Frames {
             let frame = RenderJob { sampler: rj.sampler.with_frame(f).with_schedule(m.schedule), ..*rj };
             let (c0, w0) = (clock::thread_cpu_s(), clock::wall_s());
             let mut o = render::render_integrand(scene, &frame, m.integrand, progress);
-            if let Some(a) = acc.as_mut() {
-                a.push(&o.ao);
-            }
-            (spent.cpu_s, spent.wall_s) =
-                (spent.cpu_s + clock::thread_cpu_s() - c0, spent.wall_s + clock::wall_s() - w0);
+            spent.cpu_s += clock::thread_cpu_s() - c0;
+            spent.wall_s += clock::wall_s() - w0;
             rays += o.rays;
             occluded += o.occluded_rays;
+            let (shown, filtered_reference) = filter.push_pair(&o.ao, against.reference, gbuf, &motion);
             if !reported.contains(&(f + 1)) {
                 continue;
             }
-            let shown = acc.as_ref().map_or_else(|| o.ao.clone(), |a| a.image());
-            o.ao = match (m.pipeline.spatial, against.gbuffer) {
-                (Some(_), Some(g)) => m.pipeline.apply_spatial(&shown, g),
-                _ => shown,
-            };
-            (o.rays, o.occluded_rays) = (rays, occluded);
-            out.push(FrameImage { frame: f + 1, output: o, time: Some(spent) });
+            (o.ao, o.rays, o.occluded_rays) = (shown, rays, occluded);
+            out.push(FrameImage {
+                frame: f + 1,
+                output: o,
+                filtered_reference: Some(filtered_reference),
+                time: Some(spent),
+            });
         }
         out
     }
@@ -150,18 +154,11 @@ pub fn of(m: &Measurement) -> Box<dyn Measure> {
     if m.is_single_frame() { Box::new(SingleFrame(*m)) } else { Box::new(Frames(*m)) }
 }
 
-/// The spatial part of `pipeline` alone (no temporal part): what a converged reference goes through.
-pub fn spatial_only(pipeline: Pipeline) -> Pipeline {
-    Pipeline { temporal: None, ..pipeline }
-}
-
-/// What a plan's filtered measurements are guided by and compared with, made once before any job:
-/// per reference (index), the scene's G-buffer at the job's size, and the reference under each
-/// spatial filter a planned pipeline applies.
+/// What a plan's multi-frame measurements are guided by, made once before any job: per reference
+/// (index), the scene's G-buffer at the job's size.
 #[derive(Default)]
 pub struct Guides {
     gbuffers: HashMap<usize, GBuffer>,
-    filtered: HashMap<(usize, Spatial), Image>,
 }
 
 impl Guides {
@@ -169,31 +166,18 @@ impl Guides {
     pub fn new<'a>(
         needs: impl IntoIterator<Item = (usize, &'a Measurement, u32, u32)>,
         scene: impl Fn(usize) -> &'a Scene,
-        reference: impl Fn(usize) -> &'a Image,
     ) -> Self {
         let mut g = Guides::default();
         for (t, m, w, h) in needs {
-            let Some(spatial) = m.pipeline.spatial else { continue };
-            let gbuf = g.gbuffers.entry(t).or_insert_with(|| render::gbuffer(scene(t), w, h));
-            let sp = spatial_only(m.pipeline);
-            g.filtered.entry((t, spatial)).or_insert_with(|| sp.apply_spatial(reference(t), gbuf));
+            if !m.is_single_frame() {
+                g.gbuffers.entry(t).or_insert_with(|| render::gbuffer(scene(t), w, h));
+            }
         }
         g
     }
 
-    /// What a job of reference `target` under `m` is measured against.
-    pub fn against<'a>(
-        &'a self,
-        target: usize,
-        m: &Measurement,
-        reference: &'a Image,
-        coverage: &'a Image,
-    ) -> Against<'a> {
-        Against {
-            reference,
-            coverage,
-            gbuffer: self.gbuffers.get(&target),
-            filtered_reference: m.pipeline.spatial.and_then(|s| self.filtered.get(&(target, s))),
-        }
+    /// What a job of reference `target` is measured against.
+    pub fn against<'a>(&'a self, target: usize, reference: &'a Image, coverage: &'a Image) -> Against<'a> {
+        Against { reference, coverage, gbuffer: self.gbuffers.get(&target) }
     }
 }

@@ -266,7 +266,6 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             .enumerate()
             .map(|(i, j)| (loaded.scene_of(j).0, &j.measurement, jobs[i].width, jobs[i].height)),
         |si| &loaded.scenes[si],
-        |si| &references[si].mean,
     );
     let frames_of = |id: usize| measures.get(id).map_or(1, |m| m.frames());
     let pixels = |id: usize| jobs[id].width as u64 * jobs[id].height as u64 * frames_of(id);
@@ -297,14 +296,8 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
         let mut reported: Vec<u32> = members.iter().map(|&i| frame_of(i)).collect();
         reported.sort_unstable();
         reported.dedup();
-        let job = plan.jobs.get(slot.job);
         let reference = &references[si];
-        let against = match job {
-            Some(job) => guides.against(si, &job.measurement, &reference.mean, &reference.coverage),
-            None => {
-                guides.against(si, &crate::plan::Measurement::PAPER, &reference.mean, &reference.coverage)
-            }
-        };
+        let against = guides.against(si, &reference.mean, &reference.coverage);
         let (images, time): (Vec<super::measure::FrameImage>, Time) =
             worker.timed(|| measure.render(scene, rj, &reported, &against, &|px| bar.inc(px * rays)));
         let mut parts = Vec::with_capacity(members.len());
@@ -317,7 +310,7 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             }
             let job = &plan.jobs[i];
             let refuse = |e: metrics::MetricsError| Error::Refused(format!("job {}: {e}", job.file_stem()));
-            let (stats, noise_rmse) = super::measure::errors(&img.output.ao, &against).map_err(refuse)?;
+            let (stats, noise_rmse) = super::measure::errors(img, &against).map_err(refuse)?;
             let image = keep(i, job, &img.output)?;
             let mut record = JobResult::new(job, &stats, img.output.rays, image);
             record.noise_rmse = noise_rmse;

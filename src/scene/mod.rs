@@ -10,7 +10,11 @@ pub mod file;
 pub mod foliage;
 #[cfg(any(test, feature = "testing"))]
 pub mod generate;
+pub mod dds;
+pub mod gltf_accessor;
+pub mod gltf_ext;
 pub mod gltf_mesh;
+pub mod gltf_meshopt;
 #[cfg(any(test, feature = "testing"))]
 pub mod gltf_write;
 pub mod mesh;

@@ -24,10 +24,18 @@ pub fn alpha(bytes: &[u8]) -> Result<(u32, u32, Vec<f32>), String> {
     let dds = Dds::read(bytes).map_err(|e| format!("does not read as DDS: {e}"))?;
     let layout = match (dds.get_dxgi_format(), dds.get_d3d_format()) {
         (Some(f), _) => match f {
-            DxgiFormat::BC1_UNorm | DxgiFormat::BC1_UNorm_sRGB | DxgiFormat::BC1_Typeless => Some(Layout::Bc1),
-            DxgiFormat::BC2_UNorm | DxgiFormat::BC2_UNorm_sRGB | DxgiFormat::BC2_Typeless => Some(Layout::Bc2),
-            DxgiFormat::BC3_UNorm | DxgiFormat::BC3_UNorm_sRGB | DxgiFormat::BC3_Typeless => Some(Layout::Bc3),
-            DxgiFormat::BC7_UNorm | DxgiFormat::BC7_UNorm_sRGB | DxgiFormat::BC7_Typeless => Some(Layout::Bc7),
+            DxgiFormat::BC1_UNorm | DxgiFormat::BC1_UNorm_sRGB | DxgiFormat::BC1_Typeless => {
+                Some(Layout::Bc1)
+            }
+            DxgiFormat::BC2_UNorm | DxgiFormat::BC2_UNorm_sRGB | DxgiFormat::BC2_Typeless => {
+                Some(Layout::Bc2)
+            }
+            DxgiFormat::BC3_UNorm | DxgiFormat::BC3_UNorm_sRGB | DxgiFormat::BC3_Typeless => {
+                Some(Layout::Bc3)
+            }
+            DxgiFormat::BC7_UNorm | DxgiFormat::BC7_UNorm_sRGB | DxgiFormat::BC7_Typeless => {
+                Some(Layout::Bc7)
+            }
             DxgiFormat::R8G8B8A8_UNorm
             | DxgiFormat::R8G8B8A8_UNorm_sRGB
             | DxgiFormat::B8G8R8A8_UNorm

@@ -25,11 +25,7 @@ where
         _ => unreachable!("positions and texture coordinates only"),
     };
     if accessor.dimensions() != want {
-        return Err(format!(
-            "accessor {} is {:?}, not {want:?}",
-            accessor.index(),
-            accessor.dimensions()
-        ));
+        return Err(format!("accessor {} is {:?}, not {want:?}", accessor.index(), accessor.dimensions()));
     }
     let norm = accessor.normalized();
     let got = match accessor.data_type() {
@@ -54,7 +50,8 @@ where
     T: Copy + Into<f64>,
     [T; N]: Item,
 {
-    let iter = Iter::<[T; N]>::new(accessor.clone(), |b: ::gltf::Buffer| buffers.get(b.index()).map(|d| &d[..]))?;
+    let iter =
+        Iter::<[T; N]>::new(accessor.clone(), |b: ::gltf::Buffer| buffers.get(b.index()).map(|d| &d[..]))?;
     Some(
         iter.map(|v| {
             v.map(|c| {

@@ -94,7 +94,9 @@ fn required(required: &[String], json: &Value) -> Result<Vec<String>, String> {
 
 /// Whether a JSON path lies in what a glTF file draws.
 fn geometry(path: &str) -> bool {
-    ["meshes[", "accessors[", "bufferViews[", "buffers[", "nodes[", "scenes["].iter().any(|g| path.starts_with(g))
+    ["meshes[", "accessors[", "bufferViews[", "buffers[", "nodes[", "scenes["]
+        .iter()
+        .any(|g| path.starts_with(g))
 }
 
 /// The JSON paths (`materials[3].pbrMetallicRoughness.baseColorTexture`, …) of every object whose
@@ -170,7 +172,10 @@ mod tests {
         assert_eq!(p, ["materials[0]", "materials[1]"]);
         let notes = required(&["X_shade".into()], &doc).unwrap();
         assert_eq!(notes.len(), 1);
-        assert!(notes[0].contains("'X_shade'") && notes[0].contains("materials[0], materials[1]"), "{notes:?}");
+        assert!(
+            notes[0].contains("'X_shade'") && notes[0].contains("materials[0], materials[1]"),
+            "{notes:?}"
+        );
         let e = required(&["X_geo".into()], &doc).unwrap_err();
         assert!(e.contains("changes geometry (used at meshes[0].primitives[0])"), "{e}");
         let e = required(&["X_uv".into()], &doc).unwrap_err();

@@ -96,8 +96,9 @@ pub fn parse_gltf(
                 let mask = match (masks, material.index()) {
                     (true, Some(i)) if material.alpha_mode() == ::gltf::material::AlphaMode::Mask => {
                         if cutout_of[i].is_none() {
-                            let (c, set, uv) = cutout(&material, &document, &json, &buffers, fetch, &mut external)
-                                .map_err(|e| format!("{}: {e}", what()))?;
+                            let (c, set, uv) =
+                                cutout(&material, &document, &json, &buffers, fetch, &mut external)
+                                    .map_err(|e| format!("{}: {e}", what()))?;
                             let source = mesh.alpha.as_mut().expect("masks");
                             source.cutouts.push(c);
                             cutout_of[i] = Some(Mask { cutout: source.cutouts.len() as u32 - 1, set, uv });
@@ -151,7 +152,9 @@ fn cutout(
 ) -> Result<(Cutout, Option<u32>, Option<[[f64; 3]; 2]>), String> {
     let pbr = material.pbr_metallic_roughness();
     let (factor, cutoff) = (pbr.base_color_factor()[3], material.alpha_cutoff().unwrap_or(0.5));
-    let Some(info) = pbr.base_color_texture() else { return Ok((Cutout::uniform(factor, cutoff), None, None)) };
+    let Some(info) = pbr.base_color_texture() else {
+        return Ok((Cutout::uniform(factor, cutoff), None, None));
+    };
     let texture = info.texture();
     let image = match texture.source() {
         Some(image) => image,
@@ -170,7 +173,8 @@ fn cutout(
                         format!(", only extension sources ({})", names.join(", "))
                     };
                     return Err(format!(
-                        "texture {t} (the base colour texture of alpha-masked material {}): no image hemilab                          decodes: no core `source`{only}; a mask reads PNG, or DDS through MSFT_texture_dds",
+                        "texture {t} (the base colour texture of alpha-masked material {}): no image hemilab \
+                         decodes: no core `source`{only}; a mask reads PNG, or DDS through MSFT_texture_dds",
                         material.index().map_or("?".into(), |i| i.to_string())
                     ));
                 }
@@ -180,7 +184,8 @@ fn cutout(
     let bytes =
         image_bytes(&image, buffers, fetch, external).map_err(|e| format!("image {}: {e}", image.index()))?;
     let (w, h, alpha) = if bytes.starts_with(b"DDS ") {
-        super::dds::alpha(&bytes).map_err(|e| format!("image {}: the base colour texture: {e}", image.index()))?
+        super::dds::alpha(&bytes)
+            .map_err(|e| format!("image {}: the base colour texture: {e}", image.index()))?
     } else {
         super::alpha::decode(&bytes, Some(super::alpha::Channel::Alpha), "")
             .map_err(|e| format!("image {}: the base colour texture {e}", image.index()))?
@@ -266,7 +271,8 @@ fn primitive(
             let accessor = p.get(&::gltf::Semantic::TexCoords(set)).ok_or_else(|| {
                 format!("TEXCOORD_{set}: missing (the material's alpha mask needs texture coordinates)")
             })?;
-            let uvs = super::gltf_accessor::read::<2>(&accessor, buffers).map_err(|e| format!("TEXCOORD_{set}: {e}"))?;
+            let uvs = super::gltf_accessor::read::<2>(&accessor, buffers)
+                .map_err(|e| format!("TEXCOORD_{set}: {e}"))?;
             if uvs.len() < positions.len() {
                 return Err(format!(
                     "TEXCOORD_{set}: {} entries for {} vertices",

@@ -10,7 +10,9 @@
 
 use meshopt_rs::index::{buffer::decode_index_buffer, sequence::decode_index_sequence};
 use meshopt_rs::vertex::buffer::decode_vertex_buffer;
-use meshopt_rs::vertex::filter::{decode_filter_exp, decode_filter_oct_8, decode_filter_oct_16, decode_filter_quat};
+use meshopt_rs::vertex::filter::{
+    decode_filter_exp, decode_filter_oct_8, decode_filter_oct_16, decode_filter_quat,
+};
 use serde_json::Value;
 
 /// Whether buffer `i` is an `EXT_meshopt_compression` fallback buffer (no data of its own).
@@ -22,17 +24,24 @@ pub fn is_fallback(json: &Value, i: usize) -> bool {
 pub fn decode_views(json: &Value, buffers: &mut [Vec<u8>]) -> Result<(), String> {
     let views = json.get("bufferViews").and_then(Value::as_array).map_or(&[][..], |v| &v[..]);
     for (i, view) in views.iter().enumerate() {
-        let Some(ext) = view.get("extensions").and_then(|e| e.get("EXT_meshopt_compression")) else { continue };
-        decode_view(view, ext, buffers).map_err(|e| format!("bufferView {i}: EXT_meshopt_compression: {e}"))?;
+        let Some(ext) = view.get("extensions").and_then(|e| e.get("EXT_meshopt_compression")) else {
+            continue;
+        };
+        decode_view(view, ext, buffers)
+            .map_err(|e| format!("bufferView {i}: EXT_meshopt_compression: {e}"))?;
     }
     Ok(())
 }
 
 fn decode_view(view: &Value, ext: &Value, buffers: &mut [Vec<u8>]) -> Result<(), String> {
     let num = |v: &Value, k: &str, default: Option<u64>| {
-        v.get(k).map_or(default, Value::as_u64).map(|n| n as usize).ok_or_else(|| format!("`{k}` missing or not a count"))
+        v.get(k)
+            .map_or(default, Value::as_u64)
+            .map(|n| n as usize)
+            .ok_or_else(|| format!("`{k}` missing or not a count"))
     };
-    let (src, offset, len) = (num(ext, "buffer", None)?, num(ext, "byteOffset", Some(0))?, num(ext, "byteLength", None)?);
+    let (src, offset, len) =
+        (num(ext, "buffer", None)?, num(ext, "byteOffset", Some(0))?, num(ext, "byteLength", None)?);
     let (stride, count) = (num(ext, "byteStride", None)?, num(ext, "count", None)?);
     let mode = ext.get("mode").and_then(Value::as_str).unwrap_or("");
     let filter = ext.get("filter").and_then(Value::as_str).unwrap_or("NONE");
@@ -42,7 +51,8 @@ fn decode_view(view: &Value, ext: &Value, buffers: &mut [Vec<u8>]) -> Result<(),
         .ok_or_else(|| format!("its data (buffer {src}, bytes {offset}..+{len}) lies outside the buffer"))?;
     let mut out = decode(mode, stride, count, data)?;
     apply_filter(filter, mode, stride, &mut out)?;
-    let (dst, at, room) = (num(view, "buffer", None)?, num(view, "byteOffset", Some(0))?, num(view, "byteLength", None)?);
+    let (dst, at, room) =
+        (num(view, "buffer", None)?, num(view, "byteOffset", Some(0))?, num(view, "byteLength", None)?);
     if out.len() > room {
         return Err(format!("decodes to {} bytes ({count} x {stride}), the view holds {room}", out.len()));
     }
@@ -142,7 +152,9 @@ fn apply_filter(filter: &str, mode: &str, stride: usize, out: &mut [u8]) -> Resu
             out.copy_from_slice(&bytes);
         }
         ("OCTAHEDRAL" | "QUATERNION", _) => {
-            return Err(format!("filter {filter} with byteStride {stride} (OCTAHEDRAL needs 4 or 8, QUATERNION 8)"));
+            return Err(format!(
+                "filter {filter} with byteStride {stride} (OCTAHEDRAL needs 4 or 8, QUATERNION 8)"
+            ));
         }
         _ => return Err(format!("filter '{filter}' is not NONE, OCTAHEDRAL, QUATERNION or EXPONENTIAL")),
     }

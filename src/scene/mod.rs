@@ -5,12 +5,12 @@ pub mod accel;
 pub mod alpha;
 pub mod camera;
 mod cluster;
+pub mod dds;
 pub mod file;
 #[cfg(any(test, feature = "testing"))]
 pub mod foliage;
 #[cfg(any(test, feature = "testing"))]
 pub mod generate;
-pub mod dds;
 pub mod gltf_accessor;
 pub mod gltf_ext;
 pub mod gltf_mesh;

@@ -128,13 +128,16 @@ pub fn parse_gltf(
     Ok(Parsed { mesh, camera, external })
 }
 
+/// An affine map of texture coordinates, as rows of (u, v, 1): `KHR_texture_transform` (`affine`).
+type UvMap = [[f64; 3]; 2];
+
 /// Which cutout a masked primitive's triangles use (`SOLID` for the unmasked ones of a scene with
 /// masks), read at which TEXCOORD set, through which `KHR_texture_transform` (`affine`).
 #[derive(Clone, Copy)]
 struct Mask {
     cutout: u32,
     set: Option<u32>,
-    uv: Option<[[f64; 3]; 2]>,
+    uv: Option<UvMap>,
 }
 
 /// A masked material's cutout: its base colour texture's alpha (decoded here; nearest texel, wrapped
@@ -149,7 +152,7 @@ fn cutout(
     buffers: &[Vec<u8>],
     fetch: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
     external: &mut Vec<Vec<u8>>,
-) -> Result<(Cutout, Option<u32>, Option<[[f64; 3]; 2]>), String> {
+) -> Result<(Cutout, Option<u32>, Option<UvMap>), String> {
     let pbr = material.pbr_metallic_roughness();
     let (factor, cutoff) = (pbr.base_color_factor()[3], material.alpha_cutoff().unwrap_or(0.5));
     let Some(info) = pbr.base_color_texture() else {
@@ -208,7 +211,7 @@ fn cutout(
 /// scale 0.5 utilizes the lower left quadrant, rotated clockwise 90°") and three.js implements:
 /// u' = cos·u + sin·v, v' = −sin·u + cos·v, with v running down the image. Applied to each vertex's
 /// coordinates at load: an affine map commutes with the barycentric interpolation at a hit.
-pub fn affine(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> [[f64; 3]; 2] {
+pub fn affine(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> UvMap {
     let (s, c) = (rotation as f64).sin_cos();
     let (sx, sy) = (scale[0] as f64, scale[1] as f64);
     [[c * sx, s * sy, offset[0] as f64], [-s * sx, c * sy, offset[1] as f64]]

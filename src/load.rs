@@ -168,7 +168,12 @@ fn load_scene_with(path: &Path, rays: &dyn Fn((u32, u32)) -> Option<u64>) -> Res
     };
     let (mesh, file_camera, external) = if gltf {
         let mut fetch = |uri: &str| fetch(uri, scene::gltf_mesh::uri_path(uri));
-        let g = scene::gltf_mesh::parse_gltf(&bytes, &mut fetch).map_err(|e| Error::input(&mesh_path, e))?;
+        let mut g =
+            scene::gltf_mesh::parse_gltf(&bytes, &mut fetch).map_err(|e| Error::input(&mesh_path, e))?;
+        // Its warnings (extensions ignored) name the file they are about.
+        for n in &mut g.mesh.notes {
+            *n = format!("{}: {n}", spec.mesh);
+        }
         (g.mesh, g.camera, g.external)
     } else {
         let mut fetch = |name: &str| fetch(name, name.to_string());

@@ -32,12 +32,13 @@ pub fn parse_gltf(
     bytes: &[u8],
     fetch: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
 ) -> Result<Parsed, String> {
-    let ::gltf::Gltf { document, blob } =
-        ::gltf::Gltf::from_slice(bytes).map_err(|e| format!("not a readable glTF 2.0 file: {e}"))?;
+    let super::gltf_ext::Prepared { document, blob, json, notes } = super::gltf_ext::prepare(bytes)?;
     let mut buffers = Vec::new();
     let mut external = Vec::new();
     for b in document.buffers() {
         let data = match b.source() {
+            // An EXT_meshopt_compression fallback buffer has no bytes: its views are decoded into it.
+            _ if super::gltf_meshopt::is_fallback(&json, b.index()) => vec![0; b.length()],
             ::gltf::buffer::Source::Bin => blob.clone().ok_or_else(|| {
                 format!("buffer {}: refers to the GLB binary chunk, which the file lacks", b.index())
             })?,
@@ -62,7 +63,8 @@ pub fn parse_gltf(
         }
         buffers.push(data);
     }
-    let mut mesh = Mesh::default();
+    super::gltf_meshopt::decode_views(&json, &mut buffers)?;
+    let mut mesh = Mesh { notes, ..Mesh::default() };
     let mut camera = None;
     let roots: Vec<::gltf::Node> = match document.default_scene().or_else(|| document.scenes().next()) {
         Some(s) => s.nodes().collect(),
@@ -79,7 +81,7 @@ pub fn parse_gltf(
     if masks {
         mesh.alpha = Some(Source::default());
     }
-    let mut cutout_of: Vec<Option<u32>> = vec![None; document.materials().len()];
+    let mut cutout_of: Vec<Option<Mask>> = vec![None; document.materials().len()];
     while let Some((node, parent)) = stack.pop() {
         visited += 1;
         if visited > 1 << 24 {
@@ -94,17 +96,16 @@ pub fn parse_gltf(
                 let mask = match (masks, material.index()) {
                     (true, Some(i)) if material.alpha_mode() == ::gltf::material::AlphaMode::Mask => {
                         if cutout_of[i].is_none() {
-                            let c = cutout(&material, &buffers, fetch, &mut external)
-                                .map_err(|e| format!("{}: {e}", what()))?;
+                            let (c, set, uv) =
+                                cutout(&material, &document, &json, &buffers, fetch, &mut external)
+                                    .map_err(|e| format!("{}: {e}", what()))?;
                             let source = mesh.alpha.as_mut().expect("masks");
                             source.cutouts.push(c);
-                            cutout_of[i] = Some(source.cutouts.len() as u32 - 1);
+                            cutout_of[i] = Some(Mask { cutout: source.cutouts.len() as u32 - 1, set, uv });
                         }
-                        let set =
-                            material.pbr_metallic_roughness().base_color_texture().map(|t| t.tex_coord());
-                        Some((cutout_of[i].expect("just made"), set))
+                        cutout_of[i]
                     }
-                    (true, _) => Some((SOLID, None)),
+                    (true, _) => Some(Mask { cutout: SOLID, set: None, uv: None }),
                     (false, _) => None,
                 };
                 primitive(&p, &buffers, world, &mut mesh, mask).map_err(|e| format!("{}: {e}", what()))?;
@@ -127,29 +128,93 @@ pub fn parse_gltf(
     Ok(Parsed { mesh, camera, external })
 }
 
+/// An affine map of texture coordinates, as rows of (u, v, 1): `KHR_texture_transform` (`affine`).
+type UvMap = [[f64; 3]; 2];
+
+/// Which cutout a masked primitive's triangles use (`SOLID` for the unmasked ones of a scene with
+/// masks), read at which TEXCOORD set, through which `KHR_texture_transform` (`affine`).
+#[derive(Clone, Copy)]
+struct Mask {
+    cutout: u32,
+    set: Option<u32>,
+    uv: Option<UvMap>,
+}
+
 /// A masked material's cutout: its base colour texture's alpha (decoded here; nearest texel, wrapped
-/// as its sampler says) times its `baseColorFactor` alpha against its `alphaCutoff` (default 0.5).
+/// as its sampler says) times its `baseColorFactor` alpha against its `alphaCutoff` (default 0.5);
+/// with the TEXCOORD set it reads and its texture transform. The image is the texture's core
+/// `source`, else its `MSFT_texture_dds` one; a DDS image (known by its magic number) is decoded by
+/// `dds`, anything else as PNG.
 fn cutout(
     material: &::gltf::Material,
+    document: &::gltf::Document,
+    json: &serde_json::Value,
     buffers: &[Vec<u8>],
     fetch: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
     external: &mut Vec<Vec<u8>>,
-) -> Result<Cutout, String> {
+) -> Result<(Cutout, Option<u32>, Option<UvMap>), String> {
     let pbr = material.pbr_metallic_roughness();
     let (factor, cutoff) = (pbr.base_color_factor()[3], material.alpha_cutoff().unwrap_or(0.5));
-    let Some(info) = pbr.base_color_texture() else { return Ok(Cutout::uniform(factor, cutoff)) };
-    let image = info.texture().source();
+    let Some(info) = pbr.base_color_texture() else {
+        return Ok((Cutout::uniform(factor, cutoff), None, None));
+    };
+    let texture = info.texture();
+    let image = match texture.source() {
+        Some(image) => image,
+        None => {
+            let t = texture.index();
+            let ext = &json["textures"][t]["extensions"];
+            let dds = ext["MSFT_texture_dds"]["source"].as_u64();
+            match dds.and_then(|i| document.images().nth(i as usize)) {
+                Some(image) => image,
+                None => {
+                    let names: Vec<String> =
+                        ext.as_object().map_or(Vec::new(), |m| m.keys().cloned().collect());
+                    let only = if names.is_empty() {
+                        String::new()
+                    } else {
+                        format!(", only extension sources ({})", names.join(", "))
+                    };
+                    return Err(format!(
+                        "texture {t} (the base colour texture of alpha-masked material {}): no image hemilab \
+                         decodes: no core `source`{only}; a mask reads PNG, or DDS through MSFT_texture_dds",
+                        material.index().map_or("?".into(), |i| i.to_string())
+                    ));
+                }
+            }
+        }
+    };
     let bytes =
         image_bytes(&image, buffers, fetch, external).map_err(|e| format!("image {}: {e}", image.index()))?;
-    let (w, h, alpha) = super::alpha::decode(&bytes, Some(super::alpha::Channel::Alpha), "")
-        .map_err(|e| format!("image {}: the base colour texture {e}", image.index()))?;
+    let (w, h, alpha) = if bytes.starts_with(b"DDS ") {
+        super::dds::alpha(&bytes)
+            .map_err(|e| format!("image {}: the base colour texture: {e}", image.index()))?
+    } else {
+        super::alpha::decode(&bytes, Some(super::alpha::Channel::Alpha), "")
+            .map_err(|e| format!("image {}: the base colour texture {e}", image.index()))?
+    };
     let sampler = info.texture().sampler();
     let wrap = |w: ::gltf::texture::WrappingMode| match w {
         ::gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
         ::gltf::texture::WrappingMode::MirroredRepeat => Wrap::Mirror,
         ::gltf::texture::WrappingMode::ClampToEdge => Wrap::Clamp,
     };
-    Ok(Cutout::new(w, h, &alpha, factor, cutoff, [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())]))
+    let transform = info.texture_transform();
+    let set = transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(info.tex_coord());
+    let uv = transform.map(|t| affine(t.offset(), t.rotation(), t.scale()));
+    let cut = Cutout::new(w, h, &alpha, factor, cutoff, [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())]);
+    Ok((cut, Some(set), uv))
+}
+
+/// `KHR_texture_transform` as the rows of an affine map of (u, v, 1): translation × rotation × scale.
+/// The rotation's sign is the one the extension's own example fixes ("offset [0, 1], rotation π/2,
+/// scale 0.5 utilizes the lower left quadrant, rotated clockwise 90°") and three.js implements:
+/// u' = cos·u + sin·v, v' = −sin·u + cos·v, with v running down the image. Applied to each vertex's
+/// coordinates at load: an affine map commutes with the barycentric interpolation at a hit.
+pub fn affine(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> UvMap {
+    let (s, c) = (rotation as f64).sin_cos();
+    let (sx, sy) = (scale[0] as f64, scale[1] as f64);
+    [[c * sx, s * sy, offset[0] as f64], [-s * sx, c * sy, offset[1] as f64]]
 }
 
 /// Appends one primitive's triangles, in world coordinates; with `mask` (the scene has alpha
@@ -159,7 +224,7 @@ fn primitive(
     buffers: &[Vec<u8>],
     world: DMat4,
     mesh: &mut Mesh,
-    mask: Option<(u32, Option<u32>)>,
+    mask: Option<Mask>,
 ) -> Result<(), String> {
     let mode = p.mode();
     if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
@@ -169,10 +234,11 @@ fn primitive(
         ));
     }
     let reader = p.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
-    let positions: Vec<DVec3> = reader
-        .read_positions()
-        .ok_or("POSITION: missing, or its data lies outside its buffer")?
-        .map(|v| world.transform_point3(DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)))
+    let position = p.get(&::gltf::Semantic::Positions).ok_or("POSITION: missing")?;
+    let positions: Vec<DVec3> = super::gltf_accessor::read::<3>(&position, buffers)
+        .map_err(|e| format!("POSITION: {e}"))?
+        .into_iter()
+        .map(|v| world.transform_point3(DVec3::from_array(v)))
         .collect();
     if let Some(c) = positions.iter().flat_map(|v| v.to_array()).find(|c| c.abs() > MAX_COORDINATE) {
         return Err(format!(
@@ -204,17 +270,12 @@ fn primitive(
         _ => (0..n.saturating_sub(2)).map(|i| [indices[i + 1], indices[i + 2], indices[0]]).collect(),
     };
     let uvs: Option<Vec<[f32; 2]>> = match mask {
-        Some((c, Some(set))) if c != SOLID => {
-            let uvs: Vec<[f32; 2]> = reader
-                .read_tex_coords(set)
-                .ok_or_else(|| {
-                    format!(
-                        "TEXCOORD_{set}: missing, or its data lies outside its buffer (the material's \
-                         alpha mask needs texture coordinates)"
-                    )
-                })?
-                .into_f32()
-                .collect();
+        Some(Mask { cutout, set: Some(set), uv }) if cutout != SOLID => {
+            let accessor = p.get(&::gltf::Semantic::TexCoords(set)).ok_or_else(|| {
+                format!("TEXCOORD_{set}: missing (the material's alpha mask needs texture coordinates)")
+            })?;
+            let uvs = super::gltf_accessor::read::<2>(&accessor, buffers)
+                .map_err(|e| format!("TEXCOORD_{set}: {e}"))?;
             if uvs.len() < positions.len() {
                 return Err(format!(
                     "TEXCOORD_{set}: {} entries for {} vertices",
@@ -222,7 +283,9 @@ fn primitive(
                     positions.len()
                 ));
             }
-            Some(uvs)
+            let m = uv.unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+            let apply = |r: [f64; 3], t: [f64; 2]| (r[0] * t[0] + r[1] * t[1] + r[2]) as f32;
+            Some(uvs.into_iter().map(|t| [apply(m[0], t), apply(m[1], t)]).collect())
         }
         _ => None,
     };
@@ -231,7 +294,7 @@ fn primitive(
     for c in corners {
         if usable(&c.map(|i| positions[i as usize])) {
             mesh.indices.push(c.map(|i| base + i));
-            if let (Some((cut, _)), Some(source)) = (mask, mesh.alpha.as_mut()) {
+            if let (Some(Mask { cutout: cut, .. }), Some(source)) = (mask, mesh.alpha.as_mut()) {
                 let uv = uvs.as_ref().map_or([[0.0; 2]; 3], |u| c.map(|i| u[i as usize]));
                 source.push(cut, uv);
             }

@@ -5,12 +5,16 @@ pub mod accel;
 pub mod alpha;
 pub mod camera;
 mod cluster;
+pub mod dds;
 pub mod file;
 #[cfg(any(test, feature = "testing"))]
 pub mod foliage;
 #[cfg(any(test, feature = "testing"))]
 pub mod generate;
+pub mod gltf_accessor;
+pub mod gltf_ext;
 pub mod gltf_mesh;
+pub mod gltf_meshopt;
 #[cfg(any(test, feature = "testing"))]
 pub mod gltf_write;
 pub mod mesh;

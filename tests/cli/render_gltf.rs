@@ -1,8 +1,11 @@
 //! `hemilab render` on glTF scenes: a good .glb renders with the file's own camera; a bad file
 //! (missing .bin, unsupported primitive mode, unreadable bytes) is one error naming the mesh file
-//! and the reason, exit 2, and nothing is written; the same for an OBJ masked by `map_d`.
+//! and the reason, exit 2, and nothing is written, as is each glTF extension case that cannot be
+//! honoured; the same for an OBJ masked by `map_d`. A required extension that touches neither
+//! geometry nor masks renders, with one warning naming the file and the extension.
 
 use super::support::common::{Tmp, assert_error};
+use super::support::gltf_ext::{bad_extension_files, extension_source, masked_square};
 use hemilab::scene::gltf_write::{Doc, Material, Node, soup};
 
 /// Two triangles of a unit square at z = 0, and a camera 3 in front of it (yfov 0.8 rad).
@@ -46,6 +49,9 @@ fn bad_gltf_files_exit_2_naming_the_file_and_write_nothing() {
         ("m.gltf", external_bad_texture(&t), "image 0: the base colour texture does not decode as PNG"),
         ("m.glb", no_texcoords(), "TEXCOORD_0: missing"),
     ];
+    // Extensions that cannot be honoured: Draco, an unknown one on geometry or a mask, a mask texture
+    // with no source hemilab decodes, a broken DDS, a corrupt meshopt stream.
+    let cases = cases.into_iter().chain(bad_extension_files().into_iter().map(|(_, b, w)| ("m.glb", b, w)));
     for (mesh, bytes, want) in cases {
         std::fs::write(t.path(mesh), bytes).unwrap();
         std::fs::write(t.path("s.toml"), SCENE.replace("m.glb", mesh)).unwrap();
@@ -54,6 +60,30 @@ fn bad_gltf_files_exit_2_naming_the_file_and_write_nothing() {
         assert!(e.contains(want), "want '{want}' in: {e}");
         assert!(!t.path("out").exists(), "{mesh}: wrote output");
     }
+}
+
+#[test]
+fn an_ignored_required_extension_renders_with_one_warning_line() {
+    let t = Tmp::new("gltf-render-ext");
+    let (mut doc, bin) = masked_square().encode(None);
+    doc["materials"][0]["extensions"] = serde_json::json!({"AMD_split_roughnessMetallic": {}});
+    hemilab::scene::gltf_write::declare(&mut doc, "AMD_split_roughnessMetallic", true);
+    std::fs::write(t.path("m.glb"), hemilab::scene::gltf_write::glb(&doc, &bin)).unwrap();
+    std::fs::write(t.path("s.toml"), OBJ_SCENE.replace("m.obj", "m.glb")).unwrap();
+    let o = t.hemilab(&["render", "s.toml", "--rays", "4", "--output", "out/x.exr"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning")).collect();
+    assert_eq!(warnings.len(), 1, "{err}");
+    assert!(warnings[0].contains("m.glb: requires extension 'AMD_split_roughnessMetallic'"), "{err}");
+    // A DDS-only mask texture renders too.
+    std::fs::write(
+        t.path("m.glb"),
+        extension_source("MSFT_texture_dds", super::support::gltf_ext::dds(false)),
+    )
+    .unwrap();
+    let o = t.hemilab(&["render", "s.toml", "--rays", "4", "--output", "dds/x.exr"]);
+    assert!(o.status.success() && t.path("dds/x.exr").exists(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
 /// The square with an alpha-masked material whose texture is not an image.

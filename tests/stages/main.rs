@@ -37,6 +37,7 @@ mod scene_alpha;
 mod scene_bvh;
 mod scene_files;
 mod scene_gltf;
+mod scene_gltf_ext;
 mod scene_obj_alpha;
 mod scene_primary_packets;
 mod spec_errors;

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod common;
+pub mod gltf_ext;
 pub mod images;
 pub mod lambert;
 pub mod room;

@@ -35,7 +35,12 @@ impl Motion {
     /// normalized to sum to 1; taps of zero weight are dropped.
     pub fn from_taps(width: u32, height: u32, per_pixel: Vec<Vec<(u32, f32)>>) -> Self {
         let n = width as usize * height as usize;
-        assert_eq!(per_pixel.len(), n, "motion: {} pixels' taps for a {width}x{height} frame", per_pixel.len());
+        assert_eq!(
+            per_pixel.len(),
+            n,
+            "motion: {} pixels' taps for a {width}x{height} frame",
+            per_pixel.len()
+        );
         let mut taps = Vec::with_capacity(n);
         let mut count = Vec::with_capacity(n);
         for list in per_pixel {

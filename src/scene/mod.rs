@@ -4,6 +4,7 @@
 pub mod accel;
 pub mod alpha;
 pub mod camera;
+pub mod camera_path;
 mod cluster;
 pub mod file;
 #[cfg(any(test, feature = "testing"))]
@@ -25,6 +26,7 @@ pub mod procedural;
 
 pub use accel::{Accel, Effort};
 pub use camera::{Camera, WorldCamera};
+pub use camera_path::{CameraPath, Keyframe, halton_jitter};
 pub use mesh::Mesh;
 
 use glam::{DVec3, Vec3};

@@ -4,5 +4,6 @@
 
 pub mod common;
 pub mod lambert;
+pub mod parallax;
 pub mod room;
 pub mod stats;

@@ -17,7 +17,8 @@
 //! overhead apart from per-ray cost); `compare` turns records into paired comparisons, the
 //! paper's claims and `run`'s equal-time ranking; `advice` ranks configurations at equal time for
 //! `hemilab advise`, with the interpolation `compare::equal_time` calls too. `outdir` names
-//! every output file once and `io` is the only module that touches the filesystem. The command
+//! every output file once and `io` is the only module that touches the filesystem;
+//! `denoise_command` runs the user's own denoiser on a frame (its files through `io`). The command
 //! line (`cli`) and the commands (`app`, one thin file each) are the binary's.
 
 // Declared in pipeline order (blank lines keep rustfmt from sorting them).
@@ -63,6 +64,8 @@ pub mod error;
 pub mod interrupt;
 
 pub mod io;
+
+pub mod denoise_command;
 
 pub mod outdir;
 

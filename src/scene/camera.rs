@@ -229,7 +229,7 @@ impl Raster {
         let (sx, sy) = match self.lens {
             Lens::Perspective { tan_half } => {
                 let z = d.dot(self.forward);
-                if !(z > 0.0) {
+                if z.is_nan() || z <= 0.0 {
                     return None;
                 }
                 (d.dot(self.right) / (z * tan_half * self.aspect), d.dot(self.true_up) / (z * tan_half))

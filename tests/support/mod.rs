@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod common;
+pub mod examples;
 pub mod lambert;
 pub mod parallax;
 pub mod room;

@@ -253,7 +253,7 @@ mod tests {
 
     #[test]
     fn halton_jitter_is_the_known_sequence() {
-        assert_eq!(halton_jitter(0), Vec2::new(0.0, 1.0 / 3.0 - 0.5));
+        assert_eq!(halton_jitter(0), Vec2::new(0.0, (1.0f64 / 3.0 - 0.5) as f32));
         assert_eq!(halton_jitter(1), Vec2::new(-0.25, (2.0f64 / 3.0 - 0.5) as f32));
         assert_eq!(halton_jitter(2), Vec2::new(0.25, (1.0f64 / 9.0 - 0.5) as f32));
         assert_eq!(halton_jitter(JITTER_CYCLE), halton_jitter(0));

@@ -233,6 +233,12 @@ pub fn list_dir(dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(out)
 }
 
+/// A new, empty file at `path` (an existing one is truncated): where a child process's stdout or
+/// stderr goes (`denoise_command`), so that it can be read back after the child exits.
+pub fn create_file(path: &Path) -> Result<fs::File> {
+    fs::File::create(path).map_err(|e| Error::io(path, e))
+}
+
 pub fn remove_file_if_exists(path: &Path) -> Result<()> {
     match fs::remove_file(path) {
         Ok(()) => Ok(()),

@@ -19,7 +19,8 @@
 //! model, the structure rule, the paper's claims and the real-time and integrand verdicts — and
 //! `advice` uses it to answer `hemilab advise` (pure: its inputs are loaded by the command); the
 //! report only formats what they computed and returns bytes. `outdir` names, reads and writes
-//! every output file once and `io` is the only module that touches the filesystem. The command
+//! every output file once and `io` is the only module that touches the filesystem;
+//! `denoise_command` runs the user's own denoiser on a frame (its files through `io`). The command
 //! line (`cli`) and the commands (`app`, one thin file each) are the binary's.
 //!
 //! # Bringing your own sampler
@@ -136,6 +137,8 @@ pub mod error;
 pub mod interrupt;
 
 pub mod io;
+
+pub mod denoise_command;
 
 pub mod outdir;
 

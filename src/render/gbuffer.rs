@@ -3,10 +3,10 @@
 //! tiles, packets and camera), so its depth and normal are those of the hits the AO rays of
 //! `render` start from; `render` itself does not compute or pay for any of it.
 
-use super::{Plane, Primary, TILE, tile_count, tile_primaries};
+use super::{Plane, Primary, TILE, View, tile_count, tile_primaries};
 use crate::image::Image;
-use crate::scene::Scene;
-use glam::Vec3;
+use crate::scene::{Camera, Scene};
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 /// Per pixel, row-major like `Image`.
@@ -30,41 +30,69 @@ impl GBuffer {
     }
 }
 
+/// One frame's G-buffer with what reprojecting it needs (`reproject`): the camera and jitter it was
+/// traced with and each pixel's hit position.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameGBuffer {
+    pub gbuffer: GBuffer,
+    /// The frame's camera in the renderer's coordinates (relative to `Scene::origin`, `View::camera`).
+    pub camera: Camera,
+    /// The frame's sub-pixel jitter (`View::jitter`).
+    pub jitter: Vec2,
+    /// Per pixel, where its primary ray hit: ray origin + depth × unit direction, in the renderer's
+    /// coordinates — relative to `Scene::origin` (the scene camera's eye), not to this frame's
+    /// camera, so that every frame of a scene shares them and two frames' positions compare
+    /// directly; world position = `Scene::origin` + this (in f64). Zero on background.
+    pub position: Vec<Vec3>,
+}
+
 /// The G-buffer of `scene` at `width` × `height` (a `RenderJob`'s size): one primary ray per pixel
 /// centre, traced in parallel by tiles; deterministic for any thread count.
 pub fn gbuffer(scene: &Scene, width: u32, height: u32) -> GBuffer {
+    frame_gbuffer(scene, width, height, &View::SCENE).gbuffer
+}
+
+/// The G-buffer of one frame seen through `view` (its camera and jitter), with the hits' positions:
+/// the primary rays of `render_view` with the same view, so its depth, normal and coverage are
+/// those of the hits that frame's AO rays start from. `View::SCENE` gives `gbuffer`.
+pub fn frame_gbuffer(scene: &Scene, width: u32, height: u32, view: &View) -> FrameGBuffer {
+    let raster = view.raster(scene, width, height);
     let n = width as usize * height as usize;
     let (mut depth, mut normal, mut coverage) = (vec![0.0f32; n], vec![Vec3::ZERO; n], vec![0.0f32; n]);
-    let tiles: Vec<Vec<(u32, f32, Vec3)>> = (0..tile_count(width, height))
+    let mut position = vec![Vec3::ZERO; n];
+    let tiles: Vec<Vec<(u32, f32, Vec3, Vec3)>> = (0..tile_count(width, height))
         .into_par_iter()
         .with_max_len(1)
         .map_init(
             || Vec::<Primary>::with_capacity((TILE * TILE) as usize),
             |primaries, t| {
-                tile_primaries(scene, (width, height), t, primaries);
+                tile_primaries(scene, &raster, t, primaries);
                 primaries
                     .iter()
                     .filter_map(|p| {
                         let hit = p.hit?;
                         let plane = Plane::of(scene.accel.triangle(hit.prim));
                         let (_, nrm) = plane.ao_origin(hit.bary_b, hit.bary_c, p.dir);
-                        Some((p.y * width + p.x, hit.t, nrm))
+                        let at = raster.origin(p.x, p.y) + p.dir * hit.t;
+                        Some((p.y * width + p.x, hit.t, nrm, at))
                     })
                     .collect()
             },
         )
         .collect();
-    for (i, t, nrm) in tiles.into_iter().flatten() {
+    for (i, t, nrm, at) in tiles.into_iter().flatten() {
         let i = i as usize;
         depth[i] = t;
         normal[i] = nrm;
         coverage[i] = 1.0;
+        position[i] = at;
     }
-    GBuffer {
+    let gbuffer = GBuffer {
         width,
         height,
         depth: Image::from_vec(width, height, depth),
         normal,
         coverage: Image::from_vec(width, height, coverage),
-    }
+    };
+    FrameGBuffer { gbuffer, camera: view.camera(scene), jitter: view.jitter, position }
 }

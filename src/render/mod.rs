@@ -7,8 +7,12 @@ pub mod bench;
 mod clearance;
 mod gbuffer;
 mod offset;
+pub mod reproject;
+mod view;
 
-pub use gbuffer::{GBuffer, gbuffer};
+pub use gbuffer::{FrameGBuffer, GBuffer, frame_gbuffer, gbuffer};
+pub use reproject::{ReprojectParams, reproject};
+pub use view::View;
 
 pub use offset::{Plane, ao_origin};
 
@@ -93,13 +97,30 @@ pub fn render_integrand(
     integrand: Integrand,
     progress: &(dyn Fn(u64) + Sync),
 ) -> RenderOutput {
+    render_view(scene, job, integrand, &View::SCENE, progress)
+}
+
+/// `render_integrand` of one frame of a moving camera (issue 37): every primary ray comes from
+/// `view`'s camera through its pixel's centre plus `view`'s jitter; the AO rays are as ever.
+/// `View::SCENE` (the scene's camera, no jitter) is `render_integrand` bit for bit, and so is any
+/// view whose camera is the scene's and whose jitter is zero. The view's camera must be usable
+/// (`CameraPath::validate` checks every frame's); a camera that is not panics.
+pub fn render_view(
+    scene: &Scene,
+    job: &RenderJob,
+    integrand: Integrand,
+    view: &View,
+    progress: &(dyn Fn(u64) + Sync),
+) -> RenderOutput {
     let (w, h) = (job.width as usize, job.height as usize);
     let n = job.sampler.count as usize;
     if w == 0 || h == 0 {
         let empty = Image::new(job.width, job.height);
         return RenderOutput { ao: empty.clone(), coverage: empty, rays: 0, occluded_rays: 0 };
     }
-    let tile = Tile { scene, job, integrand, unit_weight: integrand.unit_weight(job.distribution), progress };
+    let raster = view.raster(scene, job.width, job.height);
+    let unit_weight = integrand.unit_weight(job.distribution);
+    let tile = Tile { scene, job, integrand, unit_weight, raster, progress };
     // Tiles in parallel, each its own rayon job (pixels differ a lot in cost; large sequential
     // ranges left one of 2 threads idle); each tile's covered pixels come back as (index, AO).
     let tiles: Vec<TileResult> = (0..tile_count(job.width, job.height))
@@ -159,17 +180,19 @@ struct Tile<'a> {
     integrand: Integrand,
     /// `Integrand::unit_weight` of the job's warp.
     unit_weight: bool,
+    /// The frame's primary rays (`View::raster`).
+    raster: Raster,
     progress: &'a (dyn Fn(u64) + Sync),
 }
 
 /// Tile `t`'s covered pixels as (index, AO), its AO rays and occluded rays.
 #[inline(always)]
 fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
-    let Tile { scene, job, integrand, unit_weight, progress } = *tile;
+    let Tile { scene, job, integrand, unit_weight, ref raster, progress } = *tile;
     let (w, n) = (job.width as usize, job.sampler.count as usize);
     let mut done = Vec::with_capacity((TILE * TILE) as usize);
     let (mut rays, mut occluded) = (0u64, 0u64);
-    let raster = tile_primaries(scene, (job.width, job.height), t, &mut s.primaries);
+    tile_primaries(scene, raster, t, &mut s.primaries);
     for p in &s.primaries {
         let Some(hit) = p.hit else { continue };
         let pixel = p.y as u64 * w as u64 + p.x as u64;
@@ -277,20 +300,14 @@ pub(crate) struct Primary {
     hit: Option<Hit>,
 }
 
-/// The primary rays of tile `t`'s pixels (in `tile_pixels` order) of a `width` × `height` image into
-/// `out` (what `render` and `gbuffer` share); returns the camera's rays for the image (the pixels'
-/// ray origins are read from it later). Rays that share their origin (a pinhole camera's: the eye)
-/// are traced 32 at a time, 8 × 4 pixels (`Accel::closest_from`), others one by one; the hits are
-/// the same bits either way.
+/// The primary rays of tile `t`'s pixels (in `tile_pixels` order) of the image `raster` is for
+/// into `out` (what `render` and `gbuffer` share; the pixels' ray origins are read from `raster`
+/// later). Rays that share their origin (a pinhole camera's: the eye) are traced 32 at a time,
+/// 8 × 4 pixels (`Accel::closest_from`), others one by one; the hits are the same bits either way.
 #[inline(always)]
-pub(crate) fn tile_primaries(
-    scene: &Scene,
-    (width, height): (u32, u32),
-    t: u32,
-    out: &mut Vec<Primary>,
-) -> Raster {
+pub(crate) fn tile_primaries(scene: &Scene, raster: &Raster, t: u32, out: &mut Vec<Primary>) {
     out.clear();
-    let raster = scene.camera.raster(width, height);
+    let (width, height) = raster.size();
     for (x, y) in tile_pixels(t, width, height) {
         out.push(Primary { x, y, dir: raster.ray(x, y).dir, hit: None });
     }
@@ -314,7 +331,6 @@ pub(crate) fn tile_primaries(
             p.hit = scene.accel.closest(&Ray::new(r.origin, r.dir, f32::INFINITY));
         }
     }
-    raster
 }
 
 /// The AO rays of pixel (x, y, index) from its primary ray (origin, direction) and hit: offset

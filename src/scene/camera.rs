@@ -1,10 +1,11 @@
-//! Pinhole and orthographic cameras: one primary ray per pixel, through the pixel centre.
+//! Pinhole and orthographic cameras: one primary ray per pixel, through the pixel centre (moved by
+//! a per-frame sub-pixel jitter for temporal anti-aliasing, `Camera::raster_jittered`).
 //!
 //! A scene file places its camera in world coordinates (`WorldCamera`, f64, as written); the renderer
 //! works relative to the eye (`Camera`, f32, eye at the origin), so the scene's distance from the
 //! world origin costs no precision (see `Scene::new`).
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 
 /// The least sine of the angle between `up` and the view direction (target − eye) a camera may have:
 /// 1e-3, about 0.057°. Closer to parallel, the image's roll is decided by rounding error rather
@@ -138,6 +139,14 @@ impl Camera {
     /// What every pixel's ray of a `width` x `height` image shares (the basis, tan(fov/2)), worked
     /// out once: `Raster::ray` then gives `ray`'s bits without redoing it per pixel.
     pub fn raster(&self, width: u32, height: u32) -> Raster {
+        self.raster_jittered(width, height, Vec2::ZERO)
+    }
+
+    /// `raster` with every pixel's ray through (x + 0.5 + jitter.x, y + 0.5 + jitter.y) instead of
+    /// its centre, in pixels (+x right, +y down, as rows go): a TAA engine's per-frame sub-pixel
+    /// offset (Karis 2014), so that frames accumulated over time sample the whole pixel. A zero
+    /// jitter gives `raster`'s rays bit for bit (x + 0.5 + 0.0 is x + 0.5 exactly).
+    pub fn raster_jittered(&self, width: u32, height: u32, jitter: Vec2) -> Raster {
         let (eye, target, up) = self.pose();
         let forward = (target - eye).normalize();
         let right = forward.cross(up).normalize();
@@ -152,7 +161,7 @@ impl Camera {
                 Lens::Orthographic { half_w, half_h: half_w / aspect }
             }
         };
-        Raster { eye, forward, right, true_up, aspect, width, height, lens }
+        Raster { eye, forward, right, true_up, aspect, width, height, jitter, lens }
     }
 }
 
@@ -166,6 +175,8 @@ pub struct Raster {
     aspect: f32,
     width: u32,
     height: u32,
+    /// Where in its pixel each ray passes, from the centre, in pixels (`Camera::raster_jittered`).
+    jitter: Vec2,
     lens: Lens,
 }
 
@@ -176,11 +187,19 @@ enum Lens {
 }
 
 impl Raster {
-    /// The ray through the centre of pixel (x, y); y = 0 is the top row.
+    /// Screen coordinates in [-1, 1] (x right, y up) of pixel (x, y)'s sample point: its centre
+    /// plus the jitter.
+    #[inline(always)]
+    fn screen(&self, x: u32, y: u32) -> (f32, f32) {
+        let sx = 2.0 * (x as f32 + 0.5 + self.jitter.x) / self.width as f32 - 1.0;
+        let sy = 1.0 - 2.0 * (y as f32 + 0.5 + self.jitter.y) / self.height as f32;
+        (sx, sy)
+    }
+
+    /// The ray through the centre of pixel (x, y) (plus the jitter, if any); y = 0 is the top row.
     #[inline]
     pub fn ray(&self, x: u32, y: u32) -> PrimaryRay {
-        let sx = 2.0 * (x as f32 + 0.5) / self.width as f32 - 1.0;
-        let sy = 1.0 - 2.0 * (y as f32 + 0.5) / self.height as f32;
+        let (sx, sy) = self.screen(x, y);
         let (forward, right, true_up) = (self.forward, self.right, self.true_up);
         match self.lens {
             Lens::Perspective { tan_half } => {
@@ -201,8 +220,7 @@ impl Raster {
         match self.lens {
             Lens::Perspective { .. } => self.eye,
             Lens::Orthographic { half_w, half_h } => {
-                let sx = 2.0 * (x as f32 + 0.5) / self.width as f32 - 1.0;
-                let sy = 1.0 - 2.0 * (y as f32 + 0.5) / self.height as f32;
+                let (sx, sy) = self.screen(x, y);
                 self.eye + self.right * (sx * half_w) + self.true_up * (sy * half_h)
             }
         }
@@ -211,6 +229,42 @@ impl Raster {
     /// True if every ray starts at the same point (a pinhole camera's eye).
     pub fn shared_origin(&self) -> bool {
         matches!(self.lens, Lens::Perspective { .. })
+    }
+
+    /// The image size (width, height) the rays are for.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// The per-frame sub-pixel offset of every ray (`Camera::raster_jittered`).
+    pub fn jitter(&self) -> Vec2 {
+        self.jitter
+    }
+
+    /// The inverse of `ray`: the fractional pixel (px, py) whose ray passes through the point `p`
+    /// (same coordinates as the camera's), i.e. `ray(x, y)` for integer (x, y) = (px, py) passes
+    /// through p; between pixels, the position in the grid of this raster's (jittered) sample
+    /// points, which is what bilinear reprojection taps need. None if p is not in front of the
+    /// camera (pinhole: at or behind the eye's plane) or the result is not finite. Not limited to
+    /// the image: the caller decides what to do with points outside it.
+    pub fn pixel_of(&self, p: Vec3) -> Option<Vec2> {
+        let d = p - self.eye;
+        let (sx, sy) = match self.lens {
+            Lens::Perspective { tan_half } => {
+                let z = d.dot(self.forward);
+                if z.is_nan() || z <= 0.0 {
+                    return None;
+                }
+                (d.dot(self.right) / (z * tan_half * self.aspect), d.dot(self.true_up) / (z * tan_half))
+            }
+            Lens::Orthographic { half_w, half_h } => {
+                (d.dot(self.right) / half_w, d.dot(self.true_up) / half_h)
+            }
+        };
+        let px = 0.5 * (sx + 1.0) * self.width as f32 - 0.5 - self.jitter.x;
+        let py = 0.5 * (1.0 - sy) * self.height as f32 - 0.5 - self.jitter.y;
+        let out = Vec2::new(px, py);
+        out.is_finite().then_some(out)
     }
 }
 
@@ -232,6 +286,36 @@ mod tests {
         assert!(cam.problem().is_none());
         let bad = Camera::Perspective { eye: Vec3::ZERO, target: Vec3::Z, up: Vec3::Y, fov_y_deg: 180.0 };
         assert!(bad.problem().unwrap().contains("fov_y_deg"));
+    }
+
+    #[test]
+    fn pixel_of_inverts_the_jittered_ray() {
+        let cams = [
+            Camera::Perspective {
+                eye: Vec3::new(0.3, -2.0, 1.2),
+                target: Vec3::ZERO,
+                up: Vec3::Z,
+                fov_y_deg: 60.0,
+            },
+            Camera::Orthographic {
+                eye: Vec3::new(0.0, 0.0, 10.0),
+                target: Vec3::ZERO,
+                up: Vec3::Y,
+                view_width: 4.0,
+            },
+        ];
+        for cam in cams {
+            let jitter = Vec2::new(0.3125, -0.2);
+            let r = cam.raster_jittered(40, 30, jitter);
+            for (x, y) in [(0, 0), (39, 29), (17, 4)] {
+                let ray = r.ray(x, y);
+                let p = ray.origin + ray.dir * 3.0;
+                let back = r.pixel_of(p).unwrap();
+                assert!((back - Vec2::new(x as f32, y as f32)).abs().max_element() < 1e-3, "{back}");
+            }
+            let plain = cam.raster(40, 30);
+            assert_eq!(plain.ray(5, 6), cam.ray(5, 6, 40, 30), "a zero jitter is the pixel centre");
+        }
     }
 
     #[test]

@@ -4,6 +4,7 @@
 pub mod accel;
 pub mod alpha;
 pub mod camera;
+pub mod camera_path;
 mod cluster;
 pub mod dds;
 pub mod file;
@@ -29,6 +30,7 @@ pub mod procedural;
 
 pub use accel::{Accel, Effort};
 pub use camera::{Camera, WorldCamera};
+pub use camera_path::{CameraPath, Keyframe, halton_jitter};
 pub use mesh::Mesh;
 
 use glam::{DVec3, Vec3};

@@ -6,6 +6,7 @@
 mod support;
 
 mod compare_equal_time;
+mod denoise_command;
 mod denoise_filters;
 mod denoise_gbuffer;
 mod denoise_joint;
@@ -22,6 +23,7 @@ mod render_closed_room;
 mod render_determinism;
 mod render_exact;
 mod render_integrands;
+mod render_reproject;
 mod render_robust;
 mod render_stiff;
 mod sampling_blue_noise;
@@ -35,6 +37,7 @@ mod sampling_stbn;
 mod sampling_warps;
 mod scene_alpha;
 mod scene_bvh;
+mod scene_camera_path;
 mod scene_files;
 mod scene_gltf;
 mod scene_gltf_ext;

@@ -3,8 +3,10 @@
 #![allow(dead_code)]
 
 pub mod common;
+pub mod examples;
 pub mod gltf_ext;
 pub mod images;
 pub mod lambert;
+pub mod parallax;
 pub mod room;
 pub mod stats;

@@ -21,6 +21,7 @@ pub mod equal_time;
 use crate::metrics::STRUCTURED_RATIO;
 use crate::results::{Aggregate, JobResult};
 use crate::sampling::SeedMode;
+use crate::sampling::texture::TextureUse;
 use crate::spec::Row;
 use crate::stats::paired_difference;
 
@@ -33,7 +34,18 @@ pub fn per_pixel_unbiased(row: Row) -> bool {
         // A blue-noise mask (2-D or spatiotemporal) shifts every pixel's set by an offset uniform over
         // runs (docs/estimators.md).
         SeedMode::Shift | SeedMode::BlueNoise | SeedMode::Stbn => true,
-        SeedMode::Rotation => row.sequence.info().fresh_per_pixel,
+        // An engine pattern or a rotation texture moves x alone, as `rotation` does: unbiased only
+        // where the static set itself is random over runs (docs/estimators.md).
+        SeedMode::Rotation | SeedMode::Ign | SeedMode::Bayer | SeedMode::MagicSquare | SeedMode::R2Dither => {
+            row.sequence.info().fresh_per_pixel
+        }
+        // An offset texture is unbiased when its slices are exactly uniform (measured at load); a
+        // vector texture's directions are a finite set, never.
+        SeedMode::Texture(t) => match t.get().use_() {
+            TextureUse::Offset => t.get().uniform(),
+            TextureUse::Rotation => row.sequence.info().fresh_per_pixel,
+            TextureUse::Vector => false,
+        },
         SeedMode::Static => false,
     }
 }

@@ -13,6 +13,7 @@
 
 pub mod batch;
 pub mod blue_noise;
+pub mod engine;
 pub mod fibonacci;
 pub mod frame;
 pub mod halton;
@@ -28,6 +29,7 @@ pub mod seed;
 pub mod sobol;
 pub mod stbn;
 pub mod stratified;
+pub mod texture;
 pub mod trig;
 mod void_cluster;
 pub mod warp;
@@ -114,7 +116,9 @@ impl SamplerConfig {
             SeedMode::Stbn => {
                 stbn::stbn_masks();
             }
-            SeedMode::Static | SeedMode::Rotation | SeedMode::Shift => {}
+            // The engine patterns are closed forms; a texture was decoded and registered by the
+            // loader before any configuration could name it.
+            _ => {}
         }
     }
 
@@ -130,20 +134,28 @@ impl SamplerConfig {
         let len = (self.count as usize).min(out.len());
         let out = &mut out[..len];
         // The frame's run seed and the schedule's offsets on top of the mode's (all 0 at frame 0).
-        // `stbn` reads slice frame mod depth; the schedule acts once per full cycle of the mask.
-        let (epoch, slice) = match self.seed_mode {
-            SeedMode::Stbn => (self.frame / stbn::STBN_DEPTH, self.frame % stbn::STBN_DEPTH),
-            _ => (self.frame, 0),
+        // `stbn` and a texture read slice frame mod depth; the schedule acts once per full cycle of
+        // the mask. IGN under `r1` steps itself (its pixel offset per frame, `engine`).
+        let (epoch, slice) = match (self.seed_mode, self.schedule) {
+            (SeedMode::Ign, Schedule::R1) => (0, self.frame),
+            (m, _) => (self.frame / m.depth(), self.frame % m.depth()),
         };
         // A rotation moves x only, unless the numbers are fresh per pixel anyway (then it is a shift).
-        let scalar = self.seed_mode == SeedMode::Rotation && !self.sequence.info().fresh_per_pixel;
+        let scalar = self.seed_mode.is_scalar(self.sequence.info().fresh_per_pixel);
         let (seed, (fx, fy)) = schedule::epoch(self.schedule, self.seed, epoch as u64, scalar);
         let ps = PixelSeed::new(seed, pixel);
+        if let SeedMode::Texture(t) = self.seed_mode
+            && t.get().use_() == texture::TextureUse::Vector
+        {
+            // The texture gives the directions itself: the sequence is not read.
+            return t.get().fill_vector(ps.run_key, (x, y, slice), (fx, fy), out);
+        }
         let (dx, dy) = ps.offsets_at(self.seed_mode, x, y, slice);
         let set = PixelSet {
             count: n,
             x,
             y,
+            pixel,
             seed_mode: self.seed_mode,
             seed: ps,
             offsets: (fix_add(dx, fx), fix_add(dy, fy)),

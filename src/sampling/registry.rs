@@ -56,6 +56,8 @@ pub struct PixelSet {
     pub count: u32,
     pub x: u32,
     pub y: u32,
+    /// The pixel's index (y · width + x), which keys its fresh numbers.
+    pub pixel: u64,
     pub seed_mode: SeedMode,
     pub seed: PixelSeed,
     pub offsets: (u32, u32),

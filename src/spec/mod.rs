@@ -150,13 +150,31 @@ impl Row {
 
     /// Pseudo-random numbers are fresh per pixel whether "rotated" or "shifted", so both name the
     /// same images; `rotation` is the one kept. (`static` + random is a distinct, odd choice.)
+    /// A vector texture gives the directions itself, so every sequence names the same images with
+    /// it; `random` is the one kept.
     pub fn canonical(self) -> Self {
         match self.seed_mode {
             SeedMode::Shift if self.sequence.info().fresh_per_pixel => {
                 Self { seed_mode: SeedMode::Rotation, ..self }
             }
+            m if m.texture_use() == Some(crate::sampling::texture::TextureUse::Vector) => {
+                Self { sequence: Sequence::Random, ..self }
+            }
             _ => self,
         }
+    }
+
+    /// Why this row cannot be rendered, if it cannot: a vector texture holds cosine-weighted
+    /// directions, which only the sine-cosine warp (whose inverse hands them on) estimates with.
+    pub fn invalid(&self) -> Option<String> {
+        let vector = self.seed_mode.texture_use() == Some(crate::sampling::texture::TextureUse::Vector);
+        (vector && self.distribution != Distribution::SineCosine).then(|| {
+            format!(
+                "seed mode '{}' is a vector texture (cosine-weighted directions): its distribution must be \
+                 sine-cosine, not {}",
+                self.seed_mode, self.distribution
+            )
+        })
     }
 
     pub fn label(&self) -> String {
@@ -176,6 +194,11 @@ impl Row {
             SeedMode::Shift => Some("shift"),
             SeedMode::BlueNoise => Some("blue-noise"),
             SeedMode::Stbn => Some("spatiotemporal blue noise"),
+            SeedMode::Ign => Some("interleaved gradient noise"),
+            SeedMode::Bayer => Some("Bayer 4x4"),
+            SeedMode::MagicSquare => Some("magic square 5x5"),
+            SeedMode::R2Dither => Some("R2 dither"),
+            SeedMode::Texture(t) => Some(t.get().label()),
         };
         match mode {
             Some(m) => format!("{}, {seq}, {m}", self.distribution),

@@ -21,6 +21,7 @@ pub mod hash;
 pub mod integrand;
 mod names;
 pub mod pmj02;
+pub mod point_file;
 pub mod r2;
 pub mod random;
 pub mod registry;
@@ -38,7 +39,9 @@ pub mod zsobol;
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
 pub use integrand::Integrand;
-pub use registry::{PixelSet, PointSequence, RegisterError, Sequence, SequenceInfo, Shipped, register};
+pub use registry::{
+    PixelSet, PointSequence, RegisterError, Sequence, SequenceInfo, Shipped, register, register_file,
+};
 pub use schedule::Schedule;
 pub use seed::SeedMode;
 pub use warp::{DirSample, Distribution};

@@ -86,6 +86,12 @@ pub trait PointSequence: Send + Sync {
     /// Makes every process-wide table `fill` reads, so that no timed render pays for it.
     fn prepare(&self) {}
 
+    /// The most points one pixel's set can have, if the sequence is finite (a file's point set):
+    /// specs and the command line refuse larger counts.
+    fn max_count(&self) -> Option<u32> {
+        None
+    }
+
     /// Writes the first `out.len()` points of pixel `set`'s `set.count`-point set into `out`, in
     /// [0, 1)². Must depend only on `set` (never on threads or other pixels) and not allocate.
     fn fill(&self, set: &PixelSet, out: &mut [Vec2]);
@@ -206,6 +212,25 @@ pub fn register(sequence: Box<dyn PointSequence>) -> Result<Sequence, RegisterEr
     Ok(Sequence(index))
 }
 
+/// Adds a file's point set (`point_file::PointFile`) to the list: as `register`, but its name is
+/// `points:PATH#hash8` (the file as the spec or command line wrote it, and its content), and a
+/// sequence of that name already registered (the same file, read again) is returned instead.
+pub fn register_file(sequence: Box<dyn PointSequence>) -> Result<Sequence, RegisterError> {
+    let name = sequence.info().name;
+    let ok = name.starts_with("points:") && !name.chars().any(|c| c.is_control());
+    if !ok {
+        return Err(RegisterError(format!("a point file's name '{}' must start with 'points:'", name.escape_debug())));
+    }
+    if let Some(s) = Sequence::all().into_iter().find(|s| s.name() == name) {
+        return Ok(s);
+    }
+    let mut list = REGISTERED.write().unwrap_or_else(|e| e.into_inner());
+    let index = BUILT_IN.len() + list.len();
+    let index = u16::try_from(index).map_err(|_| RegisterError("too many sequences".into()))?;
+    list.push(Box::leak(sequence));
+    Ok(Sequence(index))
+}
+
 impl std::str::FromStr for Sequence {
     type Err = String;
 
@@ -219,7 +244,13 @@ impl std::str::FromStr for Sequence {
         let meant = all.iter().find(|q| q.info().words.contains(&said.as_str()));
         let s = s.escape_debug();
         let hint = meant.map_or(String::new(), |m| format!(" ('{s}' is written `{}`)", m.name()));
-        Err(format!("unknown sequence '{s}'; valid: {}{hint}", Sequence::names().join(", ")))
+        let file = if said.starts_with("points") {
+            " (a point file is named `points:PATH` on the command line and `{ points = \"PATH\" }` in a spec)"
+        } else {
+            ""
+        };
+        let builtin: Vec<&str> = Sequence::names().into_iter().filter(|n| !n.starts_with("points:")).collect();
+        Err(format!("unknown sequence '{s}'; valid: {}{hint}{file}", builtin.join(", ")))
     }
 }
 

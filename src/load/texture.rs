@@ -240,6 +240,56 @@ fn exr_samples(channels: Vec<(String, crate::image::Image)>) -> Result<(Layout, 
     Ok((Layout { width, height, depth: 1, channels: picked.len() as u32 }, Samples::Float(data)))
 }
 
+/// Which of hemilab's own masks `own_masks` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Own {
+    /// The `blue-noise` mode's x and y masks as one two-channel slice.
+    BlueNoise,
+    /// The `stbn` mode's x and y volumes as numbered two-channel slices.
+    Stbn,
+}
+
+/// hemilab's own masks as texture files (name, bytes), for the round trip (reading them back as
+/// `offset` textures renders the built-in modes' images bit for bit) and for the hand check against
+/// published textures: `png` 16-bit grey + alpha with rank · 2^16 / N (exact), else EXR with
+/// R, G = rank / N (exact in f32). Names: `blue_noise.png`, `stbn_0.png` … `stbn_31.png`.
+pub fn own_masks(which: Own, png: bool) -> Result<Vec<(String, Vec<u8>)>, String> {
+    use crate::image::{Channel, Image, encode_exr, encode_png16};
+    use crate::sampling::{blue_noise, stbn};
+    let (size, slices, ranks): (u32, u32, [&[u32]; 2]) = match which {
+        Own::BlueNoise => {
+            let m = blue_noise::masks();
+            (blue_noise::MASK_SIZE, 1, [m[0].ranks(), m[1].ranks()])
+        }
+        Own::Stbn => {
+            let m = stbn::stbn_masks();
+            (stbn::STBN_SIZE, stbn::STBN_DEPTH, [m[0].ranks(), m[1].ranks()])
+        }
+    };
+    let n = (size * size) as usize;
+    let stem = if which == Own::BlueNoise { "blue_noise".to_string() } else { "stbn_".to_string() };
+    let mut out = Vec::new();
+    for t in 0..slices as usize {
+        let part = |c: usize| &ranks[c][t * n..(t + 1) * n];
+        let name = |ext: &str| match which {
+            Own::BlueNoise => format!("{stem}.{ext}"),
+            Own::Stbn => format!("{stem}{t}.{ext}"),
+        };
+        let bytes = if png {
+            let step = (1u32 << 16) / n as u32;
+            let samples: Vec<u16> =
+                (0..n).flat_map(|i| [(part(0)[i] * step) as u16, (part(1)[i] * step) as u16]).collect();
+            (name("png"), encode_png16(size, size, 2, &samples)?)
+        } else {
+            let img = |c: usize| Image::from_vec(size, size, part(c).iter().map(|&r| r as f32 / n as f32).collect());
+            let (r, g) = (img(0), img(1));
+            (name("exr"), encode_exr(&[Channel { name: "R", image: &r }, Channel { name: "G", image: &g }])?)
+        };
+        out.push(bytes);
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

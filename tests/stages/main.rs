@@ -24,6 +24,7 @@ mod sampling_blue_noise;
 mod sampling_engine_noise;
 mod sampling_estimators;
 mod sampling_frame;
+mod sampling_point_files;
 mod sampling_registry;
 mod sampling_samplers;
 mod sampling_schedule;

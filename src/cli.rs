@@ -315,6 +315,15 @@ pub struct AdviseArgs {
     /// name or * (e.g. sine-cosine/fibonacci/*); the paper's default is always run.
     #[arg(long, value_parser = parse_pattern, value_delimiter = ',', value_name = "LIST")]
     pub only: Vec<hemilab::advice::Pattern>,
+    /// Also measure a noise texture as a seed mode, PATH[:offset|rotation|vector] (PNG 8/16 bit or
+    /// EXR, `%d` for numbered slices), with every sequence it is sensible with (--only narrows by
+    /// distribution and sequence); repeatable.
+    #[arg(long, value_name = "PATH[:USE]", conflicts_with = "from")]
+    pub texture: Vec<String>,
+    /// Also measure a file's point set as a sequence (.npy of N x 2 or P x N x 2, or `x y` text),
+    /// with every seed mode it is sensible with; repeatable.
+    #[arg(long, value_name = "PATH", conflicts_with = "from")]
+    pub points: Vec<String>,
     /// Output directory (default: out/advise-<scene>/, or DIR with --from). Rewritten whole: absent,
     /// empty or an earlier advise's; a rerun resumes from its records.
     #[arg(long)]

@@ -37,14 +37,17 @@ impl spec::Files for SpecFiles<'_> {
 /// A `--seed-mode` value naming a texture, `texture:PATH[:offset|rotation|vector]` (default
 /// `offset`), read relative to the current directory; the error names the flag and the file.
 pub fn texture_arg(text: &str) -> Result<SeedMode> {
-    let rest = text.strip_prefix("texture:").unwrap_or(text);
-    let (path, use_) = match rest.rsplit_once(':') {
-        Some((p, u)) if crate::sampling::texture::TextureUse::parse(u).is_ok() => {
-            (p, crate::sampling::texture::TextureUse::parse(u).expect("checked"))
-        }
-        _ => (rest, crate::sampling::texture::TextureUse::Offset),
-    };
+    let (path, use_) = texture_use(text.strip_prefix("texture:").unwrap_or(text));
     texture::texture(Path::new(""), path, use_).map_err(|e| Error::Usage(format!("--seed-mode {text}: {e}")))
+}
+
+/// `PATH[:offset|rotation|vector]` as (PATH, use); `offset` when no use ends it.
+pub fn texture_use(text: &str) -> (&str, crate::sampling::texture::TextureUse) {
+    use crate::sampling::texture::TextureUse;
+    match text.rsplit_once(':').map(|(p, u)| (p, TextureUse::parse(u))) {
+        Some((p, Ok(u))) => (p, u),
+        _ => (text, TextureUse::Offset),
+    }
 }
 
 /// A `--sequence` value naming a point file, `points:PATH`, read relative to the current directory.

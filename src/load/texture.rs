@@ -92,9 +92,10 @@ pub fn texture(base: &Path, written: &str, use_: TextureUse) -> Result<SeedMode,
     })?;
     let deviation = mask.deviation();
     let uniform = mask.uniform();
+    let texels = (layout.width * layout.height) as usize;
     let (id, new) = texture::register(mask)?;
     if new && (deviation.distance > deviation.tolerance) {
-        eprintln!("{}", warning(written, use_, &files, uniform, deviation));
+        eprintln!("{}", warning(written, use_, &files, texels, uniform, deviation));
     }
     Ok(SeedMode::Texture(id))
 }
@@ -104,6 +105,7 @@ fn warning(
     written: &str,
     use_: TextureUse,
     files: &[PathBuf],
+    texels: usize,
     uniform: bool,
     d: texture::Deviation,
 ) -> String {
@@ -116,7 +118,7 @@ fn warning(
             d.slice,
             d.channel,
             d.distance,
-            files.len(),
+            texels,
             d.tolerance
         )
     } else {

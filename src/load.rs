@@ -25,7 +25,11 @@ pub struct SpecFiles<'a> {
 }
 
 impl spec::Files for SpecFiles<'_> {
-    fn texture(&self, written: &str, use_: crate::sampling::texture::TextureUse) -> std::result::Result<SeedMode, String> {
+    fn texture(
+        &self,
+        written: &str,
+        use_: crate::sampling::texture::TextureUse,
+    ) -> std::result::Result<SeedMode, String> {
         texture::texture(self.dir, written, use_)
     }
 

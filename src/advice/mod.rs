@@ -66,11 +66,12 @@ pub fn not_sensible(row: Row) -> Option<&'static str> {
         }
         // A file's texture (`advise --texture`) is measured as its use says: an offset texture as
         // `blue-noise` is, a rotation texture as `rotation`, a vector texture only with sine-cosine.
-        (d, _, m) if m.texture_use() == Some(crate::sampling::texture::TextureUse::Vector) => {
-            (d != Distribution::SineCosine).then_some("a vector texture holds cosine-weighted directions: sine-cosine only")
-        }
+        (d, _, m) if m.texture_use() == Some(crate::sampling::texture::TextureUse::Vector) => (d
+            != Distribution::SineCosine)
+            .then_some("a vector texture holds cosine-weighted directions: sine-cosine only"),
         (Distribution::ConcentricCosine, s, m)
-            if m.texture_use() == Some(crate::sampling::texture::TextureUse::Rotation) && s != Sequence::Random =>
+            if m.texture_use() == Some(crate::sampling::texture::TextureUse::Rotation)
+                && s != Sequence::Random =>
         {
             Some("through the concentric map an x offset is not a rotation about the normal")
         }
@@ -82,7 +83,8 @@ pub fn not_sensible(row: Row) -> Option<&'static str> {
 /// (point files, textures: `advise --points`, `--texture`), over every distribution, built-in or
 /// added sequence and seed mode, canonical and in that order.
 pub fn sensible_rows_with(sequences: &[Sequence], modes: &[SeedMode]) -> Vec<Row> {
-    let builtin: Vec<Sequence> = Sequence::all().into_iter().filter(|s| !s.name().starts_with("points:")).collect();
+    let builtin: Vec<Sequence> =
+        Sequence::all().into_iter().filter(|s| !s.name().starts_with("points:")).collect();
     let all_s: Vec<Sequence> = builtin.iter().chain(sequences).copied().collect();
     let all_m: Vec<SeedMode> = SeedMode::ALL.iter().chain(modes).copied().collect();
     let mut rows = Vec::new();

@@ -238,7 +238,8 @@ fn added_rows(args: &Request) -> Result<Vec<Row>> {
     let (mut sequences, mut modes) = (Vec::new(), Vec::new());
     for f in &args.files {
         if let Some(p) = f.strip_prefix("points:") {
-            let s = crate::load::points::points(&base, p).map_err(|e| Error::Usage(format!("--points {p}: {e}")))?;
+            let s = crate::load::points::points(&base, p)
+                .map_err(|e| Error::Usage(format!("--points {p}: {e}")))?;
             sequences.push(s);
         } else {
             let t = f.strip_prefix("texture:").unwrap_or(f);
@@ -252,7 +253,9 @@ fn added_rows(args: &Request) -> Result<Vec<Row>> {
     for &s in &sequences {
         let max = s.imp().max_count().unwrap_or(u32::MAX);
         if let Some(&big) = args.rays.iter().filter(|&&r| r > max).max() {
-            return Err(Error::Usage(format!("--rays {big}: --points {s} holds {max} points per pixel; allowed 1..={max}")));
+            return Err(Error::Usage(format!(
+                "--rays {big}: --points {s} holds {max} points per pixel; allowed 1..={max}"
+            )));
         }
     }
     Ok(rows)

@@ -51,7 +51,9 @@ pub fn run(args: AdviseArgs) -> Result<()> {
                 .texture
                 .iter()
                 .map(|t| format!("texture:{}", t.strip_prefix("texture:").unwrap_or(t)))
-                .chain(args.points.iter().map(|p| format!("points:{}", p.strip_prefix("points:").unwrap_or(p))))
+                .chain(
+                    args.points.iter().map(|p| format!("points:{}", p.strip_prefix("points:").unwrap_or(p))),
+                )
                 .collect(),
             files_dir: std::env::current_dir().ok(),
         },

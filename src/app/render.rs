@@ -23,9 +23,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let row = hemilab::spec::Row::new(args.sampling.distribution, sequence, seed_mode);
     crate::app::check_row(&row, args.rays, "--rays")?;
     let sampler = SamplerConfig::new(row.sequence, row.seed_mode, args.rays, args.sampling.seed)
-            .map_err(|e| Error::Usage(format!("--rays: {e}")))?
-            .with_frame(args.sampling.frames.frame)
-            .with_schedule(args.sampling.frames.schedule);
+        .map_err(|e| Error::Usage(format!("--rays: {e}")))?
+        .with_frame(args.sampling.frames.frame)
+        .with_schedule(args.sampling.frames.schedule);
     // The BVH's build effort follows the rays this image traces (`scene::Effort::for_work`).
     let (scene, width, height) = scene_for(&args.scene, args.resolution, Some(args.rays))?;
     let dir = match out.parent() {

@@ -44,13 +44,16 @@ pub fn points(base: &Path, written: &str) -> Result<Sequence, String> {
     register_file(Box::new(seq)).map_err(|e| format!("point file {shown}: {e}"))
 }
 
+/// What a file holds: (sets, points per set, the points set after set).
+type Read = (usize, usize, Vec<(f64, f64)>);
+
 /// Whether a coordinate is in [0, 1).
 fn unit(v: f64) -> bool {
     (0.0..1.0).contains(&v)
 }
 
 /// (sets, points per set, points) of a text file; errors name the line.
-fn text_points(bytes: &[u8]) -> Result<(usize, usize, Vec<(f64, f64)>), String> {
+fn text_points(bytes: &[u8]) -> Result<Read, String> {
     let text = std::str::from_utf8(bytes).map_err(|_| "is neither an .npy nor UTF-8 text".to_string())?;
     let mut all = Vec::new();
     let mut sizes: Vec<(usize, usize)> = Vec::new(); // (points, first line)
@@ -66,7 +69,8 @@ fn text_points(bytes: &[u8]) -> Result<(usize, usize, Vec<(f64, f64)>), String> 
             }
             continue;
         }
-        let nums: Vec<&str> = t.split(|c: char| c.is_whitespace() || c == ',').filter(|s| !s.is_empty()).collect();
+        let nums: Vec<&str> =
+            t.split(|c: char| c.is_whitespace() || c == ',').filter(|s| !s.is_empty()).collect();
         let parsed: Vec<Option<f64>> = nums.iter().map(|s| s.parse::<f64>().ok()).collect();
         let (x, y) = match parsed[..] {
             [Some(x), Some(y)] => (x, y),
@@ -100,13 +104,15 @@ fn text_points(bytes: &[u8]) -> Result<(usize, usize, Vec<(f64, f64)>), String> 
 }
 
 /// (sets, points per set, points) of an `.npy`; errors name the point's index.
-fn npy_points(bytes: &[u8]) -> Result<(usize, usize, Vec<(f64, f64)>), String> {
+fn npy_points(bytes: &[u8]) -> Result<Read, String> {
     if bytes.len() < 10 || &bytes[..6] != b"\x93NUMPY" {
         return Err("is not an .npy file (no \\x93NUMPY magic)".into());
     }
     let (len, start) = match bytes[6] {
         1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
-        2 | 3 if bytes.len() >= 12 => (u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize, 12),
+        2 | 3 if bytes.len() >= 12 => {
+            (u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize, 12)
+        }
         v => return Err(format!("has .npy version {v}; readable: 1, 2, 3")),
     };
     let header = bytes.get(start..start + len).ok_or("its .npy header is cut short")?;
@@ -128,7 +134,9 @@ fn npy_points(bytes: &[u8]) -> Result<(usize, usize, Vec<(f64, f64)>), String> {
     let shape: Vec<usize> = field("shape")
         .and_then(|r| r.strip_prefix('('))
         .and_then(|r| r.split(')').next())
-        .map(|r| r.split(',').map(str::trim).filter(|s| !s.is_empty()).filter_map(|s| s.parse().ok()).collect())
+        .map(|r| {
+            r.split(',').map(str::trim).filter(|s| !s.is_empty()).filter_map(|s| s.parse().ok()).collect()
+        })
         .ok_or("its .npy header has no shape")?;
     let (sets, per_set) = match shape[..] {
         [n, 2] => (1, n),
@@ -138,7 +146,11 @@ fn npy_points(bytes: &[u8]) -> Result<(usize, usize, Vec<(f64, f64)>), String> {
     let data = &bytes[start + len..];
     let count = sets * per_set * 2;
     if data.len() < count * size {
-        return Err(format!("holds {} bytes of data, its shape {shape:?} needs {}", data.len(), count * size));
+        return Err(format!(
+            "holds {} bytes of data, its shape {shape:?} needs {}",
+            data.len(),
+            count * size
+        ));
     }
     let read = |k: usize| -> f64 {
         let b = &data[k * size..(k + 1) * size];

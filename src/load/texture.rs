@@ -38,7 +38,9 @@ pub fn texture(base: &Path, written: &str, use_: TextureUse) -> Result<SeedMode,
         let (l, samples) = decode(file, &bytes)?;
         match &layout {
             None => layout = Some((l, file.clone())),
-            Some((first, from)) if (first.width, first.height, first.channels) != (l.width, l.height, l.channels) => {
+            Some((first, from))
+                if (first.width, first.height, first.channels) != (l.width, l.height, l.channels) =>
+            {
                 return Err(format!(
                     "texture slice {shown} is {}x{} with {} channel(s), but {} is {}x{} with {}; every slice must \
                      match",
@@ -56,14 +58,18 @@ pub fn texture(base: &Path, written: &str, use_: TextureUse) -> Result<SeedMode,
         match samples {
             Samples::Int { bits, data } => {
                 if bits_seen.is_some_and(|b| b != bits) || !floats.is_empty() {
-                    return Err(format!("texture slice {shown} has another bit depth or format than slice 0"));
+                    return Err(format!(
+                        "texture slice {shown} has another bit depth or format than slice 0"
+                    ));
                 }
                 bits_seen = Some(bits);
                 ints.extend(data);
             }
             Samples::Float(data) => {
                 if bits_seen.is_some() {
-                    return Err(format!("texture slice {shown} is an EXR, slice 0 a PNG; every slice must match"));
+                    return Err(format!(
+                        "texture slice {shown} is an EXR, slice 0 a PNG; every slice must match"
+                    ));
                 }
                 floats.extend(data);
             }
@@ -115,11 +121,7 @@ fn warning(
             "warning: texture '{written}' (vector): slice {}{slice}: its {} is {:.4} (Kolmogorov–Smirnov / \
              Kuiper distance) from a cosine-weighted hemisphere's, more than {} independent directions would \
              be ({:.4}); its estimates are biased by the difference",
-            d.slice,
-            d.channel,
-            d.distance,
-            texels,
-            d.tolerance
+            d.slice, d.channel, d.distance, texels, d.tolerance
         )
     } else {
         let _ = uniform;
@@ -184,10 +186,13 @@ fn decode(file: &Path, bytes: &[u8]) -> Result<(Layout, Samples), String> {
     match ext.as_str() {
         "png" => decode_png(bytes).map_err(|e| format!("texture {shown} is not a readable PNG: {e}")),
         "exr" => {
-            let channels = decode_exr(bytes).map_err(|e| format!("texture {shown} is not a readable EXR: {e}"))?;
+            let channels =
+                decode_exr(bytes).map_err(|e| format!("texture {shown} is not a readable EXR: {e}"))?;
             exr_samples(channels).map_err(|e| format!("texture {shown}: {e}"))
         }
-        _ => Err(format!("texture {shown} is not a PNG or an EXR (its extension is '{ext}'; allowed: .png, .exr)")),
+        _ => Err(format!(
+            "texture {shown} is not a PNG or an EXR (its extension is '{ext}'; allowed: .png, .exr)"
+        )),
     }
 }
 
@@ -283,7 +288,9 @@ pub fn own_masks(which: Own, png: bool) -> Result<Vec<(String, Vec<u8>)>, String
                 (0..n).flat_map(|i| [(part(0)[i] * step) as u16, (part(1)[i] * step) as u16]).collect();
             (name("png"), encode_png16(size, size, 2, &samples)?)
         } else {
-            let img = |c: usize| Image::from_vec(size, size, part(c).iter().map(|&r| r as f32 / n as f32).collect());
+            let img = |c: usize| {
+                Image::from_vec(size, size, part(c).iter().map(|&r| r as f32 / n as f32).collect())
+            };
             let (r, g) = (img(0), img(1));
             (name("exr"), encode_exr(&[Channel { name: "R", image: &r }, Channel { name: "G", image: &g }])?)
         };

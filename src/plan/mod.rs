@@ -92,7 +92,9 @@ impl Job {
 /// has '/', ':', '%' and '#' in its name; each character other than a letter, digit, '-', '_' or '.'
 /// becomes '_' (the key after it keeps the stem unique). Built-in names are unchanged.
 pub fn file_safe(name: &str) -> String {
-    name.chars().map(|c| if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') { c } else { '_' }).collect()
+    name.chars()
+        .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') { c } else { '_' })
+        .collect()
 }
 
 /// FNV-1a, 64 bit: tiny and fixed forever, unlike std's `DefaultHasher`.

@@ -93,7 +93,8 @@ impl Pattern {
             Pattern::MagicSquare => ((magic5(x % 5, y % 5) as u64 * FIX_ONE as u64) / 25) as u32,
             // frac(x / g + y / g²) from the 64-bit Weyl constants: exact mod 1 at any pixel.
             Pattern::R2Dither => {
-                let v = (x as u64).wrapping_mul(R2_ALPHA[0]).wrapping_add((y as u64).wrapping_mul(R2_ALPHA[1]));
+                let v =
+                    (x as u64).wrapping_mul(R2_ALPHA[0]).wrapping_add((y as u64).wrapping_mul(R2_ALPHA[1]));
                 (v >> (64 - FIX_BITS)) as u32
             }
         }
@@ -115,7 +116,7 @@ impl EngineShift {
         let h = hash(run_key, 0xE9_61_4E);
         // 2^16 is no multiple of 5: the magic square's shift comes from 32 bits (bias < 2^-29).
         let (sx, sy) = match pattern.period() {
-            Some(p) => ((h as u32) % p, ((h >> 32) as u32 & 0xFFFF_FFFF) % p),
+            Some(p) => ((h as u32) % p, ((h >> 32) as u32) % p),
             None => (h as u32 & 0xFFFF, (h >> 16) as u32 & 0xFFFF),
         };
         let offset = (hash(run_key, 0xE9_61_4F) >> (64 - FIX_BITS)) as u32;

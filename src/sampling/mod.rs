@@ -2,10 +2,11 @@
 //!
 //! A point set is made in three steps, each in its own file:
 //! a sequence of numbers in [0,1)^2 (`random`, `fibonacci`, `stratified`, `sobol`,
-//! `halton`, `pmj02bn`, `zsobol`, `r2`) →
+//! `halton`, `pmj02bn`, `zsobol`, `r2`, or a file's points held by `point_file`) →
 //! `seed` randomization across pixels (static, rotation, shift, blue-noise from `blue_noise`'s
-//! masks, stbn from `stbn`'s spatiotemporal masks, both made by `void_cluster`), changing from frame
-//! to frame by a `schedule` →
+//! masks, stbn from `stbn`'s spatiotemporal masks, both made by `void_cluster`; the engines'
+//! rotation patterns of `engine`; a user's noise texture from `texture`'s table), changing from
+//! frame to frame by a `schedule` →
 //! `warp` to a direction on the hemisphere (uniform, sine, sine-cosine, concentric-cosine),
 //! which `frame` rotates around the surface normal.
 //! All of them draw their randomness from `hash` (counter-based hashing and the 24-bit fixed

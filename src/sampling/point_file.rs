@@ -27,8 +27,13 @@ impl PointFile {
     pub fn new(name: &str, label: &str, points: Vec<(u32, u32)>, per_set: u32) -> Self {
         let sets = (points.len() as u32 / per_set.max(1)).max(1);
         let leak = |s: &str| -> &'static str { Box::leak(s.to_string().into_boxed_str()) };
-        let info =
-            SequenceInfo { name: leak(name), label: leak(label), words: &[], fresh_per_pixel: false, shipped: None };
+        let info = SequenceInfo {
+            name: leak(name),
+            label: leak(label),
+            words: &[],
+            fresh_per_pixel: false,
+            shipped: None,
+        };
         Self { info, points, per_set: per_set.max(1), sets }
     }
 

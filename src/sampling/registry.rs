@@ -219,7 +219,10 @@ pub fn register_file(sequence: Box<dyn PointSequence>) -> Result<Sequence, Regis
     let name = sequence.info().name;
     let ok = name.starts_with("points:") && !name.chars().any(|c| c.is_control());
     if !ok {
-        return Err(RegisterError(format!("a point file's name '{}' must start with 'points:'", name.escape_debug())));
+        return Err(RegisterError(format!(
+            "a point file's name '{}' must start with 'points:'",
+            name.escape_debug()
+        )));
     }
     if let Some(s) = Sequence::all().into_iter().find(|s| s.name() == name) {
         return Ok(s);
@@ -249,7 +252,8 @@ impl std::str::FromStr for Sequence {
         } else {
             ""
         };
-        let builtin: Vec<&str> = Sequence::names().into_iter().filter(|n| !n.starts_with("points:")).collect();
+        let builtin: Vec<&str> =
+            Sequence::names().into_iter().filter(|n| !n.starts_with("points:")).collect();
         Err(format!("unknown sequence '{s}'; valid: {}{hint}{file}", builtin.join(", ")))
     }
 }

@@ -24,6 +24,16 @@
 //!
 //! `rotation` leaves y (hence theta) as in the static set, so it does not make the per-pixel
 //! estimate unbiased for the lattice sequences (tests/stages/sampling_estimators.rs measures it).
+//!
+//! The modes of issue 38 act on every sequence alike, as `blue-noise` does: the run's static set
+//! (for `random`, the run's one set of numbers) plus the mode's per-pixel offsets:
+//!
+//! | seed mode | offset added to the static set | randomized per run by | unbiased per pixel |
+//! |---|---|---|---|
+//! | `ign`, `bayer`, `magic-square`, `r2-dither` — the engines' patterns ([`super::engine`]) | x only (a rotation): the pattern's value at the pixel | a toroidal shift of the pattern + a Cranley–Patterson offset of x | as `rotation`: only for `random` (the static set is random over runs); never for the lattice, a scramble or a jitter |
+//! | `texture`, use `offset` ([`super::texture`]) | x and y from the texture's channels 0 and 1 | the built-in masks' toroidal shift and cell jitter | when its slices are exactly uniform (measured at load; else one warning) |
+//! | `texture`, use `rotation` | x only, from channel 0 | as `offset` | as `rotation` |
+//! | `texture`, use `vector` | none: the texel is the direction (any sequence names the same images; `random` is kept) | a toroidal shift | never (a finite set of directions) |
 
 use super::blue_noise::MaskShift;
 use super::engine::{EngineShift, Pattern};

@@ -157,7 +157,9 @@ impl TextureMask {
         let value = |i: usize, c: usize| -> f64 {
             match samples {
                 Samples::Int { bits, data } => match use_ {
-                    TextureUse::Vector => 2.0 * data[i * channels as usize + c] as f64 / ((1u32 << bits) - 1) as f64 - 1.0,
+                    TextureUse::Vector => {
+                        2.0 * data[i * channels as usize + c] as f64 / ((1u32 << bits) - 1) as f64 - 1.0
+                    }
                     _ => data[i * channels as usize + c] as f64 / (1u32 << bits) as f64,
                 },
                 Samples::Float(data) => data[i * channels as usize + c] as f64,
@@ -293,7 +295,13 @@ impl TextureMask {
     /// A vector texture's points for pixel (x, y) in slice `t`: ray k reads the texel R2-offset by
     /// k, the whole texture shifted by the run's shift and by `frame_offsets` (the schedule's R2
     /// step per cycle, as a fraction of the texture's size).
-    pub fn fill_vector(&self, run_key: u64, (x, y, t): (u32, u32, u32), frame_offsets: (u32, u32), out: &mut [Vec2]) {
+    pub fn fill_vector(
+        &self,
+        run_key: u64,
+        (x, y, t): (u32, u32, u32),
+        frame_offsets: (u32, u32),
+        out: &mut [Vec2],
+    ) {
         let s = TextureShift::new(run_key, self);
         let (w, h, d) = (self.width, self.height, self.depth);
         let frac_of = |f: u32, n: u32| ((f as u64 * n as u64) >> FIX_BITS) as u32;

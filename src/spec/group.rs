@@ -71,7 +71,10 @@ pub(super) fn group(
             p.add(
                 raw.rays.span(),
                 &at("rays"),
-                format!("{big} rays, but sequence '{}' holds {max} points per pixel; allowed 1..={max}", r.sequence),
+                format!(
+                    "{big} rays, but sequence '{}' holds {max} points per pixel; allowed 1..={max}",
+                    r.sequence
+                ),
             );
         }
     }
@@ -205,10 +208,14 @@ fn rows(raw: &RawGroup, at: &str, span: std::ops::Range<usize>, p: &mut Problems
         }
         (None, true) => {
             let ds = axis::<Distribution>(&raw.distributions, &format!("{at}distributions"), span.clone(), p);
-            let ss = entries(&raw.sequences, &format!("{at}sequences"), span.clone(), p, |p, v, k| p.sequence(v, k));
+            let ss = entries(&raw.sequences, &format!("{at}sequences"), span.clone(), p, |p, v, k| {
+                p.sequence(v, k)
+            });
             let ms = match &raw.seed_modes {
                 None => Some(vec![SeedMode::Rotation]),
-                Some(v) => entries(&Some(v.clone()), &format!("{at}seed_modes"), 0..0, p, |p, v, k| p.seed_mode(v, k)),
+                Some(v) => entries(&Some(v.clone()), &format!("{at}seed_modes"), 0..0, p, |p, v, k| {
+                    p.seed_mode(v, k)
+                }),
             };
             let (ds, ss, ms) = (ds?, ss?, ms?);
             let mut ok = true;
@@ -219,7 +226,11 @@ fn rows(raw: &RawGroup, at: &str, span: std::ops::Range<usize>, p: &mut Problems
                             // Said once per seed mode and distribution, at the seed modes.
                             Some(e) if s == ss[0] => {
                                 let at_modes = raw.seed_modes.as_ref().map_or(span.clone(), |v| v.span());
-                                p.add(at_modes, &format!("{at}seed_modes"), format!("{e} (give such rows in `rows`)"));
+                                p.add(
+                                    at_modes,
+                                    &format!("{at}seed_modes"),
+                                    format!("{e} (give such rows in `rows`)"),
+                                );
                                 ok = false;
                             }
                             Some(_) => ok = false,

@@ -103,7 +103,8 @@ pub trait Files {
 /// The `Files` of `parse_spec`: none can be read.
 pub struct NoFiles;
 
-const NO_FILES: &str = "files are read only when the spec is loaded (`load::load`), not by `spec::parse_spec`";
+const NO_FILES: &str =
+    "files are read only when the spec is loaded (`load::load`), not by `spec::parse_spec`";
 
 impl Files for NoFiles {
     fn texture(&self, _: &str, _: crate::sampling::texture::TextureUse) -> Result<SeedMode, String> {

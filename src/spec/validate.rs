@@ -120,7 +120,9 @@ impl Problems<'_> {
             let use_ = match t.get("use") {
                 None => crate::sampling::texture::TextureUse::Offset,
                 Some(toml::Value::String(u)) => crate::sampling::texture::TextureUse::parse(u)?,
-                Some(other) => return Err(format!("`use` is {other}; allowed: \"offset\", \"rotation\", \"vector\"")),
+                Some(other) => {
+                    return Err(format!("`use` is {other}; allowed: \"offset\", \"rotation\", \"vector\""));
+                }
             };
             files.texture(path, use_)
         })
@@ -140,12 +142,16 @@ impl Problems<'_> {
         extra: &[&str],
         read: impl FnOnce(&dyn Files, &str, &toml::Table) -> std::result::Result<T, String>,
     ) -> Option<T> {
-        let how = format!("a name, or {{ {file} = \"PATH\"{} }}", extra.iter().map(|e| format!(", {e} = ..")).collect::<String>());
+        let how = format!(
+            "a name, or {{ {file} = \"PATH\"{} }}",
+            extra.iter().map(|e| format!(", {e} = ..")).collect::<String>()
+        );
         let result = match v.get_ref() {
             toml::Value::String(s) => s.parse::<T>(),
             toml::Value::Table(t) => match t.get(file) {
                 _ if t.keys().any(|k| k != file && !extra.contains(&k.as_str())) => {
-                    let bad: Vec<&str> = t.keys().map(String::as_str).filter(|k| *k != file && !extra.contains(k)).collect();
+                    let bad: Vec<&str> =
+                        t.keys().map(String::as_str).filter(|k| *k != file && !extra.contains(k)).collect();
                     Err(format!("unknown key `{}`; {how}", bad.join("`, `")))
                 }
                 Some(toml::Value::String(path)) => read(self.files, path, t),

@@ -22,7 +22,9 @@ fn setup(name: &str) -> Tmp {
     std::fs::write(t.path("pts.txt"), "0.1 0.1\n0.6 0.3\n0.35 0.85\n0.8 0.7\n").unwrap();
     std::fs::write(t.path("junk.png"), "not an image").unwrap();
     std::fs::write(t.path("out.txt"), "0.1 0.2\n0.3 1.5\n").unwrap();
-    image::GrayImage::from_fn(8, 8, |x, y| image::Luma([(x * 8 + y) as u8])).save(t.path("grey.png")).unwrap();
+    image::GrayImage::from_fn(8, 8, |x, y| image::Luma([(x * 8 + y) as u8]))
+        .save(t.path("grey.png"))
+        .unwrap();
     image::GrayImage::from_fn(8, 8, |x, _| image::Luma([x as u8])).save(t.path("dark.png")).unwrap();
     image::RgbImage::from_fn(8, 8, |_, _| image::Rgb([128, 128, 255])).save(t.path("up.png")).unwrap();
     t
@@ -73,21 +75,45 @@ fn render_reads_textures_and_points_and_own_masks_give_the_built_in_images() {
     // The EXR's provenance names the texture by path, use and content hash.
     let p = hemilab::image::decode_exr_provenance(&std::fs::read(t.path("c.exr")).unwrap()).unwrap().unwrap();
     let m = p.json["seed_mode"].as_str().unwrap();
-    assert!(m.starts_with("texture:masks/stbn_%d.exr:rotation#") && m.len() == "texture:masks/stbn_%d.exr:rotation#".len() + 8, "{m}");
+    assert!(
+        m.starts_with("texture:masks/stbn_%d.exr:rotation#")
+            && m.len() == "texture:masks/stbn_%d.exr:rotation#".len() + 8,
+        "{m}"
+    );
 }
 
 #[test]
 fn points_draws_a_texture_and_a_point_file_panel() {
     let t = setup("cli-textures-points");
     let o = t.hemilab(&[
-        "points", "--distribution", "sine-cosine", "--sequence", "points:pts.txt", "--seed-mode", "shift", "--count", "4",
-        "--output", "p.png",
+        "points",
+        "--distribution",
+        "sine-cosine",
+        "--sequence",
+        "points:pts.txt",
+        "--seed-mode",
+        "shift",
+        "--count",
+        "4",
+        "--output",
+        "p.png",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("points pts.txt"), "{}", stdout(&o));
     let o = t.hemilab(&[
-        "points", "--distribution", "sine-cosine", "--sequence", "fibonacci", "--seed-mode", "texture:masks/stbn_%d.png",
-        "--count", "64", "--frame", "3", "--output", "q.svg",
+        "points",
+        "--distribution",
+        "sine-cosine",
+        "--sequence",
+        "fibonacci",
+        "--seed-mode",
+        "texture:masks/stbn_%d.png",
+        "--count",
+        "64",
+        "--frame",
+        "3",
+        "--output",
+        "q.svg",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("texture masks/stbn_%d.png (offset)"), "{}", stdout(&o));
@@ -135,9 +161,27 @@ seed_modes = ["ign", {{ texture = "masks/stbn_%d.png", use = "offset" }}]
 fn advise_measures_a_texture_and_a_point_file() {
     let t = setup("cli-textures-advise");
     let o = t.hemilab(&[
-        "advise", &scene_path(), "--resolution", "12x8", "--rays", "1,2", "--replicates", "2", "--only",
-        "sine-cosine/fibonacci/*", "--texture", "masks/blue_noise.png", "--points", "pts.txt", "--reference-dir",
-        "ref", "--out", "adv", "--quiet", "--threads", "2",
+        "advise",
+        &scene_path(),
+        "--resolution",
+        "12x8",
+        "--rays",
+        "1,2",
+        "--replicates",
+        "2",
+        "--only",
+        "sine-cosine/fibonacci/*",
+        "--texture",
+        "masks/blue_noise.png",
+        "--points",
+        "pts.txt",
+        "--reference-dir",
+        "ref",
+        "--out",
+        "adv",
+        "--quiet",
+        "--threads",
+        "2",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let advice = std::fs::read_to_string(t.path("adv/advice.json")).unwrap();
@@ -162,10 +206,34 @@ fn bad_texture_and_point_files_exit_2_name_the_file_and_write_nothing() {
     let scene = scene_path();
     for (mode, seq, dist, what, reason) in [
         ("texture:missing.png", "fibonacci", "sine-cosine", "--seed-mode texture:missing.png", "not found"),
-        ("texture:junk.png", "fibonacci", "sine-cosine", "--seed-mode texture:junk.png", "junk.png is not a readable PNG"),
-        ("texture:grey.png:vector", "fibonacci", "sine-cosine", "--seed-mode texture:grey.png:vector", "needs 3"),
-        ("texture:masks/stbn_%d.png:vector", "random", "sine-cosine", "--seed-mode texture:masks/stbn_%d.png:vector", "needs 3"),
-        ("shift", "points:out.txt", "sine-cosine", "--sequence points:out.txt", "line 2: point (0.3, 1.5) is outside"),
+        (
+            "texture:junk.png",
+            "fibonacci",
+            "sine-cosine",
+            "--seed-mode texture:junk.png",
+            "junk.png is not a readable PNG",
+        ),
+        (
+            "texture:grey.png:vector",
+            "fibonacci",
+            "sine-cosine",
+            "--seed-mode texture:grey.png:vector",
+            "needs 3",
+        ),
+        (
+            "texture:masks/stbn_%d.png:vector",
+            "random",
+            "sine-cosine",
+            "--seed-mode texture:masks/stbn_%d.png:vector",
+            "needs 3",
+        ),
+        (
+            "shift",
+            "points:out.txt",
+            "sine-cosine",
+            "--sequence points:out.txt",
+            "line 2: point (0.3, 1.5) is outside",
+        ),
         ("shift", "points:none.npy", "sine-cosine", "--sequence points:none.npy", "not found"),
         ("shift", "points:pts.txt", "sine-cosine", "--rays 8", "holds 4 points per pixel"),
     ] {

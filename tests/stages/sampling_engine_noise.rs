@@ -180,7 +180,8 @@ fn per_pixel_unbiased_for_random_numbers_absent_for_the_lattice() {
             assert!(bias.abs() <= z * se, "random {mode}: bias {bias} > {z:.2} se {se}");
         }
         let axial = caps[0];
-        let (mean, se) = estimate_over_seeds(Distribution::SineCosine, Sequence::Fibonacci, mode, axial, 37, 5);
+        let (mean, se) =
+            estimate_over_seeds(Distribution::SineCosine, Sequence::Fibonacci, mode, axial, 37, 5);
         let bias = mean - axial.exact;
         eprintln!("fibonacci {mode} axial cap: bias {bias:+.5} se {se:.5}");
         assert!(bias.abs() > 10.0 * se.max(1e-6), "fibonacci {mode}: bias {bias} se {se}");

@@ -63,7 +63,11 @@ fn assert_shifted(got: &[Vec2], file: &[(f64, f64)]) {
 }
 
 fn set(n: usize, k: usize) -> Vec<(f64, f64)> {
-    (0..n).map(|i| (((i * 7 + k) % n) as f64 / n as f64 + 0.01, ((i * 3 + 2 * k) % n) as f64 / n as f64 + 0.003)).collect()
+    (0..n)
+        .map(|i| {
+            (((i * 7 + k) % n) as f64 / n as f64 + 0.01, ((i * 3 + 2 * k) % n) as f64 / n as f64 + 0.003)
+        })
+        .collect()
 }
 
 #[test]
@@ -84,7 +88,11 @@ fn npy_and_text_files_are_read_exactly_and_shifted_once_per_run() {
         assert_shifted(&a, &one);
         assert_eq!(a, pts(seq, SeedMode::Static, 16, 3, 40, 9), "{file}: static is one set in every pixel");
         assert_ne!(a, pts(seq, SeedMode::Static, 16, 4, 0, 0), "{file}: the run seed moves the set");
-        assert_eq!(pts(seq, SeedMode::Static, 5, 3, 0, 0)[..], a[..5], "{file}: fewer points are its first ones");
+        assert_eq!(
+            pts(seq, SeedMode::Static, 5, 3, 0, 0)[..],
+            a[..5],
+            "{file}: fewer points are its first ones"
+        );
         assert_shifted(&pts(seq, SeedMode::Shift, 16, 3, 7, 7), &one);
         assert_ne!(pts(seq, SeedMode::Shift, 16, 3, 7, 7), pts(seq, SeedMode::Shift, 16, 3, 8, 7));
     }
@@ -101,7 +109,10 @@ fn per_pixel_sets_are_read_in_raster_order() {
     let sets: Vec<Vec<(f64, f64)>> = (0..3).map(|k| set(8, k)).collect();
     let flat: Vec<f64> = sets.iter().flatten().flat_map(|&(x, y)| [x, y]).collect();
     npy(&dir.path("p.npy"), &[3, 8, 2], &flat, false, false);
-    let text: String = sets.iter().map(|s| s.iter().map(|(x, y)| format!("{x}\t{y}\n")).collect::<String>() + "#\n").collect();
+    let text: String = sets
+        .iter()
+        .map(|s| s.iter().map(|(x, y)| format!("{x}\t{y}\n")).collect::<String>() + "#\n")
+        .collect();
     std::fs::write(dir.path("p.txt"), text).unwrap();
     for file in ["p.npy", "p.txt"] {
         let seq = points(&dir.0, file).unwrap();

@@ -50,15 +50,25 @@ fn own_masks_as_png_and_exr_render_the_built_in_images_bit_for_bit() {
             let (_dir, mode) = own(which, png, TextureUse::Offset);
             assert!(mode.name().starts_with("texture:") && mode.name().contains(":offset#"), "{mode}");
             for seq in [Sequence::Fibonacci, Sequence::Random, Sequence::Sobol, Sequence::R2] {
-                for (frame, schedule) in [(0, Schedule::Independent), (5, Schedule::Independent), (5, Schedule::R1), (37, Schedule::R1), (40, Schedule::Independent)] {
+                for (frame, schedule) in [
+                    (0, Schedule::Independent),
+                    (5, Schedule::Independent),
+                    (5, Schedule::R1),
+                    (37, Schedule::R1),
+                    (40, Schedule::Independent),
+                ] {
                     let job = |m| RenderJob {
                         distribution: Distribution::SineCosine,
-                        sampler: SamplerConfig::new(seq, m, 4, 11).unwrap().with_frame(frame).with_schedule(schedule),
+                        sampler: SamplerConfig::new(seq, m, 4, 11)
+                            .unwrap()
+                            .with_frame(frame)
+                            .with_schedule(schedule),
                         width: 32,
                         height: 24,
                         ao_distance: scene.ao_distance,
                     };
-                    let (a, b) = (render(&scene, &job(mode), &|_| {}), render(&scene, &job(built_in), &|_| {}));
+                    let (a, b) =
+                        (render(&scene, &job(mode), &|_| {}), render(&scene, &job(built_in), &|_| {}));
                     assert!(b.occluded_rays > 0);
                     let what = format!("{which:?} png={png} {seq} frame {frame} {schedule}");
                     assert_eq!(bits(&a.ao.data), bits(&b.ao.data), "{what}");
@@ -87,7 +97,10 @@ fn a_texture_offsets_are_stratified_over_pixels_and_frames() {
                 }
             }
         }
-        assert!(cells.iter().all(|c| c.len() == 4096), "frame {frame}: offsets not a permutation of the cells");
+        assert!(
+            cells.iter().all(|c| c.len() == 4096),
+            "frame {frame}: offsets not a permutation of the cells"
+        );
     }
     for c in &counts {
         let t = chi2_test(c, &[2048.0; 64], 5.0).unwrap();
@@ -169,7 +182,10 @@ fn cosine_texture(dir: &Path, side: u32, slices: u32) -> Vec<Vec<Vec3>> {
         let dirs: Vec<Vec3> = (0..n)
             .map(|i| {
                 let j = (i * 389 + t * 97) % n;
-                let u = Vec2::new(((j % side) as f32 + 0.5) / side as f32, ((j / side) as f32 + 0.5) / side as f32);
+                let u = Vec2::new(
+                    ((j % side) as f32 + 0.5) / side as f32,
+                    ((j / side) as f32 + 0.5) / side as f32,
+                );
                 Distribution::SineCosine.sample(u).dir
             })
             .collect();
@@ -181,7 +197,9 @@ fn cosine_texture(dir: &Path, side: u32, slices: u32) -> Vec<Vec<Vec3>> {
         img.save(dir.join(format!("vec_{t:02}.png"))).unwrap();
         // What the file holds, decoded as the loader decodes it.
         let dec = |c: u8| 2.0 * c as f32 / 255.0 - 1.0;
-        all.push(dirs.iter().map(|d| Vec3::new(dec(enc(d.x)), dec(enc(d.y)), dec(enc(d.z))).normalize()).collect());
+        all.push(
+            dirs.iter().map(|d| Vec3::new(dec(enc(d.x)), dec(enc(d.y)), dec(enc(d.z))).normalize()).collect(),
+        );
     }
     all
 }
@@ -198,7 +216,10 @@ fn a_vector_texture_gives_its_directions_and_needs_sine_cosine() {
     assert!(!per_pixel_unbiased(Row::new(Distribution::SineCosine, Sequence::Random, mode)));
     assert!(Row::new(Distribution::Uniform, Sequence::Random, mode).invalid().is_some());
     assert!(Row::new(Distribution::SineCosine, Sequence::Random, mode).invalid().is_none());
-    assert_eq!(Row::new(Distribution::SineCosine, Sequence::Sobol, mode).canonical().sequence, Sequence::Random);
+    assert_eq!(
+        Row::new(Distribution::SineCosine, Sequence::Sobol, mode).canonical().sequence,
+        Sequence::Random
+    );
     // Frame f: the first rays of a 32 × 32 window are slice f mod 4's directions, each once (the
     // run's toroidal shift is a bijection); the renderer's warp hands the texture's direction on.
     for frame in [0u32, 1, 6] {
@@ -232,7 +253,8 @@ fn bad_texture_files_are_one_error_naming_the_file() {
     grey8(&dir.0, "s_0.png", 8, |x, _| x as u8);
     grey8(&dir.0, "s_1.png", 4, |x, _| x as u8);
     let img = hemilab::image::Image::from_vec(2, 1, vec![0.25, 1.5]);
-    hemilab::io::write_exr(&dir.path("big.exr"), &[hemilab::image::Channel { name: "Y", image: &img }]).unwrap();
+    hemilab::io::write_exr(&dir.path("big.exr"), &[hemilab::image::Channel { name: "Y", image: &img }])
+        .unwrap();
     for (file, use_, want) in [
         ("missing.png", TextureUse::Offset, "texture file 'missing.png' not found"),
         ("none_%d.png", TextureUse::Offset, "matches no file"),

@@ -113,6 +113,11 @@ static BUILT_IN: [&dyn PointSequence; 8] = [
 
 /// Sequences a program registered (`register`), after the built-ins.
 static REGISTERED: RwLock<Vec<&'static dyn PointSequence>> = RwLock::new(Vec::new());
+/// Files' point sets (`register_file`): named and parsed like the others, but not in `all` (a file
+/// is the user's, not one of the sequences every listing and default sweep covers).
+static FILES: RwLock<Vec<&'static dyn PointSequence>> = RwLock::new(Vec::new());
+/// The handles of `FILES` have this bit set.
+const FILE_BIT: u16 = 0x8000;
 
 /// A sequence: a handle into the list (built-ins first, then registered ones, in that order).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -140,6 +145,9 @@ impl Sequence {
     /// The implementation behind the handle.
     #[inline]
     pub fn imp(self) -> &'static dyn PointSequence {
+        if self.0 & FILE_BIT != 0 {
+            return FILES.read().unwrap_or_else(|e| e.into_inner())[(self.0 & !FILE_BIT) as usize];
+        }
         let i = self.0 as usize;
         match BUILT_IN.get(i) {
             Some(s) => *s,
@@ -159,6 +167,12 @@ impl Sequence {
     pub fn all() -> Vec<Sequence> {
         let n = BUILT_IN.len() + REGISTERED.read().unwrap_or_else(|e| e.into_inner()).len();
         (0..n as u16).map(Sequence).collect()
+    }
+
+    /// The files' point sets read in this process (`register_file`), in the order they were read.
+    pub fn files() -> Vec<Sequence> {
+        let n = FILES.read().unwrap_or_else(|e| e.into_inner()).len();
+        (0..n as u16).map(|i| Sequence(i | FILE_BIT)).collect()
     }
 
     /// Every accepted name, in the order of `all`.
@@ -224,14 +238,14 @@ pub fn register_file(sequence: Box<dyn PointSequence>) -> Result<Sequence, Regis
             name.escape_debug()
         )));
     }
-    if let Some(s) = Sequence::all().into_iter().find(|s| s.name() == name) {
-        return Ok(s);
+    let mut list = FILES.write().unwrap_or_else(|e| e.into_inner());
+    if let Some(i) = list.iter().position(|s| s.info().name == name) {
+        return Ok(Sequence(i as u16 | FILE_BIT));
     }
-    let mut list = REGISTERED.write().unwrap_or_else(|e| e.into_inner());
-    let index = BUILT_IN.len() + list.len();
-    let index = u16::try_from(index).map_err(|_| RegisterError("too many sequences".into()))?;
+    let index = u16::try_from(list.len()).ok().filter(|&i| i < FILE_BIT);
+    let index = index.ok_or_else(|| RegisterError("too many point files".into()))?;
     list.push(Box::leak(sequence));
-    Ok(Sequence(index))
+    Ok(Sequence(index | FILE_BIT))
 }
 
 impl std::str::FromStr for Sequence {
@@ -239,7 +253,7 @@ impl std::str::FromStr for Sequence {
 
     fn from_str(s: &str) -> Result<Self, String> {
         let all = Sequence::all();
-        if let Some(q) = all.iter().find(|q| q.name() == s) {
+        if let Some(q) = all.iter().chain(&Sequence::files()).find(|q| q.name() == s) {
             return Ok(*q);
         }
         // The report's words are not values, but say which is meant.

@@ -3,6 +3,7 @@
 
 use clap::{Args, Parser, Subcommand};
 use hemilab::sampling::{Distribution, Schedule, SeedMode, Sequence};
+
 use hemilab::shard::{Shard, ShardArg};
 use std::path::PathBuf;
 
@@ -154,13 +155,17 @@ pub struct RenderSampling {
     /// Hemisphere distribution: uniform, sine, sine-cosine, concentric-cosine.
     #[arg(long, value_parser = parse_distribution, value_name = "D", default_value = "sine-cosine")]
     pub distribution: Distribution,
-    /// Point sequence: random, fibonacci, stratified, sobol, halton, pmj02bn, zsobol, r2.
+    /// Point sequence: random, fibonacci, stratified, sobol, halton, pmj02bn, zsobol, r2, or a file's
+    /// point set points:PATH (.npy of N x 2 or P x N x 2, or text with one `x y` per line).
     #[arg(long, value_parser = parse_sequence, value_name = "S", default_value = "fibonacci")]
-    pub sequence: Sequence,
+    pub sequence: SequenceArg,
     /// Randomization across pixels: static, rotation (the paper's per-pixel seed), shift (unbiased
-    /// per pixel), blue-noise, stbn (spatiotemporal blue noise).
+    /// per pixel), blue-noise, stbn (spatiotemporal blue noise); the engines' rotation patterns
+    /// ign (interleaved gradient noise), bayer (4x4), magic-square (5x5), r2-dither; or a noise
+    /// texture texture:PATH[:offset|rotation|vector] (PNG 8/16 bit or EXR, `%d` for numbered
+    /// slices; default use offset; vector needs sine-cosine).
     #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "rotation")]
-    pub seed_mode: SeedMode,
+    pub seed_mode: ModeArg,
     /// Run seed: different seeds give independent images.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -242,12 +247,14 @@ pub struct PointsArgs {
     /// Hemisphere distribution: uniform, sine, sine-cosine, concentric-cosine.
     #[arg(long, value_parser = parse_distribution, value_name = "D")]
     pub distribution: Distribution,
-    /// Point sequence: random, fibonacci, stratified, sobol, halton, pmj02bn, zsobol, r2.
+    /// Point sequence: random, fibonacci, stratified, sobol, halton, pmj02bn, zsobol, r2, or a file's
+    /// point set points:PATH (.npy of N x 2 or P x N x 2, or text with one `x y` per line).
     #[arg(long, value_parser = parse_sequence, value_name = "S")]
-    pub sequence: Sequence,
-    /// Randomization across pixels: static, rotation, shift, blue-noise, stbn.
+    pub sequence: SequenceArg,
+    /// Randomization across pixels: static, rotation, shift, blue-noise, stbn, ign, bayer,
+    /// magic-square, r2-dither, or a noise texture texture:PATH[:offset|rotation|vector].
     #[arg(long, value_parser = parse_seed_mode, value_name = "M", default_value = "static")]
-    pub seed_mode: SeedMode,
+    pub seed_mode: ModeArg,
     /// Run seed: the points are pixel 0's of a render with this seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -308,6 +315,15 @@ pub struct AdviseArgs {
     /// name or * (e.g. sine-cosine/fibonacci/*); the paper's default is always run.
     #[arg(long, value_parser = parse_pattern, value_delimiter = ',', value_name = "LIST")]
     pub only: Vec<hemilab::advice::Pattern>,
+    /// Also measure a noise texture as a seed mode, PATH[:offset|rotation|vector] (PNG 8/16 bit or
+    /// EXR, `%d` for numbered slices), with every sequence it is sensible with (--only narrows by
+    /// distribution and sequence); repeatable.
+    #[arg(long, value_name = "PATH[:USE]", conflicts_with = "from")]
+    pub texture: Vec<String>,
+    /// Also measure a file's point set as a sequence (.npy of N x 2 or P x N x 2, or `x y` text),
+    /// with every seed mode it is sensible with; repeatable.
+    #[arg(long, value_name = "PATH", conflicts_with = "from")]
+    pub points: Vec<String>,
     /// Output directory (default: out/advise-<scene>/, or DIR with --from). Rewritten whole: absent,
     /// empty or an earlier advise's; a rerun resumes from its records.
     #[arg(long)]
@@ -341,12 +357,51 @@ fn parse_integrand(s: &str) -> Result<hemilab::sampling::Integrand, String> {
     hemilab::sampling::Integrand::parse(s)
 }
 
-fn parse_sequence(s: &str) -> Result<Sequence, String> {
-    s.parse()
+/// A `--sequence` value: a name, or a point file the command reads (`load::points_arg`) before
+/// any work, so that a bad file is refused with exit status 2 and nothing written.
+#[derive(Debug, Clone)]
+pub enum SequenceArg {
+    Named(Sequence),
+    Points(String),
 }
 
-fn parse_seed_mode(s: &str) -> Result<SeedMode, String> {
-    s.parse()
+/// A `--seed-mode` value: a name, or a texture the command reads (`load::texture_arg`).
+#[derive(Debug, Clone)]
+pub enum ModeArg {
+    Named(SeedMode),
+    Texture(String),
+}
+
+impl SequenceArg {
+    pub fn resolve(&self) -> hemilab::error::Result<Sequence> {
+        match self {
+            SequenceArg::Named(s) => Ok(*s),
+            SequenceArg::Points(text) => hemilab::load::points_arg(text),
+        }
+    }
+}
+
+impl ModeArg {
+    pub fn resolve(&self) -> hemilab::error::Result<SeedMode> {
+        match self {
+            ModeArg::Named(m) => Ok(*m),
+            ModeArg::Texture(text) => hemilab::load::texture_arg(text),
+        }
+    }
+}
+
+fn parse_sequence(s: &str) -> Result<SequenceArg, String> {
+    match s.strip_prefix("points:") {
+        Some(p) if !p.is_empty() => Ok(SequenceArg::Points(s.to_string())),
+        _ => s.parse().map(SequenceArg::Named),
+    }
+}
+
+fn parse_seed_mode(s: &str) -> Result<ModeArg, String> {
+    match s.strip_prefix("texture:") {
+        Some(p) if !p.is_empty() => Ok(ModeArg::Texture(s.to_string())),
+        _ => s.parse().map(ModeArg::Named),
+    }
 }
 
 fn parse_schedule(s: &str) -> Result<Schedule, String> {

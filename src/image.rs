@@ -172,6 +172,24 @@ pub fn encode_png_rgb(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, St
     encode_png(width, height, ::image::ExtendedColorType::Rgb8, rgb)
 }
 
+/// 16-bit PNG of interleaved samples with `channels` per pixel (1 grey, 2 grey + alpha, 3 RGB,
+/// 4 RGBA): how hemilab's own masks are written as noise textures (examples/write_masks.rs).
+pub fn encode_png16(width: u32, height: u32, channels: u32, samples: &[u16]) -> Result<Vec<u8>, String> {
+    use ::image::{DynamicImage as D, ImageBuffer};
+    let raw = samples.to_vec();
+    let bad = || format!("{} samples are not {width}x{height}x{channels}", samples.len());
+    let img = match channels {
+        1 => D::ImageLuma16(ImageBuffer::from_raw(width, height, raw).ok_or_else(bad)?),
+        2 => D::ImageLumaA16(ImageBuffer::from_raw(width, height, raw).ok_or_else(bad)?),
+        3 => D::ImageRgb16(ImageBuffer::from_raw(width, height, raw).ok_or_else(bad)?),
+        4 => D::ImageRgba16(ImageBuffer::from_raw(width, height, raw).ok_or_else(bad)?),
+        _ => return Err(format!("a PNG has 1 to 4 channels, not {channels}")),
+    };
+    let mut out = Cursor::new(Vec::new());
+    img.write_to(&mut out, ::image::ImageFormat::Png).map_err(|e| e.to_string())?;
+    Ok(out.into_inner())
+}
+
 fn encode_png(
     width: u32,
     height: u32,

@@ -15,6 +15,51 @@ use glam::DVec3;
 use std::path::Path;
 use std::sync::Arc;
 
+pub mod points;
+pub mod texture;
+
+/// The files a spec names besides its scenes (noise textures, point sets), read relative to the
+/// spec's directory: what `spec::parse_spec_with` resolves their entries with.
+pub struct SpecFiles<'a> {
+    pub dir: &'a Path,
+}
+
+impl spec::Files for SpecFiles<'_> {
+    fn texture(
+        &self,
+        written: &str,
+        use_: crate::sampling::texture::TextureUse,
+    ) -> std::result::Result<SeedMode, String> {
+        texture::texture(self.dir, written, use_)
+    }
+
+    fn points(&self, written: &str) -> std::result::Result<Sequence, String> {
+        points::points(self.dir, written)
+    }
+}
+
+/// A `--seed-mode` value naming a texture, `texture:PATH[:offset|rotation|vector]` (default
+/// `offset`), read relative to the current directory; the error names the flag and the file.
+pub fn texture_arg(text: &str) -> Result<SeedMode> {
+    let (path, use_) = texture_use(text.strip_prefix("texture:").unwrap_or(text));
+    texture::texture(Path::new(""), path, use_).map_err(|e| Error::Usage(format!("--seed-mode {text}: {e}")))
+}
+
+/// `PATH[:offset|rotation|vector]` as (PATH, use); `offset` when no use ends it.
+pub fn texture_use(text: &str) -> (&str, crate::sampling::texture::TextureUse) {
+    use crate::sampling::texture::TextureUse;
+    match text.rsplit_once(':').map(|(p, u)| (p, TextureUse::parse(u))) {
+        Some((p, Ok(u))) => (p, u),
+        _ => (text, TextureUse::Offset),
+    }
+}
+
+/// A `--sequence` value naming a point file, `points:PATH`, read relative to the current directory.
+pub fn points_arg(text: &str) -> Result<Sequence> {
+    let path = text.strip_prefix("points:").unwrap_or(text);
+    points::points(Path::new(""), path).map_err(|e| Error::Usage(format!("--sequence {text}: {e}")))
+}
+
 /// A spec with every scene it names loaded: all bad input is found here, before any work.
 /// `scenes[i]` is the scene of `spec.scenes[i]`; the entries of one scene file measured under
 /// several integrands share one loaded scene (one parse, one BVH).
@@ -39,7 +84,8 @@ impl Loaded {
 
 pub fn load(spec_path: &Path) -> Result<Loaded> {
     let text = io::read_string(spec_path)?;
-    let spec = spec::parse_spec(&text, spec_path)?;
+    let dir = spec_path.parent().unwrap_or(Path::new(""));
+    let spec = spec::parse_spec_with(&text, spec_path, &SpecFiles { dir })?;
     let jobs = crate::plan::plan(&spec).jobs;
     let mut scenes: Vec<Arc<Scene>> = Vec::with_capacity(spec.scenes.len());
     for (i, s) in spec.scenes.iter().enumerate() {

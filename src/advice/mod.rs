@@ -46,8 +46,52 @@ pub fn not_sensible(row: Row) -> Option<&'static str> {
         (Distribution::ConcentricCosine, s, SeedMode::Rotation) if s != Sequence::Random => {
             Some("through the concentric map an x offset is not a rotation about the normal")
         }
+        // The engines' patterns rotate the static set by a fixed, tiled pattern (docs/textures.md):
+        // one image of it is a structured x offset between `rotation` (white) and `blue-noise`
+        // (blue, and 2-D); they are built for frames accumulated and filtered, where `--pipeline`
+        // with --only `*/*/ign` (or bayer, magic-square, r2-dither) measures them. In the default
+        // sweep they would add 4 × 4 × 5 rows of one kind.
+        (_, _, m) if m.pattern().is_some() => {
+            Some("an engine's rotation pattern (ign, bayer, magic-square, r2-dither): name it with --only")
+        }
+        // A file's texture (`advise --texture`) is measured as its use says: an offset texture as
+        // `blue-noise` is, a rotation texture as `rotation`, a vector texture only with sine-cosine.
+        (d, _, m) if m.texture_use() == Some(crate::sampling::texture::TextureUse::Vector) => (d
+            != Distribution::SineCosine)
+            .then_some("a vector texture holds cosine-weighted directions: sine-cosine only"),
+        (Distribution::ConcentricCosine, s, m)
+            if m.texture_use() == Some(crate::sampling::texture::TextureUse::Rotation)
+                && s != Sequence::Random =>
+        {
+            Some("through the concentric map an x offset is not a rotation about the normal")
+        }
         _ => None,
     }
+}
+
+/// The sensible rows that name at least one of the `sequences` or `modes` a command line added
+/// (point files, textures: `advise --points`, `--texture`), over every distribution, built-in or
+/// added sequence and seed mode, canonical and in that order.
+pub fn sensible_rows_with(sequences: &[Sequence], modes: &[SeedMode]) -> Vec<Row> {
+    let builtin: Vec<Sequence> =
+        Sequence::all().into_iter().filter(|s| !s.name().starts_with("points:")).collect();
+    let all_s: Vec<Sequence> = builtin.iter().chain(sequences).copied().collect();
+    let all_m: Vec<SeedMode> = SeedMode::ALL.iter().chain(modes).copied().collect();
+    let mut rows = Vec::new();
+    for &d in Distribution::ALL {
+        for &s in &all_s {
+            for &m in &all_m {
+                if !sequences.contains(&s) && !modes.contains(&m) {
+                    continue;
+                }
+                let r = Row::new(d, s, m).canonical();
+                if not_sensible(r).is_none() && r.invalid().is_none() && !rows.contains(&r) {
+                    rows.push(r);
+                }
+            }
+        }
+    }
+    rows
 }
 
 /// Every distribution × sequence × seed mode that `advise` runs by default: canonical (duplicates
@@ -122,7 +166,14 @@ impl Pattern {
 /// fully named pattern is taken as asked even if not in the default set — and always the paper's
 /// default (every gain is against it), first. A pattern that matches nothing is an error.
 pub fn select(patterns: &[Pattern]) -> Result<Vec<Row>, String> {
-    let all = sensible_rows();
+    select_with(patterns, &[])
+}
+
+/// `select` over the sensible rows and `added` (the rows of `advise --texture`, `--points`:
+/// `sensible_rows_with`), which patterns select as they select the built-ins'.
+pub fn select_with(patterns: &[Pattern], added: &[Row]) -> Result<Vec<Row>, String> {
+    let mut all = sensible_rows();
+    all.extend(added.iter().filter(|r| !all.contains(r)).copied().collect::<Vec<_>>());
     let mut rows = vec![PAPER_DEFAULT];
     if patterns.is_empty() {
         rows.extend(all.into_iter().filter(|r| *r != PAPER_DEFAULT));

@@ -40,6 +40,12 @@ pub struct Request {
     pub frames: u32,
     /// What the rays integrate; `ao` in a request written before integrands existed.
     pub integrand: Integrand,
+    /// Textures and point files to measure besides the built-ins (`--texture`, `--points`), as
+    /// `texture:PATH[:use]` / `points:PATH`, PATH as given (it names the seed mode or sequence).
+    pub files: Vec<String>,
+    /// Where their relative paths start (the directory advise ran in), so that `--from` elsewhere
+    /// reads the same files under the same names.
+    pub files_dir: Option<PathBuf>,
 }
 
 impl Request {
@@ -56,6 +62,8 @@ impl Request {
             "pipeline": self.pipeline.to_string(),
             "frames": self.frames,
             "integrand": self.integrand.to_string(),
+            "files": self.files,
+            "files_dir": self.files_dir.as_deref().map(abs),
         });
         let mut text = serde_json::to_string_pretty(&v).unwrap_or_default();
         text.push('\n');
@@ -95,6 +103,12 @@ impl Request {
                 Some(i) => Integrand::parse(i).map_err(|e| format!("integrand: {e}"))?,
                 None => Integrand::Ao,
             },
+            // A request from before files could be named has none.
+            files: match v.get("files") {
+                Some(f) => serde_json::from_value(f.clone()).map_err(|e| format!("files: {e}"))?,
+                None => Vec::new(),
+            },
+            files_dir: v.get("files_dir").and_then(|d| d.as_str()).map(PathBuf::from),
         })
     }
 }
@@ -135,7 +149,8 @@ pub fn check(args: &Request) -> Result<Checked> {
             spec::MAX_RAYS
         )));
     }
-    let rows = advice::select(&args.only).map_err(|e| Error::Usage(format!("--only: {e}")))?;
+    let added = added_rows(args)?;
+    let rows = advice::select_with(&args.only, &added).map_err(|e| Error::Usage(format!("--only: {e}")))?;
     // Advise measures every gain against the paper's default, sine-cosine, whose weights are
     // unbounded on unweighted visibility (infinite variance: no RMSE of it means anything). So
     // that integrand is refused here rather than ranked; `run` measures it (experiments/integrands.toml).
@@ -234,6 +249,36 @@ pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> 
         choice,
         reference_dir,
     })
+}
+
+/// The rows `--texture` and `--points` add: their files read (each error names the flag and the
+/// file), then every sensible row naming one of them (`advice::sensible_rows_with`).
+fn added_rows(args: &Request) -> Result<Vec<Row>> {
+    let base = args.files_dir.clone().unwrap_or_default();
+    let (mut sequences, mut modes) = (Vec::new(), Vec::new());
+    for f in &args.files {
+        if let Some(p) = f.strip_prefix("points:") {
+            let s = crate::load::points::points(&base, p)
+                .map_err(|e| Error::Usage(format!("--points {p}: {e}")))?;
+            sequences.push(s);
+        } else {
+            let t = f.strip_prefix("texture:").unwrap_or(f);
+            let (path, use_) = crate::load::texture_use(t);
+            let m = crate::load::texture::texture(&base, path, use_)
+                .map_err(|e| Error::Usage(format!("--texture {t}: {e}")))?;
+            modes.push(m);
+        }
+    }
+    let rows = advice::sensible_rows_with(&sequences, &modes);
+    for &s in &sequences {
+        let max = s.imp().max_count().unwrap_or(u32::MAX);
+        if let Some(&big) = args.rays.iter().filter(|&&r| r > max).max() {
+            return Err(Error::Usage(format!(
+                "--rays {big}: --points {s} holds {max} points per pixel; allowed 1..={max}"
+            )));
+        }
+    }
+    Ok(rows)
 }
 
 /// The parts of advise's spec that do not depend on the reference.

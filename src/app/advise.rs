@@ -50,6 +50,15 @@ pub fn run(args: AdviseArgs) -> Result<()> {
             pipeline: args.pipeline,
             frames: args.frames.unwrap_or(if args.pipeline.is_temporal() { DEFAULT_FRAMES } else { 1 }),
             integrand: args.integrand,
+            files: args
+                .texture
+                .iter()
+                .map(|t| format!("texture:{}", t.strip_prefix("texture:").unwrap_or(t)))
+                .chain(
+                    args.points.iter().map(|p| format!("points:{}", p.strip_prefix("points:").unwrap_or(p))),
+                )
+                .collect(),
+            files_dir: std::env::current_dir().ok(),
         },
     };
     let setup = set_up(&request)?;

@@ -11,7 +11,8 @@ mod render;
 mod run;
 
 use crate::cli::{Cli, Command};
-use hemilab::error::Result;
+use hemilab::error::{Error, Result};
+use hemilab::spec::Row;
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
@@ -24,4 +25,21 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Points(args) => points::run(&args),
         Command::Advise(args) => advise::run(args),
     }
+}
+
+/// Refuses a command line's row that cannot be drawn or rendered (a vector texture without the
+/// sine-cosine warp; more points than a file's set holds), naming the flag.
+pub fn check_row(row: &Row, count: u32, flag: &str) -> Result<()> {
+    if let Some(e) = row.invalid() {
+        return Err(Error::Usage(format!("--seed-mode {}: {e}", row.seed_mode)));
+    }
+    if let Some(max) = row.sequence.imp().max_count()
+        && count > max
+    {
+        return Err(Error::Usage(format!(
+            "{flag} {count}: sequence '{}' holds {max} points per pixel; allowed 1..={max}",
+            row.sequence
+        )));
+    }
+    Ok(())
 }

@@ -15,12 +15,15 @@ pub fn run(args: &PointsArgs) -> Result<()> {
         path.extension().and_then(|e| e.to_str()).and_then(Format::from_extension).ok_or_else(|| {
             Error::Usage(format!("{}: the output must end in .png or .svg", path.display()))
         })?;
-    let config = SamplerConfig::new(args.sequence, args.seed_mode, args.count, args.seed)
+    let (sequence, seed_mode) = (args.sequence.resolve()?, args.seed_mode.resolve()?);
+    let row = Row::new(args.distribution, sequence, seed_mode);
+    crate::app::check_row(&row, args.count, "--count")?;
+    let config = SamplerConfig::new(row.sequence, seed_mode, args.count, args.seed)
         .map_err(|e| Error::Usage(e.to_string()))?
         .with_frame(args.frames.frame)
         .with_schedule(args.frames.schedule);
+    config.prepare();
     let dirs = directions_of(args.distribution, config);
-    let row = Row::new(args.distribution, args.sequence, args.seed_mode);
     let frame = match (args.frames.frame, args.frames.schedule) {
         (0, hemilab::sampling::Schedule::Independent) => String::new(),
         (f, s) => format!(", frame {f} ({s})"),

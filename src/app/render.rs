@@ -19,11 +19,13 @@ pub fn run(args: RenderArgs) -> Result<()> {
         return Err(Error::Usage(format!("--output {}: must name an .exr file", out.display())));
     }
     let png = out.with_extension("png");
-    let sampler =
-        SamplerConfig::new(args.sampling.sequence, args.sampling.seed_mode, args.rays, args.sampling.seed)
-            .map_err(|e| Error::Usage(format!("--rays: {e}")))?
-            .with_frame(args.sampling.frames.frame)
-            .with_schedule(args.sampling.frames.schedule);
+    let (sequence, seed_mode) = (args.sampling.sequence.resolve()?, args.sampling.seed_mode.resolve()?);
+    let row = hemilab::spec::Row::new(args.sampling.distribution, sequence, seed_mode);
+    crate::app::check_row(&row, args.rays, "--rays")?;
+    let sampler = SamplerConfig::new(row.sequence, row.seed_mode, args.rays, args.sampling.seed)
+        .map_err(|e| Error::Usage(format!("--rays: {e}")))?
+        .with_frame(args.sampling.frames.frame)
+        .with_schedule(args.sampling.frames.schedule);
     // The BVH's build effort follows the rays this image traces (`scene::Effort::for_work`).
     let (scene, width, height) = scene_for(&args.scene, args.resolution, Some(args.rays))?;
     let dir = match out.parent() {
@@ -43,6 +45,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
         height,
         ao_distance: scene.ao_distance,
     };
+    // The masks and tables it reads, before the clock starts (the spatiotemporal masks take seconds).
+    job.sampler.prepare();
     let bar = progress::bar(width as u64 * height as u64, "render", args.common.quiet);
     let start = Instant::now();
     let result = hemilab::jobs::Threads::resolve(args.common.threads)
@@ -81,6 +85,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
 /// What the EXR's header says about where it came from (`image::Provenance`).
 fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
     let s = &args.sampling;
+    let (sequence, seed_mode) = (job.sampler.sequence, job.sampler.seed_mode);
     // Written as a run's images and the references write it (`AoDistance::canonical`).
     let d = match job.ao_distance {
         d if d.is_finite() => AoDistance::Finite(d as f64),
@@ -95,8 +100,8 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
         "scene_name": scene.name,
         "scene_hash": scene.content_hash,
         "distribution": s.distribution.name(),
-        "sequence": s.sequence.name(),
-        "seed_mode": s.seed_mode.name(),
+        "sequence": sequence.name(),
+        "seed_mode": seed_mode.name(),
         "rays": args.rays,
         "seed": s.seed,
         "resolution": [job.width, job.height],
@@ -122,8 +127,8 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
         job.height,
         scene.content_hash,
         s.distribution.name(),
-        s.sequence.name(),
-        s.seed_mode.name(),
+        sequence.name(),
+        seed_mode.name(),
         args.rays,
         s.seed
     );

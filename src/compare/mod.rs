@@ -29,6 +29,7 @@ pub mod realtime;
 pub mod structure;
 
 use crate::results::{Aggregate, JobResult};
+use crate::sampling::texture::TextureUse;
 use crate::sampling::{Distribution, SeedMode, Sequence};
 use crate::spec::Row;
 use margin::Margin;
@@ -47,7 +48,18 @@ pub fn per_pixel_unbiased(row: Row) -> bool {
         // A blue-noise mask (2-D or spatiotemporal) shifts every pixel's set by an offset uniform over
         // runs (docs/estimators.md).
         SeedMode::Shift | SeedMode::BlueNoise | SeedMode::Stbn => true,
-        SeedMode::Rotation => row.sequence.info().fresh_per_pixel,
+        // An engine pattern or a rotation texture moves x alone, as `rotation` does: unbiased only
+        // where the static set itself is random over runs (docs/estimators.md).
+        SeedMode::Rotation | SeedMode::Ign | SeedMode::Bayer | SeedMode::MagicSquare | SeedMode::R2Dither => {
+            row.sequence.info().fresh_per_pixel
+        }
+        // An offset texture is unbiased when its slices are exactly uniform (measured at load); a
+        // vector texture's directions are a finite set, never.
+        SeedMode::Texture(t) => match t.get().use_() {
+            TextureUse::Offset => t.get().uniform(),
+            TextureUse::Rotation => row.sequence.info().fresh_per_pixel,
+            TextureUse::Vector => false,
+        },
         SeedMode::Static => false,
     }
 }

@@ -79,13 +79,22 @@ impl Job {
             "{}-{}-{}-{}-{}r{rt}-{}-{}",
             self.scene_name,
             self.distribution,
-            self.sequence,
-            self.seed_mode,
+            file_safe(self.sequence.name()),
+            file_safe(self.seed_mode.name()),
             self.rays,
             self.replicate,
             self.key()
         )
     }
+}
+
+/// A name as part of a file name: a file's texture or point set (`texture:m/x_%d.png:offset#1a2b3c4d`)
+/// has '/', ':', '%' and '#' in its name; each character other than a letter, digit, '-', '_' or '.'
+/// becomes '_' (the key after it keeps the stem unique). Built-in names are unchanged.
+pub fn file_safe(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') { c } else { '_' })
+        .collect()
 }
 
 /// FNV-1a, 64 bit: tiny and fixed forever, unlike std's `DefaultHasher`.

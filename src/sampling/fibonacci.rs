@@ -148,9 +148,8 @@ impl PointSequence for Fibonacci {
         match set.seed_mode {
             SeedMode::Static => fill(n, run_offset, fx, fy, out),
             SeedMode::Rotation => fill(n, run_offset + (set.seed.pixel_key >> 24), fx, fy, out),
-            SeedMode::Shift | SeedMode::BlueNoise | SeedMode::Stbn => {
-                fill(n, run_offset, set.offsets.0, set.offsets.1, out)
-            }
+            // `shift`, the masks, the engine patterns and textures: offsets on the run's lattice.
+            _ => fill(n, run_offset, set.offsets.0, set.offsets.1, out),
         }
     }
 }

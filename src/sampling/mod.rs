@@ -2,10 +2,11 @@
 //!
 //! A point set is made in three steps, each in its own file:
 //! a sequence of numbers in [0,1)^2 (`random`, `fibonacci`, `stratified`, `sobol`,
-//! `halton`, `pmj02bn`, `zsobol`, `r2`) →
+//! `halton`, `pmj02bn`, `zsobol`, `r2`, or a file's points held by `point_file`) →
 //! `seed` randomization across pixels (static, rotation, shift, blue-noise from `blue_noise`'s
-//! masks, stbn from `stbn`'s spatiotemporal masks, both made by `void_cluster`), changing from frame
-//! to frame by a `schedule` →
+//! masks, stbn from `stbn`'s spatiotemporal masks, both made by `void_cluster`; the engines'
+//! rotation patterns of `engine`; a user's noise texture from `texture`'s table), changing from
+//! frame to frame by a `schedule` →
 //! `warp` to a direction on the hemisphere (uniform, sine, sine-cosine, concentric-cosine),
 //! which `frame` rotates around the surface normal.
 //! All of them draw their randomness from `hash` (counter-based hashing and the 24-bit fixed
@@ -13,6 +14,7 @@
 
 pub mod batch;
 pub mod blue_noise;
+pub mod engine;
 pub mod fibonacci;
 pub mod frame;
 pub mod halton;
@@ -20,6 +22,7 @@ pub mod hash;
 pub mod integrand;
 mod names;
 pub mod pmj02;
+pub mod point_file;
 pub mod r2;
 pub mod random;
 pub mod registry;
@@ -28,6 +31,7 @@ pub mod seed;
 pub mod sobol;
 pub mod stbn;
 pub mod stratified;
+pub mod texture;
 pub mod trig;
 mod void_cluster;
 pub mod warp;
@@ -36,7 +40,9 @@ pub mod zsobol;
 pub use fibonacci::fibonacci_point;
 pub use frame::{Frame, canonical};
 pub use integrand::Integrand;
-pub use registry::{PixelSet, PointSequence, RegisterError, Sequence, SequenceInfo, Shipped, register};
+pub use registry::{
+    PixelSet, PointSequence, RegisterError, Sequence, SequenceInfo, Shipped, register, register_file,
+};
 pub use schedule::Schedule;
 pub use seed::SeedMode;
 pub use warp::{DirSample, Distribution};
@@ -114,7 +120,9 @@ impl SamplerConfig {
             SeedMode::Stbn => {
                 stbn::stbn_masks();
             }
-            SeedMode::Static | SeedMode::Rotation | SeedMode::Shift => {}
+            // The engine patterns are closed forms; a texture was decoded and registered by the
+            // loader before any configuration could name it.
+            _ => {}
         }
     }
 
@@ -130,20 +138,28 @@ impl SamplerConfig {
         let len = (self.count as usize).min(out.len());
         let out = &mut out[..len];
         // The frame's run seed and the schedule's offsets on top of the mode's (all 0 at frame 0).
-        // `stbn` reads slice frame mod depth; the schedule acts once per full cycle of the mask.
-        let (epoch, slice) = match self.seed_mode {
-            SeedMode::Stbn => (self.frame / stbn::STBN_DEPTH, self.frame % stbn::STBN_DEPTH),
-            _ => (self.frame, 0),
+        // `stbn` and a texture read slice frame mod depth; the schedule acts once per full cycle of
+        // the mask. IGN under `r1` steps itself (its pixel offset per frame, `engine`).
+        let (epoch, slice) = match (self.seed_mode, self.schedule) {
+            (SeedMode::Ign, Schedule::R1) => (0, self.frame),
+            (m, _) => (self.frame / m.depth(), self.frame % m.depth()),
         };
         // A rotation moves x only, unless the numbers are fresh per pixel anyway (then it is a shift).
-        let scalar = self.seed_mode == SeedMode::Rotation && !self.sequence.info().fresh_per_pixel;
+        let scalar = self.seed_mode.is_scalar(self.sequence.info().fresh_per_pixel);
         let (seed, (fx, fy)) = schedule::epoch(self.schedule, self.seed, epoch as u64, scalar);
         let ps = PixelSeed::new(seed, pixel);
+        if let SeedMode::Texture(t) = self.seed_mode
+            && t.get().use_() == texture::TextureUse::Vector
+        {
+            // The texture gives the directions itself: the sequence is not read.
+            return t.get().fill_vector(ps.run_key, (x, y, slice), (fx, fy), out);
+        }
         let (dx, dy) = ps.offsets_at(self.seed_mode, x, y, slice);
         let set = PixelSet {
             count: n,
             x,
             y,
+            pixel,
             seed_mode: self.seed_mode,
             seed: ps,
             offsets: (fix_add(dx, fx), fix_add(dy, fy)),

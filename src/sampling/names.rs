@@ -60,23 +60,94 @@ named!(Distribution, "distribution", [
     "concentric" => ConcentricCosine,
 ]);
 
-named!(SeedMode, "seed mode", [
-    Static => "static",
-    Rotation => "rotation",
-    Shift => "shift",
-    BlueNoise => "blue-noise",
-    Stbn => "stbn",
-], words [
-    "per-pixel" => Rotation,
-    "per-pixel seed" => Rotation,
-    "random seed per pixel" => Rotation,
-    "random" => Rotation,
-    "static seed" => Static,
-    "blue noise" => BlueNoise,
-    "bluenoise" => BlueNoise,
-    "spatiotemporal blue noise" => Stbn,
-    "spatiotemporal blue-noise" => Stbn,
-]);
+// Seed modes: the built-ins by the macro's rules, a texture by its results name (`texture`).
+const SEED_NAMES: &[(&str, SeedMode)] = &[
+    ("static", SeedMode::Static),
+    ("rotation", SeedMode::Rotation),
+    ("shift", SeedMode::Shift),
+    ("blue-noise", SeedMode::BlueNoise),
+    ("stbn", SeedMode::Stbn),
+    ("ign", SeedMode::Ign),
+    ("bayer", SeedMode::Bayer),
+    ("magic-square", SeedMode::MagicSquare),
+    ("r2-dither", SeedMode::R2Dither),
+];
+const SEED_WORDS: &[(&str, SeedMode)] = &[
+    ("per-pixel", SeedMode::Rotation),
+    ("per-pixel seed", SeedMode::Rotation),
+    ("random seed per pixel", SeedMode::Rotation),
+    ("random", SeedMode::Rotation),
+    ("static seed", SeedMode::Static),
+    ("blue noise", SeedMode::BlueNoise),
+    ("bluenoise", SeedMode::BlueNoise),
+    ("spatiotemporal blue noise", SeedMode::Stbn),
+    ("spatiotemporal blue-noise", SeedMode::Stbn),
+    ("interleaved gradient noise", SeedMode::Ign),
+    ("interleaved-gradient-noise", SeedMode::Ign),
+    ("bayer4", SeedMode::Bayer),
+    ("bayer 4x4", SeedMode::Bayer),
+    ("magic square", SeedMode::MagicSquare),
+    ("magic5", SeedMode::MagicSquare),
+    ("r2 dither", SeedMode::R2Dither),
+    ("r2dither", SeedMode::R2Dither),
+];
+
+impl SeedMode {
+    /// Every built-in seed mode, in the order tables and listings use (textures are the user's:
+    /// `load::texture` registers them).
+    pub const ALL: &'static [SeedMode] = &[
+        SeedMode::Static,
+        SeedMode::Rotation,
+        SeedMode::Shift,
+        SeedMode::BlueNoise,
+        SeedMode::Stbn,
+        SeedMode::Ign,
+        SeedMode::Bayer,
+        SeedMode::MagicSquare,
+        SeedMode::R2Dither,
+    ];
+    /// Every built-in name, in the order of `ALL`.
+    pub const NAMES: &'static [&'static str] =
+        &["static", "rotation", "shift", "blue-noise", "stbn", "ign", "bayer", "magic-square", "r2-dither"];
+
+    /// The name specs, the command line and `results.csv` use; a texture's names its file as the
+    /// spec wrote it, its use and its content hash: `texture:masks/x_%d.png:offset#1a2b3c4d`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SeedMode::Texture(t) => t.get().name(),
+            m => SEED_NAMES.iter().find(|(_, v)| *v == m).map_or("?", |(n, _)| n),
+        }
+    }
+}
+
+impl FromStr for SeedMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        if let Some((_, m)) = SEED_NAMES.iter().find(|(n, _)| *n == s) {
+            return Ok(*m);
+        }
+        if let Some(t) = super::texture::find(s) {
+            return Ok(SeedMode::Texture(t));
+        }
+        let said = s.trim().to_lowercase();
+        let meant = SEED_WORDS.iter().find(|(w, _)| *w == said).map(|(_, m)| *m);
+        let s = s.escape_debug();
+        let hint = meant.map_or(String::new(), |m| format!(" ('{s}' is written `{}`)", m.name()));
+        let texture = if said.starts_with("texture") {
+            " (a texture file is named `texture:PATH[:offset|rotation|vector]` on the command line and \
+             `{ texture = \"PATH\", use = \"offset\" }` in a spec)"
+        } else {
+            ""
+        };
+        Err(format!("unknown seed mode '{s}'; valid: {}{hint}{texture}", SeedMode::NAMES.join(", ")))
+    }
+}
+
+impl std::fmt::Display for SeedMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
 
 named!(Schedule, "schedule", [
     Independent => "independent",

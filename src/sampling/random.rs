@@ -18,7 +18,8 @@ pub fn fill(key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
 }
 
 /// The paper's pseudo-random numbers: fresh per pixel under every seed mode but `static`; under
-/// `blue-noise` and `stbn` the run's one set, shifted by the masks.
+/// `blue-noise`, `stbn`, the engine patterns and textures the run's one set, shifted by their
+/// offsets.
 pub struct Random;
 
 impl PointSequence for Random {
@@ -35,7 +36,7 @@ impl PointSequence for Random {
     fn fill(&self, set: &PixelSet, out: &mut [Vec2]) {
         let (fx, fy) = set.frame_offsets;
         match set.seed_mode {
-            SeedMode::BlueNoise | SeedMode::Stbn => fill(set.seed.run_key, set.offsets.0, set.offsets.1, out),
+            m if m.carries_offsets() => fill(set.seed.run_key, set.offsets.0, set.offsets.1, out),
             m => fill(set.seed.set_key(m != SeedMode::Static), fx, fy, out),
         }
     }

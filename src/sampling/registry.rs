@@ -56,6 +56,8 @@ pub struct PixelSet {
     pub count: u32,
     pub x: u32,
     pub y: u32,
+    /// The pixel's index (y · width + x), which keys its fresh numbers.
+    pub pixel: u64,
     pub seed_mode: SeedMode,
     pub seed: PixelSeed,
     pub offsets: (u32, u32),
@@ -84,6 +86,12 @@ pub trait PointSequence: Send + Sync {
     /// Makes every process-wide table `fill` reads, so that no timed render pays for it.
     fn prepare(&self) {}
 
+    /// The most points one pixel's set can have, if the sequence is finite (a file's point set):
+    /// specs and the command line refuse larger counts.
+    fn max_count(&self) -> Option<u32> {
+        None
+    }
+
     /// Writes the first `out.len()` points of pixel `set`'s `set.count`-point set into `out`, in
     /// [0, 1)². Must depend only on `set` (never on threads or other pixels) and not allocate.
     fn fill(&self, set: &PixelSet, out: &mut [Vec2]);
@@ -105,6 +113,11 @@ static BUILT_IN: [&dyn PointSequence; 8] = [
 
 /// Sequences a program registered (`register`), after the built-ins.
 static REGISTERED: RwLock<Vec<&'static dyn PointSequence>> = RwLock::new(Vec::new());
+/// Files' point sets (`register_file`): named and parsed like the others, but not in `all` (a file
+/// is the user's, not one of the sequences every listing and default sweep covers).
+static FILES: RwLock<Vec<&'static dyn PointSequence>> = RwLock::new(Vec::new());
+/// The handles of `FILES` have this bit set.
+const FILE_BIT: u16 = 0x8000;
 
 /// A sequence: a handle into the list (built-ins first, then registered ones, in that order).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -132,6 +145,9 @@ impl Sequence {
     /// The implementation behind the handle.
     #[inline]
     pub fn imp(self) -> &'static dyn PointSequence {
+        if self.0 & FILE_BIT != 0 {
+            return FILES.read().unwrap_or_else(|e| e.into_inner())[(self.0 & !FILE_BIT) as usize];
+        }
         let i = self.0 as usize;
         match BUILT_IN.get(i) {
             Some(s) => *s,
@@ -151,6 +167,12 @@ impl Sequence {
     pub fn all() -> Vec<Sequence> {
         let n = BUILT_IN.len() + REGISTERED.read().unwrap_or_else(|e| e.into_inner()).len();
         (0..n as u16).map(Sequence).collect()
+    }
+
+    /// The files' point sets read in this process (`register_file`), in the order they were read.
+    pub fn files() -> Vec<Sequence> {
+        let n = FILES.read().unwrap_or_else(|e| e.into_inner()).len();
+        (0..n as u16).map(|i| Sequence(i | FILE_BIT)).collect()
     }
 
     /// Every accepted name, in the order of `all`.
@@ -204,12 +226,34 @@ pub fn register(sequence: Box<dyn PointSequence>) -> Result<Sequence, RegisterEr
     Ok(Sequence(index))
 }
 
+/// Adds a file's point set (`point_file::PointFile`) to the list: as `register`, but its name is
+/// `points:PATH#hash8` (the file as the spec or command line wrote it, and its content), and a
+/// sequence of that name already registered (the same file, read again) is returned instead.
+pub fn register_file(sequence: Box<dyn PointSequence>) -> Result<Sequence, RegisterError> {
+    let name = sequence.info().name;
+    let ok = name.starts_with("points:") && !name.chars().any(|c| c.is_control());
+    if !ok {
+        return Err(RegisterError(format!(
+            "a point file's name '{}' must start with 'points:'",
+            name.escape_debug()
+        )));
+    }
+    let mut list = FILES.write().unwrap_or_else(|e| e.into_inner());
+    if let Some(i) = list.iter().position(|s| s.info().name == name) {
+        return Ok(Sequence(i as u16 | FILE_BIT));
+    }
+    let index = u16::try_from(list.len()).ok().filter(|&i| i < FILE_BIT);
+    let index = index.ok_or_else(|| RegisterError("too many point files".into()))?;
+    list.push(Box::leak(sequence));
+    Ok(Sequence(index | FILE_BIT))
+}
+
 impl std::str::FromStr for Sequence {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
         let all = Sequence::all();
-        if let Some(q) = all.iter().find(|q| q.name() == s) {
+        if let Some(q) = all.iter().chain(&Sequence::files()).find(|q| q.name() == s) {
             return Ok(*q);
         }
         // The report's words are not values, but say which is meant.
@@ -217,7 +261,14 @@ impl std::str::FromStr for Sequence {
         let meant = all.iter().find(|q| q.info().words.contains(&said.as_str()));
         let s = s.escape_debug();
         let hint = meant.map_or(String::new(), |m| format!(" ('{s}' is written `{}`)", m.name()));
-        Err(format!("unknown sequence '{s}'; valid: {}{hint}", Sequence::names().join(", ")))
+        let file = if said.starts_with("points") {
+            " (a point file is named `points:PATH` on the command line and `{ points = \"PATH\" }` in a spec)"
+        } else {
+            ""
+        };
+        let builtin: Vec<&str> =
+            Sequence::names().into_iter().filter(|n| !n.starts_with("points:")).collect();
+        Err(format!("unknown sequence '{s}'; valid: {}{hint}{file}", builtin.join(", ")))
     }
 }
 

@@ -6,6 +6,12 @@
 //! | `independent` | frame f draws everything from a fresh run seed keyed by (seed, f); frame 0 keeps the seed, so its points are today's. For `blue-noise` that is a new toroidal mask shift per frame. | the mask's own time axis for f mod depth; a fresh run seed (new toroidal shift) per full cycle of depth frames |
 //! | `r1` | the run seed stays; the offsets the mode applies advance by f golden-ratio steps: R1 (1/phi) for the scalar x offset of `rotation`, R2 (1/g, 1/g², g the plastic number) for the 2-D Cranley–Patterson offsets of every other mode (for `static`, the whole set moves; for `blue-noise`, the usual engine practice of a fixed mask plus R2 per frame) | the mask's time axis for f mod depth; + R2 once per full cycle |
 //!
+//! The engines' patterns (`ign`, `bayer`, `magic-square`, `r2-dither`) and textures follow the same
+//! rows: a pattern is a rotation, so `r1` steps it by R1 — except IGN, which under `r1` steps by its
+//! own pixel offset 5.588238 f (frame mod 64, [`super::engine`]) with no R1 added; a texture of D
+//! slices is read like `stbn` (slice f mod D, the schedule once per cycle; for one slice, as
+//! `blue-noise`), and a vector texture's R2 step per cycle moves its texels, not its directions.
+//!
 //! R1 and R2 are Roberts' additive recurrences ("The unreasonable effectiveness of quasirandom
 //! sequences", 2018): frac(f α) for α = 1/phi (R1), and the pair α = (1/g, 1/g²) with g the real
 //! root of g³ = g + 1 (R2), the 2-D sequence of lowest discrepancy among additive recurrences.

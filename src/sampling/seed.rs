@@ -24,10 +24,22 @@
 //!
 //! `rotation` leaves y (hence theta) as in the static set, so it does not make the per-pixel
 //! estimate unbiased for the lattice sequences (tests/stages/sampling_estimators.rs measures it).
+//!
+//! The modes of issue 38 act on every sequence alike, as `blue-noise` does: the run's static set
+//! (for `random`, the run's one set of numbers) plus the mode's per-pixel offsets:
+//!
+//! | seed mode | offset added to the static set | randomized per run by | unbiased per pixel |
+//! |---|---|---|---|
+//! | `ign`, `bayer`, `magic-square`, `r2-dither` — the engines' patterns ([`super::engine`]) | x only (a rotation): the pattern's value at the pixel | a toroidal shift of the pattern + a Cranley–Patterson offset of x | as `rotation`: only for `random` (the static set is random over runs); never for the lattice, a scramble or a jitter |
+//! | `texture`, use `offset` ([`super::texture`]) | x and y from the texture's channels 0 and 1 | the built-in masks' toroidal shift and cell jitter | when its slices are exactly uniform (measured at load; else one warning) |
+//! | `texture`, use `rotation` | x only, from channel 0 | as `offset` | as `rotation` |
+//! | `texture`, use `vector` | none: the texel is the direction (any sequence names the same images; `random` is kept) | a toroidal shift | never (a finite set of directions) |
 
 use super::blue_noise::MaskShift;
+use super::engine::{EngineShift, Pattern};
 pub use super::hash::{FIX_BITS, FIX_ONE, fix_add, fix_from_bits, fix_to_f32, hash, mix64};
 use super::stbn::StbnShift;
+use super::texture::{TextureId, TextureUse};
 
 /// How the point set differs from pixel to pixel (the paper's "seed").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -39,6 +51,71 @@ pub enum SeedMode {
     BlueNoise,
     /// As `BlueNoise`, the masks spatiotemporal: one slice per frame (Wolfe et al. 2022).
     Stbn,
+    /// Interleaved gradient noise as a per-pixel rotation (Jimenez 2014; [`super::engine`]).
+    Ign,
+    /// Bayer's 4 × 4 ordered-dither matrix as a per-pixel rotation.
+    Bayer,
+    /// A 5 × 5 pandiagonal magic square as a per-pixel rotation.
+    MagicSquare,
+    /// Roberts' R2 dither mask as a per-pixel rotation.
+    R2Dither,
+    /// A noise texture the user named, read by the loader ([`super::texture`]).
+    Texture(TextureId),
+}
+
+impl SeedMode {
+    /// The engine pattern behind the mode, if it is one.
+    pub fn pattern(self) -> Option<Pattern> {
+        match self {
+            SeedMode::Ign => Some(Pattern::Ign),
+            SeedMode::Bayer => Some(Pattern::Bayer),
+            SeedMode::MagicSquare => Some(Pattern::MagicSquare),
+            SeedMode::R2Dither => Some(Pattern::R2Dither),
+            _ => None,
+        }
+    }
+
+    /// The texture's use, if the mode is a texture.
+    pub fn texture_use(self) -> Option<TextureUse> {
+        match self {
+            SeedMode::Texture(t) => Some(t.get().use_()),
+            _ => None,
+        }
+    }
+
+    /// Whether the mode adds per-pixel offsets (`offsets_at`) to the run's static set: the masks,
+    /// the engine patterns and offset or rotation textures (not `rotation` and `shift`, whose
+    /// randomization some sequences make their own way, nor a vector texture, which gives the
+    /// points itself).
+    pub fn carries_offsets(self) -> bool {
+        match self {
+            SeedMode::BlueNoise | SeedMode::Stbn => true,
+            SeedMode::Ign | SeedMode::Bayer | SeedMode::MagicSquare | SeedMode::R2Dither => true,
+            SeedMode::Texture(t) => t.get().use_() != TextureUse::Vector,
+            SeedMode::Static | SeedMode::Rotation | SeedMode::Shift => false,
+        }
+    }
+
+    /// Whether the mode moves x alone (a rotation about the normal), so that the `r1` schedule
+    /// steps it by R1, not R2: `rotation` of a set that is not fresh per pixel (`fresh`), the
+    /// engine patterns and rotation textures.
+    pub fn is_scalar(self, fresh: bool) -> bool {
+        match self {
+            SeedMode::Rotation => !fresh,
+            SeedMode::Texture(t) => t.get().use_() == TextureUse::Rotation,
+            m => m.pattern().is_some(),
+        }
+    }
+
+    /// Slices of the mode's spatiotemporal mask (frame f reads slice f mod depth, and the schedule
+    /// acts once per cycle): `stbn`'s and a texture's; 1 for every other mode.
+    pub fn depth(self) -> u32 {
+        match self {
+            SeedMode::Stbn => super::stbn::STBN_DEPTH,
+            SeedMode::Texture(t) => t.get().size().2,
+            _ => 1,
+        }
+    }
 }
 
 /// One pixel's randomization, derived once per pixel (three mixes).
@@ -85,8 +162,21 @@ impl PixelSeed {
             SeedMode::Shift => (self.x_offset, self.y_offset),
             SeedMode::BlueNoise => MaskShift::new(self.run_key).offsets(x, y),
             SeedMode::Stbn => StbnShift::new(self.run_key).offsets(x, y, t),
+            SeedMode::Ign | SeedMode::Bayer | SeedMode::MagicSquare | SeedMode::R2Dither => {
+                let p = self_pattern(mode);
+                (EngineShift::new(p, self.run_key).offset(p, x, y, t), 0)
+            }
+            SeedMode::Texture(id) => match id.get().use_() {
+                TextureUse::Vector => (0, 0),
+                _ => id.get().offsets(self.run_key, x, y, t),
+            },
         }
     }
+}
+
+#[inline]
+fn self_pattern(mode: SeedMode) -> Pattern {
+    mode.pattern().unwrap_or(Pattern::Ign)
 }
 
 /// Walks the n equal strata of [0,1) on the 24-bit grid without a division per point.

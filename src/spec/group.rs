@@ -63,6 +63,21 @@ pub(super) fn group(
         }
     };
     let rows = rows(raw, &at(""), g.span(), p);
+    // A file's point set holds so many points per pixel: more rays than that is refused.
+    for r in rows.iter().flatten() {
+        if let Some(max) = r.sequence.imp().max_count()
+            && let Some(&big) = rays.iter().filter(|&&n| n > max).max()
+        {
+            p.add(
+                raw.rays.span(),
+                &at("rays"),
+                format!(
+                    "{big} rays, but sequence '{}' holds {max} points per pixel; allowed 1..={max}",
+                    r.sequence
+                ),
+            );
+        }
+    }
     let frames = raw.frames.as_ref().map_or(Some(1), |f| p.int(f, &at("frames"), 1, MAX_FRAMES as i64));
     let schedules = match &raw.schedules {
         None => Some(vec![Schedule::Independent]),
@@ -173,13 +188,19 @@ fn rows(raw: &RawGroup, at: &str, span: std::ops::Range<usize>, p: &mut Problems
             for row in rows.get_ref() {
                 let r = row.get_ref();
                 let d = p.name::<Distribution>(&r.distribution, &format!("{at}rows.distribution"));
-                let s = p.name::<Sequence>(&r.sequence, &format!("{at}rows.sequence"));
+                let s = p.sequence(&r.sequence, &format!("{at}rows.sequence"));
                 let m = match &r.seed_mode {
-                    Some(m) => p.name::<SeedMode>(m, &format!("{at}rows.seed_mode")),
+                    Some(m) => p.seed_mode(m, &format!("{at}rows.seed_mode")),
                     None => Some(SeedMode::Rotation),
                 };
                 match (d, s, m) {
-                    (Some(d), Some(s), Some(m)) => push(Row::new(d, s, m)),
+                    (Some(d), Some(s), Some(m)) => match Row::new(d, s, m).invalid() {
+                        Some(e) => {
+                            p.add(row.span(), &format!("{at}rows"), e);
+                            ok = false;
+                        }
+                        None => push(Row::new(d, s, m)),
+                    },
                     _ => ok = false,
                 }
             }
@@ -187,22 +208,59 @@ fn rows(raw: &RawGroup, at: &str, span: std::ops::Range<usize>, p: &mut Problems
         }
         (None, true) => {
             let ds = axis::<Distribution>(&raw.distributions, &format!("{at}distributions"), span.clone(), p);
-            let ss = axis::<Sequence>(&raw.sequences, &format!("{at}sequences"), span, p);
+            let ss = entries(&raw.sequences, &format!("{at}sequences"), span.clone(), p, |p, v, k| {
+                p.sequence(v, k)
+            });
             let ms = match &raw.seed_modes {
                 None => Some(vec![SeedMode::Rotation]),
-                Some(v) => axis::<SeedMode>(&Some(v.clone()), &format!("{at}seed_modes"), 0..0, p),
+                Some(v) => entries(&Some(v.clone()), &format!("{at}seed_modes"), 0..0, p, |p, v, k| {
+                    p.seed_mode(v, k)
+                }),
             };
             let (ds, ss, ms) = (ds?, ss?, ms?);
+            let mut ok = true;
             for &d in &ds {
                 for &s in &ss {
                     for &m in &ms {
-                        push(Row::new(d, s, m));
+                        match Row::new(d, s, m).invalid() {
+                            // Said once per seed mode and distribution, at the seed modes.
+                            Some(e) if s == ss[0] => {
+                                let at_modes = raw.seed_modes.as_ref().map_or(span.clone(), |v| v.span());
+                                p.add(
+                                    at_modes,
+                                    &format!("{at}seed_modes"),
+                                    format!("{e} (give such rows in `rows`)"),
+                                );
+                                ok = false;
+                            }
+                            Some(_) => ok = false,
+                            None => push(Row::new(d, s, m)),
+                        }
                     }
                 }
             }
-            Some(out)
+            ok.then_some(out)
         }
     }
+}
+
+/// An axis whose entries are names or file tables (`seed_modes`, `sequences`), read by `one`.
+fn entries<'t, T>(
+    v: &Option<S<Vec<S<toml::Value>>>>,
+    key: &str,
+    span: std::ops::Range<usize>,
+    p: &mut Problems<'t>,
+    one: impl Fn(&mut Problems<'t>, &S<toml::Value>, &str) -> Option<T>,
+) -> Option<Vec<T>> {
+    let Some(v) = v else {
+        p.add(span, key, "missing; with the axes form give both `distributions` and `sequences`");
+        return None;
+    };
+    if !p.non_empty(v, key) {
+        return None;
+    }
+    let parsed: Vec<Option<T>> = v.get_ref().iter().map(|s| one(p, s, key)).collect();
+    parsed.into_iter().collect()
 }
 
 fn axis<T: std::str::FromStr<Err = String>>(

@@ -61,8 +61,21 @@
 //!
 //! Keys are snake_case; names are those of `sampling` (`uniform`, `sine`, `sine-cosine`,
 //! `concentric-cosine`; `random`, `fibonacci`, `stratified`, `sobol`, `halton`, `pmj02bn`, `zsobol`,
-//! `r2`; `static`, `rotation`, `shift`, `blue-noise`, `stbn`). `random` + `shift` is the same estimator as `random` + `rotation` (fresh numbers per
+//! `r2`; `static`, `rotation`, `shift`, `blue-noise`, `stbn`, `ign`, `bayer`, `magic-square`,
+//! `r2-dither`). `random` + `shift` is the same estimator as `random` + `rotation` (fresh numbers per
 //! pixel) and is merged into it; `random` + `static` and `random` + `blue-noise` are kept.
+//!
+//! Files the user brings (issue 38), relative to the spec file, wherever a seed mode or a sequence
+//! is named (`rows` or the axes; not `[reference]`):
+//!
+//! ```toml
+//! seed_modes = ["shift", { texture = "masks/stbn_vec2_%d.png", use = "offset" }]  # or "rotation",
+//!                                       # "vector" (sine-cosine only); `use` defaults to "offset"
+//! sequences = ["fibonacci", { points = "sets/ldbn.txt" }]   # .npy (N × 2, P × N × 2) or `x y` text
+//! ```
+//!
+//! A texture is the seed mode `texture:PATH:USE#hash8` in results, a point file the sequence
+//! `points:PATH#hash8` (docs/specs.md); a bad file is one error naming its line, key and the file.
 //!
 //! Parsing is two-phase so that errors point at lines: serde (with `deny_unknown_fields`) checks the
 //! shape and stops at the first unknown key or wrong type; then every value carries its span
@@ -77,7 +90,31 @@ mod group;
 pub(crate) mod position;
 mod validate;
 
-pub use validate::parse_spec;
+pub use validate::{parse_spec, parse_spec_with};
+
+/// Reads the files a spec's seed modes and sequences name (`{ texture = .. }`, `{ points = .. }`):
+/// `load::SpecFiles` does, relative to the spec's directory. `parse_spec` itself does no IO and
+/// refuses such entries (`NoFiles`); the message of an `Err` names the file and what is wrong.
+pub trait Files {
+    fn texture(&self, written: &str, use_: crate::sampling::texture::TextureUse) -> Result<SeedMode, String>;
+    fn points(&self, written: &str) -> Result<Sequence, String>;
+}
+
+/// The `Files` of `parse_spec`: none can be read.
+pub struct NoFiles;
+
+const NO_FILES: &str =
+    "files are read only when the spec is loaded (`load::load`), not by `spec::parse_spec`";
+
+impl Files for NoFiles {
+    fn texture(&self, _: &str, _: crate::sampling::texture::TextureUse) -> Result<SeedMode, String> {
+        Err(NO_FILES.into())
+    }
+
+    fn points(&self, _: &str) -> Result<Sequence, String> {
+        Err(NO_FILES.into())
+    }
+}
 
 /// Ray counts above this are a typo, not an experiment (an image at 64k rays is a reference).
 pub const MAX_RAYS: u32 = 65_536;
@@ -150,13 +187,31 @@ impl Row {
 
     /// Pseudo-random numbers are fresh per pixel whether "rotated" or "shifted", so both name the
     /// same images; `rotation` is the one kept. (`static` + random is a distinct, odd choice.)
+    /// A vector texture gives the directions itself, so every sequence names the same images with
+    /// it; `random` is the one kept.
     pub fn canonical(self) -> Self {
         match self.seed_mode {
             SeedMode::Shift if self.sequence.info().fresh_per_pixel => {
                 Self { seed_mode: SeedMode::Rotation, ..self }
             }
+            m if m.texture_use() == Some(crate::sampling::texture::TextureUse::Vector) => {
+                Self { sequence: Sequence::Random, ..self }
+            }
             _ => self,
         }
+    }
+
+    /// Why this row cannot be rendered, if it cannot: a vector texture holds cosine-weighted
+    /// directions, which only the sine-cosine warp (whose inverse hands them on) estimates with.
+    pub fn invalid(&self) -> Option<String> {
+        let vector = self.seed_mode.texture_use() == Some(crate::sampling::texture::TextureUse::Vector);
+        (vector && self.distribution != Distribution::SineCosine).then(|| {
+            format!(
+                "seed mode '{}' is a vector texture (cosine-weighted directions): its distribution must be \
+                 sine-cosine, not {}",
+                self.seed_mode, self.distribution
+            )
+        })
     }
 
     pub fn label(&self) -> String {
@@ -176,6 +231,11 @@ impl Row {
             SeedMode::Shift => Some("shift"),
             SeedMode::BlueNoise => Some("blue-noise"),
             SeedMode::Stbn => Some("spatiotemporal blue noise"),
+            SeedMode::Ign => Some("interleaved gradient noise"),
+            SeedMode::Bayer => Some("Bayer 4x4"),
+            SeedMode::MagicSquare => Some("magic square 5x5"),
+            SeedMode::R2Dither => Some("R2 dither"),
+            SeedMode::Texture(t) => Some(t.get().label()),
         };
         match mode {
             Some(m) => format!("{}, {seq}, {m}", self.distribution),

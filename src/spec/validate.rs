@@ -59,8 +59,8 @@ pub(super) struct RawGroup {
     pub(super) scenes: Option<S<Vec<S<String>>>>,
     pub(super) rows: Option<S<Vec<S<RawRow>>>>,
     pub(super) distributions: Option<S<Vec<S<String>>>>,
-    pub(super) sequences: Option<S<Vec<S<String>>>>,
-    pub(super) seed_modes: Option<S<Vec<S<String>>>>,
+    pub(super) sequences: Option<S<Vec<S<toml::Value>>>>,
+    pub(super) seed_modes: Option<S<Vec<S<toml::Value>>>>,
     pub(super) frames: Option<S<i64>>,
     pub(super) pipelines: Option<S<Vec<S<String>>>>,
     pub(super) schedules: Option<S<Vec<S<String>>>>,
@@ -71,8 +71,8 @@ pub(super) struct RawGroup {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawRow {
     pub(super) distribution: S<String>,
-    pub(super) sequence: S<String>,
-    pub(super) seed_mode: Option<S<String>>,
+    pub(super) sequence: S<toml::Value>,
+    pub(super) seed_mode: Option<S<toml::Value>>,
 }
 
 // ---- validation (phase 2) ----
@@ -84,6 +84,8 @@ pub(super) struct Problems<'a> {
     /// The group being checked (`table 't2'`), said after its keys: the key path is TOML's
     /// (`table.rays`), and the line and the name say which of several groups it is.
     pub(super) group: Option<String>,
+    /// Reads the textures and point sets entries name.
+    pub(super) files: &'a dyn Files,
 }
 
 impl Problems<'_> {
@@ -112,6 +114,55 @@ impl Problems<'_> {
         v.get_ref().parse::<T>().map_err(|e| self.add(v.span(), key, e)).ok()
     }
 
+    /// A seed mode: a name, or `{ texture = "PATH", use = "offset" | "rotation" | "vector" }`.
+    pub(super) fn seed_mode(&mut self, v: &S<toml::Value>, key: &str) -> Option<SeedMode> {
+        self.file_entry(v, key, "texture", &["use"], |files, path, t| {
+            let use_ = match t.get("use") {
+                None => crate::sampling::texture::TextureUse::Offset,
+                Some(toml::Value::String(u)) => crate::sampling::texture::TextureUse::parse(u)?,
+                Some(other) => {
+                    return Err(format!("`use` is {other}; allowed: \"offset\", \"rotation\", \"vector\""));
+                }
+            };
+            files.texture(path, use_)
+        })
+    }
+
+    /// A sequence: a name, or `{ points = "PATH" }`.
+    pub(super) fn sequence(&mut self, v: &S<toml::Value>, key: &str) -> Option<Sequence> {
+        self.file_entry(v, key, "points", &[], |files, path, _| files.points(path))
+    }
+
+    /// A name (parsed as `T`), or a table `{ <file> = "PATH", <extra>… }` read by `read`.
+    fn file_entry<T: std::str::FromStr<Err = String>>(
+        &mut self,
+        v: &S<toml::Value>,
+        key: &str,
+        file: &str,
+        extra: &[&str],
+        read: impl FnOnce(&dyn Files, &str, &toml::Table) -> std::result::Result<T, String>,
+    ) -> Option<T> {
+        let how = format!(
+            "a name, or {{ {file} = \"PATH\"{} }}",
+            extra.iter().map(|e| format!(", {e} = ..")).collect::<String>()
+        );
+        let result = match v.get_ref() {
+            toml::Value::String(s) => s.parse::<T>(),
+            toml::Value::Table(t) => match t.get(file) {
+                _ if t.keys().any(|k| k != file && !extra.contains(&k.as_str())) => {
+                    let bad: Vec<&str> =
+                        t.keys().map(String::as_str).filter(|k| *k != file && !extra.contains(k)).collect();
+                    Err(format!("unknown key `{}`; {how}", bad.join("`, `")))
+                }
+                Some(toml::Value::String(path)) => read(self.files, path, t),
+                Some(other) => Err(format!("`{file}` is {other}, not a path; {how}")),
+                None => Err(format!("missing `{file}`; {how}")),
+            },
+            other => Err(format!("{other} is not {how}")),
+        };
+        result.map_err(|e| self.add(v.span(), key, e)).ok()
+    }
+
     fn seed(&mut self, v: &S<i64>, key: &str) -> u64 {
         self.int(v, key, 0, u32::MAX as i64).map_or(0, u64::from)
     }
@@ -137,11 +188,17 @@ impl Problems<'_> {
     }
 }
 
-/// Parses and validates a spec. No IO: `path` is for messages and for resolving scene paths.
+/// Parses and validates a spec. No IO: `path` is for messages and for resolving scene paths; a
+/// texture or point file entry is an error (`parse_spec_with` reads them).
 pub fn parse_spec(text: &str, path: &Path) -> Result<Spec> {
+    parse_spec_with(text, path, &NoFiles)
+}
+
+/// `parse_spec`, reading the textures and point sets the spec names through `files`.
+pub fn parse_spec_with(text: &str, path: &Path, files: &dyn Files) -> Result<Spec> {
     let raw: RawSpec =
         toml::from_str(text).map_err(|e| Error::input(path, describe(text, &e, &shape_hint)))?;
-    let mut p = Problems { text, list: Vec::new(), group: None };
+    let mut p = Problems { text, list: Vec::new(), group: None, files };
     let spec = validate(raw, path, &mut p);
     if p.list.is_empty() {
         Ok(spec)

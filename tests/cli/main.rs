@@ -21,3 +21,4 @@ mod run_answer;
 mod run_errors;
 mod run_results;
 mod shard_merge;
+mod textures;

@@ -367,7 +367,14 @@ const PIXELS: [(u32, u32); 3] = [(0, 0), (37, 5), (1000, 77)];
 /// Mean and standard error over SEEDS run seeds of pixel (x, y)'s N-point estimate: seeds are
 /// independent, so the standard error is exact for "this pixel, over runs" (pixels of one run are
 /// not independent under a mask, so averaging over pixels would not test this).
-fn estimate_over_seeds(d: Distribution, seq: Sequence, mode: SeedMode, c: Cap, x: u32, y: u32) -> (f64, f64) {
+pub(super) fn estimate_over_seeds(
+    d: Distribution,
+    seq: Sequence,
+    mode: SeedMode,
+    c: Cap,
+    x: u32,
+    y: u32,
+) -> (f64, f64) {
     let mut pts = vec![Vec2::ZERO; N as usize];
     let per_seed: Vec<f64> = (0..SEEDS)
         .map(|seed| {

@@ -274,8 +274,8 @@ fn stratified_one_point_per_stratum() {
         for mode in SeedMode::ALL {
             for pixel in [0, 17] {
                 let mut pts = points(Sequence::Stratified, *mode, n, 4, pixel);
-                if matches!(*mode, SeedMode::BlueNoise | SeedMode::Stbn) {
-                    // The static grid shifted by the pixel's mask offsets: shift it back.
+                if mode.carries_offsets() {
+                    // The static grid shifted by the pixel's mask (or pattern) offsets: shift it back.
                     let (x, y) = xy(pixel);
                     let (ox, oy) = PixelSeed::new(4, pixel).offsets(*mode, x, y);
                     let back =

@@ -3,8 +3,8 @@
 //! Reconstruction for Path-Traced Global Illumination", HPG), for a scalar signal (AO: the
 //! "luminance" is the value itself, and there is no albedo to demodulate):
 //!
-//! 1. Temporal accumulation (§4.1) of the value c and of its first two moments μ₁ = E[l],
-//!    μ₂ = E[l²], per pixel through the `Motion`, each with α_eff = max(α, 1/n) for a history of n
+//! 1. Temporal accumulation (§4.1) of the value c and of its first two moments μ₁ = E\[l\],
+//!    μ₂ = E\[l²\], per pixel through the `Motion`, each with α_eff = max(α, 1/n) for a history of n
 //!    frames (`history`; the paper's α = 0.2 for both).
 //! 2. Variance (§4.2): μ₂ − μ₁² of the temporal moments once n ≥ 4; for a shorter history the
 //!    moments are first averaged over a 7 × 7 neighbourhood by a bilateral filter whose weights

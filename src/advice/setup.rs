@@ -308,6 +308,8 @@ impl AdviseSpec<'_> {
             frames: self.frames,
             schedules: vec![crate::sampling::Schedule::Independent],
             pipelines: vec![self.pipeline],
+            cameras: vec![crate::plan::CameraId::STATIC],
+            denoisers: vec![crate::plan::DenoiserId::NONE],
         };
         Spec {
             path: self.path.to_path_buf(),
@@ -419,6 +421,8 @@ pub fn verify_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Plan {
             frames,
             schedules: vec![crate::sampling::Schedule::Independent],
             pipelines: pipelines.clone(),
+            cameras: vec![crate::plan::CameraId::STATIC],
+            denoisers: vec![crate::plan::DenoiserId::NONE],
         })
         .collect();
     last_frame_only(plan::plan(&Spec { groups, seed: VERIFY_SEED, replicates, ..spec.clone() }), frames)

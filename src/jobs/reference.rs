@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::io;
 use crate::plan::{self, Geometry};
-use crate::reference::store::{self, Policy, Reference};
+use crate::reference::store::{self, Policy, Reference, ReferenceView};
 use crate::reference::{self, Adaptive, Manifest};
 use crate::scene::Scene;
 use crate::spec::{MAX_REFERENCE_RAYS, Spec};
@@ -31,8 +31,21 @@ pub fn obtain(
     policy: Policy,
     runner: &JobRunner,
 ) -> Result<Reference> {
+    obtain_view(spec, si, scene, &ReferenceView::of_scene(scene), dir, policy, runner)
+}
+
+/// `obtain` for another view of the scene (a camera path's frame, a jittered camera's average).
+pub fn obtain_view(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    view: &ReferenceView,
+    dir: &Path,
+    policy: Policy,
+    runner: &JobRunner,
+) -> Result<Reference> {
     let geometry = Geometry::of(spec.resolution, spec.ao_distance, scene);
-    let wanted = store::wanted_manifest(spec, si, scene, geometry);
+    let wanted = store::wanted_view(spec, si, scene, geometry, view);
     let (exr, json) = store::paths(dir, &wanted);
     let lock_path = dir.join(format!("{}.lock", wanted.file_stem()));
     if policy != Policy::ReuseOnly && !io::exists(dir) {
@@ -80,17 +93,28 @@ pub fn obtain(
     if let Some(why) = unlocked {
         eprintln!("warning: {why}; another run started now could build this reference at the same time");
     }
-    build(spec, si, scene, wanted, dir, runner)
+    build(spec, si, scene, view, wanted, dir, runner)
 }
 
 fn build(
     spec: &Spec,
     si: usize,
     scene: &Scene,
+    view: &ReferenceView,
     mut manifest: Manifest,
     dir: &Path,
     runner: &JobRunner,
 ) -> Result<Reference> {
+    if *view != ReferenceView::of_scene(scene) {
+        if manifest.adaptive.is_some() {
+            return Err(Error::Refused(format!(
+                "scene '{}': an adaptive reference (allocation = \"adaptive\") of a camera path's frame is not \
+                 supported; use allocation = \"even\" in a spec with cameras",
+                scene.name
+            )));
+        }
+        return build_view(spec, si, scene, view, manifest, dir, runner);
+    }
     let jobs = plan::reference_jobs(spec, si, manifest.rays);
     let start = Instant::now();
     let mut images = Vec::with_capacity(jobs.len());
@@ -115,6 +139,61 @@ fn build(
     let coverage =
         coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
     let (mean, stderr) = reference::mean_and_stderr(&images).map_err(Error::Refused)?;
+    store::save(manifest, mean, stderr, coverage, dir, &scene.name, start)
+}
+
+/// A reference of another view: each replicate rendered from the view's camera; for a jittered
+/// camera, the mean of one render at each offset of the jitter cycle with 1/cycle of the rays
+/// (rounded up), each with its own numbers (frame j of the replicate's sampler), and a pixel
+/// covered only where every offset's primary ray hits.
+fn build_view(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    view: &ReferenceView,
+    mut manifest: Manifest,
+    dir: &Path,
+    runner: &JobRunner,
+) -> Result<Reference> {
+    use crate::scene::camera_path::{JITTER_CYCLE, halton_jitter};
+    let start = Instant::now();
+    let offsets: Vec<glam::Vec2> = if view.jitter_average {
+        (0..JITTER_CYCLE).map(halton_jitter).collect()
+    } else {
+        vec![glam::Vec2::ZERO]
+    };
+    let per = manifest.rays.div_ceil(offsets.len() as u32).max(1);
+    let jobs = plan::reference_jobs(spec, si, per);
+    let mut images = Vec::with_capacity(jobs.len());
+    let mut coverage: Option<Image> = None;
+    for (i, job) in jobs.iter().enumerate() {
+        let mut sum: Option<Vec<f64>> = None;
+        for (j, &jitter) in offsets.iter().enumerate() {
+            let label = format!("reference {}/{} ({} of {} views)", i + 1, jobs.len(), j + 1, offsets.len());
+            let v = crate::render::View::new(view.camera, jitter);
+            let out = runner.render_view_pass(job, scene, &v, j as u32, &label)?.output;
+            let s = sum.get_or_insert_with(|| vec![0.0; out.ao.len()]);
+            for (a, &x) in s.iter_mut().zip(&out.ao.data) {
+                *a += x as f64;
+            }
+            coverage = Some(match coverage.take() {
+                None => out.coverage,
+                Some(c) => Image::from_vec(
+                    c.width,
+                    c.height,
+                    c.data.iter().zip(&out.coverage.data).map(|(&a, &b)| a.min(b)).collect(),
+                ),
+            });
+        }
+        let s = sum.expect("at least one view");
+        let k = offsets.len() as f64;
+        let (w, h) = (manifest.resolution[0], manifest.resolution[1]);
+        images.push(Image::from_vec(w, h, s.iter().map(|&x| (x / k) as f32).collect()));
+    }
+    let coverage =
+        coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
+    let (mean, stderr) = reference::mean_and_stderr(&images).map_err(Error::Refused)?;
+    manifest.rays = manifest.rays.max(per);
     store::save(manifest, mean, stderr, coverage, dir, &scene.name, start)
 }
 

@@ -47,6 +47,27 @@ impl JobRunner {
         self.render(job, scene, label)
     }
 
+    /// `render_pass` from another view (a camera path's frame, a jitter offset), its sampler at
+    /// frame `frame` (fresh numbers for each of a reference's views).
+    pub fn render_view_pass(
+        &self,
+        job: &Job,
+        scene: &Scene,
+        view: &render::View,
+        frame: u32,
+        label: &str,
+    ) -> Result<Rendered> {
+        let g = Geometry::of(job.resolution, job.ao_distance, scene);
+        self.start_pass(g.pixels() * job.rays as u64, label);
+        let mut rj = render_job(job, scene, job.rays)?;
+        rj.sampler = rj.sampler.with_frame(frame);
+        let rays = job.rays as u64;
+        let output = self.pool.install(|| {
+            render::render_view(scene, &rj, job.measurement.integrand, view, &|px| self.bar.inc(px * rays))
+        });
+        Ok(Rendered { output })
+    }
+
     fn start_pass(&self, length: u64, label: &str) {
         self.bar.reset();
         self.bar.set_length(length);

@@ -6,10 +6,141 @@
 //!
 //! The paper's measurement — one raw AO frame — is `Measurement::PAPER`; it adds nothing to a job's
 //! key, so every key of a spec without the newer axes is what it was before they existed.
+//!
+//! A camera path and a user's denoiser are values a spec defines by name; a measurement carries
+//! them as small handles (`CameraId`, `DenoiserId`) into a process-wide list they are interned in
+//! when the spec is read, so that a measurement stays a plain copyable value.
 
 use crate::denoise::Pipeline;
+use crate::denoise_command::DenoiseCommand;
 use crate::sampling::{Integrand, Schedule};
+use crate::scene::camera_path::CameraPath;
 use std::fmt::Write as _;
+use std::sync::RwLock;
+
+/// How the camera moves over a multi-frame measurement's frames: a named path of the spec, with
+/// or without the per-frame sub-pixel jitter of TAA engines (`scene::camera_path::halton_jitter`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CameraRun {
+    /// The spec's name for it (the results' `camera` column).
+    pub name: String,
+    pub path: CameraPath,
+    pub jitter: bool,
+    /// Frames the path spans: frame f's camera is the path at f / (frames − 1) (the group's
+    /// `frames`), so that frame f has one camera whichever frame a job reports.
+    pub frames: u32,
+}
+
+impl CameraRun {
+    /// Everything that determines each frame's view, as explicit text (part of job keys).
+    pub fn canonical(&self) -> String {
+        let v = |a: [f64; 3]| format!("{:?},{:?},{:?}", a[0], a[1], a[2]);
+        let path = match &self.path {
+            CameraPath::Static => "static".to_string(),
+            CameraPath::Orbit { degrees } => format!("orbit:{degrees:?}"),
+            CameraPath::Dolly { distance } => format!("dolly:{distance:?}"),
+            CameraPath::Pan { degrees } => format!("pan:{degrees:?}"),
+            CameraPath::Keyframes(keys) => {
+                let k: Vec<String> =
+                    keys.iter().map(|k| format!("{}@{}>{}", k.frame, v(k.eye), v(k.target))).collect();
+                format!("keyframes:{}", k.join("|"))
+            }
+        };
+        format!("{}={path}/{}{}", self.name, self.frames, if self.jitter { "/jitter" } else { "" })
+    }
+}
+
+/// A user's denoiser, named by the spec, run on every measured frame after the pipeline.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Denoiser {
+    pub name: String,
+    pub command: DenoiseCommand,
+}
+
+static CAMERAS: RwLock<Vec<&'static CameraRun>> = RwLock::new(Vec::new());
+static DENOISERS: RwLock<Vec<&'static Denoiser>> = RwLock::new(Vec::new());
+
+/// Interns `value` in `list` (equal values share one entry) and returns its index from 1.
+fn intern<T: PartialEq>(list: &RwLock<Vec<&'static T>>, value: T) -> u16 {
+    let mut l = list.write().unwrap_or_else(|e| e.into_inner());
+    if let Some(i) = l.iter().position(|x| **x == value) {
+        return i as u16 + 1;
+    }
+    l.push(Box::leak(Box::new(value)));
+    u16::try_from(l.len()).expect("fewer than 65536 cameras and denoisers in a process")
+}
+
+fn get<T>(list: &RwLock<Vec<&'static T>>, id: u16) -> Option<&'static T> {
+    let i = id.checked_sub(1)? as usize;
+    list.read().unwrap_or_else(|e| e.into_inner()).get(i).copied()
+}
+
+/// A measurement's camera: the scene's own, unjittered (`STATIC`, the default), or an interned
+/// `CameraRun`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+pub struct CameraId(u16);
+
+impl CameraId {
+    /// The scene's camera for every frame, no jitter.
+    pub const STATIC: CameraId = CameraId(0);
+    /// What a results file names the static camera.
+    pub const STATIC_NAME: &'static str = "static";
+
+    /// The handle of `run` (a static path without jitter is `STATIC`).
+    pub fn intern(run: CameraRun) -> CameraId {
+        if run.path.is_static() && !run.jitter {
+            return CameraId::STATIC;
+        }
+        CameraId(intern(&CAMERAS, run))
+    }
+
+    /// The run behind the handle (`None`: the static camera).
+    pub fn run(self) -> Option<&'static CameraRun> {
+        get(&CAMERAS, self.0)
+    }
+
+    pub fn name(self) -> String {
+        self.run().map_or(Self::STATIC_NAME.to_string(), |r| r.name.clone())
+    }
+
+    /// The handle a results file's `camera` column names, among those interned in this process.
+    pub fn named(name: &str) -> Option<CameraId> {
+        if name == Self::STATIC_NAME {
+            return Some(CameraId::STATIC);
+        }
+        let l = CAMERAS.read().unwrap_or_else(|e| e.into_inner());
+        l.iter().position(|r| r.name == name).map(|i| CameraId(i as u16 + 1))
+    }
+}
+
+/// A measurement's denoiser step: none (`NONE`, the default) or an interned `Denoiser`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+pub struct DenoiserId(u16);
+
+impl DenoiserId {
+    pub const NONE: DenoiserId = DenoiserId(0);
+
+    pub fn intern(d: Denoiser) -> DenoiserId {
+        DenoiserId(intern(&DENOISERS, d))
+    }
+
+    pub fn get(self) -> Option<&'static Denoiser> {
+        get(&DENOISERS, self.0)
+    }
+
+    /// The results' `denoiser` column: its name, empty for none.
+    pub fn name(self) -> String {
+        self.get().map_or(String::new(), |d| d.name.clone())
+    }
+
+    pub fn named(name: &str) -> Option<DenoiserId> {
+        if name.is_empty() {
+            return Some(DenoiserId::NONE);
+        }
+        let l = DENOISERS.read().unwrap_or_else(|e| e.into_inner());
+        l.iter().position(|d| d.name == name).map(|i| DenoiserId(i as u16 + 1))
+    }
+}
 
 /// What one job's image measures (see the module's doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -24,6 +155,10 @@ pub struct Measurement {
     pub schedule: Schedule,
     /// What is done to the frames before the image is measured (`denoise::Pipeline`).
     pub pipeline: Pipeline,
+    /// How the camera moves over the frames.
+    pub camera: CameraId,
+    /// The user's denoiser, run on each measured frame after the pipeline.
+    pub denoiser: DenoiserId,
 }
 
 impl Default for Measurement {
@@ -39,6 +174,8 @@ impl Measurement {
         frame: 1,
         schedule: Schedule::Independent,
         pipeline: Pipeline::RAW,
+        camera: CameraId::STATIC,
+        denoiser: DenoiserId::NONE,
     };
 
     /// The same measurement of another integrand.
@@ -46,10 +183,15 @@ impl Measurement {
         Self { integrand, ..Self::PAPER }
     }
 
-    /// Whether one raw frame is measured (frame 1, independent schedule, raw), of any integrand:
-    /// the images the paper's tables, aggregates and equal-time comparisons read.
+    /// Whether one raw frame of the scene's camera is measured (frame 1, independent schedule,
+    /// raw, no denoiser), of any integrand: the images the paper's tables, aggregates and
+    /// equal-time comparisons read.
     pub fn is_single_frame(&self) -> bool {
-        self.frame == 1 && self.schedule == Schedule::Independent && self.pipeline == Pipeline::RAW
+        self.frame == 1
+            && self.schedule == Schedule::Independent
+            && self.pipeline == Pipeline::RAW
+            && self.camera == CameraId::STATIC
+            && self.denoiser == DenoiserId::NONE
     }
 
     /// The frame indices (from 0) a job renders: all `frame` frames when the pipeline
@@ -71,8 +213,22 @@ impl Measurement {
         if self.is_single_frame() {
             String::new()
         } else {
-            format!(";frame={};schedule={};pipeline={}", self.frame, self.schedule, self.pipeline)
+            format!(";frame={};schedule={};pipeline={}{}", self.frame, self.schedule, self.pipeline, self.view_key())
         }
+    }
+
+    /// `;camera=..` for a moving or jittered camera, `;denoiser=..` for a denoiser step (its
+    /// command spelt out): empty for the static camera without one, so older keys stay.
+    pub fn view_key(&self) -> String {
+        let mut s = String::new();
+        if let Some(c) = self.camera.run() {
+            let _ = write!(s, ";camera={}", c.canonical());
+        }
+        if let Some(d) = self.denoiser.get() {
+            let c = &d.command;
+            let _ = write!(s, ";denoiser={}:{}:{}", d.name, c.program, c.args.join(" "));
+        }
+        s
     }
 
     /// What the jobs of one series of frames share (`plan::series`): for a pipeline that
@@ -80,7 +236,7 @@ impl Measurement {
     /// sequence is read from one render of it; otherwise `frames_key`. Part of the timing unit.
     pub fn series_key(&self) -> String {
         if self.pipeline.is_temporal() {
-            format!(";schedule={};pipeline={}", self.schedule, self.pipeline)
+            format!(";schedule={};pipeline={}{}", self.schedule, self.pipeline, self.view_key())
         } else {
             self.frames_key()
         }
@@ -96,13 +252,21 @@ impl Measurement {
         s
     }
 
-    /// `-<schedule>-<pipeline>-f<frame>` for a multi-frame measurement's file names, empty for one frame.
+    /// `-<schedule>-<pipeline>[-<camera>][-<denoiser>]-f<frame>` for a multi-frame measurement's
+    /// file names, empty for one frame.
     pub fn file_part(&self) -> String {
         if self.is_single_frame() {
-            String::new()
-        } else {
-            format!("-{}-{}-f{}", self.schedule, self.pipeline, self.frame)
+            return String::new();
         }
+        let mut s = format!("-{}-{}", self.schedule, self.pipeline);
+        for extra in [self.camera.run().map(|c| c.name.clone()), self.denoiser.get().map(|d| d.name.clone())]
+            .into_iter()
+            .flatten()
+        {
+            let _ = write!(s, "-{extra}");
+        }
+        let _ = write!(s, "-f{}", self.frame);
+        s
     }
 }
 

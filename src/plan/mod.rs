@@ -12,7 +12,7 @@ mod geometry;
 mod measurement;
 
 pub use geometry::Geometry;
-pub use measurement::Measurement;
+pub use measurement::{CameraId, CameraRun, Denoiser, DenoiserId, Measurement};
 
 /// One image to render.
 #[derive(Debug, Clone, PartialEq)]
@@ -143,7 +143,7 @@ pub fn plan(spec: &Spec) -> Plan {
                 let row = row.canonical();
                 for &schedule in &group.schedules {
                     for &rays in &group.rays {
-                        for &pipeline in &group.pipelines {
+                        for (&pipeline, camera, denoiser) in views(group) {
                             for frame in pipeline_frames(pipeline, group.frames) {
                                 for replicate in 0..group.replicates {
                                     let job = Job {
@@ -163,6 +163,8 @@ pub fn plan(spec: &Spec) -> Plan {
                                             frame,
                                             schedule,
                                             pipeline,
+                                            camera,
+                                            denoiser,
                                         },
                                     };
                                     if seen.insert(job.canonical()) {
@@ -177,6 +179,19 @@ pub fn plan(spec: &Spec) -> Plan {
         }
     }
     Plan { jobs }
+}
+
+/// A group's pipelines × cameras × denoisers, in that order (pipeline outermost).
+fn views(group: &crate::spec::Group) -> Vec<(&Pipeline, CameraId, DenoiserId)> {
+    let mut out = Vec::new();
+    for p in &group.pipelines {
+        for &c in &group.cameras {
+            for &d in &group.denoisers {
+                out.push((p, c, d));
+            }
+        }
+    }
+    out
 }
 
 /// The frames (from 1) at which a group of `frames` frames is measured: 1, 2, 4, … and `frames`.

@@ -53,6 +53,13 @@ pub struct Manifest {
     /// `ao`, so that every AO manifest is the text it was before integrands existed.
     #[serde(default = "ao", skip_serializing_if = "is_ao")]
     pub integrand: String,
+    /// The reference of a jittered camera (TAA's sub-pixel jitter): each replicate is the mean of
+    /// renders at every jitter offset of the cycle (`scene::camera_path::halton_jitter`), what the
+    /// jittered frames of a static view converge to, and a pixel counts as covered only where every
+    /// offset's primary ray hits. Left out of the file when false, so every other manifest is the
+    /// text it was.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub jitter_average: bool,
 }
 
 fn ao() -> String {
@@ -171,6 +178,7 @@ impl Manifest {
             time_s: None,
             adaptive: None,
             integrand: scene.integrand.to_string(),
+            jitter_average: false,
         }
     }
 
@@ -204,6 +212,7 @@ impl Manifest {
         cmp("seed_mode", self.seed_mode.clone(), wanted.seed_mode.clone());
         cmp("seed", self.seed.to_string(), wanted.seed.to_string());
         cmp("integrand", self.integrand.clone(), wanted.integrand.clone());
+        cmp("jitter_average", self.jitter_average.to_string(), wanted.jitter_average.to_string());
         // An adaptive reference's settings, not what they came to.
         let settings = |a: &Option<Adaptive>| match a {
             Some(a) => format!("adaptive ({}, min {} rays, budget {:?})", a.rule, a.min_rays, a.budget),
@@ -243,8 +252,11 @@ impl Manifest {
         let name = std::path::Path::new(&self.scene)
             .file_stem()
             .map_or("scene".to_string(), |s| s.to_string_lossy().into_owned());
-        let what =
+        let mut what =
             format!("{};{};{:?};{}", self.scene, self.camera.legacy(), self.resolution, self.ao_distance);
+        if self.jitter_average {
+            what.push_str(";jitter-average");
+        }
         let h = crate::plan::fnv1a64(what.as_bytes());
         // Another integrand's reference sits beside the AO one of the same view.
         let of = if is_ao(&self.integrand) { String::new() } else { format!("-{}", self.integrand) };

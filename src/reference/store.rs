@@ -114,7 +114,27 @@ pub fn pilot_rays(spec: &Spec, scene: usize) -> u32 {
     }
 }
 
+/// A reference's view: the camera it is rendered from (a camera path's frame, or the scene's) and
+/// whether it averages a jittered camera's offsets (`Manifest::jitter_average`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReferenceView {
+    pub camera: crate::scene::WorldCamera,
+    pub jitter_average: bool,
+}
+
+impl ReferenceView {
+    /// The scene's own camera, unjittered: every reference before camera paths.
+    pub fn of_scene(scene: &Scene) -> Self {
+        Self { camera: scene.view, jitter_average: false }
+    }
+}
+
 pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry) -> Manifest {
+    wanted_view(spec, si, scene, geometry, &ReferenceView::of_scene(scene))
+}
+
+/// `wanted_manifest` of another view of the scene.
+pub fn wanted_view(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry, view: &ReferenceView) -> Manifest {
     let rays = match (spec.reference.adaptive, spec.reference.rays) {
         (true, _) => pilot_rays(spec, si),
         (false, ReferenceRays::Fixed(r)) => r,
@@ -123,7 +143,7 @@ pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry
     let mut m = Manifest::wanted(
         &spec.scenes[si],
         &scene.content_hash,
-        reference::CameraRecord::of(&scene.view),
+        reference::CameraRecord::of(&view.camera),
         [geometry.width, geometry.height],
         geometry.distance,
         crate::plan::reference_estimator(spec, si),
@@ -143,6 +163,7 @@ pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry
             max_rays: None,
         });
     }
+    m.jitter_average = view.jitter_average;
     m
 }
 

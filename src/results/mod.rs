@@ -55,6 +55,10 @@ pub const CSV_COLUMNS: &[&str] = &[
     "schedule",
     "noise_rmse",
     "integrand",
+    "camera",
+    "denoiser",
+    "flicker",
+    "floor",
 ];
 
 /// The columns that hold measured times, or depend on them (how many renders a configuration got:
@@ -156,6 +160,22 @@ pub struct JobResult {
     /// before the column existed.
     #[serde(default = "ao")]
     pub integrand: String,
+    /// The camera path over the frames (`plan::CameraId`'s name): `static` for the scene's camera.
+    #[serde(default = "static_camera")]
+    pub camera: String,
+    /// The user's denoiser run after the pipeline (its spec name), empty for none.
+    #[serde(default)]
+    pub denoiser: String,
+    /// The image's temporal instability against the reference's: the RMS over covered pixels of
+    /// (o_t − o_{t−1}) − (r_t − r_{t−1}) between this frame and the one before (`metrics::flicker`);
+    /// NaN for a single frame (and where it is not measured).
+    #[serde(default = "nan", deserialize_with = "split::nan_null")]
+    pub flicker: f64,
+    /// The filter's floor: the RMSE of the pipeline applied to the reference itself (frames of the
+    /// static camera, pushed to this frame) against the reference; NaN without a filter. An RMSE
+    /// below its floor is the filter's bias cancelling the sampler's, never a win.
+    #[serde(default = "nan", deserialize_with = "split::nan_null")]
+    pub floor: f64,
 }
 
 fn raw() -> String {
@@ -172,6 +192,9 @@ fn nan() -> f64 {
 }
 fn ao() -> String {
     "ao".into()
+}
+fn static_camera() -> String {
+    crate::plan::CameraId::STATIC_NAME.into()
 }
 
 /// The one "this record belongs to that configuration" rule, for records and aggregates alike:
@@ -234,6 +257,10 @@ impl JobResult {
             schedule: job.measurement.schedule.name().into(),
             noise_rmse: stats.rmse,
             integrand: job.measurement.integrand.to_string(),
+            camera: job.measurement.camera.name(),
+            denoiser: job.measurement.denoiser.name(),
+            flicker: f64::NAN,
+            floor: f64::NAN,
         }
     }
 
@@ -245,6 +272,8 @@ impl JobResult {
             frame: self.frame,
             schedule: self.schedule.parse().ok()?,
             pipeline: self.pipeline.parse().ok()?,
+            camera: crate::plan::CameraId::named(&self.camera)?,
+            denoiser: crate::plan::DenoiserId::named(&self.denoiser)?,
         })
     }
 
@@ -379,6 +408,10 @@ pub fn to_csv(results: &[JobResult]) -> String {
             csv_field(&r.schedule),
             num(r.noise_rmse),
             csv_field(&r.integrand),
+            csv_field(&r.camera),
+            csv_field(&r.denoiser),
+            num(r.flicker),
+            num(r.floor),
         ];
         s.push_str(&fields.join(","));
         s.push('\n');

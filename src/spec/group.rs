@@ -3,7 +3,8 @@
 //! `seed_modes`), every problem gathered with its line.
 
 use super::position::line_of;
-use super::validate::{Problems, RawGroup, S, kind_key};
+use super::validate::{Named, Problems, RawGroup, S, kind_key};
+use crate::plan::{CameraId, CameraRun, DenoiserId};
 use super::*;
 
 pub(super) fn group(
@@ -11,6 +12,7 @@ pub(super) fn group(
     g: &S<RawGroup>,
     scenes: &mut Vec<SceneRef>,
     replicates: u32,
+    named: &Named,
     p: &mut Problems,
 ) -> Option<Group> {
     let k = kind_key(kind);
@@ -102,6 +104,77 @@ pub(super) fn group(
         Some(v) => axis::<Integrand>(&Some(v.clone()), &at("integrands"), 0..0, p).map(dedup),
     };
     let group_scenes = with_integrands(group_scenes, integrands.as_deref().unwrap_or(&[]), scenes);
+    let cameras = match (&raw.cameras, frames) {
+        (None, _) => Some(vec![CameraId::STATIC]),
+        (Some(v), _) if !p.non_empty(v, &at("cameras")) => None,
+        (Some(v), f) => {
+            let mut out = Vec::new();
+            let mut ok = true;
+            for s in v.get_ref() {
+                let name = s.get_ref();
+                if name == CameraId::STATIC_NAME {
+                    out.push(CameraId::STATIC);
+                    continue;
+                }
+                match named.cameras.iter().find(|(n, _)| n == name) {
+                    Some((n, c)) => out.push(CameraId::intern(CameraRun {
+                        name: n.clone(),
+                        path: c.path.clone(),
+                        jitter: c.jitter,
+                        frames: f.unwrap_or(1),
+                    })),
+                    None => {
+                        ok = false;
+                        let mut valid = vec![CameraId::STATIC_NAME.to_string()];
+                        valid.extend(named.cameras.iter().map(|(n, _)| n.clone()));
+                        p.add(
+                            s.span(),
+                            &at("cameras"),
+                            format!(
+                                "unknown camera '{}'; valid: {} (define one as [cameras.NAME] with a `path`)",
+                                name.escape_debug(),
+                                valid.join(", ")
+                            ),
+                        );
+                    }
+                }
+            }
+            ok.then(|| dedup(out))
+        }
+    };
+    let denoisers = match &raw.denoisers {
+        None => Some(vec![DenoiserId::NONE]),
+        Some(v) if !p.non_empty(v, &at("denoisers")) => None,
+        Some(v) => {
+            let mut out = Vec::new();
+            let mut ok = true;
+            for s in v.get_ref() {
+                let name = s.get_ref();
+                if name == "none" {
+                    out.push(DenoiserId::NONE);
+                    continue;
+                }
+                match named.denoisers.iter().find(|d| d.name == *name) {
+                    Some(d) => out.push(DenoiserId::intern(d.clone())),
+                    None => {
+                        ok = false;
+                        let mut valid = vec!["none".to_string()];
+                        valid.extend(named.denoisers.iter().map(|d| d.name.clone()));
+                        p.add(
+                            s.span(),
+                            &at("denoisers"),
+                            format!(
+                                "unknown denoiser '{}'; valid: {} (define one as [denoisers.NAME] with `program` and `args`)",
+                                name.escape_debug(),
+                                valid.join(", ")
+                            ),
+                        );
+                    }
+                }
+            }
+            ok.then(|| dedup(out))
+        }
+    };
     p.group = None;
     integrands?;
     Some(Group {
@@ -115,6 +188,8 @@ pub(super) fn group(
         frames: frames?,
         schedules: schedules?,
         pipelines: pipelines?,
+        cameras: cameras?,
+        denoisers: denoisers?,
     })
 }
 

@@ -288,6 +288,11 @@ pub struct Group {
     pub schedules: Vec<Schedule>,
     /// What is done to the frames before measuring, duplicates merged, in file order.
     pub pipelines: Vec<Pipeline>,
+    /// How the camera moves over the frames (`[cameras.NAME]`; `static`: the scene's own).
+    pub cameras: Vec<crate::plan::CameraId>,
+    /// The user's denoisers run on each measured frame after the pipeline (`[denoisers.NAME]`;
+    /// `none`: no such step).
+    pub denoisers: Vec<crate::plan::DenoiserId>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

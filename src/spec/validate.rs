@@ -24,6 +24,12 @@ struct RawSpec {
     point_figures: Option<S<bool>>,
     reference: Option<RawReference>,
     timing: Option<RawTiming>,
+    /// Named camera paths for the real-time groups' `cameras` (`[cameras.NAME]`).
+    #[serde(default)]
+    cameras: std::collections::BTreeMap<String, S<RawCamera>>,
+    /// Named denoiser commands for the groups' `denoisers` (`[denoisers.NAME]`).
+    #[serde(default)]
+    denoisers: std::collections::BTreeMap<String, S<crate::denoise_command::DenoiseCommand>>,
     #[serde(default)]
     table: Vec<S<RawGroup>>,
     #[serde(default)]
@@ -65,6 +71,30 @@ pub(super) struct RawGroup {
     pub(super) pipelines: Option<S<Vec<S<String>>>>,
     pub(super) schedules: Option<S<Vec<S<String>>>>,
     pub(super) integrands: Option<S<Vec<S<String>>>>,
+    pub(super) cameras: Option<S<Vec<S<String>>>>,
+    pub(super) denoisers: Option<S<Vec<S<String>>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawCamera {
+    /// `"static"`, or a table with one of `orbit`, `dolly`, `pan`, `keyframes` (`scene::camera_path`).
+    pub(super) path: crate::scene::camera_path::CameraPath,
+    /// Halton (2,3) sub-pixel jitter per frame, as TAA engines do; default false.
+    #[serde(default)]
+    pub(super) jitter: bool,
+}
+
+/// A spec's camera as `[cameras.NAME]` writes it.
+pub(super) struct CameraChoice {
+    pub(super) path: crate::scene::camera_path::CameraPath,
+    pub(super) jitter: bool,
+}
+
+/// The named things a group's axes may name: cameras and denoisers.
+pub(super) struct Named<'a> {
+    pub(super) cameras: &'a [(String, CameraChoice)],
+    pub(super) denoisers: &'a [crate::plan::Denoiser],
 }
 
 #[derive(Deserialize)]
@@ -355,8 +385,29 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
             taken.push((f.into(), "a point figure (point_figures = true)".into()));
         }
     }
+    let mut cameras: Vec<(String, CameraChoice)> = Vec::new();
+    for (name, c) in &raw.cameras {
+        if name == crate::plan::CameraId::STATIC_NAME || !name.chars().all(|ch| ch.is_ascii_alphanumeric() || ch == '-' || ch == '_') || name.is_empty() {
+            p.add(
+                c.span(),
+                &format!("cameras.{name}"),
+                "a camera's name is letters, digits, '-' and '_', and not `static` (the scene's own camera, always there)",
+            );
+            continue;
+        }
+        cameras.push((name.clone(), CameraChoice { path: c.get_ref().path.clone(), jitter: c.get_ref().jitter }));
+    }
+    let mut denoisers: Vec<crate::plan::Denoiser> = Vec::new();
+    for (name, d) in &raw.denoisers {
+        let key = format!("denoisers.{name}");
+        match d.get_ref().validate() {
+            Err(e) => p.add(d.span(), &key, e),
+            Ok(()) => denoisers.push(crate::plan::Denoiser { name: name.clone(), command: d.get_ref().clone().resolve(dir) }),
+        }
+    }
+    let named = Named { cameras: &cameras, denoisers: &denoisers };
     for (kind, g) in all {
-        if let Some(group) = group(kind, g, &mut scenes, replicates.unwrap_or(DEFAULT_REPLICATES), p) {
+        if let Some(group) = group(kind, g, &mut scenes, replicates.unwrap_or(DEFAULT_REPLICATES), &named, p) {
             let key = format!("{}.name", kind_key(kind));
             if groups.iter().any(|o: &Group| o.name == group.name) {
                 p.add(

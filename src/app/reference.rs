@@ -28,6 +28,21 @@ pub fn run(args: ReferenceArgs) -> Result<()> {
             if kept { "; kept, it serves this spec (--force rebuilds it)" } else { "" }
         );
     }
+    // The frames of camera paths where the spec measures error.
+    let plan = hemilab::plan::plan(&loaded.spec);
+    let si_of = |j: &hemilab::plan::Job| loaded.scene_of(j).0;
+    let views = hemilab::jobs::reference::obtain_views(
+        &loaded.spec,
+        &plan,
+        &loaded.scenes,
+        si_of,
+        &dir,
+        policy,
+        &runner,
+    )?;
+    if !views.is_empty() {
+        println!("{} camera path frame references in {}", views.len(), dir.display());
+    }
     runner.bar.finish_and_clear();
     Ok(())
 }

@@ -38,6 +38,16 @@ pub fn run(args: RunArgs) -> Result<()> {
             hemilab::jobs::reference::obtain(&loaded.spec, si, &loaded.scenes[si], &ref_dir, policy, &runner)
         })
         .collect::<Result<Vec<_>>>()?;
+    let si_of = |j: &plan::Job| loaded.scene_of(j).0;
+    let views = hemilab::jobs::reference::obtain_views(
+        &loaded.spec,
+        &plan,
+        &loaded.scenes,
+        si_of,
+        &ref_dir,
+        policy,
+        &runner,
+    )?;
 
     if let Some(s) = shard {
         shard::Manifest::new(&loaded, &full, s, plan.jobs.len(), protocol).write(&out)?;
@@ -50,6 +60,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         loaded: &loaded,
         plan: &plan,
         references: &references,
+        views: &views,
         previous: &previous,
         out: &out,
         protocol,

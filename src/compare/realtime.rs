@@ -18,6 +18,7 @@
 
 use crate::compare::margin::{self, Margin};
 use crate::compare::model::Estimate;
+use crate::denoise::Pipeline;
 use crate::results::JobResult;
 use crate::stats::mean_and_standard_error;
 use std::collections::BTreeMap;
@@ -36,20 +37,95 @@ struct Measured {
     replicate: u32,
     rmse: f64,
     noise: f64,
+    floor: f64,
 }
 
-/// (scene, rays, pipeline, frame) → configuration label → its replicates, in replicate order.
-type Cells<'a> = BTreeMap<(&'a str, u32, &'a str, u32), BTreeMap<String, Vec<Measured>>>;
+/// Where a cell is: scene, rays per frame, camera path, the user's denoiser (empty: none),
+/// pipeline (as results name it) and frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct At<'a> {
+    scene: &'a str,
+    rays: u32,
+    camera: &'a str,
+    denoiser: &'a str,
+    pipeline: &'a str,
+    frame: u32,
+}
+
+impl At<'_> {
+    /// The same place at another frame.
+    fn same_run(&self, o: &At) -> bool {
+        (self.scene, self.rays, self.camera, self.denoiser, self.pipeline)
+            == (o.scene, o.rays, o.camera, o.denoiser, o.pipeline)
+    }
+
+    /// Whether its pipeline accumulates frames (through the pipeline's parser).
+    fn temporal(&self) -> bool {
+        self.pipeline.parse::<Pipeline>().is_ok_and(|p| p.is_temporal())
+    }
+
+    fn raw(&self) -> bool {
+        self.pipeline.parse::<Pipeline>().is_ok_and(|p| p == Pipeline::RAW)
+    }
+}
+
+/// A cell's place as the verdicts carry it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Place {
+    pub scene: String,
+    pub rays: u32,
+    pub camera: String,
+    pub denoiser: String,
+    pub pipeline: String,
+    pub frame: u32,
+    /// The pipeline's floor (`JobResult::floor`: RMSE(F(reference), reference)) at this frame.
+    pub floor: f64,
+}
+
+impl Place {
+    fn of(at: &At, floor: f64) -> Self {
+        Place {
+            scene: at.scene.into(),
+            rays: at.rays,
+            camera: at.camera.into(),
+            denoiser: at.denoiser.into(),
+            pipeline: at.pipeline.into(),
+            frame: at.frame,
+            floor,
+        }
+    }
+
+    /// "svgf (frame 64)", with the camera unless static and the denoiser if any.
+    pub fn pipeline_text(&self) -> String {
+        let mut s = self.pipeline.clone();
+        if !self.denoiser.is_empty() {
+            s = format!("{s} + {}", self.denoiser);
+        }
+        format!("{s} (frame {})", self.frame)
+    }
+}
+
+/// (place) → configuration label → its replicates, in replicate order.
+type Cells<'a> = BTreeMap<At<'a>, BTreeMap<String, Vec<Measured>>>;
 
 fn cells(results: &[JobResult]) -> Cells<'_> {
     let mut out: Cells = BTreeMap::new();
     for r in results {
         let label = format!("{}/{}/{}/{}", r.distribution, r.sequence, r.seed_mode, r.schedule);
-        out.entry((&r.scene, r.rays, &r.pipeline, r.frame))
-            .or_default()
-            .entry(label)
-            .or_default()
-            .push(Measured { replicate: r.replicate, rmse: r.rmse, noise: r.noise_rmse });
+        let at = At {
+            scene: &r.scene,
+            rays: r.rays,
+            camera: &r.camera,
+            denoiser: &r.denoiser,
+            pipeline: &r.pipeline,
+            frame: r.frame,
+        };
+        out.entry(at).or_default().entry(label).or_default().push(Measured {
+            replicate: r.replicate,
+            rmse: r.rmse,
+            noise: r.noise_rmse,
+            floor: r.floor,
+        });
     }
     for configs in out.values_mut() {
         configs.values_mut().for_each(|v| v.sort_by_key(|m| m.replicate));
@@ -83,6 +159,17 @@ fn mean_rmse(v: &[Measured]) -> f64 {
     v.iter().map(|m| m.rmse).sum::<f64>() / v.len() as f64
 }
 
+/// The cell's floor (the same for every configuration of one place; NaN if none was measured).
+fn floor_of(configs: &BTreeMap<String, Vec<Measured>>) -> f64 {
+    configs.values().flatten().map(|m| m.floor).find(|f| f.is_finite()).unwrap_or(f64::NAN)
+}
+
+/// Whether either mean RMSE is below the floor: the filter's bias cancelling a sampler's, so the
+/// cell's RMSE verdict is no win (`report` says so beside it).
+fn below(floor: f64, means: &[f64]) -> bool {
+    floor.is_finite() && floor > 0.0 && means.iter().any(|&m| m < floor)
+}
+
 /// `b` against `a`: the paired margin b − a (`relative()` to a's mean) and its verdict at
 /// [`ALPHA`]: +1 when b has significantly more error (a wins), −1 less (b wins), 0 a tie (or
 /// fewer than two pairs).
@@ -102,10 +189,12 @@ impl Versus {
 /// Question (1) in one cell: a pipeline at its last frame, for one scene and rays per frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PaperCell {
-    pub scene: String,
-    pub rays: u32,
-    pub pipeline: String,
-    pub frame: u32,
+    pub place: Place,
+    /// The paper's or the best other's mean RMSE is below the floor (`Place::floor`).
+    pub below_floor: bool,
+    /// One ray per pixel per frame: a lattice of one point is one point, so the sequence axis
+    /// (Fibonacci or pseudo-random) says nothing here; only the distribution and seed mode do.
+    pub degenerate: bool,
     /// The paper's RMSE, and the other estimator of least mean RMSE with its RMSE.
     pub paper: Estimate,
     pub best: String,
@@ -123,12 +212,10 @@ pub fn paper_cells(results: &[JobResult]) -> Option<Vec<PaperCell>> {
         return None;
     }
     let cells = cells(results);
-    let last = |scene: &str, rays: u32, p: &str| {
-        cells.keys().filter(|k| k.0 == scene && k.1 == rays && k.2 == p).map(|k| k.3).max()
-    };
+    let last = |at: &At| cells.keys().filter(|k| k.same_run(at)).map(|k| k.frame).max();
     let mut out = Vec::new();
-    for (&(scene, rays, pipeline, frame), configs) in &cells {
-        if Some(frame) != last(scene, rays, pipeline) {
+    for (at, configs) in &cells {
+        if Some(at.frame) != last(at) {
             continue;
         }
         let Some(paper) = configs.get(PAPER) else { continue };
@@ -139,11 +226,11 @@ pub fn paper_cells(results: &[JobResult]) -> Option<Vec<PaperCell>> {
         let Some((best, b)) = others.min_by(|x, y| mean_rmse(x.1).total_cmp(&mean_rmse(y.1))) else {
             continue;
         };
+        let floor = floor_of(configs);
         out.push(PaperCell {
-            scene: scene.to_string(),
-            rays,
-            pipeline: pipeline.to_string(),
-            frame,
+            place: Place::of(at, floor),
+            below_floor: below(floor, &[mean_rmse(paper), mean_rmse(b)]),
+            degenerate: at.rays == 1,
             paper: estimate(paper, Of::Rmse),
             best: best.clone(),
             best_rmse: estimate(b, Of::Rmse),
@@ -154,19 +241,13 @@ pub fn paper_cells(results: &[JobResult]) -> Option<Vec<PaperCell>> {
     Some(out)
 }
 
-/// Whether a pipeline accumulates frames (`mean`, `emaA`, either with a spatial filter after).
-fn accumulating(pipeline: &str) -> bool {
-    pipeline.starts_with("ema") || pipeline.starts_with("mean")
-}
-
 /// Question (2) in one cell: stbn against per-frame-independent blue noise of one distribution and
 /// sequence (`prefix`, `distribution/sequence`) under an accumulating pipeline at its last frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StbnCell {
-    pub scene: String,
-    pub rays: u32,
-    pub pipeline: String,
-    pub frame: u32,
+    pub place: Place,
+    /// Either mask's mean RMSE is below the floor.
+    pub below_floor: bool,
     pub prefix: String,
     /// RMSE with `blue-noise` and with `stbn`.
     pub blue_noise: Estimate,
@@ -181,21 +262,20 @@ pub struct StbnCell {
 pub fn stbn_cells(results: &[JobResult]) -> Vec<StbnCell> {
     let cells = cells(results);
     let mut out = Vec::new();
-    for (&(scene, rays, pipeline, frame), configs) in &cells {
-        if !accumulating(pipeline) {
+    for (at, configs) in &cells {
+        if !at.temporal() {
             continue;
         }
-        if cells.keys().any(|k| k.0 == scene && k.1 == rays && k.2 == pipeline && k.3 > frame) {
+        if cells.keys().any(|k| k.same_run(at) && k.frame > at.frame) {
             continue;
         }
+        let floor = floor_of(configs);
         for (label, bn) in configs {
             let Some(prefix) = label.strip_suffix("/blue-noise/independent") else { continue };
             let Some(st) = configs.get(&format!("{prefix}/stbn/independent")) else { continue };
             out.push(StbnCell {
-                scene: scene.to_string(),
-                rays,
-                pipeline: pipeline.to_string(),
-                frame,
+                place: Place::of(at, floor),
+                below_floor: below(floor, &[mean_rmse(bn), mean_rmse(st)]),
                 prefix: prefix.to_string(),
                 blue_noise: estimate(bn, Of::Rmse),
                 stbn: estimate(st, Of::Rmse),
@@ -210,9 +290,7 @@ pub fn stbn_cells(results: &[JobResult]) -> Vec<StbnCell> {
 /// The noise each seed mode leaves after accumulation, for one distribution and sequence.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SeedsCell {
-    pub scene: String,
-    pub pipeline: String,
-    pub frame: u32,
+    pub place: Place,
     pub prefix: String,
     /// Noise RMSE with a per-pixel rotation, the 2-D blue-noise offsets and stbn.
     pub rotation: Estimate,
@@ -230,13 +308,13 @@ pub struct SeedsCell {
 /// nothing but raw frames was measured.
 pub fn seeds_cells(results: &[JobResult]) -> Option<(u32, Vec<SeedsCell>)> {
     let cells = cells(results);
-    let fewest = cells.keys().filter(|k| k.2 != "raw").map(|k| k.1).min()?;
+    let fewest = cells.keys().filter(|k| !k.raw()).map(|k| k.rays).min()?;
     let mut out = Vec::new();
-    for (&(scene, rays, pipeline, frame), configs) in &cells {
-        if rays != fewest || !accumulating(pipeline) {
+    for (at, configs) in &cells {
+        if at.rays != fewest || !at.temporal() {
             continue;
         }
-        if cells.keys().any(|k| k.0 == scene && k.1 == rays && k.2 == pipeline && k.3 > frame) {
+        if cells.keys().any(|k| k.same_run(at) && k.frame > at.frame) {
             continue;
         }
         for (label, rot) in configs {
@@ -244,9 +322,7 @@ pub fn seeds_cells(results: &[JobResult]) -> Option<(u32, Vec<SeedsCell>)> {
             let get = |mode: &str| configs.get(&format!("{prefix}/{mode}/independent"));
             let (Some(bn), Some(st)) = (get("blue-noise"), get("stbn")) else { continue };
             out.push(SeedsCell {
-                scene: scene.to_string(),
-                pipeline: pipeline.to_string(),
-                frame,
+                place: Place::of(at, floor_of(configs)),
                 prefix: prefix.to_string(),
                 rotation: estimate(rot, Of::Noise),
                 blue_noise: estimate(bn, Of::Noise),
@@ -292,7 +368,7 @@ mod tests {
         .concat();
         let paper = paper_cells(&rs).unwrap();
         assert_eq!(paper.len(), 2);
-        assert_eq!((paper[0].pipeline.as_str(), paper[0].frame), ("ema0.1+atrous", 16));
+        assert_eq!((paper[0].place.pipeline.as_str(), paper[0].place.frame), ("ema0.1+atrous", 16));
         // Best other: stbn at 0.015 against 0.02; the paired differences are exactly −0.005 twice.
         assert_eq!(paper[0].best, "sine-cosine/random/stbn/independent");
         let m = paper[0].rmse.margin;

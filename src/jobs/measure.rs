@@ -10,6 +10,18 @@
 //!   against the reference under the same spatial filter (the noise part, `noise_rmse`), so a
 //!   filter's bias and the sampler's noise stay apart.
 //!
+//! A moving or jittered camera (`plan::CameraId`) renders frame f from its path's view, filtered
+//! through the motion from frame f − 1 (`jobs::guides::CameraFrames`); its error is against the
+//! reference of that frame. The joint application that splits a filter's noise from its bias
+//! needs a reference for every frame, so it is made where one reference serves them all (the
+//! static camera, jittered or not); a moving camera's `noise_rmse` is NaN (not measured).
+//!
+//! Beside the error, each reported frame's **flicker** (`metrics::flicker`): the RMS over pixels of
+//! (o_t − o_{t−1}) − (r_t − r_{t−1}), the change the viewer sees that the converged image does not
+//! make. For a pipeline that shows one frame, frame t − 1 is rendered too (untimed) for it.
+//! A user's denoiser (`plan::Denoiser`) runs after the pipeline on each reported frame and the one
+//! before it; its own wall-clock time is reported apart (`denoise_s`), never in the render's.
+//!
 //! A series of frames is rendered once, to its last reported frame, and each reported frame's
 //! image is taken on the way (`plan::series`). The time of a reported frame's record (`time_s`
 //! and the timing columns) is the CPU time of rendering the frames up to it and accumulating
@@ -18,39 +30,45 @@
 //! frame rendered by `Frames` would be the same image bit for bit: `SingleFrame` exists so that
 //! the paper's path stays one render, with nothing of the frames' machinery around it.
 
-use crate::denoise::Motion;
+use super::guides::Against;
+use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::metrics::{self, ErrorStats, MetricsError};
 use crate::plan::Measurement;
-use crate::render::{self, GBuffer, RenderJob, RenderOutput};
+use crate::render::{self, GBuffer, RenderJob, RenderOutput, View};
 use crate::scene::Scene;
 use crate::timing::{Time, clock};
-use std::collections::HashMap;
 
-/// The reference images a measurement compares with, and the guide of its filters.
-pub struct Against<'a> {
-    pub reference: &'a Image,
-    pub coverage: &'a Image,
-    /// The scene's G-buffer at the job's size (`None` for a single frame).
-    pub gbuffer: Option<&'a GBuffer>,
+/// What the noise part of a reported frame's error is measured against.
+pub enum Noise {
+    /// No filter: the noise is the error itself.
+    Unfiltered,
+    /// The reference under the same filter weights (`denoise::FrameFilter::push_pair`).
+    Against(Image),
+    /// Not measured (a moving camera, a user's denoiser): NaN.
+    Unknown,
 }
 
 /// The image of one reported frame: after the whole pipeline, with the rays of every frame so
-/// far, the reference under the same filter weights (`denoise::FrameFilter::push_pair`: the noise
-/// part of its error is against that), and the render time of those frames (`None`: the caller's
-/// time of the whole render).
+/// far, what its noise is measured against, its flicker, and the render time of those frames
+/// (`None`: the caller's time of the whole render).
 pub struct FrameImage {
     /// The frame, counted from 1.
     pub frame: u32,
     pub output: RenderOutput,
-    pub filtered_reference: Option<Image>,
+    pub noise: Noise,
+    /// `metrics::flicker` against the frame before (NaN for frame 1 and single frames).
+    pub flicker: f64,
+    /// The user's denoiser's wall-clock time on this frame's image, seconds (0 without one).
+    pub denoise_s: f64,
     pub time: Option<Time>,
 }
 
 /// One kind of measurement.
 pub trait Measure: Sync {
     /// Renders what the job renders (timed by the caller as a whole) and returns the image at each
-    /// of `reported` (ascending frames from 1; a single frame reports `[1]`).
+    /// of `reported` (ascending frames from 1; a single frame reports `[1]`). Fails only where a
+    /// user's denoiser command does.
     fn render(
         &self,
         scene: &Scene,
@@ -58,19 +76,20 @@ pub trait Measure: Sync {
         reported: &[u32],
         against: &Against,
         progress: &(dyn Fn(u64) + Sync),
-    ) -> Vec<FrameImage>;
+    ) -> Result<Vec<FrameImage>>;
 
     /// How many frames a render to the job's own frame renders (for progress and cost).
     fn frames(&self) -> u64;
 }
 
-/// A reported frame's error statistics against the reference and its noise RMSE: against the
-/// reference under the same filter weights, else (no filter) the RMSE itself.
+/// A reported frame's error statistics against its reference and its noise RMSE (`Noise`).
 pub fn errors(image: &FrameImage, against: &Against) -> Result<(ErrorStats, f64), MetricsError> {
-    let stats = metrics::measure(&image.output.ao, against.reference, against.coverage)?;
-    let noise = match &image.filtered_reference {
-        Some(f) => metrics::measure(&image.output.ao, f, against.coverage)?.rmse,
-        None => stats.rmse,
+    let (reference, coverage) = against.at(image.frame);
+    let stats = metrics::measure(&image.output.ao, reference, coverage)?;
+    let noise = match &image.noise {
+        Noise::Unfiltered => stats.rmse,
+        Noise::Against(f) => metrics::measure(&image.output.ao, f, coverage)?.rmse,
+        Noise::Unknown => f64::NAN,
     };
     Ok((stats, noise))
 }
@@ -86,9 +105,16 @@ impl Measure for SingleFrame {
         _reported: &[u32],
         _against: &Against,
         progress: &(dyn Fn(u64) + Sync),
-    ) -> Vec<FrameImage> {
+    ) -> Result<Vec<FrameImage>> {
         let output = render::render_integrand(scene, rj, self.0.integrand, progress);
-        vec![FrameImage { frame: 1, output, filtered_reference: None, time: None }]
+        Ok(vec![FrameImage {
+            frame: 1,
+            output,
+            noise: Noise::Unfiltered,
+            flicker: f64::NAN,
+            denoise_s: 0.0,
+            time: None,
+        }])
     }
 
     fn frames(&self) -> u64 {
@@ -97,10 +123,54 @@ impl Measure for SingleFrame {
 }
 
 /// Frames pushed through a pipeline (`denoise::Pipeline::start`): every frame the pipeline shows
-/// is filtered in order, since its history is its own output; the reference is pushed beside them
-/// under the same weights, so that the noise part of the error is measured for a non-linear
-/// filter too.
+/// is filtered in order, since its history is its own output; where one reference serves every
+/// frame it is pushed beside them under the same weights, so that the noise part of the error is
+/// measured for a non-linear filter too.
 pub struct Frames(pub Measurement);
+
+/// One frame's guides: its view, G-buffer and motion from the frame before.
+struct FrameGuide<'a> {
+    view: View,
+    gbuffer: &'a GBuffer,
+    motion: std::borrow::Cow<'a, crate::denoise::Motion>,
+}
+
+impl Frames {
+    fn guide<'a>(&self, against: &'a Against, f: u32, width: u32, height: u32) -> FrameGuide<'a> {
+        match against.camera {
+            Some(c) => FrameGuide {
+                view: c.views[f as usize],
+                gbuffer: &c.gbuffers[f as usize].gbuffer,
+                motion: std::borrow::Cow::Borrowed(&c.motions[f as usize]),
+            },
+            None => FrameGuide {
+                view: View::SCENE,
+                gbuffer: against.gbuffer.expect("a filtered measurement has its G-buffer"),
+                motion: std::borrow::Cow::Owned(crate::denoise::Motion::identity(width, height)),
+            },
+        }
+    }
+
+    /// Frames (from 1) whose shown image is kept: the reported ones and the frame before each.
+    fn kept(reported: &[u32]) -> Vec<u32> {
+        let mut k: Vec<u32> =
+            reported.iter().flat_map(|&r| [r, r.saturating_sub(1)]).filter(|&f| f > 0).collect();
+        k.sort_unstable();
+        k.dedup();
+        k
+    }
+
+    /// The user's denoiser on `shown` (if the measurement has one): the image and its seconds.
+    fn denoise(&self, against: &Against, shown: Image, gbuf: &GBuffer) -> Result<(Image, f64)> {
+        let Some(d) = self.0.denoiser.get() else { return Ok((shown, 0.0)) };
+        let dir = against
+            .scratch
+            .as_deref()
+            .ok_or_else(|| Error::Refused(format!("denoiser '{}': no directory to run it in", d.name)))?;
+        let (img, took) = d.command.run(dir, &shown, gbuf)?;
+        Ok((img, took.as_secs_f64()))
+    }
+}
 
 impl Measure for Frames {
     fn render(
@@ -110,74 +180,91 @@ impl Measure for Frames {
         reported: &[u32],
         against: &Against,
         progress: &(dyn Fn(u64) + Sync),
-    ) -> Vec<FrameImage> {
+    ) -> Result<Vec<FrameImage>> {
         let m = &self.0;
         let last = reported.iter().copied().max().unwrap_or(m.frame).max(1);
-        // A pipeline that does not accumulate shows one frame: the last one alone is rendered.
-        let rendered: Vec<u32> = if m.pipeline.is_temporal() { (0..last).collect() } else { vec![last - 1] };
-        let gbuf = against.gbuffer.expect("a filtered measurement has its G-buffer");
-        let motion = Motion::identity(rj.width, rj.height);
+        let kept = Self::kept(reported);
+        // A pipeline that does not accumulate shows one frame: the frames kept alone are rendered
+        // (the one before a reported frame for its flicker, untimed).
+        let rendered: Vec<u32> =
+            if m.pipeline.is_temporal() { (0..last).collect() } else { kept.iter().map(|f| f - 1).collect() };
+        // The joint application needs every frame's reference: where one serves all of them.
+        let paired = m.denoiser.get().is_none() && against.camera.is_none_or(|c| c.still);
         let mut filter = m.pipeline.start(rj.width, rj.height);
         let (mut rays, mut occluded) = (0u64, 0u64);
         let mut spent = Time { cpu_s: 0.0, wall_s: 0.0 };
         let mut out = Vec::with_capacity(reported.len());
+        let mut previous: Option<(u32, Image)> = None;
         for f in rendered {
+            let g = self.guide(against, f, rj.width, rj.height);
             let frame = RenderJob { sampler: rj.sampler.with_frame(f).with_schedule(m.schedule), ..*rj };
+            let is_reported = reported.contains(&(f + 1));
+            let timed = m.pipeline.is_temporal() || is_reported;
             let (c0, w0) = (clock::thread_cpu_s(), clock::wall_s());
-            let mut o = render::render_integrand(scene, &frame, m.integrand, progress);
-            spent.cpu_s += clock::thread_cpu_s() - c0;
-            spent.wall_s += clock::wall_s() - w0;
-            rays += o.rays;
-            occluded += o.occluded_rays;
-            let (shown, filtered_reference) = filter.push_pair(&o.ao, against.reference, gbuf, &motion);
-            if !reported.contains(&(f + 1)) {
+            let mut o = render::render_view(scene, &frame, m.integrand, &g.view, progress);
+            if timed {
+                spent.cpu_s += clock::thread_cpu_s() - c0;
+                spent.wall_s += clock::wall_s() - w0;
+                rays += o.rays;
+                occluded += o.occluded_rays;
+            }
+            let (shown, filtered_reference) = if paired {
+                let (s, r) = filter.push_pair(&o.ao, against.at(f + 1).0, g.gbuffer, &g.motion);
+                (s, Some(r))
+            } else if m.pipeline.is_temporal() {
+                (filter.push(&o.ao, g.gbuffer, &g.motion), None)
+            } else {
+                // Nothing carries over between the frames of a pipeline that shows one: each is
+                // filtered by a run of its own.
+                (m.pipeline.start(rj.width, rj.height).push(&o.ao, g.gbuffer, &g.motion), None)
+            };
+            if !kept.contains(&(f + 1)) {
                 continue;
             }
-            (o.ao, o.rays, o.occluded_rays) = (shown, rays, occluded);
-            out.push(FrameImage {
-                frame: f + 1,
-                output: o,
-                filtered_reference: Some(filtered_reference),
-                time: Some(spent),
-            });
+            let (shown, denoise_s) = self.denoise(against, shown, g.gbuffer)?;
+            if is_reported {
+                let flicker = match &previous {
+                    Some((p, prev)) if *p == f => flicker(against, f + 1, prev, &shown),
+                    _ => f64::NAN,
+                };
+                (o.ao, o.rays, o.occluded_rays) = (shown.clone(), rays, occluded);
+                let noise = match filtered_reference {
+                    Some(r) if m.pipeline != crate::denoise::Pipeline::RAW => Noise::Against(r),
+                    Some(_) => Noise::Unfiltered,
+                    None => Noise::Unknown,
+                };
+                out.push(FrameImage {
+                    frame: f + 1,
+                    output: o,
+                    noise,
+                    flicker,
+                    denoise_s,
+                    time: Some(spent),
+                });
+            }
+            previous = Some((f + 1, shown));
         }
-        out
+        Ok(out)
     }
 
     fn frames(&self) -> u64 {
-        self.0.frames_rendered().len() as u64
+        let m = &self.0;
+        let extra = u64::from(!m.pipeline.is_temporal() && m.frame >= 2);
+        m.frames_rendered().len() as u64 + extra
     }
+}
+
+/// The flicker of `shown` at `frame` (from 1) after `prev`, against the references of those
+/// frames, over the pixels both references cover.
+fn flicker(against: &Against, frame: u32, prev: &Image, shown: &Image) -> f64 {
+    let (r, c) = against.at(frame);
+    let (r_prev, c_prev) = against.at(frame - 1);
+    let mask =
+        Image::from_vec(c.width, c.height, c.data.iter().zip(&c_prev.data).map(|(a, b)| a.min(*b)).collect());
+    metrics::flicker(prev, shown, r_prev, r, &mask).unwrap_or(f64::NAN)
 }
 
 /// The measurement's implementation.
 pub fn of(m: &Measurement) -> Box<dyn Measure> {
     if m.is_single_frame() { Box::new(SingleFrame(*m)) } else { Box::new(Frames(*m)) }
-}
-
-/// What a plan's multi-frame measurements are guided by, made once before any job: per reference
-/// (index), the scene's G-buffer at the job's size.
-#[derive(Default)]
-pub struct Guides {
-    gbuffers: HashMap<usize, GBuffer>,
-}
-
-impl Guides {
-    /// For every (reference `target`, measurement, width, height) of a plan, what its filter needs.
-    pub fn new<'a>(
-        needs: impl IntoIterator<Item = (usize, &'a Measurement, u32, u32)>,
-        scene: impl Fn(usize) -> &'a Scene,
-    ) -> Self {
-        let mut g = Guides::default();
-        for (t, m, w, h) in needs {
-            if !m.is_single_frame() {
-                g.gbuffers.entry(t).or_insert_with(|| render::gbuffer(scene(t), w, h));
-            }
-        }
-        g
-    }
-
-    /// What a job of reference `target` is measured against.
-    pub fn against<'a>(&'a self, target: usize, reference: &'a Image, coverage: &'a Image) -> Against<'a> {
-        Against { reference, coverage, gbuffer: self.gbuffers.get(&target) }
-    }
 }

@@ -6,6 +6,7 @@
 pub mod calibrate;
 pub mod config;
 pub mod executor;
+pub mod guides;
 pub mod long_run;
 pub mod measure;
 pub mod reference;

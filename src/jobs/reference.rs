@@ -6,7 +6,7 @@ use super::runner::JobRunner;
 use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::io;
-use crate::plan::{self, Geometry};
+use crate::plan::{self, CameraId, Geometry};
 use crate::reference::store::{self, Policy, Reference, ReferenceView};
 use crate::reference::{self, Adaptive, Manifest};
 use crate::scene::Scene;
@@ -32,6 +32,94 @@ pub fn obtain(
     runner: &JobRunner,
 ) -> Result<Reference> {
     obtain_view(spec, si, scene, &ReferenceView::of_scene(scene), dir, policy, runner)
+}
+
+/// The references of camera paths' frames, by (scene index, camera, frame from 0): for a moving
+/// path, the frames where a job measures error (its reported frames) and the frame before each
+/// (flicker compares consecutive frames); for a static jittered camera, frame 0 alone (the mean
+/// over the jitter cycle serves every frame).
+#[derive(Default)]
+pub struct ViewReferences {
+    by_camera: std::collections::HashMap<(usize, CameraId), std::collections::HashMap<u32, Reference>>,
+    empty: std::collections::HashMap<u32, Reference>,
+}
+
+impl ViewReferences {
+    /// The frames' references of `camera` over scene `si` (empty if it has none).
+    pub fn of(&self, si: usize, camera: CameraId) -> &std::collections::HashMap<u32, Reference> {
+        self.by_camera.get(&(si, camera)).unwrap_or(&self.empty)
+    }
+
+    /// How many references are held.
+    pub fn len(&self) -> usize {
+        self.by_camera.values().map(|m| m.len()).sum()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// The frames (from 0) of camera path `camera` whose references the jobs of `plan` on scene `si`
+/// read, ascending.
+pub fn view_frames(
+    plan: &plan::Plan,
+    si_of: impl Fn(&plan::Job) -> usize,
+    si: usize,
+    camera: CameraId,
+) -> Vec<u32> {
+    let Some(run) = camera.run() else { return Vec::new() };
+    let mut frames: Vec<u32> = Vec::new();
+    for j in plan.jobs.iter().filter(|j| j.measurement.camera == camera && si_of(j) == si) {
+        if run.path.is_static() {
+            frames.push(0);
+            continue;
+        }
+        let f = j.measurement.frame;
+        frames.push(f - 1);
+        if f >= 2 {
+            frames.push(f - 2);
+        }
+    }
+    frames.sort_unstable();
+    frames.dedup();
+    frames
+}
+
+/// Every camera path frame reference the plan needs (`ViewReferences`), each obtained as
+/// `obtain_view` does: reused from `dir` when its manifest matches, else built.
+pub fn obtain_views(
+    spec: &Spec,
+    plan: &plan::Plan,
+    scenes: &[std::sync::Arc<Scene>],
+    si_of: impl Fn(&plan::Job) -> usize,
+    dir: &Path,
+    policy: Policy,
+    runner: &JobRunner,
+) -> Result<ViewReferences> {
+    let mut out = ViewReferences::default();
+    let mut cameras: Vec<(usize, CameraId)> = plan
+        .jobs
+        .iter()
+        .filter(|j| j.measurement.camera != CameraId::STATIC)
+        .map(|j| (si_of(j), j.measurement.camera))
+        .collect();
+    cameras.sort_unstable();
+    cameras.dedup();
+    for (si, camera) in cameras {
+        let run = camera.run().expect("a camera other than the static one is interned");
+        let scene = &scenes[si];
+        let mut refs = std::collections::HashMap::new();
+        for f in view_frames(plan, &si_of, si, camera) {
+            let view = ReferenceView {
+                camera: run.path.camera(&scene.view, f, run.frames.max(1)),
+                jitter_average: run.jitter,
+            };
+            refs.insert(f, obtain_view(spec, si, scene, &view, dir, policy, runner)?);
+        }
+        out.by_camera.insert((si, camera), refs);
+    }
+    Ok(out)
 }
 
 /// `obtain` for another view of the scene (a camera path's frame, a jittered camera's average).
@@ -139,7 +227,11 @@ fn build(
     let coverage =
         coverage.ok_or_else(|| Error::Refused("a reference needs at least one replicate".into()))?;
     let (mean, stderr) = reference::mean_and_stderr(&images).map_err(Error::Refused)?;
-    store::save(manifest, mean, stderr, coverage, dir, &scene.name, start)
+    let r = store::save(manifest, mean, stderr, coverage, dir, &scene.name, start)?;
+    if let Some(note) = store::others_note(&r)? {
+        eprintln!("{note}");
+    }
+    Ok(r)
 }
 
 /// A reference of another view: each replicate rendered from the view's camera; for a jittered

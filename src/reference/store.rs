@@ -134,7 +134,13 @@ pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry
 }
 
 /// `wanted_manifest` of another view of the scene.
-pub fn wanted_view(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry, view: &ReferenceView) -> Manifest {
+pub fn wanted_view(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    geometry: Geometry,
+    view: &ReferenceView,
+) -> Manifest {
     let rays = match (spec.reference.adaptive, spec.reference.rays) {
         (true, _) => pilot_rays(spec, si),
         (false, ReferenceRays::Fixed(r)) => r,
@@ -319,16 +325,23 @@ pub fn save(
         manifest.time_s.unwrap_or(0.0),
         exr.display()
     );
-    let others = others_of_scene(exr.parent().unwrap_or(Path::new(".")), &manifest)?;
-    if !others.is_empty() {
-        eprintln!(
-            "note: {} also holds {} other reference(s) of '{}' (another view, size or d; never deleted, another \
-             spec may use them): {}",
-            exr.parent().map_or(String::new(), |d| d.display().to_string()),
-            others.len(),
-            manifest.scene,
-            others.join(", ")
-        );
-    }
     Ok(Reference { mean, stderr, coverage, manifest, exr: exr.to_path_buf() })
+}
+
+/// "note: DIR also holds N other reference(s) of SCENE …" after building `r`, if the directory
+/// holds others of its scene (another view, size or AO distance): never deleted, so a user sees
+/// where they come from. Not said of a camera path's frames, which are many views by design.
+pub fn others_note(r: &Reference) -> Result<Option<String>> {
+    let dir = r.exr.parent().unwrap_or(Path::new("."));
+    let others = others_of_scene(dir, &r.manifest)?;
+    Ok((!others.is_empty()).then(|| {
+        format!(
+            "note: {} also holds {} other reference(s) of '{}' (another view, size or AO distance; never \
+             deleted, another spec may use them): {}",
+            dir.display(),
+            others.len(),
+            r.manifest.scene,
+            others.join(", ")
+        )
+    }))
 }

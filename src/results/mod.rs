@@ -59,6 +59,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "denoiser",
     "flicker",
     "floor",
+    "denoise_s",
 ];
 
 /// The columns that hold measured times, or depend on them (how many renders a configuration got:
@@ -75,6 +76,7 @@ pub const TIME_COLUMNS: &[&str] = &[
     "ns_per_ray",
     "efficiency",
     "wall_s",
+    "denoise_s",
 ];
 
 /// The measurements of one job. Names are strings so a results file stays readable even if a
@@ -172,10 +174,14 @@ pub struct JobResult {
     #[serde(default = "nan", deserialize_with = "split::nan_null")]
     pub flicker: f64,
     /// The filter's floor: the RMSE of the pipeline applied to the reference itself (frames of the
-    /// static camera, pushed to this frame) against the reference; NaN without a filter. An RMSE
+    /// static camera, pushed to this frame) against the reference; 0 without a filter, NaN for a single frame. An RMSE
     /// below its floor is the filter's bias cancelling the sampler's, never a win.
     #[serde(default = "nan", deserialize_with = "split::nan_null")]
     pub floor: f64,
+    /// The user's denoiser's wall-clock time on this frame's image, seconds (0 without one): apart
+    /// from the render's time, which never includes it.
+    #[serde(default)]
+    pub denoise_s: f64,
 }
 
 fn raw() -> String {
@@ -261,6 +267,7 @@ impl JobResult {
             denoiser: job.measurement.denoiser.name(),
             flicker: f64::NAN,
             floor: f64::NAN,
+            denoise_s: 0.0,
         }
     }
 
@@ -351,6 +358,7 @@ impl JobResult {
             ns_per_ray: 0.0,
             efficiency: None,
             wall_s: 0.0,
+            denoise_s: 0.0,
             times: Vec::new(),
             walls: Vec::new(),
             ..self.clone()
@@ -412,6 +420,7 @@ pub fn to_csv(results: &[JobResult]) -> String {
             csv_field(&r.denoiser),
             num(r.flicker),
             num(r.floor),
+            num(r.denoise_s),
         ];
         s.push_str(&fields.join(","));
         s.push('\n');

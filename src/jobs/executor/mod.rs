@@ -110,6 +110,8 @@ pub struct Jobs<'a> {
     pub plan: &'a Plan,
     /// By spec scene (`Loaded::scene_of`).
     pub references: &'a [Reference],
+    /// The camera paths' frames' references (`jobs::reference::obtain_views`; empty without paths).
+    pub views: &'a super::reference::ViewReferences,
     /// Earlier records by run key: a job found there (with its image) is not rendered again.
     pub previous: &'a HashMap<String, JobResult>,
     pub out: &'a Path,
@@ -187,9 +189,13 @@ pub fn provenance(
     Provenance { summary, json }
 }
 
+/// Where, under a run's output directory, a user's denoiser command works on a job's frames
+/// (one directory per job, removed after each success).
+pub const DENOISE_DIR: &str = ".denoise";
+
 /// `run_jobs` with the image handed to `keep` instead of written.
 pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> {
-    let Jobs { loaded, plan, references, previous, out, protocol, bar, write } = *j;
+    let Jobs { loaded, plan, references, views, previous, out, protocol, bar, write } = *j;
     let start = Instant::now();
     let n = plan.jobs.len();
     let scenes = loaded.scenes.len();
@@ -260,12 +266,16 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
     // Each job's kind of measurement, and what the filtered ones are guided by and compared with.
     let measures: Vec<Box<dyn super::measure::Measure>> =
         plan.jobs.iter().map(|j| super::measure::of(&j.measurement)).collect();
-    let guides = super::measure::Guides::new(
-        plan.jobs
-            .iter()
-            .enumerate()
-            .map(|(i, j)| (loaded.scene_of(j).0, &j.measurement, jobs[i].width, jobs[i].height)),
+    let guides = super::guides::Guides::new(
+        plan.jobs.iter().enumerate().map(|(i, j)| super::guides::Need {
+            target: loaded.scene_of(j).0,
+            measurement: &j.measurement,
+            width: jobs[i].width,
+            height: jobs[i].height,
+        }),
         |si| &loaded.scenes[si],
+        references,
+        views,
     );
     let frames_of = |id: usize| measures.get(id).map_or(1, |m| m.frames());
     let pixels = |id: usize| jobs[id].width as u64 * jobs[id].height as u64 * frames_of(id);
@@ -296,10 +306,12 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
         let mut reported: Vec<u32> = members.iter().map(|&i| frame_of(i)).collect();
         reported.sort_unstable();
         reported.dedup();
-        let reference = &references[si];
-        let against = guides.against(si, &reference.mean, &reference.coverage);
-        let (images, time): (Vec<super::measure::FrameImage>, Time) =
+        let m = plan.jobs.get(slot.job).map_or(crate::plan::Measurement::PAPER, |j| j.measurement);
+        let scratch = m.denoiser.get().map(|_| out.join(DENOISE_DIR).join(plan.jobs[slot.job].file_stem()));
+        let against = guides.against(si, &m, &references[si], scratch);
+        let (images, time): (Result<Vec<super::measure::FrameImage>>, Time) =
             worker.timed(|| measure.render(scene, rj, &reported, &against, &|px| bar.inc(px * rays)));
+        let images = images?;
         let mut parts = Vec::with_capacity(members.len());
         for &i in &members {
             let img = images.iter().find(|f| f.frame == frame_of(i)).expect("every reported frame rendered");
@@ -314,6 +326,9 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             let image = keep(i, job, &img.output)?;
             let mut record = JobResult::new(job, &stats, img.output.rays, image);
             record.noise_rmse = noise_rmse;
+            record.flicker = img.flicker;
+            record.floor = against.floor_at(img.frame);
+            record.denoise_s = img.denoise_s;
             record.key = keys[i].clone();
             record.timing_threads = protocol.threads_per_render as u32;
             parts.push((i, t, Some(record)));
@@ -351,6 +366,8 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
         queued?;
     }
     let State { records, overhead_samples, renders, cpu_s, .. } = state;
+    // Every denoiser run succeeded (a failure stopped the run above, its files kept to try by hand).
+    crate::io::remove_dir_all_if_exists(&out.join(DENOISE_DIR))?;
 
     let overhead: Vec<Option<Summary>> = overhead_samples.iter().map(|s| Summary::of(s)).collect();
     let mut records: Vec<JobResult> =

@@ -13,6 +13,9 @@ use std::collections::BTreeMap;
 
 /// "+12.3 ± 1.4 %": a margin relative to its base, with its standard error.
 fn margin_text(m: &Margin) -> String {
+    if !m.relative().is_finite() {
+        return "—".into();
+    }
     format!("{:+.1} ± {:.1} %", 100.0 * m.relative(), 100.0 * m.relative_se())
 }
 
@@ -30,24 +33,44 @@ fn verdict(sign: i32, a: &str, b: &str) -> String {
     }
 }
 
-/// Question (1): one row per (scene, rays, pipeline at its last frame): the paper's RMSE, the best
-/// other estimator and its RMSE, both margins (best other against the paper: positive, the
-/// paper's has less error) and the verdict on the RMSE.
+/// The floor as a cell prints it ("0.0123", "—" where none was measured).
+fn floor_text(f: f64) -> String {
+    if f.is_finite() { format!("{f:.4}") } else { "—".into() }
+}
+
+/// The RMSE verdict's words, "below floor" where a mean RMSE is below the pipeline's floor (the
+/// filter's bias cancelling a sampler's: never a win).
+fn rmse_verdict(sign: i32, below_floor: bool, a: &str, b: &str) -> String {
+    if below_floor && sign != 0 { "below floor".into() } else { verdict(sign, a, b) }
+}
+
+/// Column indices of `paper_table` the summary and sentences read.
+const P_PIPELINE: usize = 3;
+const P_VERDICT: usize = 10;
+const P_NOISE_VERDICT: usize = 11;
+
+/// Question (1): one row per (scene, rays, camera, pipeline at its last frame): the floor, the
+/// paper's RMSE, the best other estimator and its RMSE, both margins (best other against the paper:
+/// positive, the paper's has less error) and the verdicts; a 1-ray cell is marked degenerate (a
+/// lattice of one point is one point: the sequence axis says nothing there).
 pub fn paper_table(results: &[JobResult]) -> Option<Table> {
     let rows = paper_cells(results)?
         .into_iter()
         .map(|c| {
             vec![
-                c.scene,
-                c.rays.to_string(),
-                format!("{} (frame {})", c.pipeline, c.frame),
+                c.place.scene.clone(),
+                c.place.rays.to_string(),
+                c.place.camera.clone(),
+                c.place.pipeline_text(),
+                floor_text(c.place.floor),
                 pm(c.paper),
                 c.best,
                 pm(c.best_rmse),
                 margin_text(&c.rmse.margin),
                 margin_text(&c.noise.margin),
-                verdict(c.rmse.sign, "paper", "best other"),
+                rmse_verdict(c.rmse.sign, c.below_floor, "paper", "best other"),
                 verdict(c.noise.sign, "paper", "best other"),
+                if c.degenerate { "1 ray: sequence axis degenerate".into() } else { String::new() },
             ]
         })
         .collect();
@@ -57,7 +80,9 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
         header: [
             "scene",
             "rays/frame",
+            "camera",
             "pipeline",
+            "floor",
             "paper's RMSE",
             "best other",
             "its RMSE",
@@ -65,6 +90,7 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
             "margin (noise RMSE)",
             "verdict (RMSE, 5 %)",
             "verdict (noise RMSE)",
+            "note",
         ]
         .map(String::from)
         .to_vec(),
@@ -72,33 +98,42 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
     })
 }
 
-/// Question (2): under every accumulating pipeline at its last frame, per (scene, rays, sequence,
-/// distribution): RMSE with `stbn` against RMSE with per-frame-independent `blue-noise`.
+/// Column indices of `stbn_table` the sentences read.
+const S_VERDICT: usize = 10;
+const S_NOISE_VERDICT: usize = 11;
+
+/// Question (2): under every accumulating pipeline at its last frame, per (scene, rays, camera,
+/// sequence, distribution): RMSE with `stbn` against RMSE with per-frame-independent `blue-noise`.
 pub fn stbn_table(results: &[JobResult]) -> Option<Table> {
     let rows: Vec<Vec<String>> = stbn_cells(results)
         .into_iter()
         .map(|c| {
             vec![
-                c.scene,
-                c.rays.to_string(),
-                format!("{} (frame {})", c.pipeline, c.frame),
+                c.place.scene.clone(),
+                c.place.rays.to_string(),
+                c.place.camera.clone(),
+                c.place.pipeline_text(),
+                floor_text(c.place.floor),
                 c.prefix,
                 pm(c.blue_noise),
                 pm(c.stbn),
                 margin_text(&c.rmse.margin),
                 margin_text(&c.noise.margin),
-                verdict(c.rmse.sign, "blue noise", "stbn"),
+                rmse_verdict(c.rmse.sign, c.below_floor, "blue noise", "stbn"),
                 verdict(c.noise.sign, "blue noise", "stbn"),
             ]
         })
         .collect();
     (!rows.is_empty()).then(|| Table {
-        title: "Real-time: does spatiotemporal blue noise beat per-frame-independent blue noise under EMA?"
+        title: "Real-time: does spatiotemporal blue noise beat per-frame-independent blue noise under \
+                temporal accumulation?"
             .into(),
         header: [
             "scene",
             "rays/frame",
+            "camera",
             "pipeline",
+            "floor",
             "distribution/sequence",
             "blue-noise RMSE",
             "stbn RMSE",
@@ -121,8 +156,9 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
         .into_iter()
         .map(|c| {
             vec![
-                c.scene,
-                format!("{} (frame {})", c.pipeline, c.frame),
+                c.place.scene.clone(),
+                c.place.camera.clone(),
+                c.place.pipeline_text(),
                 c.prefix,
                 pm(c.rotation),
                 pm(c.blue_noise),
@@ -138,6 +174,7 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
         ),
         header: [
             "scene",
+            "camera",
             "pipeline",
             "distribution/sequence",
             "rotation",
@@ -151,50 +188,70 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
     })
 }
 
-/// How many of `rows` have each verdict in column `col`: (first named wins, tie, second named wins).
-fn tally(rows: &[&Vec<String>], col: usize, first: &str) -> (usize, usize, usize) {
+/// How many of `rows` have each verdict in column `col`: (first named wins, tie, second named wins,
+/// below floor).
+fn tally(rows: &[&Vec<String>], col: usize, first: &str) -> (usize, usize, usize, usize) {
     let wins = rows.iter().filter(|r| r[col] == format!("{first} wins")).count();
     let ties = rows.iter().filter(|r| r[col] == "tie").count();
-    (wins, ties, rows.len() - wins - ties)
+    let below = rows.iter().filter(|r| r[col] == "below floor").count();
+    (wins, ties, rows.len() - wins - ties - below, below)
 }
 
-/// Per pipeline (at its last frame), how often the paper's configuration wins, ties and loses, and
-/// the median margins: the short form the README quotes.
+/// Per pipeline × rays per frame × camera (at the pipeline's last frame), how often the paper's
+/// configuration wins, ties and loses, the cells below the floor, the median margins and the
+/// floor: the short form the README quotes.
 pub fn summary_table(results: &[JobResult]) -> Option<Table> {
     let t = paper_table(results)?;
-    let mut by: BTreeMap<String, Vec<&Vec<String>>> = BTreeMap::new();
+    let mut by: BTreeMap<(String, u32, String), Vec<&Vec<String>>> = BTreeMap::new();
     for r in &t.rows {
-        by.entry(r[2].clone()).or_default().push(r);
+        let rays = r[1].parse::<u32>().unwrap_or(0);
+        by.entry((r[P_PIPELINE].clone(), rays, r[2].clone())).or_default().push(r);
     }
     let median = |v: &mut Vec<f64>| {
+        v.retain(|x| x.is_finite());
         v.sort_by(f64::total_cmp);
         if v.is_empty() { f64::NAN } else { (v[(v.len() - 1) / 2] + v[v.len() / 2]) / 2.0 }
     };
     // The margins as the table prints them (to 0.1 %), so that the median is one of its cells.
     let pct = |s: &str| s.split_whitespace().next().and_then(|x| x.parse::<f64>().ok()).unwrap_or(f64::NAN);
+    let pct_text = |x: f64| if x.is_finite() { format!("{x:+.1} %") } else { "—".into() };
     let rows = by
         .into_iter()
-        .map(|(pipeline, rs)| {
-            let (w, t, l) = tally(&rs, 8, "paper");
-            let (nw, nt, nl) = tally(&rs, 9, "paper");
-            let mut m: Vec<f64> = rs.iter().map(|r| pct(&r[6])).collect();
-            let mut n: Vec<f64> = rs.iter().map(|r| pct(&r[7])).collect();
+        .map(|((pipeline, rays, camera), rs)| {
+            let (w, t, l, b) = tally(&rs, P_VERDICT, "paper");
+            let (nw, nt, nl, _) = tally(&rs, P_NOISE_VERDICT, "paper");
+            let mut m: Vec<f64> = rs.iter().map(|r| pct(&r[8])).collect();
+            let mut n: Vec<f64> = rs.iter().map(|r| pct(&r[9])).collect();
+            let floors: Vec<&str> = rs.iter().map(|r| r[4].as_str()).collect();
+            let floor = match (floors.first(), floors.last()) {
+                (Some(a), Some(z)) if a == z => a.to_string(),
+                (Some(a), Some(z)) => format!("{a}–{z}"),
+                _ => "—".into(),
+            };
             vec![
                 pipeline,
+                rays.to_string(),
+                camera,
                 rs.len().to_string(),
-                format!("{w} / {t} / {l}"),
-                format!("{:+.1} %", median(&mut m)),
+                floor,
+                format!("{w} / {t} / {l} / {b}"),
+                pct_text(median(&mut m)),
                 format!("{nw} / {nt} / {nl}"),
-                format!("{:+.1} %", median(&mut n)),
+                pct_text(median(&mut n)),
             ]
         })
         .collect();
     Some(Table {
-        title: "Real-time, in short: the paper's configuration against the best other, per pipeline".into(),
+        title: "Real-time, in short: the paper's configuration against the best other, per pipeline, rays \
+                per frame and camera"
+            .into(),
         header: [
             "pipeline",
+            "rays/frame",
+            "camera",
             "cells",
-            "RMSE: paper wins / tie / best other wins",
+            "floor",
+            "RMSE: paper wins / tie / best other wins / below floor",
             "median margin",
             "noise RMSE: paper wins / tie / best other wins",
             "median margin",
@@ -211,23 +268,25 @@ pub fn text(results: &[JobResult]) -> Vec<String> {
     let mut out = Vec::new();
     if let Some(t) = paper_table(results) {
         let rows: Vec<&Vec<String>> = t.rows.iter().collect();
-        let ((w, tie, l), (nw, ntie, nl)) = (tally(&rows, 8, "paper"), tally(&rows, 9, "paper"));
+        let ((w, tie, l, b), (nw, ntie, nl, _)) =
+            (tally(&rows, P_VERDICT, "paper"), tally(&rows, P_NOISE_VERDICT, "paper"));
         out.push(format!(
             "Real-time: after the pipeline, sine-cosine × Fibonacci × per-pixel seed has significantly less RMSE \
-             than every other configuration in {w} of {} cells, ties the best other in {tie} and loses in {l}; \
-             on the noise RMSE it wins {nw}, ties {ntie} and loses {nl} (scene × rays per frame × pipeline at \
-             its last frame; 5 % two-sided, paired over replicates).",
+             than every other configuration in {w} of {} cells, ties the best other in {tie}, loses in {l}, \
+             and is below the filter's floor in {b} (no verdict there); on the noise RMSE it wins {nw}, ties \
+             {ntie} and loses {nl} (scene × rays per frame × camera × pipeline at its last frame; 5 % \
+             two-sided, paired over replicates).",
             rows.len()
         ));
     }
     if let Some(t) = stbn_table(results) {
         let rows: Vec<&Vec<String>> = t.rows.iter().collect();
-        let ((bn, tie, st), (nbn, ntie, nst)) =
-            (tally(&rows, 8, "blue noise"), tally(&rows, 9, "blue noise"));
+        let ((bn, tie, st, b), (nbn, ntie, nst, _)) =
+            (tally(&rows, S_VERDICT, "blue noise"), tally(&rows, S_NOISE_VERDICT, "blue noise"));
         out.push(format!(
-            "Under EMA, spatiotemporal blue noise has significantly less RMSE than per-frame-independent blue \
-             noise in {st} of {} cells, ties in {tie} and has more in {bn}; on the noise RMSE it has less in \
-             {nst}, ties in {ntie} and has more in {nbn}.",
+            "Under temporal accumulation, spatiotemporal blue noise has significantly less RMSE than \
+             per-frame-independent blue noise in {st} of {} cells, ties in {tie}, has more in {bn} and is below \
+             the floor in {b}; on the noise RMSE it has less in {nst}, ties in {ntie} and has more in {nbn}.",
             rows.len()
         ));
     }
@@ -268,22 +327,32 @@ mod tests {
         .concat();
         let t = paper_table(&rs).unwrap();
         assert_eq!(t.rows.len(), 2, "{:?}", t.rows);
-        assert_eq!(t.rows[0][2], "ema0.1+atrous (frame 16)");
+        assert_eq!(t.rows[0][P_PIPELINE], "ema0.1+atrous (frame 16)");
+        assert_eq!(t.rows[0][2], "static");
         // Best other: stbn at 0.015 against 0.02; the paired differences are exactly −0.005 twice.
-        assert_eq!(t.rows[0][3], "0.0200 ± 0.0010");
-        assert_eq!((t.rows[0][6].as_str(), t.rows[0][8].as_str()), ("-25.0 ± 0.0 %", "best other wins"));
-        assert_eq!(t.rows[0][9], "best other wins", "noise RMSE: the same halves");
-        assert_eq!((t.rows[1][6].as_str(), t.rows[1][8].as_str()), ("+20.0 ± 0.0 %", "paper wins"));
+        assert_eq!(t.rows[0][5], "0.0200 ± 0.0010");
+        assert_eq!(
+            (t.rows[0][8].as_str(), t.rows[0][P_VERDICT].as_str()),
+            ("-25.0 ± 0.0 %", "best other wins")
+        );
+        assert_eq!(t.rows[0][P_NOISE_VERDICT], "best other wins", "noise RMSE: the same halves");
+        assert_eq!((t.rows[1][8].as_str(), t.rows[1][P_VERDICT].as_str()), ("+20.0 ± 0.0 %", "paper wins"));
         let s = stbn_table(&rs).unwrap();
         assert_eq!(s.rows.len(), 1);
         // stbn − blue noise: −0.016 and −0.014 → −50 % ± 3.3 % of 0.03: beyond t(1 dof) = 12.7 SE.
-        assert_eq!((s.rows[0][6].as_str(), s.rows[0][8].as_str()), ("-50.0 ± 3.3 %", "stbn wins"));
+        assert_eq!((s.rows[0][8].as_str(), s.rows[0][S_VERDICT].as_str()), ("-50.0 ± 3.3 %", "stbn wins"));
         let sum = summary_table(&rs).unwrap();
         assert_eq!(sum.rows.len(), 2);
         assert_eq!(
-            sum.rows[0][..4],
-            ["ema0.1+atrous (frame 16)", "1", "0 / 0 / 1", "-25.0 %"].map(String::from)
+            sum.rows[0][..7],
+            ["ema0.1+atrous (frame 16)", "2", "static", "1", "—", "0 / 0 / 1 / 0", "-25.0 %"]
+                .map(String::from)
         );
+        // A floor above both means: the verdict is withheld.
+        let mut floored = rs.clone();
+        floored.iter_mut().filter(|r| r.frame == 16).for_each(|r| r.floor = 0.05);
+        let t = paper_table(&floored).unwrap();
+        assert_eq!((t.rows[0][4].as_str(), t.rows[0][P_VERDICT].as_str()), ("0.0500", "below floor"));
         let seeds = seeds_table(&rs);
         assert!(seeds.is_none(), "no rotation/blue-noise/stbn triple at the fewest rays");
         assert!(paper_table(&rs[..4]).is_none(), "single frames only: no section");

@@ -42,11 +42,25 @@ fn records<'a>(
     (scene, rays, row): (&'a str, u32, Row),
     pipeline: Pipeline,
     schedule: Schedule,
+    denoiser: String,
 ) -> impl Iterator<Item = &'a JobResult> + 'a {
     let (p, s) = (pipeline.to_string(), schedule.name());
+    // The figures show the scene's own camera without a user's denoiser: the runs whose noise part
+    // is measured (a moving camera's is not), and one curve per configuration.
     data.results.iter().filter(move |r| {
-        r.scene == scene && r.rays == rays && r.is_row(row) && r.pipeline == p && r.schedule == s
+        r.scene == scene
+            && r.rays == rays
+            && r.is_row(row)
+            && r.pipeline == p
+            && r.schedule == s
+            && r.camera == crate::plan::CameraId::STATIC_NAME
+            && r.denoiser == denoiser
     })
+}
+
+/// The denoiser whose images the figures show: the group's first, else none.
+fn first_denoiser(g: &Group) -> String {
+    g.denoisers.first().map_or(String::new(), |d| d.name())
 }
 
 /// Noise RMSE (against the equally filtered reference) against the frame index under the group's
@@ -65,8 +79,10 @@ fn frame_curves(
         let mut series = Vec::new();
         for &row in &g.rows {
             let mut by_frame: BTreeMap<u32, Vec<f64>> = BTreeMap::new();
-            for r in records(data, (scene, rays, row), pipeline, schedule) {
-                by_frame.entry(r.frame).or_default().push(r.noise_rmse);
+            for r in records(data, (scene, rays, row), pipeline, schedule, first_denoiser(g)) {
+                if r.noise_rmse.is_finite() {
+                    by_frame.entry(r.frame).or_default().push(r.noise_rmse);
+                }
             }
             let points: Vec<(f64, f64, f64)> = by_frame
                 .iter()
@@ -160,7 +176,12 @@ fn final_crops(
     for &row in &g.rows {
         let mut cells = Vec::new();
         for &p in &g.pipelines {
-            let rs: Vec<&JobResult> = records(data, (scene, rays, row), p, schedule).collect();
+            let rs: Vec<&JobResult> =
+                records(data, (scene, rays, row), p, schedule, first_denoiser(g)).collect();
+            if rs.is_empty() && !g.cameras.contains(&crate::plan::CameraId::STATIC) {
+                // Moving cameras only: no frame of the scene's view to crop beside its reference.
+                return Ok(vec![]);
+            }
             let last = rs.iter().map(|r| r.frame).max();
             let r =
                 rs.iter().filter(|r| Some(r.frame) == last).min_by_key(|r| r.replicate).ok_or_else(|| {

@@ -40,6 +40,11 @@ pub trait FrameFilter: Send {
         motion: &Motion,
     ) -> (Image, Image);
 
+    /// `push` (with `reference`: `push_pair`) of a frame whose output nobody looks at: the state
+    /// advances exactly as theirs does, without the spatial work only a shown image needs (SVGF's
+    /// passes after the first, a spatial filter after the accumulation).
+    fn advance(&mut self, frame: &Image, reference: Option<&Image>, gbuf: &GBuffer, motion: &Motion);
+
     /// Frames pushed so far.
     fn frames(&self) -> u32;
 }
@@ -169,6 +174,37 @@ impl FrameFilter for Run {
         };
         self.frames += 1;
         self.spatial_pair(img, img_ref, gbuf)
+    }
+
+    fn advance(&mut self, frame: &Image, reference: Option<&Image>, gbuf: &GBuffer, motion: &Motion) {
+        // TAA's history is its output, and a run without state has nothing to advance: no spatial
+        // work to spare.
+        if !matches!(self.temporal, State::Svgf(_) | State::Accumulate(..)) {
+            match reference {
+                Some(r) => drop(self.push_pair(frame, r, gbuf, motion)),
+                None => drop(self.push(frame, gbuf, motion)),
+            }
+            return;
+        }
+        self.check(frame, gbuf, motion);
+        assert!(
+            self.paired == reference.is_some() || self.frames == 0,
+            "{}: a run pushes pairs from its first frame or never",
+            self.pipeline
+        );
+        self.paired = reference.is_some();
+        match &mut self.temporal {
+            State::Svgf(s) => s.advance(frame, reference, gbuf, motion),
+            State::Accumulate(acc, acc_ref) => {
+                acc.push_through(frame, &gbuf.coverage, motion);
+                if let Some(r) = reference {
+                    let acc_ref = acc_ref.get_or_insert_with(|| Accumulator::new(acc.mode));
+                    acc_ref.push_through(r, &gbuf.coverage, motion);
+                }
+            }
+            State::None | State::Taa(_) => unreachable!("handled above"),
+        }
+        self.frames += 1;
     }
 
     fn frames(&self) -> u32 {

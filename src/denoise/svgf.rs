@@ -142,7 +142,7 @@ impl Svgf {
             self.color_ref.is_none() || self.frames == 0,
             "svgf: a run pushes pairs from its first frame or never"
         );
-        self.step(frame, None, gbuf, motion).0
+        self.step(frame, None, gbuf, motion, true).0
     }
 
     /// `push` and its joint application to `reference` (module doc): (output, reference's output).
@@ -158,8 +158,19 @@ impl Svgf {
             self.color_ref.is_some() || self.frames == 0,
             "svgf: a run pushes pairs from its first frame or never"
         );
-        let (out, r) = self.step(frame, Some(reference), gbuf, motion);
+        let (out, r) = self.step(frame, Some(reference), gbuf, motion, true);
         (out, r.expect("a reference was given"))
+    }
+
+    /// `push` (or `push_pair` with `reference`) of a frame whose output nobody looks at: the state
+    /// advances exactly as theirs does (the history is the first pass's output), without the
+    /// passes after the first, which only the shown image needs.
+    pub fn advance(&mut self, frame: &Image, reference: Option<&Image>, gbuf: &GBuffer, motion: &Motion) {
+        assert!(
+            self.color_ref.is_some() == reference.is_some() || self.frames == 0,
+            "svgf: a run pushes pairs from its first frame or never"
+        );
+        self.step(frame, reference, gbuf, motion, false);
     }
 
     fn step(
@@ -168,6 +179,7 @@ impl Svgf {
         reference: Option<&Image>,
         gbuf: &GBuffer,
         motion: &Motion,
+        shown: bool,
     ) -> (Image, Option<Image>) {
         assert!(
             frame.width == gbuf.width && frame.height == gbuf.height,
@@ -225,12 +237,13 @@ impl Svgf {
         self.variance = variance.clone();
         // 3. The à-trous passes; 4. the first one's output is the colour history.
         let iterations = p.iterations.unwrap_or_else(|| default_iterations(frame.width, frame.height));
+        let run = if shown { iterations } else { iterations.min(1) };
         let (mut c, mut var, mut cr) = (color, variance, color_ref);
         if iterations == 0 {
             self.color = c.clone();
             self.color_ref = cr.clone();
         }
-        for it in 0..iterations {
+        for it in 0..run {
             let (c2, var2, cr2) = pass(&guide, &c, &var, cr.as_deref(), it, p.sigma_luminance);
             if it == 0 {
                 self.color = c2.clone();

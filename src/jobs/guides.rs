@@ -64,8 +64,8 @@ pub struct Against<'a> {
     pub gbuffer: Option<&'a GBuffer>,
     /// The camera path's frames (`None`: the scene's camera, unjittered).
     pub camera: Option<&'a CameraFrames<'a>>,
-    /// The pipeline's floor per frame (`None` for a single frame).
-    pub floor: Option<&'a [f64]>,
+    /// Every pipeline's floor per frame on the job's scene (empty for a single frame).
+    pub floors: Vec<(Pipeline, &'a [f64])>,
     /// A directory of the job's own for a denoiser command's files.
     pub scratch: Option<PathBuf>,
 }
@@ -79,9 +79,10 @@ impl Against<'_> {
         }
     }
 
-    /// The floor at frame `frame` (from 1); NaN where none was computed.
-    pub fn floor_at(&self, frame: u32) -> f64 {
-        self.floor.and_then(|f| f.get(frame as usize - 1).copied()).unwrap_or(f64::NAN)
+    /// The floor of `pipeline` at frame `frame` (from 1); NaN where none was computed.
+    pub fn floor_at(&self, pipeline: Pipeline, frame: u32) -> f64 {
+        let f = self.floors.iter().find(|(p, _)| *p == pipeline).map(|(_, f)| *f);
+        f.and_then(|f| f.get(frame as usize - 1).copied()).unwrap_or(f64::NAN)
     }
 }
 
@@ -142,7 +143,7 @@ impl<'a> Guides<'a> {
             coverage: &reference.coverage,
             gbuffer: if single { None } else { self.gbuffers.get(&target) },
             camera: self.cameras.get(&(target, m.camera)),
-            floor: self.floors.iter().find(|(k, _)| *k == (target, m.pipeline)).map(|(_, f)| f.as_slice()),
+            floors: self.floors.iter().filter(|(k, _)| k.0 == target).map(|(k, f)| (k.1, f.as_slice())).collect(),
             scratch,
         }
     }

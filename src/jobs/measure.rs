@@ -34,6 +34,7 @@ use super::guides::Against;
 use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::metrics::{self, ErrorStats, MetricsError};
+use crate::denoise::Pipeline;
 use crate::plan::Measurement;
 use crate::render::{self, GBuffer, RenderJob, RenderOutput, View};
 use crate::scene::Scene;
@@ -53,6 +54,8 @@ pub enum Noise {
 /// far, what its noise is measured against, its flicker, and the render time of those frames
 /// (`None`: the caller's time of the whole render).
 pub struct FrameImage {
+    /// The pipeline it went through.
+    pub pipeline: Pipeline,
     /// The frame, counted from 1.
     pub frame: u32,
     pub output: RenderOutput,
@@ -66,14 +69,15 @@ pub struct FrameImage {
 
 /// One kind of measurement.
 pub trait Measure: Sync {
-    /// Renders what the job renders (timed by the caller as a whole) and returns the image at each
-    /// of `reported` (ascending frames from 1; a single frame reports `[1]`). Fails only where a
-    /// user's denoiser command does.
+    /// Renders what the job renders (timed by the caller as a whole) and returns the image of each
+    /// of `reported` (pipeline, frame from 1): every pipeline that accumulates reads the same
+    /// rendered frames (a series, `plan::series`); a single frame reports `[(raw, 1)]`. Fails only
+    /// where a user's denoiser command does.
     fn render(
         &self,
         scene: &Scene,
         rj: &RenderJob,
-        reported: &[u32],
+        reported: &[(Pipeline, u32)],
         against: &Against,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<FrameImage>>;
@@ -102,12 +106,13 @@ impl Measure for SingleFrame {
         &self,
         scene: &Scene,
         rj: &RenderJob,
-        _reported: &[u32],
+        _reported: &[(Pipeline, u32)],
         _against: &Against,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<FrameImage>> {
         let output = render::render_integrand(scene, rj, self.0.integrand, progress);
         Ok(vec![FrameImage {
+            pipeline: Pipeline::RAW,
             frame: 1,
             output,
             noise: Noise::Unfiltered,
@@ -172,77 +177,110 @@ impl Frames {
     }
 }
 
+/// One pipeline's run over a series' frames.
+struct Shown {
+    pipeline: Pipeline,
+    filter: Box<dyn crate::denoise::FrameFilter>,
+    /// Its reported frames (from 1) and the frames whose image is kept (those and the one before each).
+    reported: Vec<u32>,
+    kept: Vec<u32>,
+    previous: Option<(u32, Image)>,
+}
+
 impl Measure for Frames {
     fn render(
         &self,
         scene: &Scene,
         rj: &RenderJob,
-        reported: &[u32],
+        reported: &[(Pipeline, u32)],
         against: &Against,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<FrameImage>> {
         let m = &self.0;
-        let last = reported.iter().copied().max().unwrap_or(m.frame).max(1);
-        let kept = Self::kept(reported);
+        let mut runs: Vec<Shown> = Vec::new();
+        for &(p, f) in reported {
+            match runs.iter_mut().find(|r| r.pipeline == p) {
+                Some(r) => r.reported.push(f),
+                None => runs.push(Shown {
+                    pipeline: p,
+                    filter: p.start(rj.width, rj.height),
+                    reported: vec![f],
+                    kept: Vec::new(),
+                    previous: None,
+                }),
+            }
+        }
+        for r in &mut runs {
+            r.reported.sort_unstable();
+            r.kept = Self::kept(&r.reported);
+        }
+        let last = reported.iter().map(|r| r.1).max().unwrap_or(m.frame).max(1);
         // A pipeline that does not accumulate shows one frame: the frames kept alone are rendered
-        // (the one before a reported frame for its flicker, untimed).
+        // (the one before a reported frame for its flicker, untimed). Its series is itself.
+        let temporal = m.pipeline.is_temporal();
         let rendered: Vec<u32> =
-            if m.pipeline.is_temporal() { (0..last).collect() } else { kept.iter().map(|f| f - 1).collect() };
+            if temporal { (0..last).collect() } else { runs[0].kept.iter().map(|f| f - 1).collect() };
         // The joint application needs every frame's reference: where one serves all of them.
         let paired = m.denoiser.get().is_none() && against.camera.is_none_or(|c| c.still);
-        let mut filter = m.pipeline.start(rj.width, rj.height);
         let (mut rays, mut occluded) = (0u64, 0u64);
         let mut spent = Time { cpu_s: 0.0, wall_s: 0.0 };
         let mut out = Vec::with_capacity(reported.len());
-        let mut previous: Option<(u32, Image)> = None;
         for f in rendered {
             let g = self.guide(against, f, rj.width, rj.height);
             let frame = RenderJob { sampler: rj.sampler.with_frame(f).with_schedule(m.schedule), ..*rj };
-            let is_reported = reported.contains(&(f + 1));
-            let timed = m.pipeline.is_temporal() || is_reported;
+            let timed = temporal || runs[0].reported.contains(&(f + 1));
             let (c0, w0) = (clock::thread_cpu_s(), clock::wall_s());
-            let mut o = render::render_view(scene, &frame, m.integrand, &g.view, progress);
+            let o = render::render_view(scene, &frame, m.integrand, &g.view, progress);
             if timed {
                 spent.cpu_s += clock::thread_cpu_s() - c0;
                 spent.wall_s += clock::wall_s() - w0;
                 rays += o.rays;
                 occluded += o.occluded_rays;
             }
-            let (shown, filtered_reference) = if paired {
-                let (s, r) = filter.push_pair(&o.ao, against.at(f + 1).0, g.gbuffer, &g.motion);
-                (s, Some(r))
-            } else if m.pipeline.is_temporal() {
-                (filter.push(&o.ao, g.gbuffer, &g.motion), None)
-            } else {
-                // Nothing carries over between the frames of a pipeline that shows one: each is
-                // filtered by a run of its own.
-                (m.pipeline.start(rj.width, rj.height).push(&o.ao, g.gbuffer, &g.motion), None)
-            };
-            if !kept.contains(&(f + 1)) {
-                continue;
-            }
-            let (shown, denoise_s) = self.denoise(against, shown, g.gbuffer)?;
-            if is_reported {
-                let flicker = match &previous {
-                    Some((p, prev)) if *p == f => flicker(against, f + 1, prev, &shown),
-                    _ => f64::NAN,
+            for run in &mut runs {
+                if temporal && !run.kept.contains(&(f + 1)) {
+                    let reference = paired.then(|| against.at(f + 1).0);
+                    run.filter.advance(&o.ao, reference, g.gbuffer, &g.motion);
+                    continue;
+                }
+                let (shown, filtered_reference) = if paired {
+                    let (s, r) = run.filter.push_pair(&o.ao, against.at(f + 1).0, g.gbuffer, &g.motion);
+                    (s, Some(r))
+                } else if temporal {
+                    (run.filter.push(&o.ao, g.gbuffer, &g.motion), None)
+                } else {
+                    // Nothing carries over between the frames of a pipeline that shows one: each
+                    // is filtered by a run of its own.
+                    (run.pipeline.start(rj.width, rj.height).push(&o.ao, g.gbuffer, &g.motion), None)
                 };
-                (o.ao, o.rays, o.occluded_rays) = (shown.clone(), rays, occluded);
-                let noise = match filtered_reference {
-                    Some(r) if m.pipeline != crate::denoise::Pipeline::RAW => Noise::Against(r),
-                    Some(_) => Noise::Unfiltered,
-                    None => Noise::Unknown,
-                };
-                out.push(FrameImage {
-                    frame: f + 1,
-                    output: o,
-                    noise,
-                    flicker,
-                    denoise_s,
-                    time: Some(spent),
-                });
+                if !run.kept.contains(&(f + 1)) {
+                    continue;
+                }
+                let (shown, denoise_s) = self.denoise(against, shown, g.gbuffer)?;
+                if run.reported.contains(&(f + 1)) {
+                    let flicker = match &run.previous {
+                        Some((p, prev)) if *p == f => flicker(against, f + 1, prev, &shown),
+                        _ => f64::NAN,
+                    };
+                    let unfiltered = run.pipeline == Pipeline::RAW && m.denoiser.get().is_none();
+                    let noise = match filtered_reference {
+                        _ if unfiltered => Noise::Unfiltered,
+                        Some(r) => Noise::Against(r),
+                        None => Noise::Unknown,
+                    };
+                    let output = RenderOutput { ao: shown.clone(), coverage: o.coverage.clone(), rays, occluded_rays: occluded };
+                    out.push(FrameImage {
+                        pipeline: run.pipeline,
+                        frame: f + 1,
+                        output,
+                        noise,
+                        flicker,
+                        denoise_s,
+                        time: Some(spent),
+                    });
+                }
+                run.previous = Some((f + 1, shown));
             }
-            previous = Some((f + 1, shown));
         }
         Ok(out)
     }

@@ -238,11 +238,12 @@ impl Measurement {
     }
 
     /// What the jobs of one series of frames share (`plan::series`): for a pipeline that
-    /// accumulates, the frames part without the frame, so that every reported frame of one
-    /// sequence is read from one render of it; otherwise `frames_key`. Part of the timing unit.
+    /// accumulates, the frames part without the frame or the pipeline, so that every reported
+    /// frame of one sequence, through every accumulating pipeline, is read from one render of it;
+    /// otherwise `frames_key`. Part of the timing unit.
     pub fn series_key(&self) -> String {
         if self.pipeline.is_temporal() {
-            format!(";schedule={};pipeline={}{}", self.schedule, self.pipeline, self.view_key())
+            format!(";schedule={};pipeline=temporal{}", self.schedule, self.view_key())
         } else {
             self.frames_key()
         }

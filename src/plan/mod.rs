@@ -327,6 +327,10 @@ pub struct Series {
     pub members: Vec<usize>,
 }
 
+/// The pipeline a series' key names for all of its accumulating pipelines.
+const SERIES_PIPELINE: crate::denoise::Pipeline =
+    crate::denoise::Pipeline { temporal: Some(crate::denoise::Temporal::Mean), spatial: None };
+
 /// The plan's jobs grouped into series (every other job a series of one), in order of their first
 /// job.
 pub fn series(plan: &Plan) -> Vec<Series> {
@@ -334,7 +338,11 @@ pub fn series(plan: &Plan) -> Vec<Series> {
     let mut out: Vec<Series> = Vec::new();
     for (i, job) in plan.jobs.iter().enumerate() {
         let key = if job.measurement.pipeline.is_temporal() {
-            let first = Job { measurement: Measurement { frame: 1, ..job.measurement }, ..job.clone() };
+            // Every accumulating pipeline reads the same frames: one series renders them for all.
+            let first = Job {
+                measurement: Measurement { frame: 1, pipeline: SERIES_PIPELINE, ..job.measurement },
+                ..job.clone()
+            };
             first.canonical()
         } else {
             job.canonical()

@@ -105,3 +105,31 @@ fn a_run_does_not_switch_to_pairs() {
     f.push(&x, &g, &still);
     f.push_pair(&x, &x, &g, &still);
 }
+
+#[test]
+fn advancing_past_an_unseen_frame_leaves_the_state_a_push_would() {
+    // `FrameFilter::advance` skips the spatial work of frames nobody looks at (SVGF's passes after
+    // the first, a filter after the accumulation): the frames shown afterwards are bit for bit
+    // those of a run that pushed every frame, alone or in pairs.
+    let (w, h) = (40u32, 30u32);
+    let g = cornell(w, h);
+    let still = Motion::identity(w, h);
+    let reference = with_background(&noise(w, h, 0.6, 0.05, 7), &g, 0.0);
+    let fs = frames(w, h, &g);
+    for name in EVERY {
+        let p: Pipeline = name.parse().unwrap();
+        let (mut every, mut skipping) = (p.start(w, h), p.start(w, h));
+        let (mut every_pair, mut skipping_pair) = (p.start(w, h), p.start(w, h));
+        for (k, f) in fs.iter().enumerate() {
+            let (o, op) = (every.push(f, &g, &still), every_pair.push_pair(f, &reference, &g, &still));
+            if k % 2 == 0 {
+                skipping.advance(f, None, &g, &still);
+                skipping_pair.advance(f, Some(&reference), &g, &still);
+            } else {
+                assert_eq!(skipping.push(f, &g, &still), o, "{name}, frame {k}");
+                assert_eq!(skipping_pair.push_pair(f, &reference, &g, &still), op, "{name}, pair, frame {k}");
+            }
+        }
+        assert_eq!(skipping.frames(), 6, "{name}");
+    }
+}

@@ -302,10 +302,15 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
         let single = super::measure::SingleFrame(crate::plan::Measurement::PAPER);
         let measure: &dyn super::measure::Measure = measures.get(slot.job).map_or(&single, |m| &**m);
         let members: Vec<usize> = members_of.get(&slot.job).cloned().unwrap_or_else(|| vec![slot.job]);
-        let frame_of = |i: usize| plan.jobs.get(i).map_or(1, |j| j.measurement.frame);
-        let mut reported: Vec<u32> = members.iter().map(|&i| frame_of(i)).collect();
-        reported.sort_unstable();
-        reported.dedup();
+        let wanted = |i: usize| {
+            plan.jobs.get(i).map_or((crate::denoise::Pipeline::RAW, 1), |j| (j.measurement.pipeline, j.measurement.frame))
+        };
+        let mut reported: Vec<(crate::denoise::Pipeline, u32)> = Vec::new();
+        for &i in &members {
+            if !reported.contains(&wanted(i)) {
+                reported.push(wanted(i));
+            }
+        }
         let m = plan.jobs.get(slot.job).map_or(crate::plan::Measurement::PAPER, |j| j.measurement);
         let scratch = m.denoiser.get().map(|_| out.join(DENOISE_DIR).join(plan.jobs[slot.job].file_stem()));
         let against = guides.against(si, &m, &references[si], scratch);
@@ -314,7 +319,10 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
         let images = images?;
         let mut parts = Vec::with_capacity(members.len());
         for &i in &members {
-            let img = images.iter().find(|f| f.frame == frame_of(i)).expect("every reported frame rendered");
+            let img = images
+                .iter()
+                .find(|f| (f.pipeline, f.frame) == wanted(i))
+                .expect("every reported frame rendered");
             let t = img.time.unwrap_or(time);
             if !slot.record {
                 parts.push((i, t, None));
@@ -327,7 +335,7 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             let mut record = JobResult::new(job, &stats, img.output.rays, image);
             record.noise_rmse = noise_rmse;
             record.flicker = img.flicker;
-            record.floor = against.floor_at(img.frame);
+            record.floor = against.floor_at(img.pipeline, img.frame);
             record.denoise_s = img.denoise_s;
             record.key = keys[i].clone();
             record.timing_threads = protocol.threads_per_render as u32;

@@ -19,6 +19,7 @@ mod render_integrand;
 mod report_page;
 mod run_answer;
 mod run_errors;
+mod run_realtime;
 mod run_results;
 mod shard_merge;
 mod textures;

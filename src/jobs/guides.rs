@@ -143,7 +143,12 @@ impl<'a> Guides<'a> {
             coverage: &reference.coverage,
             gbuffer: if single { None } else { self.gbuffers.get(&target) },
             camera: self.cameras.get(&(target, m.camera)),
-            floors: self.floors.iter().filter(|(k, _)| k.0 == target).map(|(k, f)| (k.1, f.as_slice())).collect(),
+            floors: self
+                .floors
+                .iter()
+                .filter(|(k, _)| k.0 == target)
+                .map(|(k, f)| (k.1, f.as_slice()))
+                .collect(),
             scratch,
         }
     }

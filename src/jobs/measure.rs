@@ -31,10 +31,10 @@
 //! the paper's path stays one render, with nothing of the frames' machinery around it.
 
 use super::guides::Against;
+use crate::denoise::Pipeline;
 use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::metrics::{self, ErrorStats, MetricsError};
-use crate::denoise::Pipeline;
 use crate::plan::Measurement;
 use crate::render::{self, GBuffer, RenderJob, RenderOutput, View};
 use crate::scene::Scene;
@@ -268,7 +268,12 @@ impl Measure for Frames {
                         Some(r) => Noise::Against(r),
                         None => Noise::Unknown,
                     };
-                    let output = RenderOutput { ao: shown.clone(), coverage: o.coverage.clone(), rays, occluded_rays: occluded };
+                    let output = RenderOutput {
+                        ao: shown.clone(),
+                        coverage: o.coverage.clone(),
+                        rays,
+                        occluded_rays: occluded,
+                    };
                     out.push(FrameImage {
                         pipeline: run.pipeline,
                         frame: f + 1,

@@ -303,7 +303,9 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
         let measure: &dyn super::measure::Measure = measures.get(slot.job).map_or(&single, |m| &**m);
         let members: Vec<usize> = members_of.get(&slot.job).cloned().unwrap_or_else(|| vec![slot.job]);
         let wanted = |i: usize| {
-            plan.jobs.get(i).map_or((crate::denoise::Pipeline::RAW, 1), |j| (j.measurement.pipeline, j.measurement.frame))
+            plan.jobs
+                .get(i)
+                .map_or((crate::denoise::Pipeline::RAW, 1), |j| (j.measurement.pipeline, j.measurement.frame))
         };
         let mut reported: Vec<(crate::denoise::Pipeline, u32)> = Vec::new();
         for &i in &members {

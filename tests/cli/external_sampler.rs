@@ -67,7 +67,8 @@ fn an_external_sampler_runs_through_hemilab_run_and_is_named_in_its_results() {
             .iter()
             .find(|f| f.sequence == "fibonacci" && f.rays == r.rays && f.replicate == r.replicate)
             .expect("the lattice at the same rays and replicate");
-        let (a, b) = (std::fs::read(out.join(&r.image)).unwrap(), std::fs::read(out.join(&twin.image)).unwrap());
+        let (a, b) =
+            (std::fs::read(out.join(&r.image)).unwrap(), std::fs::read(out.join(&twin.image)).unwrap());
         assert_ne!(a, b, "the new sequence renders its own image at {} rays", r.rays);
     }
     let report = std::fs::read_to_string(out.join("report.md")).expect("the run's report");

@@ -1,12 +1,13 @@
 //! The real-time verdicts as the page's and `quotes.md`'s tables and sentences: after each
 //! pipeline, does the paper's configuration still win; under accumulation, does spatiotemporal blue
-//! noise beat per-frame-independent blue noise; and the noise each seed mode leaves. The cells,
+//! noise beat per-frame-independent blue noise; does what engines ship (their rotation patterns)
+//! match the masks and the paper's; and the noise each seed mode leaves. The cells,
 //! margins and verdicts are `compare::realtime`'s (paired over replicates, 5 % two-sided); this
 //! file words and formats them.
 
 use crate::compare::margin::Margin;
 use crate::compare::model::Estimate;
-use crate::compare::realtime::{paper_cells, seeds_cells, stbn_cells};
+use crate::compare::realtime::{engine_cells, paper_cells, seeds_cells, stbn_cells};
 use crate::report::Table;
 use crate::results::JobResult;
 use std::collections::BTreeMap;
@@ -151,6 +152,49 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
     })
 }
 
+/// Question (3): per (scene, rays, pipeline at its last frame), the best engine pattern's
+/// configuration against the best of every other seed mode (`compare::realtime::engine_cells`).
+pub fn engine_table(results: &[JobResult]) -> Option<Table> {
+    let rows: Vec<Vec<String>> = engine_cells(results)
+        .into_iter()
+        .map(|c| {
+            vec![
+                c.scene,
+                c.rays.to_string(),
+                format!("{} (frame {})", c.pipeline, c.frame),
+                c.engine,
+                pm(c.engine_rmse),
+                c.other,
+                pm(c.other_rmse),
+                margin_text(&c.rmse.margin),
+                margin_text(&c.noise.margin),
+                verdict(c.rmse.sign, "engine", "other"),
+                verdict(c.noise.sign, "engine", "other"),
+            ]
+        })
+        .collect();
+    (!rows.is_empty()).then(|| Table {
+        title: "Real-time: the best engine pattern (ign, bayer, magic-square, r2-dither) against the best other seed mode"
+            .into(),
+        header: [
+            "scene",
+            "rays/frame",
+            "pipeline",
+            "best engine pattern",
+            "its RMSE",
+            "best other",
+            "its RMSE",
+            "other against engine (RMSE)",
+            "(noise RMSE)",
+            "verdict (RMSE, 5 %)",
+            "verdict (noise RMSE)",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+    })
+}
+
 /// How many of `rows` have each verdict in column `col`: (first named wins, tie, second named wins).
 fn tally(rows: &[&Vec<String>], col: usize, first: &str) -> (usize, usize, usize) {
     let wins = rows.iter().filter(|r| r[col] == format!("{first} wins")).count();
@@ -228,6 +272,16 @@ pub fn text(results: &[JobResult]) -> Vec<String> {
             "Under EMA, spatiotemporal blue noise has significantly less RMSE than per-frame-independent blue \
              noise in {st} of {} cells, ties in {tie} and has more in {bn}; on the noise RMSE it has less in \
              {nst}, ties in {ntie} and has more in {nbn}.",
+            rows.len()
+        ));
+    }
+    if let Some(t) = engine_table(results) {
+        let rows: Vec<&Vec<String>> = t.rows.iter().collect();
+        let ((e, tie, o), (ne, ntie, no)) = (tally(&rows, 9, "engine"), tally(&rows, 10, "engine"));
+        out.push(format!(
+            "The engines' rotation patterns: the best of them has significantly less RMSE than the best other \
+             seed mode in {e} of {} cells, ties in {tie} and has more in {o}; on the noise RMSE less in {ne}, \
+             ties in {ntie} and more in {no}.",
             rows.len()
         ));
     }

@@ -195,7 +195,10 @@ fn a_real_time_pipeline_sweeps_the_engine_patterns_as_engines_ship_them() {
     assert!(engine.iter().all(|r| swept.contains(r)));
     // With them in the pool, a pattern selects them as it selects the built-ins' rows.
     let ign = select_with(&[Pattern::parse("*/*/ign").unwrap()], &engine).unwrap();
-    assert_eq!(ign, vec![PAPER_DEFAULT, row(Sequence::Random, SeedMode::Ign), row(Sequence::Fibonacci, SeedMode::Ign)]);
+    assert_eq!(
+        ign,
+        vec![PAPER_DEFAULT, row(Sequence::Random, SeedMode::Ign), row(Sequence::Fibonacci, SeedMode::Ign)]
+    );
     assert!(select(&[Pattern::parse("*/*/ign").unwrap()]).is_err(), "a raw frame's pool has none");
 
     let request = |pipeline: &str| setup::Request {

@@ -1,10 +1,12 @@
 //! Command-line definitions only; `app` does the work. Names are parsed here so that a bad value
 //! fails before anything runs, with clap's exit status 2 and the list of valid choices.
+// The doc comments are clap's help text, which writes placeholders as `out/<spec name>/`.
+#![allow(rustdoc::invalid_html_tags)]
 
+use crate::sampling::{Distribution, Schedule, SeedMode, Sequence};
 use clap::{Args, Parser, Subcommand};
-use hemilab::sampling::{Distribution, Schedule, SeedMode, Sequence};
 
-use hemilab::shard::{Shard, ShardArg};
+use crate::shard::{Shard, ShardArg};
 use std::path::PathBuf;
 
 #[derive(Debug, Parser)]
@@ -197,7 +199,7 @@ pub struct RenderArgs {
     /// What the rays integrate: ao (cosine-weighted visibility), visibility (unweighted, the
     /// sky-view factor), cos-lobe-N (cos^N about the normal, N >= 2); the image is 1 - the estimate.
     #[arg(long, value_parser = parse_integrand, value_name = "I", default_value = "ao")]
-    pub integrand: hemilab::sampling::Integrand,
+    pub integrand: crate::sampling::Integrand,
     /// Image size, WxH (default: the scene's).
     #[arg(long, value_parser = parse_resolution)]
     pub resolution: Option<(u32, u32)>,
@@ -233,7 +235,7 @@ pub struct BenchArgs {
 /// A positive AO distance, or `inf` / `infinite`.
 pub fn parse_distance(s: &str) -> Result<f32, String> {
     let t = s.trim();
-    if hemilab::spec::is_infinite(t) {
+    if crate::spec::is_infinite(t) {
         return Ok(f32::INFINITY);
     }
     match t.parse::<f32>() {
@@ -302,7 +304,7 @@ pub struct AdviseArgs {
     /// (raw, gauss, atrous, mean, emaA, or temporal+spatial such as ema0.1+atrous); budgets are then
     /// per frame.
     #[arg(long, default_value = "raw", value_parser = parse_pipeline, value_name = "PIPELINE")]
-    pub pipeline: hemilab::denoise::Pipeline,
+    pub pipeline: crate::denoise::Pipeline,
     /// With a temporal --pipeline: the frame whose image is ranked (frames accumulated), 1..=1024
     /// (default 8).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
@@ -310,11 +312,11 @@ pub struct AdviseArgs {
     /// What the rays integrate: ao, visibility (unweighted), cos-lobe-N (N >= 2); its reference
     /// is built with the integrand's matched distribution.
     #[arg(long, value_parser = parse_integrand, value_name = "I", default_value = "ao")]
-    pub integrand: hemilab::sampling::Integrand,
+    pub integrand: crate::sampling::Integrand,
     /// Only these configurations, comma-separated distribution/sequence/seed_mode, each part a
     /// name or * (e.g. sine-cosine/fibonacci/*); the paper's default is always run.
     #[arg(long, value_parser = parse_pattern, value_delimiter = ',', value_name = "LIST")]
-    pub only: Vec<hemilab::advice::Pattern>,
+    pub only: Vec<crate::advice::Pattern>,
     /// Also measure a noise texture as a seed mode, PATH[:offset|rotation|vector] (PNG 8/16 bit or
     /// EXR, `%d` for numbered slices), with every sequence it is sensible with (--only narrows by
     /// distribution and sequence); repeatable.
@@ -345,16 +347,16 @@ pub fn parse_budget(s: &str) -> Result<f64, String> {
     }
 }
 
-fn parse_pattern(s: &str) -> Result<hemilab::advice::Pattern, String> {
-    hemilab::advice::Pattern::parse(s)
+fn parse_pattern(s: &str) -> Result<crate::advice::Pattern, String> {
+    crate::advice::Pattern::parse(s)
 }
 
 fn parse_distribution(s: &str) -> Result<Distribution, String> {
     s.parse()
 }
 
-fn parse_integrand(s: &str) -> Result<hemilab::sampling::Integrand, String> {
-    hemilab::sampling::Integrand::parse(s)
+fn parse_integrand(s: &str) -> Result<crate::sampling::Integrand, String> {
+    crate::sampling::Integrand::parse(s)
 }
 
 /// A `--sequence` value: a name, or a point file the command reads (`load::points_arg`) before
@@ -373,19 +375,19 @@ pub enum ModeArg {
 }
 
 impl SequenceArg {
-    pub fn resolve(&self) -> hemilab::error::Result<Sequence> {
+    pub fn resolve(&self) -> crate::error::Result<Sequence> {
         match self {
             SequenceArg::Named(s) => Ok(*s),
-            SequenceArg::Points(text) => hemilab::load::points_arg(text),
+            SequenceArg::Points(text) => crate::load::points_arg(text),
         }
     }
 }
 
 impl ModeArg {
-    pub fn resolve(&self) -> hemilab::error::Result<SeedMode> {
+    pub fn resolve(&self) -> crate::error::Result<SeedMode> {
         match self {
             ModeArg::Named(m) => Ok(*m),
-            ModeArg::Texture(text) => hemilab::load::texture_arg(text),
+            ModeArg::Texture(text) => crate::load::texture_arg(text),
         }
     }
 }
@@ -409,16 +411,16 @@ fn parse_schedule(s: &str) -> Result<Schedule, String> {
 }
 
 /// Parses `WxH` within `spec::RESOLUTION_RULE` (the limits of scene files and specs).
-pub fn parse_pipeline(s: &str) -> Result<hemilab::denoise::Pipeline, String> {
-    s.parse().map_err(|e: hemilab::denoise::PipelineError| e.to_string())
+pub fn parse_pipeline(s: &str) -> Result<crate::denoise::Pipeline, String> {
+    s.parse().map_err(|e: crate::denoise::PipelineError| e.to_string())
 }
 
 pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
-    let bad = || format!("resolution '{s}' must be WxH, {}; e.g. 320x240", hemilab::spec::RESOLUTION_RULE);
+    let bad = || format!("resolution '{s}' must be WxH, {}; e.g. 320x240", crate::spec::RESOLUTION_RULE);
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    if !hemilab::spec::resolution_ok(w as u64, h as u64) {
+    if !crate::spec::resolution_ok(w as u64, h as u64) {
         return Err(bad());
     }
     Ok((w, h))

@@ -21,7 +21,10 @@
 //! report only formats what they computed and returns bytes. `outdir` names, reads and writes
 //! every output file once and `io` is the only module that touches the filesystem;
 //! `denoise_command` runs the user's own denoiser on a frame (its files through `io`). The command
-//! line (`cli`) and the commands (`app`, one thin file each) are the binary's.
+//! line (`cli`) and the commands (`app`, one thin file each) are the library's too, behind
+//! [`main_with`]: the `hemilab` binary is one call to it, and so is a program that registers its
+//! own sampler first (`examples/external_sampler.rs`), so that sampler runs through `hemilab run`'s
+//! own code path.
 //!
 //! # Bringing your own sampler
 //!
@@ -143,3 +146,34 @@ pub mod denoise_command;
 pub mod outdir;
 
 pub mod progress;
+
+// The command line and its commands, behind `main_with`.
+pub mod cli;
+
+pub mod app;
+
+/// The `hemilab` command on `args` (the program's name first, as `std::env::args_os()` gives
+/// them): parse, run, print the error chain; returns the exit status (0, 2 for bad input, 130
+/// after Ctrl-C). A bad command line exits here with clap's status 2 and its message, as `--help`
+/// and `--version` exit with 0. Sequences registered before the call are named like the built-in
+/// ones by specs and flags: that is how a sampler written outside the crate is measured.
+pub fn main_with<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    use clap::Parser;
+    // Before any thread starts: signals are then taken by a thread of their own (see `interrupt`).
+    interrupt::install();
+    let cli = cli::Cli::parse_from(args);
+    match app::run(cli) {
+        Ok(()) => 0,
+        Err(e) => {
+            match &e {
+                error::Error::Interrupted(what) => eprintln!("{what}"),
+                _ => eprintln!("error: {e}"),
+            }
+            e.exit_code()
+        }
+    }
+}

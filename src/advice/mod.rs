@@ -48,12 +48,13 @@ pub fn not_sensible(row: Row) -> Option<&'static str> {
         }
         // The engines' patterns rotate the static set by a fixed, tiled pattern (docs/textures.md):
         // one image of it is a structured x offset between `rotation` (white) and `blue-noise`
-        // (blue, and 2-D); they are built for frames accumulated and filtered, where `--pipeline`
-        // with --only `*/*/ign` (or bayer, magic-square, r2-dither) measures them. In the default
-        // sweep they would add 4 × 4 × 5 rows of one kind.
-        (_, _, m) if m.pattern().is_some() => {
-            Some("an engine's rotation pattern (ign, bayer, magic-square, r2-dither): name it with --only")
-        }
+        // (blue, and 2-D); they are built for frames accumulated and filtered, where a real-time
+        // pipeline's default sweep adds them as engines ship them (`engine_rows`). Every
+        // distribution × sequence of them would add 4 × 4 × 5 rows of one kind.
+        (_, _, m) if m.pattern().is_some() => Some(
+            "an engine's rotation pattern (ign, bayer, magic-square, r2-dither): in the sweep of a real-time \
+             --pipeline as engines ship it (sine-cosine, random or fibonacci); else name it in full with --only",
+        ),
         // A file's texture (`advise --texture`) is measured as its use says: an offset texture as
         // `blue-noise` is, a rotation texture as `rotation`, a vector texture only with sine-cosine.
         (d, _, m) if m.texture_use() == Some(crate::sampling::texture::TextureUse::Vector) => (d
@@ -89,6 +90,21 @@ pub fn sensible_rows_with(sequences: &[Sequence], modes: &[SeedMode]) -> Vec<Row
                     rows.push(r);
                 }
             }
+        }
+    }
+    rows
+}
+
+/// The engines' rotation patterns (`SeedMode::pattern`: ign, bayer, magic-square, r2-dither) as
+/// engines ship them: each rotating a cosine-weighted kernel of pseudo-random points or the
+/// Fibonacci lattice (the paper's), in that order. Advise's default sweep adds them when it ranks
+/// a real-time pipeline's image (`setup::check`, any `--pipeline` but raw), which is what they
+/// are built for; `experiments/engine-noise.toml` measures the same rows.
+pub fn engine_rows() -> Vec<Row> {
+    let mut rows = Vec::new();
+    for &m in SeedMode::ALL.iter().filter(|m| m.pattern().is_some()) {
+        for s in [Sequence::Random, Sequence::Fibonacci] {
+            rows.push(Row::new(Distribution::SineCosine, s, m).canonical());
         }
     }
     rows

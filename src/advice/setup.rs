@@ -149,7 +149,11 @@ pub fn check(args: &Request) -> Result<Checked> {
             spec::MAX_RAYS
         )));
     }
-    let added = added_rows(args)?;
+    let mut added = added_rows(args)?;
+    // What renderers ship is measured where it is built for: after a real-time pipeline.
+    if args.pipeline != crate::denoise::Pipeline::RAW {
+        added.extend(advice::engine_rows().into_iter().filter(|r| !added.contains(r)).collect::<Vec<_>>());
+    }
     let rows = advice::select_with(&args.only, &added).map_err(|e| Error::Usage(format!("--only: {e}")))?;
     // Advise measures every gain against the paper's default, sine-cosine, whose weights are
     // unbounded on unweighted visibility (infinite variance: no RMSE of it means anything). So

@@ -176,3 +176,49 @@ fn the_default_set_holds_the_four_samplers_renderers_ship() {
         assert_eq!(rows.iter().filter(|r| r.sequence == s).count(), n, "{s}");
     }
 }
+
+#[test]
+fn a_real_time_pipeline_sweeps_the_engine_patterns_as_engines_ship_them() {
+    let engine = engine_rows();
+    let modes = [SeedMode::Ign, SeedMode::Bayer, SeedMode::MagicSquare, SeedMode::R2Dither];
+    let want: Vec<Row> =
+        modes.iter().flat_map(|&m| [row(Sequence::Random, m), row(Sequence::Fibonacci, m)]).collect();
+    assert_eq!(engine, want);
+    let raw = sensible_rows();
+    for r in &engine {
+        assert!(!raw.contains(r) && not_sensible(*r).is_some(), "not in a raw frame's sweep: {r:?}");
+        assert!(r.invalid().is_none(), "{r:?}");
+    }
+    let swept = select_with(&[], &engine).unwrap();
+    assert_eq!(swept[0], PAPER_DEFAULT);
+    assert_eq!(swept.len(), raw.len() + engine.len(), "the default set and the engines' rows");
+    assert!(engine.iter().all(|r| swept.contains(r)));
+    // With them in the pool, a pattern selects them as it selects the built-ins' rows.
+    let ign = select_with(&[Pattern::parse("*/*/ign").unwrap()], &engine).unwrap();
+    assert_eq!(
+        ign,
+        vec![PAPER_DEFAULT, row(Sequence::Random, SeedMode::Ign), row(Sequence::Fibonacci, SeedMode::Ign)]
+    );
+    assert!(select(&[Pattern::parse("*/*/ign").unwrap()]).is_err(), "a raw frame's pool has none");
+
+    let request = |pipeline: &str| setup::Request {
+        scene: "scenes/cornell-box.toml".into(),
+        rays: vec![1, 2],
+        only: Vec::new(),
+        replicates: 2,
+        resolution: None,
+        reference_dir: None,
+        pipeline: pipeline.parse().unwrap(),
+        frames: 1,
+        integrand: crate::sampling::Integrand::Ao,
+        files: Vec::new(),
+        files_dir: None,
+    };
+    let rows = |p: &str| setup::check(&request(p)).unwrap().rows;
+    assert_eq!(rows("raw"), select(&[]).unwrap(), "raw: the default set alone");
+    for p in ["atrous", "ema0.1+atrous", "svgf"] {
+        let rs = rows(p);
+        assert!(engine.iter().all(|r| rs.contains(r)), "{p}: the engines' patterns are swept");
+        assert_eq!(rs.len(), raw.len() + engine.len(), "{p}");
+    }
+}

@@ -15,20 +15,20 @@
 //! run's stage, and of `--from`'s directory. `--from DIR` renders nothing: the sweep must be
 //! complete in DIR, and a budget whose finalists DIR lacks is answered by interpolation.
 
+use crate::advice::analysis::{self, Measured};
+use crate::advice::pipeline::as_ranked;
+use crate::advice::setup::{self, Request, Setup};
 use crate::cli::AdviseArgs;
-use hemilab::advice::analysis::{self, Measured};
-use hemilab::advice::pipeline::as_ranked;
-use hemilab::advice::setup::{self, Request, Setup};
-use hemilab::compare::budget::round_significant;
-use hemilab::error::{Error, Result};
-use hemilab::jobs::calibrate;
-use hemilab::jobs::executor;
-use hemilab::jobs::runner::JobRunner;
-use hemilab::jobs::sweep;
-use hemilab::load::{dropped_warning, load_scene};
-use hemilab::reference::store::{self as refs, Policy};
-use hemilab::results::JobResult;
-use hemilab::{advice, outdir};
+use crate::compare::budget::round_significant;
+use crate::error::{Error, Result};
+use crate::jobs::calibrate;
+use crate::jobs::executor;
+use crate::jobs::runner::JobRunner;
+use crate::jobs::sweep;
+use crate::load::{dropped_warning, load_scene};
+use crate::reference::store::{self as refs, Policy};
+use crate::results::JobResult;
+use crate::{advice, outdir};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -66,7 +66,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let out = args.out.clone().or_else(|| args.from.clone()).unwrap_or_else(default_out);
     outdir::check_advise_out(&out)?;
     let stage_at = outdir::advise_stage(&out)?;
-    let threads = hemilab::jobs::Threads::resolve(args.common.threads);
+    let threads = crate::jobs::Threads::resolve(args.common.threads);
     let workers = threads.workers;
     let spec = &setup.loaded.spec;
     let protocol = threads.protocol(None, spec);
@@ -75,7 +75,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     }
     let runner = JobRunner::new(threads, args.common.quiet)?;
     let policy = if args.from.is_some() { Policy::ReuseOnly } else { Policy::ReuseOrBuild };
-    let reference = hemilab::jobs::reference::obtain(
+    let reference = crate::jobs::reference::obtain(
         spec,
         0,
         &setup.loaded.scenes[0],
@@ -87,7 +87,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     // Earlier records: --from's directory, the output directory's, a killed run's stage.
     let mut sources: Vec<PathBuf> = Vec::new();
     for dir in [args.from.clone(), Some(out.clone()), Some(stage_at.clone())].into_iter().flatten() {
-        if hemilab::io::exists(&dir) && !sources.contains(&dir) {
+        if crate::io::exists(&dir) && !sources.contains(&dir) {
             sources.push(dir);
         }
     }
@@ -102,8 +102,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let (results, mut session) = match &args.from {
         Some(dir) => sweep::stored(&setup.loaded, &setup.plan, &reference, &previous, &stage, dir)?,
         None => {
-            let none =
-                |_: usize, _: &hemilab::plan::Job, _: &hemilab::render::RenderOutput| Ok(String::new());
+            let none = |_: usize, _: &crate::plan::Job, _: &crate::render::RenderOutput| Ok(String::new());
             let write = |s: &executor::Saved| store.write(s.new, false);
             let jobs = executor::Jobs {
                 loaded: &setup.loaded,
@@ -132,7 +131,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let (verified, verify_session) = if args.from.is_some() {
         (sweep::present(&setup.loaded, &vplan, &reference, &previous, &stage), None)
     } else {
-        let keep = |_: usize, job: &hemilab::plan::Job, o: &hemilab::render::RenderOutput| {
+        let keep = |_: usize, job: &crate::plan::Job, o: &crate::render::RenderOutput| {
             let (_, scene) = setup.loaded.scene_of(job);
             let p = executor::provenance(&setup.loaded.spec.name, job, scene, &reference, o);
             outdir::write_image(&stage, job, o, &p)
@@ -178,7 +177,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         from: args.from.clone(),
     };
     analysis.maps = analysis::winner_maps(&measured, &analysis);
-    let report = hemilab::report::advise::report(&measured, &analysis, &out)?;
+    let report = crate::report::advise::report(&measured, &analysis, &out)?;
     outdir::write_files(&stage, &report.files, &report.stale)?;
     outdir::commit_advise_stage(&stage, &out)?;
     for w in &report.warnings {

@@ -2,11 +2,11 @@
 //! or as JSON.
 
 use crate::cli::BenchArgs;
-use hemilab::error::{Error, Result};
-use hemilab::load::scene_at;
-use hemilab::render::RenderJob;
-use hemilab::render::bench::measure::measure;
-use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use crate::error::{Error, Result};
+use crate::load::scene_at;
+use crate::render::RenderJob;
+use crate::render::bench::measure::measure;
+use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use serde_json::Value;
 
 pub fn run(args: BenchArgs) -> Result<()> {

@@ -4,22 +4,22 @@
 //! status 2, naming how many are missing and from which shards, and nothing is written.
 
 use crate::cli::MergeArgs;
-use hemilab::error::{Error, Result};
-use hemilab::io;
-use hemilab::jobs::executor::{Session, run_key};
-use hemilab::jobs::runner::JobRunner;
-use hemilab::load::load;
-use hemilab::outdir;
-use hemilab::plan;
-use hemilab::reference::store::{self as refs, Policy};
-use hemilab::report;
-use hemilab::results::JobResult;
-use hemilab::shard::manifest;
-use hemilab::shard::merge::{
+use crate::error::{Error, Result};
+use crate::io;
+use crate::jobs::executor::{Session, run_key};
+use crate::jobs::runner::JobRunner;
+use crate::load::load;
+use crate::outdir;
+use crate::plan;
+use crate::reference::store::{self as refs, Policy};
+use crate::report;
+use crate::results::JobResult;
+use crate::shard::manifest;
+use crate::shard::merge::{
     check_manifests, match_records, merged_overhead, missing_message, provenance, read_shard, same_dir,
     session_of, timing_json,
 };
-use hemilab::timing::Protocol;
+use crate::timing::Protocol;
 use std::path::Path;
 
 pub fn run(args: MergeArgs) -> Result<()> {
@@ -54,17 +54,10 @@ pub fn run(args: MergeArgs) -> Result<()> {
             )));
         }
     }
-    let runner = JobRunner::new(hemilab::jobs::Threads::resolve(None), args.quiet)?;
+    let runner = JobRunner::new(crate::jobs::Threads::resolve(None), args.quiet)?;
     let references = (0..loaded.scenes.len())
         .map(|si| {
-            hemilab::jobs::reference::obtain(
-                spec,
-                si,
-                &loaded.scenes[si],
-                &ref_dir,
-                Policy::ReuseOnly,
-                &runner,
-            )
+            crate::jobs::reference::obtain(spec, si, &loaded.scenes[si], &ref_dir, Policy::ReuseOnly, &runner)
         })
         .collect::<Result<Vec<_>>>()?;
     let keys: Vec<String> = plan
@@ -84,7 +77,7 @@ pub fn run(args: MergeArgs) -> Result<()> {
     // Checked: now write.
     outdir::prepare(&out, true)?;
     let mut merged: Vec<JobResult> = Vec::with_capacity(plan.jobs.len());
-    let bar = hemilab::progress::bar(plan.jobs.len() as u64, "images", args.quiet);
+    let bar = crate::progress::bar(plan.jobs.len() as u64, "images", args.quiet);
     for (si, r) in found.iter().flatten() {
         io::link_or_copy(&shards[*si].dir.join(&r.image), &out.join(&r.image))?;
         merged.push((*r).clone());

@@ -11,8 +11,8 @@ mod render;
 mod run;
 
 use crate::cli::{Cli, Command};
-use hemilab::error::{Error, Result};
-use hemilab::spec::Row;
+use crate::error::{Error, Result};
+use crate::spec::Row;
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {

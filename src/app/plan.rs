@@ -2,14 +2,14 @@
 //! calibration is `jobs::calibrate`'s).
 
 use crate::cli::PlanArgs;
-use hemilab::error::Result;
-use hemilab::jobs::calibrate::{adaptive_rays, calibrate, references_s};
-use hemilab::load::load;
-use hemilab::plan::{self, Job, Plan, cost, format_duration};
-use hemilab::reference::Manifest;
-use hemilab::reference::store as refs;
-use hemilab::shard::manifest as shard;
-use hemilab::timing::clock;
+use crate::error::Result;
+use crate::jobs::calibrate::{adaptive_rays, calibrate, references_s};
+use crate::load::load;
+use crate::plan::{self, Job, Plan, cost, format_duration};
+use crate::reference::Manifest;
+use crate::reference::store as refs;
+use crate::shard::manifest as shard;
+use crate::timing::clock;
 use std::fmt::Write as _;
 
 pub fn run(args: PlanArgs) -> Result<()> {
@@ -20,7 +20,7 @@ pub fn run(args: PlanArgs) -> Result<()> {
     let full = plan::plan(spec);
     let count = args.shard.map(|s| s.count).or(args.shards);
     let selected = args.shard.map_or_else(|| full.clone(), |s| shard::select(&loaded, &full, s));
-    let threads = hemilab::jobs::Threads::resolve(args.threads).workers;
+    let threads = crate::jobs::Threads::resolve(args.threads).workers;
 
     let ref_dir = refs::dir(args.reference_dir.as_deref(), spec);
     let builds: Vec<Option<Manifest>> = (0..loaded.scenes.len())

@@ -2,12 +2,12 @@
 //! Also the one place that turns sampling settings into directions for the report's point figures.
 
 use crate::cli::PointsArgs;
-use hemilab::error::{Error, Result};
-use hemilab::io;
-use hemilab::report::directions_of;
-use hemilab::report::{self, Format, PointSet};
-use hemilab::sampling::SamplerConfig;
-use hemilab::spec::Row;
+use crate::error::{Error, Result};
+use crate::io;
+use crate::report::directions_of;
+use crate::report::{self, Format, PointSet};
+use crate::sampling::SamplerConfig;
+use crate::spec::Row;
 
 pub fn run(args: &PointsArgs) -> Result<()> {
     let path = &args.output;
@@ -25,7 +25,7 @@ pub fn run(args: &PointsArgs) -> Result<()> {
     config.prepare();
     let dirs = directions_of(args.distribution, config);
     let frame = match (args.frames.frame, args.frames.schedule) {
-        (0, hemilab::sampling::Schedule::Independent) => String::new(),
+        (0, crate::sampling::Schedule::Independent) => String::new(),
         (f, s) => format!(", frame {f} ({s})"),
     };
     let title = format!("{} (run seed {}{frame})", row.name(), args.seed);

@@ -1,24 +1,24 @@
 //! `hemilab reference`: builds (or keeps) the reference of every scene of a spec.
 
 use crate::cli::ReferenceArgs;
-use hemilab::error::Result;
-use hemilab::io;
-use hemilab::jobs::runner::JobRunner;
-use hemilab::load::load;
-use hemilab::reference::store::{self as refs, Policy};
+use crate::error::Result;
+use crate::io;
+use crate::jobs::runner::JobRunner;
+use crate::load::load;
+use crate::reference::store::{self as refs, Policy};
 
 pub fn run(args: ReferenceArgs) -> Result<()> {
     let loaded = load(&args.spec)?;
     let dir = refs::dir(args.reference_dir.as_deref(), &loaded.spec);
     io::ensure_writable_dir(&dir)?;
-    let runner = JobRunner::new(hemilab::jobs::Threads::resolve(args.common.threads), args.common.quiet)?;
+    let runner = JobRunner::new(crate::jobs::Threads::resolve(args.common.threads), args.common.quiet)?;
     // A stored reference that serves the spec is kept: for `rays = "auto"` it may hold far more
     // rays than this spec asks (the paper's, shared with a smaller spec), and rebuilding it would
     // throw them away.
     let policy = if args.force { Policy::Rebuild } else { Policy::ReuseOrBuild };
     for (si, scene) in loaded.scenes.iter().enumerate() {
         let kept = policy == Policy::ReuseOrBuild && refs::missing(&loaded.spec, si, scene, &dir)?.is_none();
-        let r = hemilab::jobs::reference::obtain(&loaded.spec, si, scene, &dir, policy, &runner)?;
+        let r = crate::jobs::reference::obtain(&loaded.spec, si, scene, &dir, policy, &runner)?;
         println!(
             "{}: noise floor {:.3e} ({} x {} rays){}",
             r.exr.display(),
@@ -29,9 +29,9 @@ pub fn run(args: ReferenceArgs) -> Result<()> {
         );
     }
     // The frames of camera paths where the spec measures error.
-    let plan = hemilab::plan::plan(&loaded.spec);
-    let si_of = |j: &hemilab::plan::Job| loaded.scene_of(j).0;
-    let views = hemilab::jobs::reference::obtain_views(
+    let plan = crate::plan::plan(&loaded.spec);
+    let si_of = |j: &crate::plan::Job| loaded.scene_of(j).0;
+    let views = crate::jobs::reference::obtain_views(
         &loaded.spec,
         &plan,
         &loaded.scenes,

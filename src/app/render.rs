@@ -1,15 +1,15 @@
 //! `hemilab render`, and scene loading for the whole app.
 
 use crate::cli::RenderArgs;
-use hemilab::error::{Error, Result};
-use hemilab::image::{self, Channel, Image, Provenance};
-use hemilab::io;
-use hemilab::load::scene_for;
-use hemilab::progress;
-use hemilab::render::{self, RenderJob, RenderOutput};
-use hemilab::sampling::SamplerConfig;
-use hemilab::scene::Scene;
-use hemilab::spec::AoDistance;
+use crate::error::{Error, Result};
+use crate::image::{self, Channel, Image, Provenance};
+use crate::io;
+use crate::load::scene_for;
+use crate::progress;
+use crate::render::{self, RenderJob, RenderOutput};
+use crate::sampling::SamplerConfig;
+use crate::scene::Scene;
+use crate::spec::AoDistance;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -20,7 +20,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     let png = out.with_extension("png");
     let (sequence, seed_mode) = (args.sampling.sequence.resolve()?, args.sampling.seed_mode.resolve()?);
-    let row = hemilab::spec::Row::new(args.sampling.distribution, sequence, seed_mode);
+    let row = crate::spec::Row::new(args.sampling.distribution, sequence, seed_mode);
     crate::app::check_row(&row, args.rays, "--rays")?;
     let sampler = SamplerConfig::new(row.sequence, row.seed_mode, args.rays, args.sampling.seed)
         .map_err(|e| Error::Usage(format!("--rays: {e}")))?
@@ -49,7 +49,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     job.sampler.prepare();
     let bar = progress::bar(width as u64 * height as u64, "render", args.common.quiet);
     let start = Instant::now();
-    let result = hemilab::jobs::Threads::resolve(args.common.threads)
+    let result = crate::jobs::Threads::resolve(args.common.threads)
         .pool()?
         .install(|| render::render_integrand(&scene, &job, args.integrand, &|n| bar.inc(n)));
     let secs = start.elapsed().as_secs_f64();
@@ -109,14 +109,14 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
     });
     // A frame past 0 says which and how (a single image's header stays as it was).
     let (frame, schedule) = (job.sampler.frame, job.sampler.schedule);
-    let framed = frame != 0 || schedule != hemilab::sampling::Schedule::Independent;
+    let framed = frame != 0 || schedule != crate::sampling::Schedule::Independent;
     if framed {
         json["frame"] = frame.into();
         json["schedule"] = schedule.name().into();
     }
     // Another integrand says which (an AO image's header stays as it was).
     let integrand = args.integrand;
-    if integrand != hemilab::sampling::Integrand::Ao {
+    if integrand != crate::sampling::Integrand::Ao {
         json["integrand"] = integrand.to_string().into();
     }
     let mut summary = format!(
@@ -135,7 +135,7 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
     if framed {
         summary.push_str(&format!(", frame {frame} ({schedule})"));
     }
-    if integrand != hemilab::sampling::Integrand::Ao {
+    if integrand != crate::sampling::Integrand::Ao {
         summary.push_str(&format!(", integrand {integrand}"));
     }
     Provenance { summary, json }

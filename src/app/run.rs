@@ -3,15 +3,15 @@
 //! an interrupted run loses nothing and resumes where it stopped.
 
 use crate::cli::RunArgs;
-use hemilab::error::{Error, Result};
-use hemilab::jobs::runner::JobRunner;
-use hemilab::jobs::{Threads, executor, long_run};
-use hemilab::load::load;
-use hemilab::outdir;
-use hemilab::plan;
-use hemilab::reference::store::{self as refs, Policy};
-use hemilab::report;
-use hemilab::shard::manifest as shard;
+use crate::error::{Error, Result};
+use crate::jobs::runner::JobRunner;
+use crate::jobs::{Threads, executor, long_run};
+use crate::load::load;
+use crate::outdir;
+use crate::plan;
+use crate::reference::store::{self as refs, Policy};
+use crate::report;
+use crate::shard::manifest as shard;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -35,11 +35,11 @@ pub fn run(args: RunArgs) -> Result<()> {
     long_run::warn_if_long(&args.spec, protocol, &loaded, &full, &plan, &previous, &ref_dir)?;
     let references = (0..loaded.scenes.len())
         .map(|si| {
-            hemilab::jobs::reference::obtain(&loaded.spec, si, &loaded.scenes[si], &ref_dir, policy, &runner)
+            crate::jobs::reference::obtain(&loaded.spec, si, &loaded.scenes[si], &ref_dir, policy, &runner)
         })
         .collect::<Result<Vec<_>>>()?;
     let si_of = |j: &plan::Job| loaded.scene_of(j).0;
-    let views = hemilab::jobs::reference::obtain_views(
+    let views = crate::jobs::reference::obtain_views(
         &loaded.spec,
         &plan,
         &loaded.scenes,
@@ -55,7 +55,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     let saver = outdir::Saver::new(&out);
     let write = |s: &executor::Saved| saver.save(s.new, s.so_far);
     // After a signal the message says the finished jobs are here, for a rerun to resume.
-    hemilab::interrupt::saves_to(&out);
+    crate::interrupt::saves_to(&out);
     let (results, mut session) = executor::run_jobs(&executor::Jobs {
         loaded: &loaded,
         plan: &plan,
@@ -93,7 +93,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         );
         return Ok(());
     }
-    let images = |r: &hemilab::results::JobResult| outdir::record_image(&out, r);
+    let images = |r: &crate::results::JobResult| outdir::record_image(&out, r);
     let run = report::run::Run {
         loaded: &loaded,
         references: &references,

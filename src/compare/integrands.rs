@@ -60,11 +60,28 @@ pub fn scene_name(base: &str, integrand: Integrand) -> String {
     if integrand == Integrand::Ao { base.to_string() } else { format!("{base}-{integrand}") }
 }
 
+/// The scene a record names under integrand `i` without it: `scene_name`'s inverse (`None` when
+/// `scene` is not `scene_name(base, i)` for any base).
+fn base_name(scene: &str, i: Integrand) -> Option<&str> {
+    if i == Integrand::Ao {
+        return Some(scene);
+    }
+    let base = scene.strip_suffix(i.to_string().as_str())?.strip_suffix('-')?;
+    (scene_name(base, i) == scene).then_some(base)
+}
+
+/// A record's integrand, typed: its `Measurement`'s (`None` for a record whose measurement does
+/// not parse, which no statement reads).
+fn integrand(r: &JobResult) -> Option<Integrand> {
+    r.measurement().map(|m| m.integrand)
+}
+
 /// The scenes measured under more than one integrand, by their own names, in record order.
 pub fn scenes(results: &[JobResult]) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
-    for r in results.iter().filter(|r| r.integrand != "ao") {
-        if let Some(base) = r.scene.strip_suffix(&format!("-{}", r.integrand))
+    for r in results {
+        let Some(i) = integrand(r).filter(|i| *i != Integrand::Ao) else { continue };
+        if let Some(base) = base_name(&r.scene, i)
             && !out.iter().any(|b| b == base)
         {
             out.push(base.to_string());
@@ -76,10 +93,9 @@ pub fn scenes(results: &[JobResult]) -> Vec<String> {
 /// (replicate, RMSE) of one configuration.
 pub fn values(results: &[JobResult], scene: &str, i: Integrand, row: Row, rays: u32) -> Vec<(u32, f64)> {
     let name = scene_name(scene, i);
-    let i = i.to_string();
     results
         .iter()
-        .filter(|r| r.integrand == i && r.is(&name, row, rays))
+        .filter(|r| integrand(r) == Some(i) && r.is(&name, row, rays))
         .map(|r| (r.replicate, r.rmse))
         .collect()
 }
@@ -105,7 +121,7 @@ pub fn margin(results: &[JobResult], scene: &str, st: &Statement, rays: u32) -> 
 pub fn slope(results: &[JobResult], scene: &str, i: Integrand, row: Row) -> Option<f64> {
     let mut rays: Vec<u32> = results
         .iter()
-        .filter(|r| r.integrand == i.to_string() && r.scene == scene_name(scene, i) && r.is_row(row))
+        .filter(|r| integrand(r) == Some(i) && r.scene == scene_name(scene, i) && r.is_row(row))
         .map(|r| r.rays)
         .collect();
     rays.sort_unstable();
@@ -124,7 +140,7 @@ pub fn slope(results: &[JobResult], scene: &str, i: Integrand, row: Row) -> Opti
 
 /// The integrands measured, in the order of `Integrand`'s.
 fn integrands(results: &[JobResult]) -> Vec<Integrand> {
-    let mut v: Vec<Integrand> = results.iter().filter_map(|r| Integrand::parse(&r.integrand).ok()).collect();
+    let mut v: Vec<Integrand> = results.iter().filter_map(integrand).collect();
     v.sort();
     v.dedup();
     v
@@ -228,4 +244,22 @@ pub fn verdicts(results: &[JobResult]) -> Option<Verdicts> {
         })
         .collect();
     Some(Verdicts { scenes, statements, infinite, gains })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base_name_inverts_scene_name_for_every_integrand() {
+        for i in [Integrand::Ao, Integrand::Visibility, Integrand::CosLobe(4), Integrand::CosLobe(32)] {
+            for base in ["kitchen", "cornell-box", "a-visibility"] {
+                assert_eq!(base_name(&scene_name(base, i), i), Some(base), "{base} under {i}");
+            }
+        }
+        // A name that does not end in the integrand's is no scene measured under it.
+        assert_eq!(base_name("kitchen", Integrand::Visibility), None);
+        assert_eq!(base_name("kitchen-cos-lobe-4", Integrand::CosLobe(32)), None);
+        assert_eq!(base_name("kitchenvisibility", Integrand::Visibility), None);
+    }
 }

@@ -334,6 +334,63 @@ pub fn seeds_cells(results: &[JobResult]) -> Option<(u32, Vec<SeedsCell>)> {
     Some((fewest, out))
 }
 
+/// Question (3) in one cell: what engines ship against the masks and the paper's, after one
+/// pipeline at its last frame, for one scene and rays per frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EngineCell {
+    pub place: Place,
+    /// Either best's mean RMSE is below the floor.
+    pub below_floor: bool,
+    /// The configuration of least mean RMSE whose seed mode is an engine pattern
+    /// (`SeedMode::pattern`), and its RMSE.
+    pub engine: String,
+    pub engine_rmse: Estimate,
+    /// The configuration of least mean RMSE of every other seed mode, and its RMSE.
+    pub other: String,
+    pub other_rmse: Estimate,
+    /// The best other against the best engine pattern (positive: the engine's has less error).
+    pub rmse: Versus,
+    pub noise: Versus,
+}
+
+/// Whether a cell's configuration label (`distribution/sequence/seed_mode/schedule`) names an
+/// engine pattern's seed mode.
+fn is_engine(label: &str) -> bool {
+    let mode = label.split('/').nth(2).unwrap_or("");
+    mode.parse::<crate::sampling::SeedMode>().is_ok_and(|m| m.pattern().is_some())
+}
+
+/// Question (3): per (scene, rays, pipeline at its last frame) where an engine pattern and some
+/// other seed mode were measured, the best of each (least mean RMSE; the winner's curse of
+/// `paper_cells` applies to both sides) and their paired margins.
+pub fn engine_cells(results: &[JobResult]) -> Vec<EngineCell> {
+    let cells = cells(results);
+    let mut out = Vec::new();
+    let best = |it: &mut dyn Iterator<Item = (&String, &Vec<Measured>)>| {
+        it.min_by(|x, y| mean_rmse(x.1).total_cmp(&mean_rmse(y.1))).map(|(l, v)| (l.clone(), v.clone()))
+    };
+    for (at, configs) in &cells {
+        if cells.keys().any(|k| k.same_run(at) && k.frame > at.frame) {
+            continue;
+        }
+        let engine = best(&mut configs.iter().filter(|(l, _)| is_engine(l)));
+        let other = best(&mut configs.iter().filter(|(l, _)| !is_engine(l)));
+        let (Some((engine, e)), Some((other, o))) = (engine, other) else { continue };
+        let floor = floor_of(configs);
+        out.push(EngineCell {
+            place: Place::of(at, floor),
+            below_floor: below(floor, &[mean_rmse(&e), mean_rmse(&o)]),
+            engine,
+            engine_rmse: estimate(&e, Of::Rmse),
+            other,
+            other_rmse: estimate(&o, Of::Rmse),
+            rmse: Versus::of(&e, &o, Of::Rmse),
+            noise: Versus::of(&e, &o, Of::Noise),
+        });
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -383,5 +440,30 @@ mod tests {
         assert_eq!(stbn[0].rmse.sign, -1);
         assert_eq!(seeds_cells(&rs).map(|s| s.1.len()), Some(0), "no rotation/blue-noise/stbn triple");
         assert!(paper_cells(&rs[..4]).is_none(), "single frames only: nothing real-time");
+    }
+
+    #[test]
+    fn engine_cells_set_the_best_engine_pattern_against_the_best_other_seed_mode() {
+        let rs: Vec<JobResult> = [
+            recs(S::Fibonacci, M::Rotation, "ema0.1+atrous", 16, 0.030, 0.001),
+            recs(S::Random, M::BlueNoise, "ema0.1+atrous", 16, 0.020, 0.001),
+            recs(S::Random, M::Ign, "ema0.1+atrous", 16, 0.025, 0.001),
+            recs(S::Fibonacci, M::Bayer, "ema0.1+atrous", 16, 0.040, 0.001),
+            recs(S::Random, M::Ign, "ema0.1+atrous", 1, 0.001, 0.0001),
+            recs(S::Fibonacci, M::Rotation, "raw", 1, 0.10, 0.001),
+            recs(S::Fibonacci, M::MagicSquare, "raw", 1, 0.08, 0.001),
+        ]
+        .concat();
+        let c = engine_cells(&rs);
+        assert_eq!(c.len(), 2, "{c:?}");
+        assert_eq!((c[0].place.pipeline.as_str(), c[0].place.frame), ("ema0.1+atrous", 16), "the last frame only");
+        assert_eq!(c[0].engine, "sine-cosine/random/ign/independent");
+        assert_eq!(c[0].other, "sine-cosine/random/blue-noise/independent");
+        // Blue noise − IGN: exactly −0.005 twice → −20 % of 0.025, a verdict however few pairs.
+        assert!((c[0].rmse.margin.relative() + 0.2).abs() < 1e-12, "{:?}", c[0].rmse.margin);
+        assert_eq!((c[0].rmse.sign, c[0].noise.sign), (-1, -1), "the other wins");
+        assert_eq!(c[1].engine, "sine-cosine/fibonacci/magic-square/independent");
+        assert_eq!(c[1].rmse.sign, 1, "raw: the magic square's 0.08 against the paper's 0.10");
+        assert!(engine_cells(&rs[..4]).is_empty(), "no engine pattern measured: no cell");
     }
 }

@@ -4,6 +4,7 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod engine_noise;
 mod integrands;
 mod lowfreq;
 mod paper;

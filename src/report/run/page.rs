@@ -46,6 +46,7 @@ pub fn page(data: &ReportInput, figures: &Figures, files: &mut Vec<File>) {
     lead.extend(super::realtime::paper_table(data.results));
     lead.extend(super::realtime::stbn_table(data.results));
     lead.extend(super::realtime::seeds_table(data.results));
+    lead.extend(super::realtime::engine_table(data.results));
     // The integrand verdicts lead: a spec with several integrands is run for them.
     lead.extend(super::integrands::tables(data.results));
     tables.push(reference_table(data));

@@ -73,6 +73,7 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
         ("realtime-paper", super::realtime::paper_table(records)),
         ("realtime-stbn", super::realtime::stbn_table(records)),
         ("realtime-seeds", super::realtime::seeds_table(records)),
+        ("realtime-engine", super::realtime::engine_table(records)),
     ];
     for (what, t) in rt {
         if let Some(t) = t {

@@ -1,12 +1,13 @@
 //! The real-time verdicts as the page's and `quotes.md`'s tables and sentences: after each
 //! pipeline, does the paper's configuration still win; under accumulation, does spatiotemporal blue
-//! noise beat per-frame-independent blue noise; and the noise each seed mode leaves. The cells,
+//! noise beat per-frame-independent blue noise; does what engines ship (their rotation patterns)
+//! match the masks and the paper's; and the noise each seed mode leaves. The cells,
 //! margins and verdicts are `compare::realtime`'s (paired over replicates, 5 % two-sided); this
 //! file words and formats them.
 
 use crate::compare::margin::Margin;
 use crate::compare::model::Estimate;
-use crate::compare::realtime::{paper_cells, seeds_cells, stbn_cells};
+use crate::compare::realtime::{engine_cells, paper_cells, seeds_cells, stbn_cells};
 use crate::report::Table;
 use crate::results::JobResult;
 use std::collections::BTreeMap;
@@ -188,6 +189,56 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
     })
 }
 
+/// Column of `engine_table`'s RMSE verdict (the noise verdict follows it).
+const E_VERDICT: usize = 11;
+
+/// Question (3): per (scene, rays, pipeline at its last frame), the best engine pattern's
+/// configuration against the best of every other seed mode (`compare::realtime::engine_cells`).
+pub fn engine_table(results: &[JobResult]) -> Option<Table> {
+    let rows: Vec<Vec<String>> = engine_cells(results)
+        .into_iter()
+        .map(|c| {
+            vec![
+                c.place.scene.clone(),
+                c.place.rays.to_string(),
+                c.place.camera.clone(),
+                c.place.pipeline_text(),
+                floor_text(c.place.floor),
+                c.engine,
+                pm(c.engine_rmse),
+                c.other,
+                pm(c.other_rmse),
+                margin_text(&c.rmse.margin),
+                margin_text(&c.noise.margin),
+                rmse_verdict(c.rmse.sign, c.below_floor, "engine", "other"),
+                verdict(c.noise.sign, "engine", "other"),
+            ]
+        })
+        .collect();
+    (!rows.is_empty()).then(|| Table {
+        title: "Real-time: the best engine pattern (ign, bayer, magic-square, r2-dither) against the best other seed mode"
+            .into(),
+        header: [
+            "scene",
+            "rays/frame",
+            "camera",
+            "pipeline",
+            "floor",
+            "best engine pattern",
+            "its RMSE",
+            "best other",
+            "its RMSE",
+            "other against engine (RMSE)",
+            "(noise RMSE)",
+            "verdict (RMSE, 5 %)",
+            "verdict (noise RMSE)",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+    })
+}
+
 /// How many of `rows` have each verdict in column `col`: (first named wins, tie, second named wins,
 /// below floor).
 fn tally(rows: &[&Vec<String>], col: usize, first: &str) -> (usize, usize, usize, usize) {
@@ -287,6 +338,17 @@ pub fn text(results: &[JobResult]) -> Vec<String> {
             "Under temporal accumulation, spatiotemporal blue noise has significantly less RMSE than \
              per-frame-independent blue noise in {st} of {} cells, ties in {tie}, has more in {bn} and is below \
              the floor in {b}; on the noise RMSE it has less in {nst}, ties in {ntie} and has more in {nbn}.",
+            rows.len()
+        ));
+    }
+    if let Some(t) = engine_table(results) {
+        let rows: Vec<&Vec<String>> = t.rows.iter().collect();
+        let ((e, tie, o, b), (ne, ntie, no, _)) =
+            (tally(&rows, E_VERDICT, "engine"), tally(&rows, E_VERDICT + 1, "engine"));
+        out.push(format!(
+            "The engines' rotation patterns: the best of them has significantly less RMSE than the best other \
+             seed mode in {e} of {} cells, ties in {tie}, has more in {o} and is below the floor in {b}; on the \
+             noise RMSE less in {ne}, ties in {ntie} and more in {no}.",
             rows.len()
         ));
     }

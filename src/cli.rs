@@ -302,7 +302,8 @@ pub struct AdviseArgs {
     pub replicates: u32,
     /// Rank the image a real-time renderer shows: frames accumulated and filtered by this pipeline
     /// (raw, gauss, atrous, mean, emaA, or temporal+spatial such as ema0.1+atrous); budgets are then
-    /// per frame.
+    /// per frame, and the sweep adds the engines' rotation patterns (ign, bayer, magic-square,
+    /// r2-dither) as engines ship them.
     #[arg(long, default_value = "raw", value_parser = parse_pipeline, value_name = "PIPELINE")]
     pub pipeline: crate::denoise::Pipeline,
     /// With a temporal --pipeline: the frame whose image is ranked (frames accumulated), 1..=1024

@@ -124,7 +124,7 @@ fn cells(results: &[JobResult]) -> Cells<'_> {
             replicate: r.replicate,
             rmse: r.rmse,
             noise: r.noise_rmse,
-            floor: r.floor,
+            floor: r.floor.unwrap_or(f64::NAN),
         });
     }
     for configs in out.values_mut() {

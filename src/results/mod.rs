@@ -170,14 +170,14 @@ pub struct JobResult {
     pub denoiser: String,
     /// The image's temporal instability against the reference's: the RMS over covered pixels of
     /// (o_t − o_{t−1}) − (r_t − r_{t−1}) between this frame and the one before (`metrics::flicker`);
-    /// NaN for a single frame (and where it is not measured).
-    #[serde(default = "nan", deserialize_with = "split::nan_null")]
-    pub flicker: f64,
+    /// None (empty, null) for frame 1, a single frame, and where it is not measured.
+    #[serde(default)]
+    pub flicker: Option<f64>,
     /// The filter's floor: the RMSE of the pipeline applied to the reference itself (frames of the
-    /// static camera, pushed to this frame) against the reference; 0 without a filter, NaN for a single frame. An RMSE
+    /// static camera, pushed to this frame) against the reference; 0 without a filter, None (empty, null) for a single frame. An RMSE
     /// below its floor is the filter's bias cancelling the sampler's, never a win.
-    #[serde(default = "nan", deserialize_with = "split::nan_null")]
-    pub floor: f64,
+    #[serde(default)]
+    pub floor: Option<f64>,
     /// The user's denoiser's wall-clock time on this frame's image, seconds (0 without one): apart
     /// from the render's time, which never includes it.
     #[serde(default)]
@@ -265,8 +265,8 @@ impl JobResult {
             integrand: job.measurement.integrand.to_string(),
             camera: job.measurement.camera.name(),
             denoiser: job.measurement.denoiser.name(),
-            flicker: f64::NAN,
-            floor: f64::NAN,
+            flicker: None,
+            floor: None,
             denoise_s: 0.0,
         }
     }
@@ -418,8 +418,8 @@ pub fn to_csv(results: &[JobResult]) -> String {
             csv_field(&r.integrand),
             csv_field(&r.camera),
             csv_field(&r.denoiser),
-            num(r.flicker),
-            num(r.floor),
+            num(r.flicker.unwrap_or(f64::NAN)),
+            num(r.floor.unwrap_or(f64::NAN)),
             num(r.denoise_s),
         ];
         s.push_str(&fields.join(","));

@@ -336,8 +336,8 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             let image = keep(i, job, &img.output)?;
             let mut record = JobResult::new(job, &stats, img.output.rays, image);
             record.noise_rmse = noise_rmse;
-            record.flicker = img.flicker;
-            record.floor = against.floor_at(img.pipeline, img.frame);
+            record.flicker = Some(img.flicker).filter(|f| f.is_finite());
+            record.floor = Some(against.floor_at(img.pipeline, img.frame)).filter(|f| f.is_finite());
             record.denoise_s = img.denoise_s;
             record.key = keys[i].clone();
             record.timing_threads = protocol.threads_per_render as u32;

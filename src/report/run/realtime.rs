@@ -412,7 +412,7 @@ mod tests {
         );
         // A floor above both means: the verdict is withheld.
         let mut floored = rs.clone();
-        floored.iter_mut().filter(|r| r.frame == 16).for_each(|r| r.floor = 0.05);
+        floored.iter_mut().filter(|r| r.frame == 16).for_each(|r| r.floor = Some(0.05));
         let t = paper_table(&floored).unwrap();
         assert_eq!((t.rows[0][4].as_str(), t.rows[0][P_VERDICT].as_str()), ("0.0500", "below floor"));
         let seeds = seeds_table(&rs);

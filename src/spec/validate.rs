@@ -387,7 +387,10 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
     }
     let mut cameras: Vec<(String, CameraChoice)> = Vec::new();
     for (name, c) in &raw.cameras {
-        if name == crate::plan::CameraId::STATIC_NAME || !name.chars().all(|ch| ch.is_ascii_alphanumeric() || ch == '-' || ch == '_') || name.is_empty() {
+        if name == crate::plan::CameraId::STATIC_NAME
+            || !name.chars().all(|ch| ch.is_ascii_alphanumeric() || ch == '-' || ch == '_')
+            || name.is_empty()
+        {
             p.add(
                 c.span(),
                 &format!("cameras.{name}"),
@@ -395,19 +398,26 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
             );
             continue;
         }
-        cameras.push((name.clone(), CameraChoice { path: c.get_ref().path.clone(), jitter: c.get_ref().jitter }));
+        cameras.push((
+            name.clone(),
+            CameraChoice { path: c.get_ref().path.clone(), jitter: c.get_ref().jitter },
+        ));
     }
     let mut denoisers: Vec<crate::plan::Denoiser> = Vec::new();
     for (name, d) in &raw.denoisers {
         let key = format!("denoisers.{name}");
         match d.get_ref().validate() {
             Err(e) => p.add(d.span(), &key, e),
-            Ok(()) => denoisers.push(crate::plan::Denoiser { name: name.clone(), command: d.get_ref().clone().resolve(dir) }),
+            Ok(()) => denoisers.push(crate::plan::Denoiser {
+                name: name.clone(),
+                command: d.get_ref().clone().resolve(dir),
+            }),
         }
     }
     let named = Named { cameras: &cameras, denoisers: &denoisers };
     for (kind, g) in all {
-        if let Some(group) = group(kind, g, &mut scenes, replicates.unwrap_or(DEFAULT_REPLICATES), &named, p) {
+        if let Some(group) = group(kind, g, &mut scenes, replicates.unwrap_or(DEFAULT_REPLICATES), &named, p)
+        {
             let key = format!("{}.name", kind_key(kind));
             if groups.iter().any(|o: &Group| o.name == group.name) {
                 p.add(

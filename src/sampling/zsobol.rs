@@ -86,14 +86,16 @@ pub fn permuted_index(m: u64, j: u32, l: u32, key: u64) -> u64 {
 /// hashing all 16 + l/2 digits of every point made ZSobol renders cost ×3.3–3.8 the lattice's).
 /// The digits from the Morton code (those at or above bit l) are the pixel's: permuted once. A
 /// digit of j is permuted by a hash of the digits above it, which change only every 4^k points
-/// for the k-th digit from the bottom, so each level keeps its last hash; the odd last bit's hash
-/// reads idx >> 1, shared by two points.
+/// for the k-th digit from the bottom, so each level keeps its permutation and the permuted bits
+/// of it and every level above; a step of j redoes only the levels whose prefix changed (3 steps
+/// in 4 only the bottom one). The odd last bit's hash reads idx >> 1, shared by two points.
 pub struct PixelIndices {
     idx_high: u64,
+    /// Per digit of j (bottom first): the value above it last hashed, its permutation, and the
+    /// permuted bits of this level and all above it (with the Morton code's).
+    levels: [(u64, [u8; 4], u64); 16],
     /// The permuted digits at or above bit l.
     high: u64,
-    /// Per digit of j (bottom first): the value above it last hashed and its permutation.
-    levels: [(u64, [u8; 4]); 16],
     digits: usize,
     odd: u32,
     last_half: (u64, u64),
@@ -116,8 +118,8 @@ impl PixelIndices {
         }
         PixelIndices {
             idx_high,
+            levels: [(u64::MAX, [0; 4], 0); 16],
             high,
-            levels: [(u64::MAX, [0; 4]); 16],
             digits,
             odd,
             last_half: (u64::MAX, 0),
@@ -129,15 +131,24 @@ impl PixelIndices {
     #[inline]
     pub fn get(&mut self, j: u32) -> u64 {
         let idx = self.idx_high | j as u64;
-        let mut out = self.high;
-        for k in (0..self.digits).rev() {
-            let shift = 2 * k as u64 + self.odd as u64;
-            let above = idx >> (shift + 2);
-            let level = &mut self.levels[k];
-            if level.0 != above {
-                *level = (above, PERMS[(hash(self.key, above ^ (shift << 58)) % 24) as usize]);
-            }
-            out |= (level.1[((idx >> shift) & 3) as usize] as u64) << shift;
+        let shift = |k: usize| 2 * k as u64 + self.odd as u64;
+        // The levels whose prefix changed are the lowest ones (each level's prefix is the one
+        // below's without its top digit): 0..t.
+        let mut t = 0;
+        while t < self.digits && self.levels[t].0 != idx >> (shift(t) + 2) {
+            t += 1;
+        }
+        let mut out = if t + 1 < self.digits { self.levels[t + 1].2 } else { self.high };
+        if t < self.digits {
+            let level = &mut self.levels[t];
+            out |= (level.1[((idx >> shift(t)) & 3) as usize] as u64) << shift(t);
+            level.2 = out;
+        }
+        for k in (0..t).rev() {
+            let (s, above) = (shift(k), idx >> (shift(k) + 2));
+            let perm = PERMS[(hash(self.key, above ^ (s << 58)) % 24) as usize];
+            out |= (perm[((idx >> s) & 3) as usize] as u64) << s;
+            self.levels[k] = (above, perm, out);
         }
         if self.odd == 1 {
             let half = idx >> 1;
@@ -199,6 +210,10 @@ mod tests {
             for (x, y, key) in [(0, 0, 1), (7, 5, 0xDEAD_BEEF), (65535, 65535, u64::MAX)] {
                 let mut p = PixelIndices::new(morton(x, y), l, key);
                 for j in 0..(1u32 << l).min(700) {
+                    assert_eq!(p.get(j), permuted_index(morton(x, y), j, l, key), "l {l} ({x},{y}) j {j}");
+                }
+                // Out of turn too (the cache is only a cache).
+                for j in [5u32, 3, 700, 0, 64, 63, 1023, 2].map(|j| j % (1 << l)) {
                     assert_eq!(p.get(j), permuted_index(morton(x, y), j, l, key), "l {l} ({x},{y}) j {j}");
                 }
             }

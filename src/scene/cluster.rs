@@ -235,13 +235,14 @@ fn best_neighbour(tri: &[[u32; 3]], k: usize, positions: &[Vec3]) -> u32 {
     };
     let mut mine = None;
     let mut best = (f32::INFINITY, usize::MAX, SINGLE);
-    for j in k.saturating_sub(WINDOW)..(k + 1 + WINDOW).min(tri.len()) {
-        if j == k || !share_edge(me, tri[j]) {
+    let first = k.saturating_sub(WINDOW);
+    for (j, &other) in tri.iter().enumerate().take(k + 1 + WINDOW).skip(first) {
+        if j == k || !share_edge(me, other) {
             continue;
         }
         let mine = *mine.get_or_insert_with(|| bounds(me));
         // Least area, then the nearer place, then the earlier one (j rises, so `<` keeps it).
-        let candidate = (mine.union(&bounds(tri[j])).half_area(), k.abs_diff(j), j as u32);
+        let candidate = (mine.union(&bounds(other)).half_area(), k.abs_diff(j), j as u32);
         if (candidate.0, candidate.1) < (best.0, best.1) {
             best = candidate;
         }
@@ -365,7 +366,8 @@ mod tests {
                     obvhs::triangle::Triangle { v0, v1, v2 }
                 })
                 .collect();
-            let (bvh, slots) = fast(&positions, indices.clone(), &mut std::time::Duration::ZERO);
+            let mut core = std::time::Duration::ZERO;
+            let (bvh, slots) = fast(&positions, indices.clone(), &mut core);
             bvh.validate(&soup, false);
             assert_eq!(slots.len(), indices.len());
             let leaves: usize = bvh

@@ -5,6 +5,11 @@
 //! is about 0.4 GB), then `/usr/bin/time -v hemilab render /tmp/grid/grid-obj.toml --rays 1
 //! --resolution 32x24 --output /tmp/grid/out.exr`. Coordinates are printed with `{}` of the f32 value,
 //! which round-trips exactly.
+//!
+//! A third argument orders the triangles (issue 39: the BVH build must not depend on it; the image
+//! does not): `ordered` (default; each quad's two triangles next to each other, row by row),
+//! `split` (the first triangle of every quad, then every second one: a quad's halves N² apart) or
+//! `shuffled` (a fixed pseudo-random permutation of all triangles). The vertices stay in grid order.
 
 use hemilab::scene::gltf_write::{Doc, Node, Prim};
 use std::io::Write;
@@ -14,6 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let dir = PathBuf::from(args.next().unwrap_or_else(|| "/tmp/grid".into()));
     let n: u32 = args.next().map_or(Ok(2237), |s| s.parse())?;
+    let order = args.next().unwrap_or_else(|| "ordered".into());
     std::fs::create_dir_all(&dir)?;
     let side = n + 1;
     let height =
@@ -33,6 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             indices.extend_from_slice(&[a, d, c, a, c, b]);
         }
     }
+    let indices = reorder(indices, &order)?;
     let mut obj = std::io::BufWriter::new(std::fs::File::create(dir.join("grid.obj"))?);
     for p in &positions {
         writeln!(obj, "v {} {} {}", p[0], p[1], p[2])?;
@@ -55,6 +62,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
         std::fs::write(dir.join(format!("{name}.toml")), toml)?;
     }
-    println!("{}: {} triangles", dir.display(), 2 * n as u64 * n as u64);
+    println!("{}: {} triangles, {order}", dir.display(), 2 * n as u64 * n as u64);
     Ok(())
+}
+
+/// The triangles (3 indices each) in the order `order` names (see the module's doc).
+fn reorder(indices: Vec<u32>, order: &str) -> Result<Vec<u32>, String> {
+    let tris: Vec<[u32; 3]> = indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+    let tris = match order {
+        "ordered" => tris,
+        "split" => tris.iter().step_by(2).chain(tris.iter().skip(1).step_by(2)).copied().collect(),
+        "shuffled" => {
+            // Fisher-Yates with splitmix64 from a fixed seed: the same file on every run.
+            let mut tris = tris;
+            let mut state = 0x9E37_79B9_7F4A_7C15u64;
+            for i in (1..tris.len()).rev() {
+                state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+                let mut z = state;
+                z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+                z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+                z ^= z >> 31;
+                tris.swap(i, (z % (i as u64 + 1)) as usize);
+            }
+            tris
+        }
+        other => return Err(format!("order must be ordered, split or shuffled, got {other:?}")),
+    };
+    Ok(tris.into_iter().flatten().collect())
 }

@@ -76,6 +76,26 @@ fn print_table(v: &Value) {
         }
         println!("{:>10} mismatching rays: {}", "", mismatch_text(&c["mismatches"]));
     }
+    let p = &v["points"];
+    println!(
+        "points alone ({} pixels, {}, {} thread), ns per point, median (min..max) of {} repeats:",
+        p["pixels"],
+        p["seed_mode"].as_str().unwrap_or(""),
+        p["threads"],
+        v["repeats"]
+    );
+    for r in p["rows"].as_array().unwrap_or(&empty) {
+        let ns = &r["ns_per_point"];
+        let g = |k: &str| ns[k].as_f64().unwrap_or(0.0);
+        println!(
+            "{:>10} {:>5} points: {:.2} ({:.2}..{:.2})",
+            r["sequence"].as_str().unwrap_or(""),
+            r["points_per_pixel"],
+            g("median"),
+            g("min"),
+            g("max")
+        );
+    }
 }
 
 /// A distance as the table prints it: the JSON number, or ∞ (the JSON says "infinite").

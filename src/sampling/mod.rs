@@ -129,7 +129,8 @@ impl SamplerConfig {
     /// Writes the points of pixel (`x`, `y`), index `pixel` (= y · width + x, which keys its
     /// fresh numbers), into `out`: the first `min(count, out.len())` points of the `count`-point
     /// set (strata and lattice spacing follow `count`). Depends only on (config, x, y, pixel), never
-    /// on which thread or which other pixels ran. No allocation. (x, y) matters only for
+    /// on which thread or which other pixels ran. No allocation (Halton's working list is kept per
+    /// thread, made once). (x, y) matters only for
     /// `blue-noise` and `stbn`, whose offsets are read from masks tiled over the image.
     /// `frame` and `schedule` say how frame f's points follow from frame 0's ([`schedule`]).
     /// What each (sequence, seed mode) pair means: see [`seed`].

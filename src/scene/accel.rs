@@ -20,6 +20,7 @@ pub use super::node::Ray;
 use super::node::{child_planes, slabs};
 use glam::{UVec2, Vec3, Vec3A, Vec3Swizzles, Vec4};
 use obvhs::cwbvh::{CwBvh, node::CwBvhNode};
+use rayon::prelude::*;
 use std::cmp::Ordering;
 
 /// One triangle by its three vertices (edges would not be shared bit-exactly between neighbours).
@@ -99,7 +100,7 @@ impl Accel {
         let positions: Vec<Vec3> = triangles.iter().flatten().copied().collect();
         let indices: Vec<[u32; 3]> =
             (0..triangles.len() as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
-        Self::build_indexed(&positions, &indices, Effort::Full)
+        Self::build_indexed(&positions, indices, Effort::Full)
     }
 
     /// Builds the CWBVH over the triangles `indices` makes of `positions` and returns it with the
@@ -112,12 +113,12 @@ impl Accel {
     /// Memory (issue 29): afterwards the vertices live only in `tris` (BVH order), beside the tree;
     /// the input triangles in input order are kept only by a full build (the benchmark's baseline
     /// needs them, and a full build is for small scenes or long runs). A fast build gives obvhs the
-    /// boxes of pairs of triangles alone (`cluster`).
-    pub fn build_indexed(positions: &[Vec3], indices: &[[u32; 3]], effort: Effort) -> (Self, f64) {
-        let corners = |i: usize| indices[i].map(|k| Vec3A::from(positions[k as usize]));
+    /// boxes of pairs of triangles alone, and takes `indices` to put them in Z order (`cluster`).
+    pub fn build_indexed(positions: &[Vec3], indices: Vec<[u32; 3]>, effort: Effort) -> (Self, f64) {
         let mut core = std::time::Duration::ZERO;
-        let (bvh, source) = match effort {
+        let (bvh, tris, source) = match effort {
             Effort::Full => {
+                let corners = |i: usize| indices[i].map(|k| Vec3A::from(positions[k as usize]));
                 let soup: Vec<obvhs::triangle::Triangle> = (0..indices.len())
                     .map(|i| {
                         let [v0, v1, v2] = corners(i);
@@ -129,25 +130,14 @@ impl Accel {
                     obvhs::BvhBuildParams { max_prims_per_leaf: 2, ..obvhs::BvhBuildParams::slow_build() },
                     &mut core,
                 );
-                (bvh, Some(soup))
+                let tris = bvh.primitive_indices.par_iter().map(|&i| Tri::new(corners(i as usize))).collect();
+                (bvh, tris, Some(soup))
             }
-            Effort::Fast => (super::cluster::fast_cwbvh(positions, indices, &mut core), None),
+            Effort::Fast => {
+                let (bvh, tris) = super::cluster::fast(positions, indices, &mut core);
+                (bvh, tris, None)
+            }
         };
-        let mut tris = Vec::with_capacity(bvh.primitive_indices.len());
-        for &i in &bvh.primitive_indices {
-            let mut v = corners(i as usize);
-            v.sort_unstable_by(|p, q| if lex_less(*p, *q) { Ordering::Less } else { Ordering::Greater });
-            let (e1, e2) = (v[1] - v[0], v[2] - v[0]);
-            let n = Vec3A::from(cross(e1, e2));
-            // The magnitudes N is made of (see `T_ERR`); 0 on the axes where N is exactly 0.
-            let m = (e1.yzx() * e2.zxy()).abs() + (e1.zxy() * e2.yzx()).abs();
-            tris.push(Tri {
-                a: v[0].extend(m.x),
-                b: v[1].extend(m.y),
-                c: v[2].extend(m.z),
-                n: n.extend(DN_ERR * m.element_sum()),
-            });
-        }
         static BUILDS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
         let id = BUILDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let contacts = tris.iter().map(|_| Default::default()).collect();
@@ -341,6 +331,21 @@ fn lex_less(p: Vec3A, q: Vec3A) -> bool {
 }
 
 impl Tri {
+    /// The triangle with corners `v` (in any order; stored in lexicographic order).
+    pub(super) fn new(mut v: [Vec3A; 3]) -> Tri {
+        v.sort_unstable_by(|p, q| if lex_less(*p, *q) { Ordering::Less } else { Ordering::Greater });
+        let (e1, e2) = (v[1] - v[0], v[2] - v[0]);
+        let n = Vec3A::from(cross(e1, e2));
+        // The magnitudes N is made of (see `T_ERR`); 0 on the axes where N is exactly 0.
+        let m = (e1.yzx() * e2.zxy()).abs() + (e1.zxy() * e2.yzx()).abs();
+        Tri {
+            a: v[0].extend(m.x),
+            b: v[1].extend(m.y),
+            c: v[2].extend(m.z),
+            n: n.extend(DN_ERR * m.element_sum()),
+        }
+    }
+
     /// N = (b - a) × (c - a), as `seen_from` uses it.
     #[inline(always)]
     pub(crate) fn normal(&self) -> [f32; 3] {

@@ -17,6 +17,7 @@ use super::camera::{Camera, WorldCamera};
 use super::mesh::{Mesh, usable};
 use ::gltf::mesh::Mode;
 use glam::{DMat4, DVec3};
+use rayon::prelude::*;
 
 /// A glTF file's geometry, its first camera (if a node of the scene places it), and the bytes of
 /// every external buffer it read (for the scene's content hash).
@@ -291,8 +292,11 @@ fn primitive(
     };
     // Each instance's positions once (in world coordinates), its triangles indexing them.
     let base = mesh.positions.len() as u32;
-    for c in corners {
-        if usable(&c.map(|i| positions[i as usize])) {
+    // The test in parallel: it reads the positions through the indices, slow for a large mesh
+    // whose triangles are not in the order of their vertices (issue 39).
+    let ok: Vec<bool> = corners.par_iter().map(|c| usable(&c.map(|i| positions[i as usize]))).collect();
+    for (c, ok) in corners.into_iter().zip(ok) {
+        if ok {
             mesh.indices.push(c.map(|i| base + i));
             if let (Some(Mask { cutout: cut, .. }), Some(source)) = (mask, mesh.alpha.as_mut()) {
                 let uv = uvs.as_ref().map_or([[0.0; 2]; 3], |u| c.map(|i| u[i as usize]));

@@ -8,6 +8,7 @@
 use super::obj;
 pub use super::obj_masks::Fetch;
 use glam::DVec3;
+use rayon::prelude::*;
 use std::io::Read;
 
 /// Triangles kept (world coordinates, f64), the count of those dropped (zero area or non-finite),
@@ -95,16 +96,28 @@ pub fn parse_obj_with(bytes: &[u8], fetch: Option<Fetch<'_>>) -> Result<ObjLoad,
     let mut source = masks.as_ref().map(|_| super::alpha::Source::default());
     let mut runs = parsed.material_runs.iter().peekable();
     let mut material = None;
+    let at = |i: u32| parsed.positions[i as usize];
+    let face =
+        |f: usize| &parsed.corners[if f == 0 { 0 } else { parsed.face_ends[f - 1] }..parsed.face_ends[f]];
+    // The test of every triangle (fan) in parallel: it reads the positions through the indices,
+    // slow for a large mesh whose faces are not in the order of their vertices (issue 39).
+    let ok: Vec<bool> = (0..parsed.face_ends.len())
+        .into_par_iter()
+        .flat_map_iter(|f| {
+            let face = face(f);
+            (1..face.len() - 1).map(move |k| usable(&[face[0], face[k], face[k + 1]].map(at)))
+        })
+        .collect();
+    let mut ok = ok.into_iter();
     let mut start = 0;
     for (f, &end) in parsed.face_ends.iter().enumerate() {
         while let Some(run) = runs.next_if(|r| r.first_face <= f) {
             material = Some(run.material as usize);
         }
         let face = &parsed.corners[start..end];
-        let at = |i: u32| parsed.positions[i as usize];
         for k in 1..face.len() - 1 {
             let idx = [face[0], face[k], face[k + 1]];
-            if !usable(&idx.map(at)) {
+            if !ok.next().expect("one flag a triangle") {
                 mesh.dropped += 1;
                 continue;
             }

@@ -27,6 +27,8 @@ mod obj_masks;
 pub mod packet;
 #[cfg(any(test, feature = "testing"))]
 pub mod procedural;
+#[cfg(any(test, feature = "testing"))]
+pub mod tree;
 
 pub use accel::{Accel, Effort};
 pub use camera::{Camera, WorldCamera};
@@ -34,6 +36,7 @@ pub use camera_path::{CameraPath, Keyframe, halton_jitter};
 pub use mesh::Mesh;
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 /// The largest coordinate (of a mesh vertex or a camera position) a scene may have, in magnitude:
 /// the renderer works in f32 relative to the camera, and a triangle's edge cross product (up to
@@ -104,7 +107,8 @@ impl Scene {
         // Each position shifted once (as each of its triangles would shift it: the same bits), and
         // the f64 copy freed before the BVH build's peak.
         let positions: Vec<Vec3> = positions.into_iter().map(local).collect();
-        let keep: Vec<bool> = indices.iter().map(|t| usable(&t.map(|i| positions[i as usize]))).collect();
+        // In parallel: a gather through the indices, slow for a large shuffled mesh.
+        let keep: Vec<bool> = indices.par_iter().map(|t| usable(&t.map(|i| positions[i as usize]))).collect();
         let before = indices.len();
         let mut kept = keep.iter();
         indices.retain(|_| *kept.next().expect("one flag a triangle"));
@@ -122,15 +126,17 @@ impl Scene {
             ));
         }
         let effort = Effort::for_work(rays, indices.len());
-        let (mut accel, bvh_build_s) = Accel::build_indexed(&positions, &indices, effort);
-        if let Some(source) = alpha {
+        let triangle_count = indices.len();
+        // The masks need the input triangles in input order; the build takes the indices.
+        let alpha = alpha.map(|source| (source, indices.clone()));
+        let (mut accel, bvh_build_s) = Accel::build_indexed(&positions, indices, effort);
+        if let Some((source, indices)) = alpha {
             let input: Vec<[Vec3; 3]> = indices.iter().map(|t| t.map(|i| positions[i as usize])).collect();
             let slots = (0..accel.len() as u32).map(|p| (accel.source_index(p), accel.triangle(p)));
             let mask = alpha::Mask::for_slots(source, &input, slots);
             accel.set_alpha(mask);
         }
-        let triangle_count = indices.len();
-        drop((positions, indices));
+        drop(positions);
         Ok(Scene {
             name,
             view,

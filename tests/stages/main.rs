@@ -39,6 +39,7 @@ mod sampling_stbn;
 mod sampling_textures;
 mod sampling_warps;
 mod scene_alpha;
+mod scene_build_order;
 mod scene_bvh;
 mod scene_camera_path;
 mod scene_files;

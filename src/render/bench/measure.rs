@@ -14,9 +14,13 @@ use crate::scene::Scene;
 use serde_json::{Value, json};
 use std::time::Instant;
 
+/// Pixels each sequence's points are timed over (`points::ns_per_point`): 2 to 40 ms a pass.
+const POINT_PIXELS: u32 = 2048;
+
 /// The whole benchmark of `job` on `scene`: whole renders on one and all threads, the render
 /// against its own AO query, and obvhs against hemilab at each distance (default: the scene's d,
-/// 0.3 d and unbounded), `repeats` timed samples each. Returns the JSON `hemilab bench --json`
+/// 0.3 d and unbounded), `repeats` timed samples each, and every sequence's cost per point.
+/// Returns the JSON `hemilab bench --json`
 /// prints.
 pub fn measure(scene: &Scene, job: &RenderJob, distances: Option<&[f32]>, repeats: u32) -> Result<Value> {
     let all = crate::timing::cores();
@@ -57,6 +61,7 @@ pub fn measure(scene: &Scene, job: &RenderJob, distances: Option<&[f32]>, repeat
         "ray_set": { "pixels": set.origins.len(), "rays": set.len(), "build_s": set_s },
         "repeats": repeats,
         "comparison": comparisons,
+        "points": super::points::ns_per_point(POINT_PIXELS, repeats),
     }))
 }
 

@@ -6,6 +6,7 @@
 //! inverses, hemilab's packet) is inside its timing. No IO, no printing.
 
 pub mod measure;
+pub mod points;
 
 use super::{PixelRays, RenderJob, pixel_rays, trace_soa};
 use crate::scene::Scene;

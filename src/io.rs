@@ -19,6 +19,10 @@ pub fn exists(path: &Path) -> bool {
     path.exists()
 }
 
+pub fn is_dir(path: &Path) -> bool {
+    path.is_dir()
+}
+
 /// Proves that `dir` can be created and written (by creating and removing a probe file in it, or
 /// in its nearest existing ancestor), so an unusable output directory fails before any rendering.
 /// Nothing is left behind: a run that stops early for another reason creates no empty directories.

@@ -83,7 +83,7 @@ impl Loaded {
 }
 
 pub fn load(spec_path: &Path) -> Result<Loaded> {
-    let text = io::read_string(spec_path)?;
+    let text = read_named(spec_path, "spec")?;
     let dir = spec_path.parent().unwrap_or(Path::new(""));
     let spec = spec::parse_spec_with(&text, spec_path, &SpecFiles { dir })?;
     let jobs = crate::plan::plan(&spec).jobs;
@@ -177,7 +177,7 @@ fn spec_rays(spec: &Spec, s: &SceneRef, jobs: &[Job], res: (u32, u32)) -> Option
 /// `load_scene` with the BVH build effort by `rays`: the rays the command will trace, given the
 /// scene file's resolution (None: unknown, full effort).
 fn load_scene_with(path: &Path, rays: &dyn Fn((u32, u32)) -> Option<u64>) -> Result<Scene> {
-    let text = io::read_string(path)?;
+    let text = read_named(path, "scene")?;
     let spec = file::parse(&text).map_err(|e| Error::input(path, e))?;
     let lower = spec.mesh.to_ascii_lowercase();
     let gltf = file::is_gltf(&spec.mesh);
@@ -257,6 +257,26 @@ fn load_scene_with(path: &Path, rays: &dyn Fn((u32, u32)) -> Option<u64>) -> Res
     })?;
     check_view(path, &scene, res.0, res.1)?;
     Ok(scene)
+}
+
+/// A spec or scene file named on the command line, read whole: a missing one is one clear error
+/// with the path it was looked for at (a relative path is relative to the current directory, which
+/// may not be where the user thinks), not the operating system's bare "No such file or directory".
+pub fn read_named(path: &Path, what: &str) -> Result<String> {
+    if !io::exists(path) {
+        let shown = path.display().to_string();
+        return Err(Error::input(
+            path,
+            format!(
+                "{what} file not found (looked for {}; a relative path is relative to the current directory)",
+                looked_for(path, &shown)
+            ),
+        ));
+    }
+    if io::is_dir(path) {
+        return Err(Error::input(path, format!("is a directory; name a {what} file (.toml)")));
+    }
+    io::read_string(path)
 }
 
 /// The absolute, normalized form of a path for "looked for" in messages (`fallback` if it has none).

@@ -213,7 +213,13 @@ impl Measurement {
         if self.is_single_frame() {
             String::new()
         } else {
-            format!(";frame={};schedule={};pipeline={}{}", self.frame, self.schedule, self.pipeline, self.view_key())
+            format!(
+                ";frame={};schedule={};pipeline={}{}",
+                self.frame,
+                self.schedule,
+                self.pipeline,
+                self.view_key()
+            )
         }
     }
 

@@ -134,7 +134,13 @@ pub fn wanted_manifest(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry
 }
 
 /// `wanted_manifest` of another view of the scene.
-pub fn wanted_view(spec: &Spec, si: usize, scene: &Scene, geometry: Geometry, view: &ReferenceView) -> Manifest {
+pub fn wanted_view(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    geometry: Geometry,
+    view: &ReferenceView,
+) -> Manifest {
     let rays = match (spec.reference.adaptive, spec.reference.rays) {
         (true, _) => pilot_rays(spec, si),
         (false, ReferenceRays::Fixed(r)) => r,

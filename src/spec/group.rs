@@ -4,8 +4,8 @@
 
 use super::position::line_of;
 use super::validate::{Named, Problems, RawGroup, S, kind_key};
-use crate::plan::{CameraId, CameraRun, DenoiserId};
 use super::*;
+use crate::plan::{CameraId, CameraRun, DenoiserId};
 
 pub(super) fn group(
     kind: GroupKind,

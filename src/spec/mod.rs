@@ -87,6 +87,7 @@ use crate::sampling::{Distribution, Integrand, Schedule, SeedMode, Sequence};
 use std::path::{Component, Path, PathBuf};
 
 mod group;
+mod keys;
 pub(crate) mod position;
 mod validate;
 

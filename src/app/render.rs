@@ -10,13 +10,14 @@ use hemilab::render::{self, RenderJob, RenderOutput};
 use hemilab::sampling::SamplerConfig;
 use hemilab::scene::Scene;
 use hemilab::spec::AoDistance;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 pub fn run(args: RenderArgs) -> Result<()> {
-    let out = &args.output;
+    // Absolute and without `..`: a missing directory is made where the path says, and said so.
+    let out = &hemilab::io::absolute(&args.output);
     if !out.to_string_lossy().to_ascii_lowercase().ends_with(".exr") {
-        return Err(Error::Usage(format!("--output {}: must name an .exr file", out.display())));
+        return Err(Error::Usage(format!("--output {}: must name an .exr file", args.output.display())));
     }
     let png = out.with_extension("png");
     let (sequence, seed_mode) = (args.sampling.sequence.resolve()?, args.sampling.seed_mode.resolve()?);
@@ -28,10 +29,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         .with_schedule(args.sampling.frames.schedule);
     // The BVH's build effort follows the rays this image traces (`scene::Effort::for_work`).
     let (scene, width, height) = scene_for(&args.scene, args.resolution, Some(args.rays))?;
-    let dir = match out.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
+    let dir = out.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
     io::ensure_writable_dir(&dir)?;
     io::ensure_writable_file(out)?;
     io::ensure_writable_file(&png)?;
@@ -75,8 +73,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
             args.rays,
             result.rays,
             result.rays as f64 / secs.max(1e-9) / 1e6,
-            out.display(),
-            png.display()
+            args.output.display(),
+            args.output.with_extension("png").display()
         );
     }
     Ok(())

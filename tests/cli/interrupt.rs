@@ -154,3 +154,34 @@ fn a_signal_stops_a_run_that_says_what_is_saved_and_resumes() {
     assert!(second > first, "resumed from {first} saved jobs, not from none: {text}");
     assert_eq!(second, saved(&t));
 }
+
+/// Ctrl-C while a reference is being built ends the command at once (no job is running to finish);
+/// the reference's lock file goes with it, as it goes after a finished build.
+#[test]
+fn a_signal_during_a_reference_build_leaves_no_lock_file() {
+    let t = Tmp::new("interrupt-lock");
+    // About 300 M rays on one thread: tens of seconds, far longer than the test waits.
+    t.spec("long.toml", &long_spec().replace("rays = 256\nreplicates = 2", "rays = 16384\nreplicates = 2"));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hemilab"))
+        .args(["reference", "long.toml", "--reference-dir", "ref", "--threads", "1", "--quiet"])
+        .current_dir(&t.0)
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(t.path("r.log")).unwrap())
+        .spawn()
+        .expect("start hemilab");
+    let locks = || -> Vec<String> {
+        std::fs::read_dir(t.path("ref"))
+            .map(|d| {
+                d.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                    .filter(|n| n.ends_with(".lock"))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    wait_for(&mut child, "the reference's lock was taken", &|| !locks().is_empty());
+    signal(&child, libc::SIGINT);
+    let status = child.wait().unwrap();
+    let text = std::fs::read_to_string(t.path("r.log")).unwrap();
+    assert_eq!(status.code(), Some(130), "{text}");
+    assert!(locks().is_empty(), "left behind: {:?}\n{text}", locks());
+}

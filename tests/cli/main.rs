@@ -7,6 +7,7 @@ mod support;
 mod advise;
 mod advise_pipeline;
 mod advise_runs;
+mod first_hour;
 mod help_readme;
 mod interrupt;
 mod plan_estimate;

@@ -4,11 +4,10 @@
 
 use crate::error::{Error, Result};
 use crate::io;
-use crate::metrics;
 use crate::plan::Geometry;
 use crate::plan::Job;
-use crate::render::{self, RenderJob};
-use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use crate::render;
+use crate::sampling::{SeedMode, Sequence};
 use crate::scene::{self, Camera, Scene, file, mesh};
 use crate::spec::{self, SceneRef, Spec};
 use glam::DVec3;
@@ -255,7 +254,17 @@ fn load_scene_with(path: &Path, rays: &dyn Fn((u32, u32)) -> Option<u64>) -> Res
         // Its camera and distance were checked with the file; an empty mesh is the mesh's fault.
         Error::input(if e.starts_with(scene::EMPTY_MESH) { &mesh_path } else { path }, e)
     })?;
-    check_view(path, &scene, res.0, res.1)?;
+    let sight = check_view(path, &scene, res.0, res.1)?;
+    let camera = match (&spec.camera.0, &scene.view) {
+        (None, _) => {
+            format!("the camera of the glTF file '{}' (a `[camera.perspective]` places another)", spec.mesh)
+        }
+        (Some(_), Camera::Perspective { .. }) => "key `camera.perspective.eye`".to_string(),
+        (Some(_), Camera::Orthographic { .. }) => "key `camera.orthographic.eye`".to_string(),
+    };
+    if let Some(w) = facing_warning(path, &scene, &sight, &camera) {
+        eprintln!("{w}");
+    }
     Ok(scene)
 }
 
@@ -286,20 +295,12 @@ fn looked_for(p: &Path, fallback: &str) -> String {
 
 /// Refuses a camera that sees no triangle at `width` x `height`: every image of it would be
 /// background, with nothing to measure, and a run would find out only after building a reference.
-/// The primary rays are traced once (a render with no AO rays, as the executor's overhead render:
-/// milliseconds, against the seconds of any real work), and the message says where the mesh is.
-pub fn check_view(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<()> {
-    let base = RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler: SamplerConfig::new(Sequence::Random, SeedMode::Rotation, 1, 0)
-            .map_err(|e| Error::Refused(e.to_string()))?,
-        width,
-        height,
-        ao_distance: scene.ao_distance,
-    };
-    let out = render::render(scene, &render::overhead_job(&base), &|_| {});
-    if (0..out.coverage.len()).any(|i| metrics::covered(&out.coverage, i)) {
-        return Ok(());
+/// The primary rays are traced once (milliseconds, against the seconds of any real work), and the
+/// message says where the mesh is. Returns what the camera sees, for `facing_warning`.
+pub fn check_view(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<render::Sight> {
+    let sight = render::sight(scene, width, height);
+    if sight.hits > 0 {
+        return Ok(sight);
     }
     Err(Error::input(
         path,
@@ -307,6 +308,26 @@ pub fn check_view(path: &Path, scene: &Scene, width: u32, height: u32) -> Result
             "camera: sees no triangle of the mesh (none of the {width}x{height} primary rays hits it): {}",
             where_is_the_mesh(scene)
         ),
+    ))
+}
+
+/// The warning for a camera under the floor (`render::Sight::under_the_floor`: nothing below
+/// the eye, the mesh above it), naming the scene file and where its camera is written (`camera`:
+/// "key `camera.perspective.eye`", or a glTF file's camera). A warning, not a refusal: an eye
+/// below a ceiling-only mesh is a (strange) view all the same.
+pub fn facing_warning(path: &Path, scene: &Scene, sight: &render::Sight, camera: &str) -> Option<String> {
+    if !sight.under_the_floor() {
+        return None;
+    }
+    Some(format!(
+        "warning: {}: {camera}: the eye looks to be under the floor or behind the geometry: {:.0} % of \
+         the directions below it meet nothing and {:.0} % of those above it meet the mesh, and {:.0} % of \
+         the pixels see no surface (the preview draws them as a blue checkerboard); {}",
+        path.display(),
+        sight.below_open * 100.0,
+        sight.above_closed * 100.0,
+        (1.0 - sight.coverage()) * 100.0,
+        where_is_the_mesh(scene)
     ))
 }
 

@@ -2,7 +2,7 @@
 
 use crate::cli::RenderArgs;
 use hemilab::error::{Error, Result};
-use hemilab::image::{self, Channel, Image, Provenance};
+use hemilab::image::{self, Channel, Provenance};
 use hemilab::io;
 use hemilab::load::scene_for;
 use hemilab::progress;
@@ -59,7 +59,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         Some(&provenance),
     )
     .map_err(|e| Error::input(out, format!("cannot encode EXR: {e}")))?;
-    let preview = image::encode_png_gray(&preview(&result))
+    let preview = image::encode_png_rgb(width, height, &preview(&result))
         .map_err(|e| Error::input(&png, format!("cannot encode PNG: {e}")))?;
     io::write_atomic(out, &exr)?;
     io::write_atomic(&png, &preview)?;
@@ -139,8 +139,25 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
     Provenance { summary, json }
 }
 
-/// The PNG preview: AO clamped to [0, 1] by the encoder, background black so it stands out.
-fn preview(r: &RenderOutput) -> Image {
-    let data = r.ao.data.iter().zip(&r.coverage.data).map(|(&a, &c)| if c > 0.0 { a } else { 0.0 }).collect();
-    Image::from_vec(r.ao.width, r.ao.height, data)
+/// The PNG preview: AO in gray, clamped to [0, 1]; where no surface is seen, a blue checkerboard,
+/// so that background never reads as full occlusion (black) or as open sky (white).
+fn preview(r: &RenderOutput) -> Vec<u8> {
+    let w = r.ao.width;
+    let mut rgb = Vec::with_capacity(r.ao.len() * 3);
+    for (i, (&a, &c)) in r.ao.data.iter().zip(&r.coverage.data).enumerate() {
+        let (x, y) = (i as u32 % w, i as u32 / w);
+        let px = if c > 0.0 {
+            let v = image::to_u8(a);
+            [v, v, v]
+        } else if (x / 8 + y / 8) % 2 == 0 {
+            NO_SURFACE[0]
+        } else {
+            NO_SURFACE[1]
+        };
+        rgb.extend_from_slice(&px);
+    }
+    rgb
 }
+
+/// The preview's two colours for "no surface" (`preview`).
+pub const NO_SURFACE: [[u8; 3]; 2] = [[40, 60, 110], [60, 85, 140]];

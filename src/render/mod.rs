@@ -8,10 +8,12 @@ mod clearance;
 mod gbuffer;
 mod offset;
 pub mod reproject;
+mod sight;
 mod view;
 
 pub use gbuffer::{FrameGBuffer, GBuffer, frame_gbuffer, gbuffer};
 pub use reproject::{ReprojectParams, reproject};
+pub use sight::{Sight, sight};
 pub use view::View;
 
 pub use offset::{Plane, ao_origin};

@@ -95,3 +95,56 @@ fn no_lock_file_stays_after_a_run() {
         "a reference was built"
     );
 }
+
+/// A camera under the Cornell box's floor sees its underside and, below the horizon, nothing: it
+/// passes the "sees a triangle" check, so it is warned about (file and key), and the preview draws
+/// "no surface" as a blue checkerboard, never as the black of full occlusion.
+#[test]
+fn a_camera_under_the_floor_is_warned_about_and_no_surface_is_not_black() {
+    let t = Tmp::new("under-floor");
+    let mesh = scene("cornell-box.obj");
+    let under = format!(
+        "mesh = \"{mesh}\"\nresolution = [32, 24]\nao_distance = 150.0\n[camera.perspective]\n\
+         eye = [278.0, -60.0, 280.0]\ntarget = [278.0, -60.0, 600.0]\nup = [0.0, 1.0, 0.0]\nfov_y_deg = 60.0\n"
+    );
+    t.spec("under.toml", &under);
+    let o = t.hemilab(&["render", "under.toml", "--rays", "2", "--quiet", "--output", "x.exr"]);
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.starts_with(
+            "warning: under.toml: key `camera.perspective.eye`: the eye looks to be under the floor"
+        ),
+        "{e}"
+    );
+    assert!(e.contains("blue checkerboard"), "{e}");
+    let channels = hemilab::io::read_exr(&t.path("x.exr")).unwrap();
+    let a = &channels.iter().find(|(n, _)| n == "A").unwrap().1;
+    let png = image::load_from_memory(&std::fs::read(t.path("x.png")).unwrap()).unwrap().to_rgb8();
+    let (mut background, mut surface) = (0, 0);
+    for (i, &c) in a.data.iter().enumerate() {
+        let p = png.get_pixel(i as u32 % 32, i as u32 / 32).0;
+        if c == 0.0 {
+            background += 1;
+            assert!(p[2] > p[0] + 40, "no surface at pixel {i} is drawn blue, not {p:?}");
+        } else {
+            surface += 1;
+            assert!(p[0] == p[1] && p[1] == p[2], "a surface is drawn gray, not {p:?}");
+        }
+    }
+    assert!(background > 0 && surface > 0, "{background} background, {surface} surface pixels");
+
+    // The committed scene itself, seen from its own camera, is no such view.
+    let o = t.hemilab(&[
+        "render",
+        &scene("cornell-box.toml"),
+        "--rays",
+        "1",
+        "--resolution",
+        "8x6",
+        "--quiet",
+        "--output",
+        "y.exr",
+    ]);
+    assert!(o.status.success() && !stderr(&o).contains("warning"), "{}", stderr(&o));
+}

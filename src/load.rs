@@ -331,9 +331,8 @@ pub fn facing_warning(path: &Path, scene: &Scene, sight: &render::Sight, camera:
     ))
 }
 
-/// Where the mesh is from the camera, and what to change: its extent, and how far and how many
-/// degrees off the view direction its centre is.
-fn where_is_the_mesh(scene: &Scene) -> String {
+/// The mesh's bounding box in world coordinates.
+fn bounds(scene: &Scene) -> (DVec3, DVec3) {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for prim in 0..scene.accel.len() as u32 {
         for v in scene.accel.triangle(prim) {
@@ -341,6 +340,52 @@ fn where_is_the_mesh(scene: &Scene) -> String {
             (lo, hi) = (lo.min(w), hi.max(w));
         }
     }
+    (lo, hi)
+}
+
+/// One line on what was loaded, printed by `render` and `advise` before they work: the triangles,
+/// the materials with alpha masks (and the triangles they cut), the bounds, and the coverage (the
+/// fraction of pixels that see the mesh) at the size rendered — so a wrong file, a lost mask or a
+/// camera that sees little shows before the numbers do.
+pub fn summary(scene: &Scene, width: u32, height: u32) -> String {
+    let sight = render::sight(scene, width, height);
+    let (lo, hi) = bounds(scene);
+    let p = |v: DVec3| format!("[{}, {}, {}]", num(v.x), num(v.y), num(v.z));
+    let masks = match scene.masked_materials {
+        0 => "no alpha masks".to_string(),
+        n => format!(
+            "{n} material{} with alpha masks ({} triangles)",
+            if n == 1 { "" } else { "s" },
+            thousands(scene.masked_triangles)
+        ),
+    };
+    format!(
+        "scene '{}': {} triangles, {masks}, bounds {} to {}, coverage {:.0} % at {width}x{height}",
+        scene.name,
+        thousands(scene.triangle_count),
+        p(lo),
+        p(hi),
+        100.0 * sight.coverage()
+    )
+}
+
+/// 262087 as "262,087".
+fn thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Where the mesh is from the camera, and what to change: its extent, and how far and how many
+/// degrees off the view direction its centre is.
+fn where_is_the_mesh(scene: &Scene) -> String {
+    let (lo, hi) = bounds(scene);
     let centre = (lo + hi) * 0.5;
     let (eye, target) = match scene.view {
         Camera::Perspective { eye, target, .. } | Camera::Orthographic { eye, target, .. } => (eye, target),

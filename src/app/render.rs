@@ -43,6 +43,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
         height,
         ao_distance: scene.ao_distance,
     };
+    if !args.common.quiet {
+        println!("{}", hemilab::load::summary(&scene, width, height));
+    }
     // The masks and tables it reads, before the clock starts (the spatiotemporal masks take seconds).
     job.sampler.prepare();
     let bar = progress::bar(width as u64 * height as u64, "render", args.common.quiet);

@@ -1,4 +1,4 @@
-//! The user's own denoiser (issue 37, item 4): `DenoiseCommand` runs a program on a frame's EXR and
+//! The user's own denoiser: `DenoiseCommand` runs a program on a frame's EXR and
 //! reads one back. Here the program is the package's example `denoise_box` (a normal-aware 5 × 5
 //! box, as a user would write), built by `support::examples`; and commands that fail in each way
 //! are each one clear error (exit status 2) from `probe`, before any rendering.

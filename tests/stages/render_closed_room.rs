@@ -1,4 +1,4 @@
-//! No AO ray leaves a closed room (issue 27). A cube of half-size 1 seen from inside, d infinite:
+//! No AO ray leaves a closed room. A cube of half-size 1 seen from inside, d infinite:
 //! every AO ray must be blocked, so the occluded fraction is exactly 1 and, with the cosine-weighted
 //! warps (weight exactly 1 per ray), every covered pixel's AO is exactly 0. Before the fix the pixels
 //! whose primary ray met the room exactly on an edge, where two walls meet, started their AO rays on

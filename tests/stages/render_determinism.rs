@@ -42,7 +42,7 @@ fn one_thread_and_all_threads_give_identical_bits() {
     }
 }
 
-/// The BVH's build effort (issue 29: a render of few rays gets the fast build) changes the tree,
+/// The BVH's build effort (a render of few rays gets the fast build) changes the tree,
 /// never the image: AO is any-hit and a primary ray takes the least (t, input index) hit.
 #[test]
 fn fast_and_full_bvh_builds_give_identical_bits() {

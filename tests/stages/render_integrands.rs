@@ -1,4 +1,4 @@
-//! The renderer's integrands (issue 27) against their closed forms.
+//! The renderer's integrands against their closed forms.
 //!
 //! Inside a closed room (the cube of half-size 1 of `render_closed_room`, the issue's centred camera,
 //! d infinite) every ray is blocked, so a pixel's value is 1 − the mean of its rays' weights f/p:

@@ -1,4 +1,4 @@
-//! A moving camera's frames (issue 37): `render_view` and `frame_gbuffer` trace each frame's own
+//! A moving camera's frames: `render_view` and `frame_gbuffer` trace each frame's own
 //! camera and jitter, and `reproject` finds where each pixel was in the previous frame. Checked
 //! against an independent, analytic computation on a scene whose visibility and AO are closed
 //! forms (`support::parallax`: a floor under a floating rectangle): the reprojected reference is

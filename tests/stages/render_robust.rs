@@ -1,5 +1,5 @@
 //! AO near an occluder stays right where coordinates are extreme: under one huge ground triangle,
-//! far from the world origin, at millimetre and at kilometre size (issue 9). The exact answer is
+//! far from the world origin, at millimetre and at kilometre size. The exact answer is
 //! Lambert's polygon form factor (the floor sees only the occluder; d infinite). Per configuration
 //! (4 distributions × pseudo-random / Fibonacci, per-pixel `shift`, so each pixel is unbiased), the
 //! mean signed error over all floor pixels and 32 seeds must be within 4 standard errors of 0:

@@ -1,4 +1,4 @@
-//! Noise textures from files (issue 38): hemilab's own blue-noise and STBN masks written as PNG and
+//! Noise textures from files: hemilab's own blue-noise and STBN masks written as PNG and
 //! EXR and read back as `offset` textures render the built-in modes' images bit for bit; a
 //! texture's offsets are uniform over pixels and frames and, in each pixel, over run seeds (so the
 //! offset mode is unbiased per pixel); a texture that is not uniform is measured as such and not

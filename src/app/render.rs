@@ -152,7 +152,7 @@ fn preview(r: &RenderOutput) -> Vec<u8> {
         let px = if c > 0.0 {
             let v = image::to_u8(a);
             [v, v, v]
-        } else if (x / 8 + y / 8) % 2 == 0 {
+        } else if (x / 8 + y / 8).is_multiple_of(2) {
             NO_SURFACE[0]
         } else {
             NO_SURFACE[1]

@@ -118,13 +118,12 @@ fn job(
     rays: u32,
     res: (u32, u32),
 ) -> RenderJob {
-    RenderJob {
+    crate::support::jobs::render_job(
         distribution,
-        sampler: SamplerConfig::new(sequence, seed_mode, rays, 3).unwrap(),
-        width: res.0,
-        height: res.1,
-        ao_distance: f32::INFINITY,
-    }
+        SamplerConfig::new(sequence, seed_mode, rays, 3).unwrap(),
+        (res.0, res.1),
+        f32::INFINITY,
+    )
 }
 
 /// Every covered pixel fully occluded: every ray blocked and, for the unit-weight warps, AO exactly 0.

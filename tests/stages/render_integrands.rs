@@ -50,13 +50,12 @@ fn job(
     seed: u64,
     res: (u32, u32),
 ) -> RenderJob {
-    RenderJob {
-        distribution: d,
-        sampler: SamplerConfig::new(sequence, seed_mode, rays, seed).unwrap(),
-        width: res.0,
-        height: res.1,
-        ao_distance: f32::INFINITY,
-    }
+    crate::support::jobs::render_job(
+        d,
+        SamplerConfig::new(sequence, seed_mode, rays, seed).unwrap(),
+        (res.0, res.1),
+        f32::INFINITY,
+    )
 }
 
 /// The covered pixels' values.

@@ -322,13 +322,12 @@ fn reprojection_is_the_same_for_any_thread_count() {
 }
 
 fn job(scene: &Scene, rays: u32) -> RenderJob {
-    RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler: SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, rays, 7).unwrap(),
-        width: RES.0,
-        height: RES.1,
-        ao_distance: scene.ao_distance,
-    }
+    crate::support::jobs::render_job(
+        Distribution::SineCosine,
+        SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, rays, 7).unwrap(),
+        (RES.0, RES.1),
+        scene.ao_distance,
+    )
 }
 
 #[test]

@@ -141,7 +141,7 @@ fn job(
     res: (u32, u32),
 ) -> RenderJob {
     let sampler = SamplerConfig::new(sequence, seed_mode, rays, 21).unwrap();
-    RenderJob { distribution, sampler, width: res.0, height: res.1, ao_distance: f32::INFINITY }
+    crate::support::jobs::render_job(distribution, sampler, (res.0, res.1), f32::INFINITY)
 }
 
 /// Every distribution × sequence × seed mode, at 8 and 256 rays.

@@ -229,7 +229,11 @@ pub fn parse_spec_with(text: &str, path: &Path, files: &dyn Files) -> Result<Spe
     // Every unknown key at once (serde names only the first); the rest of the spec is then checked
     // without them (their text blanked, its lines kept), so that typos and bad values are all
     // reported by one run.
-    let unknown = super::keys::unknown(text);
+    let mut unknown = super::keys::unknown(text);
+    // A scene file given for a spec: one message that says so (`shape_hint`), not a list of its keys.
+    if unknown.iter().any(|(_, m, _)| m.starts_with("key `mesh`:") || m.starts_with("key `camera`:")) {
+        unknown.clear();
+    }
     let mut list: Vec<(usize, String)> = unknown.iter().map(|(l, m, _)| (*l, m.clone())).collect();
     let spans: Vec<std::ops::Range<usize>> = unknown.into_iter().map(|(_, _, s)| s).collect();
     let rest = super::keys::blank(text, &spans);

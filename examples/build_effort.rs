@@ -1,4 +1,4 @@
-//! The BVH build effort's trade-off (issue 29, docs/performance.md): for each scene, the core build
+//! The BVH build effort's trade-off (docs/performance.md): for each scene, the core build
 //! time of the full and the fast build and the AO query speed through each tree (hemilab's query,
 //! one thread, the bench's ray set at the scene's d), min / median / max of REPEATS:
 //! `cargo run --release --example build_effort -- REPEATS SCENE.toml...`. Prints markdown rows.

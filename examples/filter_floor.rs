@@ -1,4 +1,4 @@
-//! The bias floor of each real-time filter (issue 37): RMSE(F(reference), reference) over covered
+//! The bias floor of each real-time filter: RMSE(F(reference), reference) over covered
 //! pixels, with "reference" a high-ray render of the scene, for à-trous at 1…5 passes and at the
 //! share-of-image default (`denoise::default_iterations`), SVGF with its temporal part converged
 //! (the reference pushed as every frame) at 5 passes and at the default; then the noise/bias split

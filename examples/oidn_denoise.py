@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Intel Open Image Denoise as hemilab's `denoise_command` (issue 37, item 4).
+"""Intel Open Image Denoise as hemilab's `denoise_command`.
 
 Reads the EXR hemilab writes for a frame (channels: R, G, B = the AO; A = coverage; N.X, N.Y, N.Z
 = unit normals; Z = depth; albedo.R, albedo.G, albedo.B = 1), runs OIDN's "RT" filter on the

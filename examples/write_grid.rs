@@ -1,4 +1,4 @@
-//! Writes a large terrain grid for load-time and memory measurements (issue 29): `N` × `N` quads of a
+//! Writes a large terrain grid for load-time and memory measurements: `N` × `N` quads of a
 //! gently rolling height field, 2 N² triangles, as OBJ, as glTF `.glb` (the same f32 vertices, so
 //! both render the same image), and a scene TOML for each:
 //! `cargo run --release --example write_grid -- /tmp/grid 2237` (2237² × 2 = 10.0 M triangles; the OBJ

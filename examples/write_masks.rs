@@ -1,4 +1,4 @@
-//! Writes hemilab's own blue-noise and spatiotemporal masks as noise textures (issue 38): the
+//! Writes hemilab's own blue-noise and spatiotemporal masks as noise textures: the
 //! `blue-noise` mode's two masks as `blue_noise.png` / `.exr` (x in channel 0, y in channel 1) and
 //! `stbn`'s volumes as `stbn_0.png` … `stbn_31.png` / `.exr`. Read back with
 //! `--seed-mode texture:DIR/blue_noise.png` or `texture:DIR/stbn_%d.png`, they render the built-in

@@ -1,4 +1,4 @@
-//! The user's own denoiser (issue 37, item 4): a command the spec names, run on a measured frame.
+//! The user's own denoiser: a command the spec names, run on a measured frame.
 //! hemilab writes the frame and its G-buffer as one EXR, runs the command, reads one EXR back,
 //! checks it, and times the command alone (not the render, not the EXR writing and reading).
 //!

@@ -65,6 +65,8 @@ pub fn install() {
                 continue;
             }
             eprintln!("\n{}", message_now(sig));
+            // No `Drop` runs on this exit: the lock files go here (the locks go with the process).
+            crate::io::remove_held_locks();
             std::process::exit(128 + sig);
         }
     });

@@ -19,6 +19,10 @@ pub fn exists(path: &Path) -> bool {
     path.exists()
 }
 
+pub fn is_dir(path: &Path) -> bool {
+    path.is_dir()
+}
+
 /// Proves that `dir` can be created and written (by creating and removing a probe file in it, or
 /// in its nearest existing ancestor), so an unusable output directory fails before any rendering.
 /// Nothing is left behind: a run that stops early for another reason creates no empty directories.
@@ -28,6 +32,20 @@ pub fn ensure_writable_dir(dir: &Path) -> Result<()> {
         existing = existing.parent().unwrap_or(Path::new(""));
     }
     let base = if existing.as_os_str().is_empty() { Path::new(".") } else { existing };
+    // A directory made right under `/` is almost always a slip (`--output /out/x.exr` for
+    // `out/x.exr`, or a relative path typed while the current directory is `/`): refused, so that
+    // it is made on purpose or not at all.
+    let root = absolute(base).parent().is_none();
+    if root && base != dir {
+        let made = absolute(dir);
+        let shown = if made == dir { String::new() } else { format!(" (as {})", made.display()) };
+        let what = format!(
+            "would be created directly under the filesystem root{shown}; create it first if that is \
+             meant, or give a path under an existing directory (a relative path is relative to the \
+             current directory)"
+        );
+        return Err(Error::io(dir, std::io::Error::new(std::io::ErrorKind::NotFound, what)));
+    }
     if !base.is_dir() {
         let what = if base == dir {
             "exists and is not a directory".to_string()
@@ -39,6 +57,24 @@ pub fn ensure_writable_dir(dir: &Path) -> Result<()> {
     let probe = base.join(format!(".hemilab-probe-{}", std::process::id()));
     fs::write(&probe, b"").map_err(|e| Error::io(dir, e))?;
     fs::remove_file(&probe).map_err(|e| Error::io(&probe, e))
+}
+
+/// `path` made absolute against the current directory, with `.` and `..` resolved in the text (as
+/// `mkdir -p` would walk it), so that `a/../b` never makes `a` and messages say where a file went.
+pub fn absolute(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let full = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let mut out = PathBuf::new();
+    for c in full.components() {
+        match c {
+            Component::ParentDir => {
+                out.pop();
+            }
+            Component::CurDir => {}
+            c => out.push(c),
+        }
+    }
+    out
 }
 
 /// Creates `dir` and its parents if missing.
@@ -289,10 +325,46 @@ pub fn load_average() -> Option<(f64, usize)> {
 
 /// An exclusive lock on a file, held until dropped. It is the operating system's advisory lock
 /// (`flock`; over NFS the kernel maps it to a lock the server keeps), so it is released when the
-/// process ends however it ends: a killed job leaves no stale lock behind. The lock file itself is
-/// left in place; removing it would let a process lock a deleted file while another locks a new one.
+/// process ends however it ends: a killed job leaves no stale lock behind. The lock file is removed
+/// when the lock is dropped, and by `remove_held_locks` when a signal ends the command at once, so
+/// no `.lock` file stays beside the references. Removing it is safe because the holder unlinks it
+/// while still holding it, and a taker checks after locking that the file it locked is still the
+/// one at the path (else it locked a removed file, and tries again on the new one).
 pub struct Lock {
     _file: fs::File,
+    path: PathBuf,
+}
+
+/// The lock files this process holds, for `remove_held_locks`.
+static HELD: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+impl Drop for Lock {
+    fn drop(&mut self) {
+        // Unlinked while still locked (the file is closed, and unlocked, after this).
+        let _ = fs::remove_file(&self.path);
+        if let Ok(mut held) = HELD.lock() {
+            held.retain(|p| p != &self.path);
+        }
+    }
+}
+
+/// Removes the lock files this process holds: for a signal's exit at once, which runs no `Drop`.
+/// The locks themselves go with the process.
+pub fn remove_held_locks() {
+    if let Ok(held) = HELD.lock() {
+        for p in held.iter() {
+            let _ = fs::remove_file(p);
+        }
+    }
+}
+
+/// Whether the open `file` is the file now at `path` (not one removed since it was opened).
+fn still_at(file: &fs::File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (file.metadata(), fs::metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
 }
 
 /// Takes the exclusive lock on `path` (creating the file), waiting while another process holds it;
@@ -300,25 +372,34 @@ pub struct Lock {
 /// `Ok(Err(why))` when the lock cannot be taken here at all (a read-only directory, a filesystem
 /// without locks): the caller decides whether to go on without it.
 pub fn lock(path: &Path, waiting: impl FnOnce(&str)) -> Result<std::result::Result<Lock, String>> {
-    let open = fs::OpenOptions::new().read(true).write(true).create(true).truncate(false).open(path);
-    let mut file = match open {
-        Ok(f) => f,
-        Err(e) => return Ok(Err(format!("cannot create {}: {e}", path.display()))),
-    };
-    match file.try_lock() {
-        Ok(()) => {}
-        Err(fs::TryLockError::WouldBlock) => {
-            let holder = fs::read_to_string(path).unwrap_or_default();
-            let holder = holder.trim();
-            waiting(if holder.is_empty() { "another process" } else { holder });
-            if let Err(e) = file.lock() {
-                return Err(Error::io(path, e));
+    let mut waiting = Some(waiting);
+    let mut file = loop {
+        let open = fs::OpenOptions::new().read(true).write(true).create(true).truncate(false).open(path);
+        let file = match open {
+            Ok(f) => f,
+            Err(e) => return Ok(Err(format!("cannot create {}: {e}", path.display()))),
+        };
+        match file.try_lock() {
+            Ok(()) => {}
+            Err(fs::TryLockError::WouldBlock) => {
+                let holder = fs::read_to_string(path).unwrap_or_default();
+                let holder = holder.trim();
+                if let Some(tell) = waiting.take() {
+                    tell(if holder.is_empty() { "another process" } else { holder });
+                }
+                if let Err(e) = file.lock() {
+                    return Err(Error::io(path, e));
+                }
+            }
+            Err(fs::TryLockError::Error(e)) => {
+                return Ok(Err(format!("cannot lock {}: {e}", path.display())));
             }
         }
-        Err(fs::TryLockError::Error(e)) => {
-            return Ok(Err(format!("cannot lock {}: {e}", path.display())));
+        // The holder we waited for removed the file on its way out: lock the one at the path now.
+        if still_at(&file, path) {
+            break file;
         }
-    }
+    };
     let since = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
     let note = format!("hemilab on host {} pid {} since unix time {since}\n", hostname(), std::process::id());
     // The note is for the message of whoever waits next; the lock does not depend on it.
@@ -327,7 +408,10 @@ pub fn lock(path: &Path, waiting: impl FnOnce(&str)) -> Result<std::result::Resu
         file.seek(std::io::SeekFrom::Start(0))?;
         file.write_all(note.as_bytes())
     });
-    Ok(Ok(Lock { _file: file }))
+    if let Ok(mut held) = HELD.lock() {
+        held.push(path.to_path_buf());
+    }
+    Ok(Ok(Lock { _file: file, path: path.to_path_buf() }))
 }
 
 #[cfg(test)]
@@ -355,6 +439,8 @@ mod tests {
         rx.recv_timeout(std::time::Duration::from_secs(10)).expect("released on drop");
         let told = waiter.join().unwrap();
         assert!(told.contains(&format!("pid {}", std::process::id())), "{told}");
+        // The waiter locked the file anew after the holder removed it, and removed it in turn.
+        assert!(!path.exists(), "no lock file stays once its locks are dropped");
         let _ = fs::remove_dir_all(&dir);
     }
 

@@ -4,11 +4,10 @@
 
 use crate::error::{Error, Result};
 use crate::io;
-use crate::metrics;
 use crate::plan::Geometry;
 use crate::plan::Job;
-use crate::render::{self, RenderJob};
-use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use crate::render;
+use crate::sampling::{SeedMode, Sequence};
 use crate::scene::{self, Camera, Scene, file, mesh};
 use crate::spec::{self, SceneRef, Spec};
 use glam::DVec3;
@@ -83,7 +82,7 @@ impl Loaded {
 }
 
 pub fn load(spec_path: &Path) -> Result<Loaded> {
-    let text = io::read_string(spec_path)?;
+    let text = read_named(spec_path, "spec")?;
     let dir = spec_path.parent().unwrap_or(Path::new(""));
     let spec = spec::parse_spec_with(&text, spec_path, &SpecFiles { dir })?;
     let jobs = crate::plan::plan(&spec).jobs;
@@ -225,7 +224,7 @@ fn spec_rays(spec: &Spec, s: &SceneRef, jobs: &[Job], res: (u32, u32)) -> Option
 /// `load_scene` with the BVH build effort by `rays`: the rays the command will trace, given the
 /// scene file's resolution (None: unknown, full effort).
 fn load_scene_with(path: &Path, rays: &dyn Fn((u32, u32)) -> Option<u64>) -> Result<Scene> {
-    let text = io::read_string(path)?;
+    let text = read_named(path, "scene")?;
     let spec = file::parse(&text).map_err(|e| Error::input(path, e))?;
     let lower = spec.mesh.to_ascii_lowercase();
     let gltf = file::is_gltf(&spec.mesh);
@@ -303,8 +302,38 @@ fn load_scene_with(path: &Path, rays: &dyn Fn((u32, u32)) -> Option<u64>) -> Res
         // Its camera and distance were checked with the file; an empty mesh is the mesh's fault.
         Error::input(if e.starts_with(scene::EMPTY_MESH) { &mesh_path } else { path }, e)
     })?;
-    check_view(path, &scene, res.0, res.1)?;
+    let sight = check_view(path, &scene, res.0, res.1)?;
+    let camera = match (&spec.camera.0, &scene.view) {
+        (None, _) => {
+            format!("the camera of the glTF file '{}' (a `[camera.perspective]` places another)", spec.mesh)
+        }
+        (Some(_), Camera::Perspective { .. }) => "key `camera.perspective.eye`".to_string(),
+        (Some(_), Camera::Orthographic { .. }) => "key `camera.orthographic.eye`".to_string(),
+    };
+    if let Some(w) = facing_warning(path, &scene, &sight, &camera) {
+        eprintln!("{w}");
+    }
     Ok(scene)
+}
+
+/// A spec or scene file named on the command line, read whole: a missing one is one clear error
+/// with the path it was looked for at (a relative path is relative to the current directory, which
+/// may not be where the user thinks), not the operating system's bare "No such file or directory".
+pub fn read_named(path: &Path, what: &str) -> Result<String> {
+    if !io::exists(path) {
+        let shown = path.display().to_string();
+        return Err(Error::input(
+            path,
+            format!(
+                "{what} file not found (looked for {}; a relative path is relative to the current directory)",
+                looked_for(path, &shown)
+            ),
+        ));
+    }
+    if io::is_dir(path) {
+        return Err(Error::input(path, format!("is a directory; name a {what} file (.toml)")));
+    }
+    io::read_string(path)
 }
 
 /// The absolute, normalized form of a path for "looked for" in messages (`fallback` if it has none).
@@ -314,20 +343,12 @@ fn looked_for(p: &Path, fallback: &str) -> String {
 
 /// Refuses a camera that sees no triangle at `width` x `height`: every image of it would be
 /// background, with nothing to measure, and a run would find out only after building a reference.
-/// The primary rays are traced once (a render with no AO rays, as the executor's overhead render:
-/// milliseconds, against the seconds of any real work), and the message says where the mesh is.
-pub fn check_view(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<()> {
-    let base = RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler: SamplerConfig::new(Sequence::Random, SeedMode::Rotation, 1, 0)
-            .map_err(|e| Error::Refused(e.to_string()))?,
-        width,
-        height,
-        ao_distance: scene.ao_distance,
-    };
-    let out = render::render(scene, &render::overhead_job(&base), &|_| {});
-    if (0..out.coverage.len()).any(|i| metrics::covered(&out.coverage, i)) {
-        return Ok(());
+/// The primary rays are traced once (milliseconds, against the seconds of any real work), and the
+/// message says where the mesh is. Returns what the camera sees, for `facing_warning`.
+pub fn check_view(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<render::Sight> {
+    let sight = render::sight(scene, width, height);
+    if sight.hits > 0 {
+        return Ok(sight);
     }
     Err(Error::input(
         path,
@@ -338,9 +359,28 @@ pub fn check_view(path: &Path, scene: &Scene, width: u32, height: u32) -> Result
     ))
 }
 
-/// Where the mesh is from the camera, and what to change: its extent, and how far and how many
-/// degrees off the view direction its centre is.
-fn where_is_the_mesh(scene: &Scene) -> String {
+/// The warning for a camera under the floor (`render::Sight::under_the_floor`: nothing below
+/// the eye, the mesh above it), naming the scene file and where its camera is written (`camera`:
+/// "key `camera.perspective.eye`", or a glTF file's camera). A warning, not a refusal: an eye
+/// below a ceiling-only mesh is a (strange) view all the same.
+pub fn facing_warning(path: &Path, scene: &Scene, sight: &render::Sight, camera: &str) -> Option<String> {
+    if !sight.under_the_floor() {
+        return None;
+    }
+    Some(format!(
+        "warning: {}: {camera}: the eye looks to be under the floor or behind the geometry: {:.0} % of \
+         the directions below it meet nothing and {:.0} % of those above it meet the mesh, and {:.0} % of \
+         the pixels see no surface (the preview draws them as a blue checkerboard); {}",
+        path.display(),
+        sight.below_open * 100.0,
+        sight.above_closed * 100.0,
+        (1.0 - sight.coverage()) * 100.0,
+        where_is_the_mesh(scene)
+    ))
+}
+
+/// The mesh's bounding box in world coordinates.
+fn bounds(scene: &Scene) -> (DVec3, DVec3) {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for prim in 0..scene.accel.len() as u32 {
         for v in scene.accel.triangle(prim) {
@@ -348,6 +388,52 @@ fn where_is_the_mesh(scene: &Scene) -> String {
             (lo, hi) = (lo.min(w), hi.max(w));
         }
     }
+    (lo, hi)
+}
+
+/// One line on what was loaded, printed by `render` and `advise` before they work: the triangles,
+/// the materials with alpha masks (and the triangles they cut), the bounds, and the coverage (the
+/// fraction of pixels that see the mesh) at the size rendered — so a wrong file, a lost mask or a
+/// camera that sees little shows before the numbers do.
+pub fn summary(scene: &Scene, width: u32, height: u32) -> String {
+    let sight = render::sight(scene, width, height);
+    let (lo, hi) = bounds(scene);
+    let p = |v: DVec3| format!("[{}, {}, {}]", num(v.x), num(v.y), num(v.z));
+    let masks = match scene.masked_materials {
+        0 => "no alpha masks".to_string(),
+        n => format!(
+            "{n} material{} with alpha masks ({} triangles)",
+            if n == 1 { "" } else { "s" },
+            thousands(scene.masked_triangles)
+        ),
+    };
+    format!(
+        "scene '{}': {} triangles, {masks}, bounds {} to {}, coverage {:.0} % at {width}x{height}",
+        scene.name,
+        thousands(scene.triangle_count),
+        p(lo),
+        p(hi),
+        100.0 * sight.coverage()
+    )
+}
+
+/// 262087 as "262,087".
+fn thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Where the mesh is from the camera, and what to change: its extent, and how far and how many
+/// degrees off the view direction its centre is.
+fn where_is_the_mesh(scene: &Scene) -> String {
+    let (lo, hi) = bounds(scene);
     let centre = (lo + hi) * 0.5;
     let (eye, target) = match scene.view {
         Camera::Perspective { eye, target, .. } | Camera::Orthographic { eye, target, .. } => (eye, target),

@@ -132,6 +132,30 @@ fn finalists_are_measured_where_the_budget_fits_and_answer_from_measurements() {
     // Put on the sweep's scale, a session 10 % slower throughout fits again.
     let slow = interpolated.clone().measure(&by, 4, 1.1);
     assert_eq!(slow.finalists.iter().find(|c| c.row == r.ranked[1].row).unwrap().rays, 9);
+    // Every time 4 % over the budget: within 2 σ of the session factor, so it fits, and the answer
+    // says why a time above the budget is shipped (it once read as a mistake).
+    let mut over: Vec<JobResult> = Vec::new();
+    for a in &f {
+        for n in counts(a) {
+            for rep in 0..4u32 {
+                let mse = a.mse[rep as usize] * 10.0 / n as f64;
+                let z = if a.row == r.ranked[0].row { 10.0 } else { 1.0 };
+                let mut rec = JobResult::for_test("s", a.row, n, rep, mse.sqrt(), z);
+                rec.add_time(budget * 1.04 * n as f64 / rays_for(a) as f64, 0.0);
+                over.push(rec);
+            }
+        }
+    }
+    let by_over = |row: Row, n: u32| over.iter().filter(|x| x.rays == n && x.is_row(row)).collect::<Vec<_>>();
+    let ans_over = interpolated.clone().measure(&by_over, 4, 1.0);
+    assert!(ans_over.fits(ans_over.recommended().unwrap()));
+    let line = crate::report::advise::text::advice_line(&ans_over);
+    assert!(line.contains("4 % above the budget, which counts as fitting it"), "{line}");
+    assert!(line.contains("2 σ of the session factor"), "{line}");
+    assert!(
+        !crate::report::advise::text::advice_line(&ans).contains("above the budget"),
+        "at the budget: no note"
+    );
     // A missing replicate: the budget stays interpolated.
     assert!(!interpolated.measure(&by, 5, 1.0).measured);
     // Measured MSE carries the replicates' σ only; the gain the model's.

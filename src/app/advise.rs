@@ -62,6 +62,12 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         },
     };
     let setup = set_up(&request)?;
+    // What is measured, and at what size and why, before minutes of work, and again with the answer.
+    let [w, h] = setup.loaded.spec.resolution.unwrap_or([0, 0]);
+    let about = format!("{}\n{}", crate::load::summary(&setup.loaded.scenes[0], w, h), setup.choice);
+    if !args.common.quiet {
+        eprintln!("{about}");
+    }
     let default_out = || Path::new("out").join(format!("advise-{}", setup.stem));
     let out = args.out.clone().or_else(|| args.from.clone()).unwrap_or_else(default_out);
     outdir::check_advise_out(&out)?;
@@ -98,6 +104,15 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let stage = outdir::begin_advise_stage(&out, &sources.iter().map(PathBuf::as_path).collect::<Vec<_>>())?;
     outdir::write_advise_request(&stage, &request.to_json())?;
     let store = sweep::Store::new(&stage, &previous);
+    // After a signal: the finished jobs are kept in the stage (written out now, not at the next
+    // periodic write), and a rerun of the same command resumes from them.
+    crate::interrupt::saves_to(&stage);
+    let kept = |e: Error| {
+        if matches!(e, Error::Interrupted(_)) {
+            let _ = store.write(&[], true);
+        }
+        e
+    };
 
     let (results, mut session) = match &args.from {
         Some(dir) => sweep::stored(&setup.loaded, &setup.plan, &reference, &previous, &stage, dir)?,
@@ -113,9 +128,10 @@ pub fn run(args: AdviseArgs) -> Result<()> {
                 out: &stage,
                 protocol,
                 bar: &runner.bar,
+                label: "sweep",
                 write: &write,
             };
-            let ran = executor::measure_jobs(&jobs, &none)?;
+            let ran = executor::measure_jobs(&jobs, &none).map_err(kept)?;
             (ran.0, ran.1)
         }
     };
@@ -146,9 +162,10 @@ pub fn run(args: AdviseArgs) -> Result<()> {
             out: &stage,
             protocol,
             bar: &runner.bar,
+            label: "finalists",
             write: &write,
         };
-        let (r, s) = executor::measure_jobs(&jobs, &keep)?;
+        let (r, s) = executor::measure_jobs(&jobs, &keep).map_err(kept)?;
         (r.into_iter().map(Some).collect(), Some(s))
     };
     runner.bar.finish_and_clear();
@@ -183,6 +200,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     for w in &report.warnings {
         eprintln!("{w}");
     }
+    println!("{about}");
     print!("{}", report.text);
     Ok(())
 }

@@ -30,9 +30,12 @@ pub fn run(args: &PointsArgs) -> Result<()> {
     };
     let title = format!("{} (run seed {}{frame})", row.name(), args.seed);
     let set = PointSet { title: format!("{} points", args.count), dirs };
+    // As `render`'s --output: made where the path says (no `a/..` left behind), checked first.
+    let target = io::absolute(path);
+    io::ensure_writable_dir(target.parent().unwrap_or(&target))?;
     let bytes = report::point_panels(&title, &[(String::new(), vec![set])], true, format)
         .map_err(|e| Error::Refused(format!("{}: cannot draw the points: {e}", path.display())))?;
-    io::write_atomic(path, &bytes)?;
+    io::write_atomic(&target, &bytes)?;
     // As `render` does: what was drawn, and where.
     println!(
         "{} points, {}, run seed {}{frame} (pixel 0) -> {}",

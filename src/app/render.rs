@@ -2,7 +2,7 @@
 
 use crate::cli::RenderArgs;
 use crate::error::{Error, Result};
-use crate::image::{self, Channel, Image, Provenance};
+use crate::image::{self, Channel, Provenance};
 use crate::io;
 use crate::load::scene_for;
 use crate::progress;
@@ -10,13 +10,14 @@ use crate::render::{self, RenderJob, RenderOutput};
 use crate::sampling::SamplerConfig;
 use crate::scene::Scene;
 use crate::spec::AoDistance;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 pub fn run(args: RenderArgs) -> Result<()> {
-    let out = &args.output;
+    // Absolute and without `..`: a missing directory is made where the path says, and said so.
+    let out = &crate::io::absolute(&args.output);
     if !out.to_string_lossy().to_ascii_lowercase().ends_with(".exr") {
-        return Err(Error::Usage(format!("--output {}: must name an .exr file", out.display())));
+        return Err(Error::Usage(format!("--output {}: must name an .exr file", args.output.display())));
     }
     let png = out.with_extension("png");
     let (sequence, seed_mode) = (args.sampling.sequence.resolve()?, args.sampling.seed_mode.resolve()?);
@@ -28,10 +29,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         .with_schedule(args.sampling.frames.schedule);
     // The BVH's build effort follows the rays this image traces (`scene::Effort::for_work`).
     let (scene, width, height) = scene_for(&args.scene, args.resolution, Some(args.rays))?;
-    let dir = match out.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
+    let dir = out.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);
     io::ensure_writable_dir(&dir)?;
     io::ensure_writable_file(out)?;
     io::ensure_writable_file(&png)?;
@@ -45,6 +43,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
         height,
         ao_distance: scene.ao_distance,
     };
+    if !args.common.quiet {
+        println!("{}", crate::load::summary(&scene, width, height));
+    }
     // The masks and tables it reads, before the clock starts (the spatiotemporal masks take seconds).
     job.sampler.prepare();
     let bar = progress::bar(width as u64 * height as u64, "render", args.common.quiet);
@@ -61,7 +62,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         Some(&provenance),
     )
     .map_err(|e| Error::input(out, format!("cannot encode EXR: {e}")))?;
-    let preview = image::encode_png_gray(&preview(&result))
+    let preview = image::encode_png_rgb(width, height, &preview(&result))
         .map_err(|e| Error::input(&png, format!("cannot encode PNG: {e}")))?;
     io::write_atomic(out, &exr)?;
     io::write_atomic(&png, &preview)?;
@@ -75,8 +76,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
             args.rays,
             result.rays,
             result.rays as f64 / secs.max(1e-9) / 1e6,
-            out.display(),
-            png.display()
+            args.output.display(),
+            args.output.with_extension("png").display()
         );
     }
     Ok(())
@@ -141,8 +142,25 @@ fn provenance(args: &RenderArgs, scene: &Scene, job: &RenderJob) -> Provenance {
     Provenance { summary, json }
 }
 
-/// The PNG preview: AO clamped to [0, 1] by the encoder, background black so it stands out.
-fn preview(r: &RenderOutput) -> Image {
-    let data = r.ao.data.iter().zip(&r.coverage.data).map(|(&a, &c)| if c > 0.0 { a } else { 0.0 }).collect();
-    Image::from_vec(r.ao.width, r.ao.height, data)
+/// The PNG preview: AO in gray, clamped to [0, 1]; where no surface is seen, a blue checkerboard,
+/// so that background never reads as full occlusion (black) or as open sky (white).
+fn preview(r: &RenderOutput) -> Vec<u8> {
+    let w = r.ao.width;
+    let mut rgb = Vec::with_capacity(r.ao.len() * 3);
+    for (i, (&a, &c)) in r.ao.data.iter().zip(&r.coverage.data).enumerate() {
+        let (x, y) = (i as u32 % w, i as u32 / w);
+        let px = if c > 0.0 {
+            let v = image::to_u8(a);
+            [v, v, v]
+        } else if (x / 8 + y / 8).is_multiple_of(2) {
+            NO_SURFACE[0]
+        } else {
+            NO_SURFACE[1]
+        };
+        rgb.extend_from_slice(&px);
+    }
+    rgb
 }
+
+/// The preview's two colours for "no surface" (`preview`).
+pub const NO_SURFACE: [[u8; 3]; 2] = [[40, 60, 110], [60, 85, 140]];

@@ -65,6 +65,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         out: &out,
         protocol,
         bar: &runner.bar,
+        label: "jobs",
         write: &write,
     })?;
     runner.bar.finish_and_clear();

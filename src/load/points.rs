@@ -1,4 +1,4 @@
-//! Reading a point set the user names (issue 38) into a sequence (`sampling::point_file`).
+//! Reading a point set the user names into a sequence (`sampling::point_file`).
 //!
 //! - `.npy` (NumPy's format, versions 1–3): float64 or float32, either byte order, C or Fortran
 //!   order, of shape N × 2 (one set) or P × N × 2 (P sets: pixel p reads set p mod P).

@@ -1,4 +1,4 @@
-//! Reading a noise texture the user names (issue 38) into `sampling::texture`'s table.
+//! Reading a noise texture the user names into `sampling::texture`'s table.
 //!
 //! - **Files**: one PNG (8 or 16 bit; grey, grey + alpha, RGB, RGBA) or EXR per slice. A path with
 //!   `%d` (or `%0Nd`, zero-padded to N digits) is a numbered pattern: slices 0, 1, 2, … (or from 1,

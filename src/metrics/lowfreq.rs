@@ -31,7 +31,7 @@ use crate::denoise::gaussian::{gaussian, masked, separable, taps};
 use crate::image::Image;
 
 /// Above this ratio (a mean over replicates) an error is called structured. Chosen from
-/// measurements (issue 26: the seven committed scenes at 96×72, 8 replicates, 8/16/32 rays; the
+/// measurements (the seven committed scenes at 96×72, 8 replicates, 8/16/32 rays; the
 /// kitchen at 64×48 and 160×120, the slats and the Cornell box at 160×120): per-pixel seeds' means lie
 /// in 0.91–1.09 (one image's sd 0.03–0.28), the static seed's in 1.69–19 (lowest: the slats at 32
 /// rays, 96×72), pseudo-random × blue noise's in 0.38–0.79. 1.5 leaves the widest margin to both

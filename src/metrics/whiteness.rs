@@ -32,7 +32,7 @@ pub const MAX_LAG: i32 = 4;
 /// sigma"), so a table of hundreds of white-noise images flags none of them by chance. It is a test,
 /// not the structure verdict: T_h squares each autocovariance, so blue noise's *negative* short-range
 /// correlation counts like banding, and for a fixed texture z grows as √(pixels). The report and
-/// `advise` call an error structured by `lowfreq::STRUCTURED_RATIO` (issue 26).
+/// `advise` call an error structured by `lowfreq::STRUCTURED_RATIO`.
 pub const STRUCTURED_Z: f64 = 5.0;
 
 /// The lags of the half-window, each ±h pair once: (dx, 0) for dx = 1..=L, and (dx, dy) for

@@ -1,5 +1,5 @@
 //! The AO origin off every surface it lies on, not only off the triangle the primary ray hit
-//! (issue 27).
+//!.
 //!
 //! `offset` lifts the origin off the hit triangle by a bound on the hit point's own error (pbrt-v4's
 //! `OffsetRayOrigin`: Pharr, Jakob, Humphreys, "Physically Based Rendering", 4th ed., 6.8). Where

@@ -8,10 +8,12 @@ mod clearance;
 mod gbuffer;
 mod offset;
 pub mod reproject;
+mod sight;
 mod view;
 
 pub use gbuffer::{FrameGBuffer, GBuffer, frame_gbuffer, gbuffer};
 pub use reproject::{ReprojectParams, reproject};
+pub use sight::{Sight, sight};
 pub use view::View;
 
 pub use offset::{Plane, ao_origin};
@@ -87,7 +89,7 @@ pub fn render(scene: &Scene, job: &RenderJob, progress: &(dyn Fn(u64) + Sync)) -
     render_integrand(scene, job, Integrand::Ao, progress)
 }
 
-/// `render` of another integrand (issue 27): each ray's weight is `Integrand::weight`, f/p of the
+/// `render` of another integrand: each ray's weight is `Integrand::weight`, f/p of the
 /// job's distribution, so the image is 1 − the estimate of ∫ V f dω. `Integrand::Ao` is `render`,
 /// bit for bit (its weights are the warps' own). The integrand is an argument rather than a field
 /// of `RenderJob` so that every render of AO, and every `RenderJob` written before it, is unchanged.
@@ -100,7 +102,7 @@ pub fn render_integrand(
     render_view(scene, job, integrand, &View::SCENE, progress)
 }
 
-/// `render_integrand` of one frame of a moving camera (issue 37): every primary ray comes from
+/// `render_integrand` of one frame of a moving camera: every primary ray comes from
 /// `view`'s camera through its pixel's centre plus `view`'s jitter; the AO rays are as ever.
 /// `View::SCENE` (the scene's camera, no jitter) is `render_integrand` bit for bit, and so is any
 /// view whose camera is the scene's and whose jitter is zero. The view's camera must be usable

@@ -1,4 +1,4 @@
-//! Where each pixel of a frame was in the previous frame, for a moving camera (issue 37): the
+//! Where each pixel of a frame was in the previous frame, for a moving camera: the
 //! `denoise::Motion` a temporal filter reads its history through. It lives here, not in `denoise/`,
 //! because it needs the frames' cameras and G-buffers, which the renderer owns.
 //!

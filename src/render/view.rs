@@ -17,7 +17,7 @@ pub struct View {
 }
 
 impl View {
-    /// The scene's camera through pixel centres: what every render before issue 37 used.
+    /// The scene's camera through pixel centres: what every render before moving cameras used.
     pub const SCENE: View = View { camera: None, jitter: Vec2::ZERO };
 
     /// A frame of a camera path: its camera and its jitter.

@@ -1,4 +1,4 @@
-//! The per-pixel patterns real-time engines ship, as seed modes (issue 38): each gives a pixel one
+//! The per-pixel patterns real-time engines ship, as seed modes: each gives a pixel one
 //! scalar in [0, 1), used as a **rotation** — the x offset (mod 1) of the static set, a rotation
 //! about the normal through the sine and sine-cosine warps, as `rotation` is. All four are scalar
 //! masks by definition (one number per pixel), so a 2-D offset from them would put every pixel's

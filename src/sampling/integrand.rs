@@ -1,4 +1,4 @@
-//! What the hemisphere points integrate (issue 27): the integrand f, normalized so that the whole
+//! What the hemisphere points integrate: the integrand f, normalized so that the whole
 //! hemisphere gives 1, and the per-ray weight f(ω)/p(ω) of every distribution, in closed form.
 //!
 //! Three integrands, after the paper's theory section (`../shared/PAPER.md`): each of its three

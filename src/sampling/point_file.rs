@@ -1,4 +1,4 @@
-//! A point set the user brings (issue 38): the loader (`load::points`) reads it — a `.npy` array of
+//! A point set the user brings: the loader (`load::points`) reads it — a `.npy` array of
 //! shape N × 2 or P × N × 2, or a text file of one `x y` per line as UTK writes — and registers it
 //! as a sequence ([`super::register_file`]) that holds the points.
 //!

@@ -25,7 +25,7 @@
 //! `rotation` leaves y (hence theta) as in the static set, so it does not make the per-pixel
 //! estimate unbiased for the lattice sequences (tests/stages/sampling_estimators.rs measures it).
 //!
-//! The modes of issue 38 act on every sequence alike, as `blue-noise` does: the run's static set
+//! The engines' patterns and noise textures act on every sequence alike, as `blue-noise` does: the run's static set
 //! (for `random`, the run's one set of numbers) plus the mode's per-pixel offsets:
 //!
 //! | seed mode | offset added to the static set | randomized per run by | unbiased per pixel |

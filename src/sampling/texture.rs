@@ -1,4 +1,4 @@
-//! Noise textures the user brings (issue 38), decoded by the loader (`load::texture`: PNG 8/16 bit,
+//! Noise textures the user brings, decoded by the loader (`load::texture`: PNG 8/16 bit,
 //! EXR; one file per slice) and held here as a process-wide table, like the built-in masks, so
 //! that a seed mode refers to one by a small copyable handle ([`TextureId`]).
 //!

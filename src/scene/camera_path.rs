@@ -1,4 +1,4 @@
-//! How the camera moves over a real-time job's frames (issue 37), and each frame's sub-pixel jitter.
+//! How the camera moves over a real-time job's frames, and each frame's sub-pixel jitter.
 //!
 //! A path starts at the scene's camera (frame 0 is it, exactly) and gives the `WorldCamera` of frame
 //! f of F. The motions are named as in film: `orbit` circles the camera's target, `dolly` moves the

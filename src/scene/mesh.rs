@@ -14,7 +14,7 @@ use std::io::Read;
 /// Triangles kept (world coordinates, f64), the count of those dropped (zero area or non-finite),
 /// and the elements skipped because they are not faces, for one warning each. Indexed, each position
 /// once: a grid's vertex is shared by six triangles, so a soup (72 bytes a triangle in f64) would
-/// be three times the 24 bytes of positions and indices a 10 M-triangle load holds here (issue 29).
+/// be three times the 24 bytes of positions and indices a 10 M-triangle load holds here.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
     pub positions: Vec<DVec3>,

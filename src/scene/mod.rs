@@ -65,6 +65,10 @@ pub struct Scene {
     /// Hex hash of what determines the scene's images (scene TOML bytes + mesh bytes).
     pub content_hash: String,
     pub triangle_count: usize,
+    /// Materials with an alpha mask (each `alpha::Cutout` some kept triangle uses), and the kept
+    /// triangles they cut: for the scene summary (`load::summary`).
+    pub masked_materials: usize,
+    pub masked_triangles: usize,
     /// Triangles dropped at load (zero area or non-finite), for one warning.
     pub dropped_triangles: usize,
     /// Mesh elements skipped because they are not faces (`Mesh::skipped_description`), for one
@@ -125,6 +129,13 @@ impl Scene {
                  the eye, or too large for f32"
             ));
         }
+        let (masked_materials, masked_triangles) = alpha.as_ref().map_or((0, 0), |a| {
+            let mut used: Vec<u32> = a.cutout.iter().copied().filter(|&c| c != alpha::SOLID).collect();
+            let triangles = used.len();
+            used.sort_unstable();
+            used.dedup();
+            (used.len(), triangles)
+        });
         let effort = Effort::for_work(rays, indices.len());
         let triangle_count = indices.len();
         // The masks need the input triangles in input order; the build takes the indices.
@@ -146,6 +157,8 @@ impl Scene {
             ao_distance,
             content_hash,
             triangle_count,
+            masked_materials,
+            masked_triangles,
             dropped_triangles: dropped,
             skipped_elements,
             notes,

@@ -11,7 +11,7 @@
 //! references stay valid.
 //!
 //! The text comes in batches of whole lines (`Reader::feed`), so a compressed file is parsed as it is
-//! decoded and never held whole (issue 29); each batch is cut into parts read in parallel. The one
+//! decoded and never held whole; each batch is cut into parts read in parallel. The one
 //! thing a part cannot know is how many vertices the whole file has, which an out-of-range index's
 //! message states and a forward reference (`f 9 …` before the ninth `v`) needs: such indices are
 //! checked at the end (`Reader::finish`), and the first fault in file order is the one reported,

@@ -50,7 +50,7 @@
 //! schedules = ["independent", "r1"]     # per-frame randomization; default ["independent"]
 //! pipelines = ["raw", "ema0.1+atrous"]  # what is done to the frames (`denoise::Pipeline`); default ["raw"]
 //!
-//! [[table]]                             # what the rays integrate (any group; issue 27)
+//! [[table]]                             # what the rays integrate (any group)
 //! name = "integrands"
 //! rays = [8]
 //! distributions = ["sine", "uniform"]
@@ -65,7 +65,7 @@
 //! `r2-dither`). `random` + `shift` is the same estimator as `random` + `rotation` (fresh numbers per
 //! pixel) and is merged into it; `random` + `static` and `random` + `blue-noise` are kept.
 //!
-//! Files the user brings (issue 38), relative to the spec file, wherever a seed mode or a sequence
+//! Files the user brings, relative to the spec file, wherever a seed mode or a sequence
 //! is named (`rows` or the axes; not `[reference]`):
 //!
 //! ```toml
@@ -87,6 +87,7 @@ use crate::sampling::{Distribution, Integrand, Schedule, SeedMode, Sequence};
 use std::path::{Component, Path, PathBuf};
 
 mod group;
+mod keys;
 pub(crate) mod position;
 mod validate;
 
@@ -255,7 +256,7 @@ pub struct SceneRef {
     pub name: String,
     /// Line of the spec that names it, for messages.
     pub line: usize,
-    /// What its rays integrate (issue 27). A group's `integrands` other than `ao` add the scene
+    /// What its rays integrate. A group's `integrands` other than `ao` add the scene
     /// again with that integrand (`name` `<stem>-<integrand>`, same file): every per-scene
     /// thing of a run (its reference, report sections, results' `scene`) then keeps integrands apart.
     pub integrand: Integrand,

@@ -226,19 +226,38 @@ pub fn parse_spec(text: &str, path: &Path) -> Result<Spec> {
 
 /// `parse_spec`, reading the textures and point sets the spec names through `files`.
 pub fn parse_spec_with(text: &str, path: &Path, files: &dyn Files) -> Result<Spec> {
-    let raw: RawSpec =
-        toml::from_str(text).map_err(|e| Error::input(path, describe(text, &e, &shape_hint)))?;
+    // Every unknown key at once (serde names only the first); the rest of the spec is then checked
+    // without them (their text blanked, its lines kept), so that typos and bad values are all
+    // reported by one run.
+    let mut unknown = super::keys::unknown(text);
+    // A scene file given for a spec: one message that says so (`shape_hint`), not a list of its keys.
+    if unknown.iter().any(|(_, m, _)| m.starts_with("key `mesh`:") || m.starts_with("key `camera`:")) {
+        unknown.clear();
+    }
+    let mut list: Vec<(usize, String)> = unknown.iter().map(|(l, m, _)| (*l, m.clone())).collect();
+    let spans: Vec<std::ops::Range<usize>> = unknown.into_iter().map(|(_, _, s)| s).collect();
+    let rest = super::keys::blank(text, &spans);
+    match checked(rest.as_deref().unwrap_or(text), path, files) {
+        Ok(spec) if list.is_empty() => return Ok(spec),
+        Ok(_) => {}
+        // Unless blanking broke the file (then the unknown keys alone are the news).
+        Err(more) if spans.is_empty() || rest.is_some() => list.extend(more),
+        Err(_) => {}
+    }
+    list.sort_by_key(|(line, _)| *line);
+    // One line per problem, each naming the file, so every line alone says where to look.
+    let lines: Vec<String> =
+        list.iter().map(|(l, m)| if *l == 0 { m.clone() } else { format!("line {l}, {m}") }).collect();
+    Err(Error::input(path, lines.join(&format!("\n{}: ", path.display()))))
+}
+
+/// Phases 1 and 2 on a spec's text: the spec, or its problems with their lines (0: the message
+/// says its own line, or has none).
+fn checked(text: &str, path: &Path, files: &dyn Files) -> std::result::Result<Spec, Vec<(usize, String)>> {
+    let raw: RawSpec = toml::from_str(text).map_err(|e| vec![(0, describe(text, &e, &shape_hint))])?;
     let mut p = Problems { text, list: Vec::new(), group: None, files };
     let spec = validate(raw, path, &mut p);
-    if p.list.is_empty() {
-        Ok(spec)
-    } else {
-        p.list.sort_by_key(|(line, _)| *line);
-        // One line per problem, each naming the file, so every line alone says where to look.
-        let lines: Vec<String> =
-            p.list.iter().map(|(l, m)| if *l == 0 { m.clone() } else { format!("line {l}, {m}") }).collect();
-        Err(Error::input(path, lines.join(&format!("\n{}: ", path.display()))))
-    }
+    if p.list.is_empty() { Ok(spec) } else { Err(p.list) }
 }
 
 /// What to write instead, for the shape errors a person makes (serde's words name types, not fixes).

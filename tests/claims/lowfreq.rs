@@ -3,7 +3,7 @@
 //! references. Per-pixel seeds must read 1 (white error) on every scene, the static seed above
 //! `STRUCTURED_RATIO` (the report's and advise's "structured"), and pseudo-random numbers offset by
 //! the blue-noise mask below 1 — the configuration the whiteness z-score, a test of *any*
-//! correlation, calls structured (issue 26).
+//! correlation, calls structured.
 
 use crate::support::common;
 

@@ -1,4 +1,4 @@
-//! The real-time pipeline's claims (issue 26), on real renders of `experiments/realtime-claims.toml`
+//! The real-time pipeline's claims, on real renders of `experiments/realtime-claims.toml`
 //! (kitchen and slats at 96x72, 1 ray per pixel per frame, 16 frames under an EMA of α 0.1 then
 //! à-trous, 4 replicates) against the committed references — what the README's real-time section
 //! says, asserted so that it cannot go stale:

@@ -154,3 +154,95 @@ fn a_signal_stops_a_run_that_says_what_is_saved_and_resumes() {
     assert!(second > first, "resumed from {first} saved jobs, not from none: {text}");
     assert_eq!(second, saved(&t));
 }
+
+/// Ctrl-C while a reference is being built ends the command at once (no job is running to finish);
+/// the reference's lock file goes with it, as it goes after a finished build.
+#[test]
+fn a_signal_during_a_reference_build_leaves_no_lock_file() {
+    let t = Tmp::new("interrupt-lock");
+    // About 300 M rays on one thread: tens of seconds, far longer than the test waits.
+    t.spec("long.toml", &long_spec().replace("rays = 256\nreplicates = 2", "rays = 16384\nreplicates = 2"));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hemilab"))
+        .args(["reference", "long.toml", "--reference-dir", "ref", "--threads", "1", "--quiet"])
+        .current_dir(&t.0)
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(t.path("r.log")).unwrap())
+        .spawn()
+        .expect("start hemilab");
+    let locks = || -> Vec<String> {
+        std::fs::read_dir(t.path("ref"))
+            .map(|d| {
+                d.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                    .filter(|n| n.ends_with(".lock"))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    wait_for(&mut child, "the reference's lock was taken", &|| !locks().is_empty());
+    signal(&child, libc::SIGINT);
+    let status = child.wait().unwrap();
+    let text = std::fs::read_to_string(t.path("r.log")).unwrap();
+    assert_eq!(status.code(), Some(130), "{text}");
+    assert!(locks().is_empty(), "left behind: {:?}\n{text}", locks());
+}
+
+/// Ctrl-C during advise's sweep: its progress lines are labelled by phase, and the message says how
+/// many jobs are kept, where, and the command that resumes from them (once it said nothing was
+/// saved, while the rerun reused all but a few); the rerun reuses them.
+#[test]
+fn a_signal_stops_advise_which_says_what_it_kept_and_resumes() {
+    let t = Tmp::new("interrupt-advise");
+    let reference = format!("{}/reference", env!("CARGO_MANIFEST_DIR"));
+    let args = |quiet: bool| {
+        let mut v = vec![
+            "advise".to_string(),
+            scene("cornell-box.toml"),
+            "--rays".into(),
+            "64,128,256,512".into(),
+            "--out".into(),
+            "adv".into(),
+            "--reference-dir".into(),
+            reference.clone(),
+            "--threads".into(),
+            "1".into(),
+        ];
+        if quiet {
+            v.push("--quiet".into());
+        }
+        v
+    };
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hemilab"))
+        .args(args(false))
+        .current_dir(&t.0)
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(t.path("a.log")).unwrap())
+        .spawn()
+        .expect("start hemilab");
+    let log = || std::fs::read_to_string(t.path("a.log")).unwrap_or_default();
+    wait_for(&mut child, "a progress line of the sweep", &|| log().lines().any(|l| l.starts_with("sweep: ")));
+    signal(&child, libc::SIGINT);
+    let status = child.wait().unwrap();
+    let text = log();
+    assert_eq!(status.code(), Some(130), "{text}");
+    assert!(text.contains("resolution 32x32 ("), "the resolution and why, at the start: {text}");
+    let last = text.lines().last().unwrap();
+    assert!(
+        last.starts_with("interrupted (SIGINT): stopped; ") && last.ends_with("to resume from them"),
+        "{last}"
+    );
+    assert!(last.contains(" jobs are saved in ") && last.contains(".adv.partial"), "{last}");
+    let kept: usize = last.split(" of ").next().unwrap().rsplit(' ').next().unwrap().parse().unwrap();
+    assert!(kept > 0, "{last}");
+    // The rerun reuses what was kept.
+    let o = Command::new(env!("CARGO_BIN_EXE_hemilab")).args(args(true)).current_dir(&t.0).output().unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let reused: usize = out
+        .split(" reused")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no reuse count in {out}"));
+    assert!(reused >= kept, "kept {kept}, reused {reused}: {out}");
+    assert!(out.starts_with("scene 'cornell-box': 30 triangles, no alpha masks"), "{out}");
+}

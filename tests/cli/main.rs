@@ -8,6 +8,7 @@ mod advise;
 mod advise_pipeline;
 mod advise_runs;
 mod external_sampler;
+mod first_hour;
 mod help_readme;
 mod interrupt;
 mod plan_estimate;

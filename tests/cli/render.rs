@@ -1,47 +1,19 @@
 //! The real binary: `render` writes the EXR (Y = AO, A = coverage) and a PNG beside it; bad arguments
 //! exit with 2 and create nothing; `bench --json` reports rays per second.
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn temp_dir(name: &str) -> crate::support::common::Tmp {
-    crate::support::common::Tmp::new(name)
-}
-
-fn hemilab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hemilab"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run hemilab")
-}
-
-fn entries(dir: &Path) -> Vec<String> {
-    std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect()
-}
+use crate::support::common::{Tmp, entries, hemilab_in_root as hemilab, render, render_args};
 
 #[test]
 fn render_writes_exr_and_png_preview() {
-    let dir = temp_dir("render");
+    let dir = Tmp::new("render");
     let exr = dir.join("sub/box.exr");
-    let out = hemilab(&[
-        "render",
-        "scenes/cornell-box.toml",
-        "--distribution",
-        "sine-cosine",
-        "--sequence",
-        "fibonacci",
-        "--seed-mode",
-        "rotation",
-        "--rays",
-        "4",
-        "--resolution",
-        "24x16",
-        "--threads",
-        "2",
-        "--output",
-        exr.to_str().unwrap(),
-    ]);
+    let estimator = ["--distribution", "sine-cosine", "--sequence", "fibonacci", "--seed-mode", "rotation"];
+    let out = render(
+        "cornell-box.toml",
+        4,
+        &exr,
+        &[&estimator[..], &["--resolution", "24x16", "--threads", "2"]].concat(),
+    );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     // No progress (a render this small takes under the 2 s before a first line), and the one thing
     // done beyond what was asked: the directory `sub` did not exist.
@@ -89,41 +61,32 @@ fn render_writes_exr_and_png_preview() {
 
 #[test]
 fn bad_arguments_exit_2_and_create_nothing() {
-    let dir = temp_dir("bad");
+    let dir = Tmp::new("bad");
     let exr = dir.join("out/x.exr");
     let png = dir.join("x.png");
-    let (exr, png) = (exr.to_str().unwrap(), png.to_str().unwrap());
-    let good = |scene: &'static str, distribution: &'static str, rays: &'static str| {
-        vec!["render", scene, "--distribution", distribution, "--sequence", "random"]
-            .into_iter()
-            .chain(["--seed-mode", "shift", "--rays", rays])
-            .collect::<Vec<&str>>()
+    let good = |distribution: &'static str| {
+        vec!["--distribution", distribution, "--sequence", "random", "--seed-mode", "shift"]
     };
     let with = |mut v: Vec<&'static str>, extra: &[&'static str]| {
         v.extend_from_slice(extra);
         v
     };
-    let cases: Vec<(Vec<&str>, &str)> = vec![
-        (with(good("scenes/cornell-box.toml", "cosine", "4"), &[]), "cosine"),
-        (with(good("scenes/cornell-box.toml", "sine", "0"), &[]), "--rays"),
-        (with(good("scenes/cornell-box.toml", "sine", "4"), &["--resolution", "0x8"]), "resolution"),
-        (
-            with(good("scenes/cornell-box.toml", "sine", "4"), &["--resolution", "16384x16384"]),
-            "at most 67108864 pixels",
-        ),
-        (with(good("scenes/no-such-scene.toml", "sine", "4"), &[]), "no-such-scene.toml"),
+    let box_ = "scenes/cornell-box.toml";
+    let cases: Vec<(&str, u32, Vec<&str>, &str)> = vec![
+        (box_, 4, good("cosine"), "cosine"),
+        (box_, 0, good("sine"), "--rays"),
+        (box_, 4, with(good("sine"), &["--resolution", "0x8"]), "resolution"),
+        (box_, 4, with(good("sine"), &["--resolution", "16384x16384"]), "at most 67108864 pixels"),
+        ("scenes/no-such-scene.toml", 4, good("sine"), "no-such-scene.toml"),
     ];
-    for (mut args, want) in cases {
-        args.extend(["--output", exr]);
-        let out = hemilab(&args);
+    for (scene, rays, args, want) in cases {
+        let out = hemilab(&render_args(scene, rays, &exr, &args));
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
         assert!(err.contains(want), "{args:?}: want '{want}' in {err}");
         assert!(entries(&dir).is_empty(), "{args:?} created {:?}", entries(&dir));
     }
-    let mut args = good("scenes/cornell-box.toml", "sine", "4");
-    args.extend(["--output", png]);
-    let out = hemilab(&args);
+    let out = hemilab(&render_args(box_, 4, &png, &good("sine")));
     assert_eq!(out.status.code(), Some(2), "an output that is not .exr");
     assert!(String::from_utf8_lossy(&out.stderr).contains(".exr"));
     assert!(entries(&dir).is_empty());
@@ -133,13 +96,13 @@ fn bad_arguments_exit_2_and_create_nothing() {
 /// sine-cosine, Fibonacci, per-pixel seed (rotation) given explicitly.
 #[test]
 fn render_defaults_to_the_recommended_estimator() {
-    let dir = temp_dir("render-default");
+    let dir = Tmp::new("render-default");
     let (a, b) = (dir.join("a.exr"), dir.join("b.exr"));
-    let base = ["render", "scenes/cornell-box.toml", "--rays", "4", "--resolution", "16x12", "--quiet"];
-    let out = hemilab(&[&base[..], &["--output", a.to_str().unwrap()]].concat());
+    let base = ["--resolution", "16x12", "--quiet"];
+    let out = render("cornell-box.toml", 4, &a, &base);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let explicit = ["--distribution", "sine-cosine", "--sequence", "fibonacci", "--seed-mode", "rotation"];
-    let out = hemilab(&[&base[..], &explicit, &["--output", b.to_str().unwrap()]].concat());
+    let out = render("cornell-box.toml", 4, &b, &[&base[..], &explicit].concat());
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
 }
@@ -229,25 +192,11 @@ fn bench_rejects_a_bad_distance() {
 /// leaving half the output. Both targets are now checked before rendering.
 #[test]
 fn an_output_that_is_a_directory_writes_nothing() {
-    let dir = temp_dir("outdir");
+    let dir = Tmp::new("outdir");
     std::fs::create_dir_all(dir.join("x.png")).unwrap();
     let exr = dir.join("x.exr");
-    let out = hemilab(&[
-        "render",
-        "scenes/cornell-box.toml",
-        "--distribution",
-        "sine",
-        "--sequence",
-        "random",
-        "--seed-mode",
-        "shift",
-        "--rays",
-        "1",
-        "--resolution",
-        "8x8",
-        "--output",
-        exr.to_str().unwrap(),
-    ]);
+    let estimator = ["--distribution", "sine", "--sequence", "random", "--seed-mode", "shift"];
+    let out = render("cornell-box.toml", 1, &exr, &[&estimator[..], &["--resolution", "8x8"]].concat());
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("x.png") && err.contains("directory"), "{err}");
@@ -267,22 +216,14 @@ fn help_and_errors_list_every_seed_mode() {
             assert!(help.contains(name), "{cmd} --help lacks '{name}':\n{help}");
         }
     }
-    let dir = temp_dir("seedmode");
+    let dir = Tmp::new("seedmode");
     let exr = dir.join("x.exr");
-    let out = hemilab(&[
-        "render",
-        "scenes/cornell-box.toml",
-        "--distribution",
-        "sine",
-        "--sequence",
-        "random",
-        "--seed-mode",
-        "blue",
-        "--rays",
-        "1",
-        "--output",
-        exr.to_str().unwrap(),
-    ]);
+    let out = render(
+        "cornell-box.toml",
+        1,
+        &exr,
+        &["--distribution", "sine", "--sequence", "random", "--seed-mode", "blue"],
+    );
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("'blue'") && err.contains("static, rotation, shift, blue-noise"), "{err}");
@@ -292,25 +233,12 @@ fn help_and_errors_list_every_seed_mode() {
 /// `render --seed-mode blue-noise` works end to end and is deterministic (same seed, same bits).
 #[test]
 fn render_blue_noise_is_deterministic() {
-    let dir = temp_dir("bluenoise");
+    let dir = Tmp::new("bluenoise");
     let render = |name: &str| {
         let exr = dir.join(name);
-        let out = hemilab(&[
-            "render",
-            "scenes/cornell-box.toml",
-            "--distribution",
-            "sine-cosine",
-            "--sequence",
-            "fibonacci",
-            "--seed-mode",
-            "blue-noise",
-            "--rays",
-            "2",
-            "--resolution",
-            "70x66",
-            "--output",
-            exr.to_str().unwrap(),
-        ]);
+        let estimator =
+            ["--distribution", "sine-cosine", "--sequence", "fibonacci", "--seed-mode", "blue-noise"];
+        let out = render("cornell-box.toml", 2, &exr, &[&estimator[..], &["--resolution", "70x66"]].concat());
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         std::fs::read(&exr).unwrap()
     };
@@ -329,25 +257,11 @@ fn render_and_points_take_stbn_frames_and_schedules() {
             assert!(help.contains(name) && help.contains("--frame"), "{cmd} --help lacks '{name}':\n{help}");
         }
     }
-    let dir = temp_dir("stbn");
+    let dir = Tmp::new("stbn");
     let render = |name: &str, frame: &str| {
         let exr = dir.join(name);
-        let out = hemilab(&[
-            "render",
-            "scenes/cornell-box.toml",
-            "--seed-mode",
-            "stbn",
-            "--frame",
-            frame,
-            "--schedule",
-            "r1",
-            "--rays",
-            "2",
-            "--resolution",
-            "40x30",
-            "--output",
-            exr.to_str().unwrap(),
-        ]);
+        let frames = ["--seed-mode", "stbn", "--frame", frame, "--schedule", "r1", "--resolution", "40x30"];
+        let out = render("cornell-box.toml", 2, &exr, &frames);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         std::fs::read(&exr).unwrap()
     };

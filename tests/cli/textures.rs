@@ -1,4 +1,4 @@
-//! Noise textures and point files on the command line (issue 38): `render`, `points`, `run` and
+//! Noise textures and point files on the command line: `render`, `points`, `run` and
 //! `advise` take the engines' seed modes, a texture (`texture:PATH[:use]`, a spec's
 //! `{ texture = .., use = .. }`) and a point file (`points:PATH`, `{ points = .. }`); a texture of
 //! hemilab's own mask renders the built-in mode's image; results name the file and its content, so

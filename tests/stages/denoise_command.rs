@@ -1,4 +1,4 @@
-//! The user's own denoiser (issue 37, item 4): `DenoiseCommand` runs a program on a frame's EXR and
+//! The user's own denoiser: `DenoiseCommand` runs a program on a frame's EXR and
 //! reads one back. Here the program is the package's example `denoise_box` (a normal-aware 5 × 5
 //! box, as a user would write), built by `support::examples`; and commands that fail in each way
 //! are each one clear error (exit status 2) from `probe`, before any rendering.
@@ -8,7 +8,7 @@ use crate::support::examples::example;
 use hemilab::denoise_command::DenoiseCommand;
 use hemilab::image::{Channel, Image};
 use hemilab::load::load_scene;
-use hemilab::render::{RenderJob, gbuffer, render};
+use hemilab::render::{gbuffer, render};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use std::path::Path;
 
@@ -28,12 +28,13 @@ fn the_example_box_denoiser_is_probed_run_and_timed_and_lowers_the_error() {
     cmd.probe(&dir).unwrap();
     let scene = load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml")).unwrap();
     let (w, h) = (48, 36);
-    let job = |rays, seed| RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler: SamplerConfig::new(Sequence::Random, SeedMode::Shift, rays, seed).unwrap(),
-        width: w,
-        height: h,
-        ao_distance: scene.ao_distance,
+    let job = |rays, seed| {
+        crate::support::jobs::render_job(
+            Distribution::SineCosine,
+            SamplerConfig::new(Sequence::Random, SeedMode::Shift, rays, seed).unwrap(),
+            (w, h),
+            scene.ao_distance,
+        )
     };
     let noisy = render(&scene, &job(1, 3), &|_| {});
     let reference = render(&scene, &job(1024, 4), &|_| {});

@@ -34,13 +34,12 @@ fn job(
     m: SeedMode,
     res: (u32, u32),
 ) -> RenderJob {
-    RenderJob {
-        distribution: d,
-        sampler: SamplerConfig::new(q, m, 16, 3).unwrap(),
-        width: res.0,
-        height: res.1,
-        ao_distance: scene.ao_distance,
-    }
+    crate::support::jobs::render_job(
+        d,
+        SamplerConfig::new(q, m, 16, 3).unwrap(),
+        (res.0, res.1),
+        scene.ao_distance,
+    )
 }
 
 /// Images rendered by main's code (commit 321ec7f) before `gbuffer` shared the primary-ray code

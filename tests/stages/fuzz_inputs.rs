@@ -10,7 +10,7 @@
 //! plain and zstd). No .mtl file is ever opened (AO needs no materials), so `mtllib` and `usemtl`
 //! lines are mutated as part of the OBJ seeds.
 
-use hemilab::render::{RenderJob, render};
+use hemilab::render::render;
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::{Scene, file, mesh};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -207,13 +207,7 @@ fn mutated_scene_files_are_read_or_refused_with_a_place() {
                 Scene::from_triangles("fuzz", f.camera.camera(), (4, 3), f.ao_distance.0, quad.clone());
             let Ok(scene) = scene else { return true };
             let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 2, 1).unwrap();
-            let job = RenderJob {
-                distribution: Distribution::SineCosine,
-                sampler,
-                width: 4,
-                height: 3,
-                ao_distance: 1.0,
-            };
+            let job = crate::support::jobs::render_job(Distribution::SineCosine, sampler, (4, 3), 1.0);
             let out = render(&scene, &job, &|_| {});
             assert!(out.ao.data.iter().all(|v| v.is_finite()), "{text:?}");
             true

@@ -1,4 +1,4 @@
-//! The `integrands` axis in specs and plans (issue 27): specs without it plan exactly what they
+//! The `integrands` axis in specs and plans: specs without it plan exactly what they
 //! did (keys, reference estimators), each other integrand adds the scene again under its own name
 //! with a reference of its own, and a bad name is refused with its line and what is allowed.
 

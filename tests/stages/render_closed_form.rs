@@ -23,7 +23,7 @@ use crate::support::lambert;
 
 use crate::support::stats::{sidak_threshold, two_sided_z};
 use glam::DVec3;
-use hemilab::render::{RenderJob, render};
+use hemilab::render::render;
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::procedural::{RECT_MAX, RECT_MIN, RECT_Z, VIEW_HALF, floating_rectangle};
 
@@ -71,13 +71,8 @@ fn floor_under_rectangle_matches_lambert_form_factor() {
             let mut sum2 = vec![0.0f64; (SIDE * SIDE) as usize];
             for seed in 0..SEEDS {
                 let sampler = SamplerConfig::new(sequence, SeedMode::Shift, RAYS, 1000 + seed).unwrap();
-                let job = RenderJob {
-                    distribution,
-                    sampler,
-                    width: SIDE,
-                    height: SIDE,
-                    ao_distance: f32::INFINITY,
-                };
+                let job =
+                    crate::support::jobs::render_job(distribution, sampler, (SIDE, SIDE), f32::INFINITY);
                 let out = render(&scene, &job, &|_| {});
                 for &(i, _) in &floor {
                     assert_eq!(out.coverage.data[i], 1.0, "floor pixel {i} not covered");

@@ -1,4 +1,4 @@
-//! No AO ray leaves a closed room (issue 27). A cube of half-size 1 seen from inside, d infinite:
+//! No AO ray leaves a closed room. A cube of half-size 1 seen from inside, d infinite:
 //! every AO ray must be blocked, so the occluded fraction is exactly 1 and, with the cosine-weighted
 //! warps (weight exactly 1 per ray), every covered pixel's AO is exactly 0. Before the fix the pixels
 //! whose primary ray met the room exactly on an edge, where two walls meet, started their AO rays on
@@ -118,13 +118,12 @@ fn job(
     rays: u32,
     res: (u32, u32),
 ) -> RenderJob {
-    RenderJob {
+    crate::support::jobs::render_job(
         distribution,
-        sampler: SamplerConfig::new(sequence, seed_mode, rays, 3).unwrap(),
-        width: res.0,
-        height: res.1,
-        ao_distance: f32::INFINITY,
-    }
+        SamplerConfig::new(sequence, seed_mode, rays, 3).unwrap(),
+        (res.0, res.1),
+        f32::INFINITY,
+    )
 }
 
 /// Every covered pixel fully occluded: every ray blocked and, for the unit-weight warps, AO exactly 0.

@@ -26,13 +26,12 @@ fn one_thread_and_all_threads_give_identical_bits() {
             (Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Rotation),
             (Distribution::Uniform, Sequence::Random, SeedMode::Shift),
         ] {
-            let job = RenderJob {
+            let job = crate::support::jobs::render_job(
                 distribution,
-                sampler: SamplerConfig::new(sequence, seed_mode, 16, 3).unwrap(),
-                width: res.0,
-                height: res.1,
-                ao_distance: scene.ao_distance,
-            };
+                SamplerConfig::new(sequence, seed_mode, 16, 3).unwrap(),
+                (res.0, res.1),
+                scene.ao_distance,
+            );
             let one = bits(&render_with(1, &scene, &job));
             assert!(one.3 > 0 && one.3 < one.2, "{file}: want some but not all rays occluded");
             assert_eq!(one, bits(&render_with(all, &scene, &job)), "{file}: 1 vs {all} threads");
@@ -42,7 +41,7 @@ fn one_thread_and_all_threads_give_identical_bits() {
     }
 }
 
-/// The BVH's build effort (issue 29: a render of few rays gets the fast build) changes the tree,
+/// The BVH's build effort (a render of few rays gets the fast build) changes the tree,
 /// never the image: AO is any-hit and a primary ray takes the least (t, input index) hit.
 #[test]
 fn fast_and_full_bvh_builds_give_identical_bits() {
@@ -55,13 +54,12 @@ fn fast_and_full_bvh_builds_give_identical_bits() {
         assert_eq!(fast.triangle_count, full.triangle_count);
         assert_ne!(fast.accel.len(), 0);
         for d in [full.ao_distance, f32::INFINITY] {
-            let job = RenderJob {
-                distribution: Distribution::SineCosine,
-                sampler: SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 8, 1).unwrap(),
-                width: 40,
-                height: 30,
-                ao_distance: d,
-            };
+            let job = crate::support::jobs::render_job(
+                Distribution::SineCosine,
+                SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 8, 1).unwrap(),
+                (40, 30),
+                d,
+            );
             let a = bits(&render_with(2, &full, &job));
             assert!(a.3 > 0, "{file}: want some rays occluded");
             assert_eq!(a, bits(&render_with(2, &fast, &job)), "{file} at d = {d}: fast vs full build");

@@ -4,7 +4,7 @@
 //! translated by 1e3 and 1e4.
 
 use glam::DVec3;
-use hemilab::render::{RenderJob, render};
+use hemilab::render::render;
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::Scene;
 use hemilab::scene::procedural::{Placement, closed_box, open_floor};
@@ -30,13 +30,12 @@ fn every_job(scene: &Scene, mut check: impl FnMut(&str, hemilab::render::RenderO
             for &seed_mode in SeedMode::ALL {
                 for rays in RAYS {
                     let sampler = SamplerConfig::new(sequence, seed_mode, rays, 7).unwrap();
-                    let job = RenderJob {
+                    let job = crate::support::jobs::render_job(
                         distribution,
                         sampler,
-                        width: RES.0,
-                        height: RES.1,
-                        ao_distance: scene.ao_distance,
-                    };
+                        (RES.0, RES.1),
+                        scene.ao_distance,
+                    );
                     let what = format!("{} {distribution} {sequence} {seed_mode} {rays} rays", scene.name);
                     check(&what, render(scene, &job, &|_| {}));
                 }

@@ -1,4 +1,4 @@
-//! The renderer's integrands (issue 27) against their closed forms.
+//! The renderer's integrands against their closed forms.
 //!
 //! Inside a closed room (the cube of half-size 1 of `render_closed_room`, the issue's centred camera,
 //! d infinite) every ray is blocked, so a pixel's value is 1 − the mean of its rays' weights f/p:
@@ -50,13 +50,12 @@ fn job(
     seed: u64,
     res: (u32, u32),
 ) -> RenderJob {
-    RenderJob {
-        distribution: d,
-        sampler: SamplerConfig::new(sequence, seed_mode, rays, seed).unwrap(),
-        width: res.0,
-        height: res.1,
-        ao_distance: f32::INFINITY,
-    }
+    crate::support::jobs::render_job(
+        d,
+        SamplerConfig::new(sequence, seed_mode, rays, seed).unwrap(),
+        (res.0, res.1),
+        f32::INFINITY,
+    )
 }
 
 /// The covered pixels' values.

@@ -1,4 +1,4 @@
-//! A moving camera's frames (issue 37): `render_view` and `frame_gbuffer` trace each frame's own
+//! A moving camera's frames: `render_view` and `frame_gbuffer` trace each frame's own
 //! camera and jitter, and `reproject` finds where each pixel was in the previous frame. Checked
 //! against an independent, analytic computation on a scene whose visibility and AO are closed
 //! forms (`support::parallax`: a floor under a floating rectangle): the reprojected reference is
@@ -322,13 +322,12 @@ fn reprojection_is_the_same_for_any_thread_count() {
 }
 
 fn job(scene: &Scene, rays: u32) -> RenderJob {
-    RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler: SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, rays, 7).unwrap(),
-        width: RES.0,
-        height: RES.1,
-        ao_distance: scene.ao_distance,
-    }
+    crate::support::jobs::render_job(
+        Distribution::SineCosine,
+        SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, rays, 7).unwrap(),
+        (RES.0, RES.1),
+        scene.ao_distance,
+    )
 }
 
 #[test]

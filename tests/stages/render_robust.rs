@@ -1,5 +1,5 @@
 //! AO near an occluder stays right where coordinates are extreme: under one huge ground triangle,
-//! far from the world origin, at millimetre and at kilometre size (issue 9). The exact answer is
+//! far from the world origin, at millimetre and at kilometre size. The exact answer is
 //! Lambert's polygon form factor (the floor sees only the occluder; d infinite). Per configuration
 //! (4 distributions × pseudo-random / Fibonacci, per-pixel `shift`, so each pixel is unbiased), the
 //! mean signed error over all floor pixels and 32 seeds must be within 4 standard errors of 0:
@@ -13,7 +13,7 @@ use crate::support::lambert;
 
 use glam::{DMat3, DVec3, EulerRot};
 use hemilab::load::load_scene;
-use hemilab::render::{RenderJob, RenderOutput, render};
+use hemilab::render::{RenderOutput, render};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::procedural::Placement;
 use hemilab::scene::{Camera, Scene, WorldCamera, file, mesh};
@@ -121,13 +121,12 @@ fn every_job(scene: &Scene, res: (u32, u32), mut check: impl FnMut(&str, RenderO
             for &seed_mode in SeedMode::ALL {
                 for rays in [1, 32, 1024] {
                     let sampler = SamplerConfig::new(sequence, seed_mode, rays, 11).unwrap();
-                    let job = RenderJob {
+                    let job = crate::support::jobs::render_job(
                         distribution,
                         sampler,
-                        width: res.0,
-                        height: res.1,
-                        ao_distance: f32::INFINITY,
-                    };
+                        (res.0, res.1),
+                        f32::INFINITY,
+                    );
                     check(
                         &format!("{distribution} {sequence} {seed_mode} {rays} rays"),
                         render(scene, &job, &|_| {}),
@@ -177,13 +176,7 @@ fn huge_ground_alone_is_exactly_open() {
 fn huge_ground_scene_is_identical_for_any_thread_count() {
     let (scene, _) = occluder_scene(Placement { scale: 1.0, offset: DVec3::new(1e4, -1e4, 1e4) }, 5000.0);
     let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 64, 5).unwrap();
-    let job = RenderJob {
-        distribution: Distribution::Uniform,
-        sampler,
-        width: 32,
-        height: 32,
-        ao_distance: f32::INFINITY,
-    };
+    let job = crate::support::jobs::render_job(Distribution::Uniform, sampler, (32, 32), f32::INFINITY);
     let bits = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         let out = pool.install(|| render(&scene, &job, &|_| {}));
@@ -239,13 +232,8 @@ fn kitchen_moved_one_kilometre_renders_like_the_kitchen() {
     let (w, h) = (64, 48);
     let image = |scene: &Scene, seed: u64| {
         let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 1024, seed).unwrap();
-        let job = RenderJob {
-            distribution: Distribution::SineCosine,
-            sampler,
-            width: w,
-            height: h,
-            ao_distance: scene.ao_distance,
-        };
+        let job =
+            crate::support::jobs::render_job(Distribution::SineCosine, sampler, (w, h), scene.ao_distance);
         render(scene, &job, &|_| {})
     };
     let diff = |a: &RenderOutput, b: &RenderOutput| {

@@ -1,6 +1,6 @@
 //! Stiff geometry: no self-intersection and no leak where surfaces are thin, curved, grazed or in
 //! contact, at unit size, rotated and moved 1e3 (or 1e4) from the world origin, scaled by 1e-3 and
-//! moved a few units, and scaled by 1e3 (issue 9).
+//! moved a few units, and scaled by 1e3.
 //!
 //! Exact answers: a convex solid's surface is unoccluded (AO exactly 1); from inside a closed solid
 //! every ray is blocked; inside a tessellated bowl the open fraction is Lambert's form factor of the
@@ -141,7 +141,7 @@ fn job(
     res: (u32, u32),
 ) -> RenderJob {
     let sampler = SamplerConfig::new(sequence, seed_mode, rays, 21).unwrap();
-    RenderJob { distribution, sampler, width: res.0, height: res.1, ao_distance: f32::INFINITY }
+    crate::support::jobs::render_job(distribution, sampler, (res.0, res.1), f32::INFINITY)
 }
 
 /// Every distribution × sequence × seed mode, at 8 and 256 rays.

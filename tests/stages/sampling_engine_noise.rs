@@ -1,4 +1,4 @@
-//! The engines' rotation patterns (issue 38; `sampling::engine`): each is its published formula;
+//! The engines' rotation patterns (`sampling::engine`): each is its published formula;
 //! its values are uniform over pixels and frames (χ²) and every 4 × 4 (Bayer) or 5 × 5 (magic square)
 //! window holds every rotation; a fixed pixel's rotation is uniform over run seeds; and per-pixel
 //! unbiasedness is what `compare::per_pixel_unbiased` says: present for pseudo-random numbers (the

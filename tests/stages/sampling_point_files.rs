@@ -1,4 +1,4 @@
-//! Point sets from files (issue 38; `load::points`, `sampling::point_file`): an `.npy` (N × 2,
+//! Point sets from files (`load::points`, `sampling::point_file`): an `.npy` (N × 2,
 //! P × N × 2; float64 or float32; C or Fortran order) or UTK's `x y` text is read exactly; the
 //! seed modes randomize it as they do R2 (one Cranley–Patterson offset per run under `static`, a
 //! fresh one per pixel under `shift`, which is then unbiased per pixel); a point outside [0, 1)² is

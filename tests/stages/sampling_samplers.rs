@@ -1,4 +1,4 @@
-//! Proof of the four samplers beside the paper's lattice (issue 28): `halton`, `pmj02bn`, `zsobol`
+//! Proof of the four samplers beside the paper's lattice: `halton`, `pmj02bn`, `zsobol`
 //! and `r2` — χ² through every warp, each one's defining property checked exactly, determinism.
 
 use crate::sampling_warps::{PHI_BINS, THETA_BINS, cell_of, expected_counts, space};

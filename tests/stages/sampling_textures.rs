@@ -1,4 +1,4 @@
-//! Noise textures from files (issue 38): hemilab's own blue-noise and STBN masks written as PNG and
+//! Noise textures from files: hemilab's own blue-noise and STBN masks written as PNG and
 //! EXR and read back as `offset` textures render the built-in modes' images bit for bit; a
 //! texture's offsets are uniform over pixels and frames and, in each pixel, over run seeds (so the
 //! offset mode is unbiased per pixel); a texture that is not uniform is measured as such and not
@@ -11,7 +11,7 @@ use glam::{Vec2, Vec3};
 use hemilab::compare::per_pixel_unbiased;
 use hemilab::load::load_scene;
 use hemilab::load::texture::{Own, own_masks, texture};
-use hemilab::render::{RenderJob, render};
+use hemilab::render::render;
 use hemilab::sampling::seed::PixelSeed;
 use hemilab::sampling::texture::TextureUse;
 use hemilab::sampling::{Distribution, SamplerConfig, Schedule, SeedMode, Sequence};
@@ -57,15 +57,16 @@ fn own_masks_as_png_and_exr_render_the_built_in_images_bit_for_bit() {
                     (37, Schedule::R1),
                     (40, Schedule::Independent),
                 ] {
-                    let job = |m| RenderJob {
-                        distribution: Distribution::SineCosine,
-                        sampler: SamplerConfig::new(seq, m, 4, 11)
-                            .unwrap()
-                            .with_frame(frame)
-                            .with_schedule(schedule),
-                        width: 32,
-                        height: 24,
-                        ao_distance: scene.ao_distance,
+                    let job = |m| {
+                        crate::support::jobs::render_job(
+                            Distribution::SineCosine,
+                            SamplerConfig::new(seq, m, 4, 11)
+                                .unwrap()
+                                .with_frame(frame)
+                                .with_schedule(schedule),
+                            (32, 24),
+                            scene.ao_distance,
+                        )
                     };
                     let (a, b) =
                         (render(&scene, &job(mode), &|_| {}), render(&scene, &job(built_in), &|_| {}));

@@ -7,7 +7,7 @@ use crate::support::common::Tmp;
 use crate::support::lambert::{exact_pixels, form_factor, pooled_errors};
 use glam::{DVec3, Vec2, Vec3};
 use hemilab::load::load_scene;
-use hemilab::render::{PixelRays, RenderJob, pixel_rays, render};
+use hemilab::render::{PixelRays, pixel_rays, render};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::accel::{Hit, Ray};
 use hemilab::scene::gltf_write::{Doc, Material, Node, Prim};
@@ -130,8 +130,7 @@ fn a_fully_transparent_card_gives_the_open_floor() {
         let scene = card_scene("alpha-clear", texture, factor);
         for distribution in [Distribution::Uniform, Distribution::SineCosine] {
             let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 32, 7).unwrap();
-            let job =
-                RenderJob { distribution, sampler, width: SIDE, height: SIDE, ao_distance: f32::INFINITY };
+            let job = crate::support::jobs::render_job(distribution, sampler, (SIDE, SIDE), f32::INFINITY);
             let out = render(&scene, &job, &|_| {});
             assert!(out.coverage.data.iter().all(|&c| c == 1.0), "{what}: every pixel sees the floor");
             assert_eq!(out.occluded_rays, 0, "{what} {distribution}: a ray was blocked by a clear card");
@@ -187,8 +186,7 @@ fn masked_rays_agree_between_single_rays_and_packets() {
     assert!(primary_hits > 1000, "{primary_hits} primary hits");
     // AO rays of every 3rd pixel, as the renderer makes them, at d = 1 and unbounded.
     let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 48, 3).unwrap();
-    let job =
-        RenderJob { distribution: Distribution::Uniform, sampler, width: w, height: h, ao_distance: 1.0 };
+    let job = crate::support::jobs::render_job(Distribution::Uniform, sampler, (w, h), 1.0);
     let (mut points, mut px) = (vec![Vec2::ZERO; 48], PixelRays::default());
     let (mut blocked_rays, mut rays) = (0usize, 0usize);
     let mut cache = Occluders::new();
@@ -219,13 +217,7 @@ fn the_masks_let_light_through_the_foliage() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let masked = load_scene(&root.join("scenes/foliage.toml")).unwrap();
     let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 16, 1).unwrap();
-    let job = RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler,
-        width: 64,
-        height: 48,
-        ao_distance: 1.0,
-    };
+    let job = crate::support::jobs::render_job(Distribution::SineCosine, sampler, (64, 48), 1.0);
     let a = render(&masked, &job, &|_| {});
     let tris: Vec<[DVec3; 3]> = (0..masked.accel.source_triangles().len())
         .map(|i| {

@@ -60,14 +60,14 @@ fn kitchen_traversal_matches_brute_force() {
 /// traversal's answer on every AO ray of a kitchen view, at the bench's distances and at 1e-4.
 #[test]
 fn kitchen_packets_match_single_rays() {
-    use hemilab::render::{PixelRays, RenderJob, pixel_rays};
+    use hemilab::render::{PixelRays, pixel_rays};
     use hemilab::sampling::{SamplerConfig, SeedMode, Sequence};
     use hemilab::scene::packet::Occluders;
     let scene = load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/kitchen.toml")).unwrap();
     let acc = &scene.accel;
     let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 32, 5).unwrap();
     let (width, height) = (48, 36);
-    let job = RenderJob { distribution: Distribution::SineCosine, sampler, width, height, ao_distance: 1.0 };
+    let job = crate::support::jobs::render_job(Distribution::SineCosine, sampler, (width, height), 1.0);
     let (mut points, mut px) = (vec![Vec2::ZERO; 32], PixelRays::default());
     let (mut wide_cache, mut sse_cache) = (Occluders::new(), Occluders::new());
     let (mut checked, mut blocked_rays) = (0u32, 0u32);

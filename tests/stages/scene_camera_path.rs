@@ -1,4 +1,4 @@
-//! Camera paths (issue 37): what each gives every frame, as closed forms (a static path is the
+//! Camera paths: what each gives every frame, as closed forms (a static path is the
 //! scene camera, an orbit keeps its distance to the target, keys are hit exactly), and the errors
 //! for input a path refuses, each naming its key.
 

@@ -196,7 +196,7 @@ fn bad_scene_files_name_the_line_and_key() {
 fn polylines_points_and_comments_in_a_mesh() {
     // Once an `l` of three corners became a triangle (changing the image by up to 0.75), and a
     // comment after a vertex was a "color parse error" with no line.
-    use hemilab::render::{RenderJob, render};
+    use hemilab::render::render;
     use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
     let dir = temp_dir("polylines");
     std::fs::write(dir.join("s.toml"), TOML).unwrap();
@@ -215,7 +215,7 @@ fn polylines_points_and_comments_in_a_mesh() {
     let plain = load_scene(&dir.join("s.toml")).unwrap();
     assert!(dropped_warning(&plain).is_none());
     let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 8, 1).unwrap();
-    let job = RenderJob { distribution: Distribution::Sine, sampler, width: 8, height: 8, ao_distance: 1.0 };
+    let job = crate::support::jobs::render_job(Distribution::Sine, sampler, (8, 8), 1.0);
     let (a, b) = (render(&with, &job, &|_| {}), render(&plain, &job, &|_| {}));
     assert_eq!((a.ao, a.coverage), (b.ao, b.coverage), "skipped elements change nothing");
 }
@@ -246,19 +246,15 @@ fn committed_references_record_the_cameras_the_scenes_have() {
 
 #[test]
 fn shipped_validation_scene_matches_the_one_built_in_code() {
-    use hemilab::render::{RenderJob, render};
+    use hemilab::render::render;
     use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let file = load_scene(&root.join("scenes/floating-rectangle.toml")).unwrap();
     let code = hemilab::scene::procedural::floating_rectangle(file.resolution);
     assert_eq!((file.triangle_count, file.camera, file.ao_distance), (4, code.camera, code.ao_distance));
     let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 8, 1).unwrap();
-    let job = |s: &hemilab::scene::Scene| RenderJob {
-        distribution: Distribution::Sine,
-        sampler,
-        width: 16,
-        height: 16,
-        ao_distance: s.ao_distance,
+    let job = |s: &hemilab::scene::Scene| {
+        crate::support::jobs::render_job(Distribution::Sine, sampler, (16, 16), s.ao_distance)
     };
     let (a, b) = (render(&file, &job(&file), &|_| {}), render(&code, &job(&code), &|_| {}));
     assert_eq!((a.ao, a.coverage), (b.ao, b.coverage));
@@ -268,7 +264,7 @@ fn shipped_validation_scene_matches_the_one_built_in_code() {
 fn every_scene_file_loads_with_a_view_of_its_mesh() {
     // The seven shipped scenes: each loads without dropped triangles (the kitchen's 25 aside) and its
     // camera sees a surface in most of the image (a scene whose camera misses its mesh is useless).
-    use hemilab::render::{RenderJob, render};
+    use hemilab::render::render;
     use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut names: Vec<String> = std::fs::read_dir(root.join("scenes"))
@@ -284,13 +280,8 @@ fn every_scene_file_loads_with_a_view_of_its_mesh() {
         if name != "kitchen.toml" {
             assert_eq!(scene.dropped_triangles, 0, "{name}");
         }
-        let job = RenderJob {
-            distribution: Distribution::SineCosine,
-            sampler,
-            width: 32,
-            height: 24,
-            ao_distance: scene.ao_distance,
-        };
+        let job =
+            crate::support::jobs::render_job(Distribution::SineCosine, sampler, (32, 24), scene.ao_distance);
         let out = render(&scene, &job, &|_| {});
         let covered = out.coverage.data.iter().filter(|&&c| c > 0.5).count();
         assert!(covered * 2 > out.coverage.data.len(), "{name}: only {covered} of 768 pixels see the mesh");
@@ -324,17 +315,13 @@ fn rendering_a_small_scene_after_a_large_one_on_the_same_thread() {
     // The renderer keeps each thread's last occluders (triangle indices) across images; a spec with
     // several scenes renders a 30-triangle box right after the 57,000-triangle kitchen on the same
     // threads. That once indexed past the box's triangles and panicked.
-    use hemilab::render::{RenderJob, render};
+    use hemilab::render::render;
     use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Shift, 16, 1).unwrap();
-    let job = |s: &hemilab::scene::Scene| RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler,
-        width: 24,
-        height: 16,
-        ao_distance: s.ao_distance,
+    let job = |s: &hemilab::scene::Scene| {
+        crate::support::jobs::render_job(Distribution::SineCosine, sampler, (24, 16), s.ao_distance)
     };
     let big = load_scene(&root.join("scenes/kitchen.toml")).unwrap();
     let small = load_scene(&root.join("scenes/cornell-box.toml")).unwrap();

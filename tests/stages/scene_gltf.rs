@@ -5,7 +5,7 @@
 
 use super::support::common::Tmp;
 use hemilab::load::load_scene;
-use hemilab::render::{RenderJob, render};
+use hemilab::render::render;
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::gltf_write::{Doc, Material, Node, Prim, soup};
 use hemilab::scene::{Camera, Scene};
@@ -43,13 +43,12 @@ fn widen(tris: &[[[f32; 3]; 3]]) -> Vec<[[f64; 3]; 3]> {
 }
 
 fn image_bits(scene: &Scene) -> Vec<u32> {
-    let job = RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler: SamplerConfig::new(Sequence::Random, SeedMode::Rotation, 8, 1).unwrap(),
-        width: 32,
-        height: 24,
-        ao_distance: scene.ao_distance,
-    };
+    let job = crate::support::jobs::render_job(
+        Distribution::SineCosine,
+        SamplerConfig::new(Sequence::Random, SeedMode::Rotation, 8, 1).unwrap(),
+        (32, 24),
+        scene.ao_distance,
+    );
     let out = render(scene, &job, &|_| {});
     out.ao.data.iter().chain(&out.coverage.data).map(|v| v.to_bits()).collect()
 }

@@ -10,7 +10,7 @@
 use super::support::common::Tmp;
 use super::support::gltf_ext::{bad_extension_files, dds, extension_source, masked_square};
 use hemilab::load::{dropped_warning, load_scene};
-use hemilab::render::{RenderJob, render};
+use hemilab::render::render;
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::Scene;
 use hemilab::scene::gltf_write::{declare, glb, meshopt_compress, quantize};
@@ -29,13 +29,12 @@ fn load(t: &Tmp, glb: &[u8]) -> Result<Scene, String> {
 }
 
 fn image_bits(scene: &Scene) -> Vec<u32> {
-    let job = RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler: SamplerConfig::new(Sequence::Random, SeedMode::Rotation, 8, 1).unwrap(),
-        width: 32,
-        height: 24,
-        ao_distance: scene.ao_distance,
-    };
+    let job = crate::support::jobs::render_job(
+        Distribution::SineCosine,
+        SamplerConfig::new(Sequence::Random, SeedMode::Rotation, 8, 1).unwrap(),
+        (32, 24),
+        scene.ao_distance,
+    );
     let out = render(scene, &job, &|_| {});
     out.ao.data.iter().chain(&out.coverage.data).map(|v| v.to_bits()).collect()
 }

@@ -7,7 +7,7 @@
 
 use crate::support::common::Tmp;
 use hemilab::load::{dropped_warning, load_scene};
-use hemilab::render::{RenderJob, render};
+use hemilab::render::render;
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::Scene;
 use hemilab::scene::gltf_write::{Doc, Material, Node, Prim};
@@ -53,13 +53,12 @@ fn obj(mtllib: &str, vt: [[f32; 2]; 4], textured: bool) -> String {
 }
 
 fn image_bits(scene: &Scene) -> Vec<u32> {
-    let job = RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler: SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 32, 7).unwrap(),
-        width: 16,
-        height: 16,
-        ao_distance: scene.ao_distance,
-    };
+    let job = crate::support::jobs::render_job(
+        Distribution::SineCosine,
+        SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 32, 7).unwrap(),
+        (16, 16),
+        scene.ao_distance,
+    );
     let out = render(scene, &job, &|_| {});
     out.ao.data.iter().chain(&out.coverage.data).map(|v| v.to_bits()).collect()
 }

@@ -6,7 +6,7 @@
 
 use glam::{Vec2, Vec3};
 use hemilab::load::load_scene;
-use hemilab::render::{PixelRays, RenderJob, pixel_rays, render, trace_pixel};
+use hemilab::render::{PixelRays, pixel_rays, render, trace_pixel};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::Accel;
 use hemilab::scene::accel::{Hit, Ray};
@@ -119,7 +119,7 @@ fn render_equals_the_per_pixel_path() {
     let scene = load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/atrium.toml")).unwrap();
     let sampler = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 8, 3).unwrap();
     let (width, height) = (61, 45);
-    let job = RenderJob { distribution: Distribution::SineCosine, sampler, width, height, ao_distance: 1.0 };
+    let job = crate::support::jobs::render_job(Distribution::SineCosine, sampler, (width, height), 1.0);
     let out = render(&scene, &job, &|_| {});
     let (mut points, mut px, mut blocked) = (vec![Vec2::ZERO; 8], PixelRays::default(), vec![false; 8]);
     for y in 0..height {

@@ -183,7 +183,7 @@ fn blue_noise_spec_pairs_every_sequence_with_its_per_pixel_seed() {
     let t = s.group("blue_noise").unwrap();
     assert_eq!(t.rays, vec![8, 16, 32]);
     assert!(t.replicates >= 4);
-    // The sequences the blue-noise experiment was written for (issue 28's four are not in it yet).
+    // The sequences the blue-noise experiment was written for (the four renderer samplers, Halton, R2, ZSobol and pmj02bn, are not in it yet).
     for q in Q::all().into_iter().take(4) {
         assert!(t.rows.contains(&Row::new(D::SineCosine, q, M::BlueNoise)), "{q} blue-noise");
         let per_pixel = if q == Q::Random { M::Rotation } else { M::Shift };

@@ -90,6 +90,37 @@ impl Drop for Tmp {
     }
 }
 
+/// `hemilab ARGS` run in the repository's root, where scene paths read as the README writes them
+/// (`scenes/cornell-box.toml`).
+pub fn hemilab_in_root<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hemilab"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run hemilab")
+}
+
+/// The arguments of `hemilab render SCENE --rays N --output OUTPUT` followed by `extra`: the one
+/// spelling of a render's command line in the tests.
+pub fn render_args(scene: &str, rays: u32, output: &Path, extra: &[&str]) -> Vec<std::ffi::OsString> {
+    let mut v: Vec<std::ffi::OsString> = vec!["render".into(), scene.into(), "--rays".into()];
+    v.push(rays.to_string().into());
+    v.push("--output".into());
+    v.push(output.into());
+    v.extend(extra.iter().map(Into::into));
+    v
+}
+
+/// `hemilab render` of a committed scene (`scenes/NAME`, from the repository's root).
+pub fn render(scene: &str, rays: u32, output: &Path, extra: &[&str]) -> Output {
+    hemilab_in_root(&render_args(&format!("scenes/{scene}"), rays, output, extra))
+}
+
+/// The names in a directory (not below it), in the order the filesystem gives.
+pub fn entries(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect()
+}
+
 pub fn scene(file: &str) -> String {
     format!("{}/scenes/{file}", env!("CARGO_MANIFEST_DIR"))
 }

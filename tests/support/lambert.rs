@@ -56,7 +56,7 @@ impl Pooled {
 }
 
 use glam::Vec2;
-use hemilab::render::{PixelRays, RenderJob, pixel_rays, render};
+use hemilab::render::{PixelRays, pixel_rays, render};
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::Scene;
 
@@ -84,13 +84,8 @@ pub fn exact_pixels(
     exact: impl Fn(DVec3, DVec3) -> Option<f64>,
 ) -> Vec<(usize, f64)> {
     let sampler = SamplerConfig::new(Sequence::Random, SeedMode::Shift, 1, 0).unwrap();
-    let job = RenderJob {
-        distribution: Distribution::SineCosine,
-        sampler,
-        width: side,
-        height: side,
-        ao_distance: scene.ao_distance,
-    };
+    let job =
+        crate::support::jobs::render_job(Distribution::SineCosine, sampler, (side, side), scene.ao_distance);
     let (mut points, mut px, mut out) = (vec![Vec2::ZERO; 1], PixelRays::default(), Vec::new());
     for y in 0..side {
         for x in 0..side {
@@ -121,13 +116,8 @@ pub fn pooled_errors(
             let mut pool = Pooled::new((side * side) as usize);
             for seed in 0..seeds {
                 let sampler = SamplerConfig::new(sequence, SeedMode::Shift, rays, 100 + seed).unwrap();
-                let job = RenderJob {
-                    distribution,
-                    sampler,
-                    width: side,
-                    height: side,
-                    ao_distance: scene.ao_distance,
-                };
+                let job =
+                    crate::support::jobs::render_job(distribution, sampler, (side, side), scene.ao_distance);
                 pool.add(&render(scene, &job, &|_| {}).ao.data);
             }
             let (bias, se) = pool.bias(pixels);

@@ -6,6 +6,7 @@ pub mod common;
 pub mod examples;
 pub mod gltf_ext;
 pub mod images;
+pub mod jobs;
 pub mod lambert;
 pub mod parallax;
 pub mod room;

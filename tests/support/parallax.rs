@@ -1,4 +1,4 @@
-//! A scene whose visibility and AO are known in closed form, for the reprojection tests (issue 37):
+//! A scene whose visibility and AO are known in closed form, for the reprojection tests:
 //! a large floor (z = 0) under a floating rectangle (z = `RECT_Z`), seen obliquely from above, so
 //! that a moving camera uncovers floor the rectangle hid. `Caster` traces its primary rays
 //! analytically in f64 (a plane test each, not the BVH) and projects points into a camera with the

@@ -1,4 +1,4 @@
-//! The closed cube [-1, 1]³ of the closed-room tests (issue 27: the leak at concave edges, and the
+//! The closed cube [-1, 1]³ of the closed-room tests (the leak at concave edges, and the
 //! integrands' closed-form variances): six faces whose normals point into the room.
 
 use glam::DVec3;

@@ -117,6 +117,9 @@ pub struct Jobs<'a> {
     pub out: &'a Path,
     pub protocol: Protocol,
     pub bar: &'a ProgressBar,
+    /// The progress bar's label for this phase (every phase has one: a bar that starts again at
+    /// 0 % under the same word reads as the same work done twice).
+    pub label: &'a str,
     /// Called after each render that made records, as soon as they are made (a killed run keeps them).
     pub write: &'a Write<'a>,
 }
@@ -195,7 +198,7 @@ pub const DENOISE_DIR: &str = ".denoise";
 
 /// `run_jobs` with the image handed to `keep` instead of written.
 pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> {
-    let Jobs { loaded, plan, references, views, previous, out, protocol, bar, write } = *j;
+    let Jobs { loaded, plan, references, views, previous, out, protocol, bar, label, write } = *j;
     let start = Instant::now();
     let n = plan.jobs.len();
     let scenes = loaded.scenes.len();
@@ -282,7 +285,7 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
     let cost = |slots: &[Slot]| slots.iter().map(|s| pixels(s.job) * jobs[s.job].sampler.count as u64).sum();
     bar.reset();
     bar.set_length(cost(&slots));
-    bar.set_message("jobs");
+    bar.set_message(label.to_string());
 
     let work = |worker: &timing::Worker, slot: &Slot| -> Result<Done> {
         // Checked between jobs: a stopped queue hands out no more, and the jobs in flight finish.

@@ -35,6 +35,17 @@ pub fn advice_line(a: &Answer) -> String {
                 " — over the budget by {:.0} % even at its fewest measured count",
                 100.0 * (best.time_s / a.budget_s - 1.0)
             );
+        } else if scored.time_ms.value > a.budget_s * 1e3 * 1.005 {
+            // Above the budget yet shipped: say why, or the number reads as a mistake.
+            let _ = write!(
+                s,
+                " — {:.0} % above the budget, which counts as fitting it: a time is allowed up to {} σ of the \
+                 session factor above (σ {:.0} %, how much this machine's speed moves between sessions) \
+                 before the next lower ray count is shipped instead",
+                100.0 * (scored.time_ms.value / (a.budget_s * 1e3) - 1.0),
+                crate::advice::answer::FITS_SIGMA,
+                100.0 * model::RUN_FACTOR
+            );
         }
     } else {
         let _ = write!(

@@ -3,7 +3,7 @@
 //! a triangle from a point. The AO origin needs them where the primary ray hits an edge, a corner
 //! or a contact: lifted off its own triangle, it may still lie on a neighbour's plane, where the
 //! triangle test cannot tell the side and so reports no hit (`accel::Seen`), and about half the rays
-//! then leave through that neighbour (issue 27; `render::clearance`).
+//! then leave through that neighbour (`render::clearance`).
 
 pub(crate) mod contacts;
 pub(crate) mod grid;

@@ -79,7 +79,7 @@ pub fn set_digits(count: u32) -> u32 {
 /// `count`-point set, into `out`. Its k = `set_digits(count)` leading digits are those of
 /// `owen_radical_inverse_3(i, Some(seed))` (each digit rotated by the same hash of the digits above
 /// it), found once per node of the digit tree: 3^j nodes at depth j, (3^k - 1) / 2 hashes for the
-/// set instead of 21 a point, which made Halton renders cost ×4.1–4.6 the lattice's (issue 39).
+/// set instead of 21 a point, which made Halton renders cost ×4.1–4.6 the lattice's.
 /// Below depth k every index's digits are 0 and no two points of the set share a node, so in a
 /// nested uniform scramble (Owen 1995) the remaining 21 - k digits of each point are independent
 /// uniform digits: one hash of the point's node draws them together, uniform on 0..3^(21-k). The

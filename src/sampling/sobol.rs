@@ -15,7 +15,7 @@ pub fn sobol_x(i: u32) -> u32 {
 /// Dimension 1 of Sobol' (primitive polynomial x + 1): direction numbers v_{k+1} = v_k ^ (v_k >> 1).
 /// The generator matrix is linear over GF(2), so the result is the XOR of one table entry per
 /// byte of `i` (`SOBOL_Y_BYTES`, made at compile time by `sobol_y_bits`): four loads instead of a
-/// loop over `i`'s 32 bits, which ZSobol's full 32-bit indices paid in every point (issue 39).
+/// loop over `i`'s 32 bits, which ZSobol's full 32-bit indices paid in every point.
 #[inline]
 pub fn sobol_y(i: u32) -> u32 {
     let t = &SOBOL_Y_BYTES;

@@ -82,7 +82,7 @@ pub fn permuted_index(m: u64, j: u32, l: u32, key: u64) -> u64 {
 }
 
 /// A pixel's permuted indices, j = 0, 1, 2, ... in turn: the numbers `permuted_index` gives,
-/// with each hash made once per distinct value it hashes rather than once per point (issue 39:
+/// with each hash made once per distinct value it hashes rather than once per point (
 /// hashing all 16 + l/2 digits of every point made ZSobol renders cost ×3.3–3.8 the lattice's).
 /// The digits from the Morton code (those at or above bit l) are the pixel's: permuted once. A
 /// digit of j is permuted by a hash of the digits above it, which change only every 4^k points

@@ -63,7 +63,7 @@ pub struct Hit {
 }
 
 /// How much the BVH build spends on the tree's quality, chosen by the work the tree will do
-/// (issue 29; the rule and its measured trade-offs are in docs/performance.md). The image does not
+/// (the rule and its measured trade-offs are in docs/performance.md). The image does not
 /// depend on it: AO asks whether anything is hit (any hit) and the primary rays take the least
 /// (t, input index) of the hits (`closer`), whatever order a tree meets them in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -110,7 +110,7 @@ impl Accel {
     /// few last rays test fewer triangles they miss (kitchen query, callgrind: d = inf 1150 -> 1136
     /// M instructions, d = 1 654 -> 651 M, d = 0.3 462 -> 459 M; 1 per leaf: 1222 M at d = inf).
     ///
-    /// Memory (issue 29): afterwards the vertices live only in `tris` (BVH order), beside the tree;
+    /// Memory: afterwards the vertices live only in `tris` (BVH order), beside the tree;
     /// the input triangles in input order are kept only by a full build (the benchmark's baseline
     /// needs them, and a full build is for small scenes or long runs). A fast build gives obvhs the
     /// boxes of pairs of triangles alone, and takes `indices` to put them in Z order (`cluster`).

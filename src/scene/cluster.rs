@@ -1,4 +1,4 @@
-//! The fast BVH build (`Effort::Fast`, issue 29): obvhs's fastest preset over pairs of triangles
+//! The fast BVH build (`Effort::Fast`): obvhs's fastest preset over pairs of triangles
 //! instead of triangles, then the pairs unfolded into the CWBVH's leaves.
 //!
 //! Why pairs: obvhs's builder holds about 200 bytes per primitive at its peak (PLOC's node arrays
@@ -10,7 +10,7 @@
 //! build makes them. A pair's box is the union of its triangles' boxes, so the tree bounds every
 //! triangle, and the traversal (`accel`) sees a CWBVH of triangles like any other.
 //!
-//! Why the pairs are found in space, not in the file (issue 39): pairing only consecutive
+//! Why the pairs are found in space, not in the file: pairing only consecutive
 //! triangles left a mesh whose quads' halves lie far apart in the file (or a shuffled one) with no
 //! pairs, twice the build's memory and time. The triangles are put in Z order (Morton code of their
 //! box centres, Morton 1966; ties broken by their corners), and each is paired with the triangle
@@ -72,7 +72,7 @@ fn fast_cwbvh(positions: &[Vec3], tris: &[[u32; 3]], core: &mut std::time::Durat
     let places = pairs(tris, positions);
     // obvhs's `build_cwbvh` with the fastest preset (whose reinsertion does nothing), spelt out so
     // that PLOC's leaves are made here, without the list of boxes it would copy them from
-    // (issue 39: 160 MB at the peak of a 10 M build).
+    // (160 MB at the peak of a 10 M build).
     let leaves: Vec<Bvh2Node> = places
         .par_iter()
         .enumerate()

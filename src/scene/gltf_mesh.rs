@@ -293,7 +293,7 @@ fn primitive(
     // Each instance's positions once (in world coordinates), its triangles indexing them.
     let base = mesh.positions.len() as u32;
     // The test in parallel: it reads the positions through the indices, slow for a large mesh
-    // whose triangles are not in the order of their vertices (issue 39).
+    // whose triangles are not in the order of their vertices.
     let ok: Vec<bool> = corners.par_iter().map(|c| usable(&c.map(|i| positions[i as usize]))).collect();
     for (c, ok) in corners.into_iter().zip(ok) {
         if ok {

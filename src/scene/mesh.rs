@@ -100,7 +100,7 @@ pub fn parse_obj_with(bytes: &[u8], fetch: Option<Fetch<'_>>) -> Result<ObjLoad,
     let face =
         |f: usize| &parsed.corners[if f == 0 { 0 } else { parsed.face_ends[f - 1] }..parsed.face_ends[f]];
     // The test of every triangle (fan) in parallel: it reads the positions through the indices,
-    // slow for a large mesh whose faces are not in the order of their vertices (issue 39).
+    // slow for a large mesh whose faces are not in the order of their vertices.
     let ok: Vec<bool> = (0..parsed.face_ends.len())
         .into_par_iter()
         .flat_map_iter(|f| {

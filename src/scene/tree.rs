@@ -1,4 +1,4 @@
-//! Countable measures of a built tree (issue 39: a mesh's build must not depend on its triangle
+//! Countable measures of a built tree (a mesh's build must not depend on its triangle
 //! order), for tests and benchmarks: they compare trees without timing them.
 
 use super::Accel;

@@ -199,7 +199,7 @@ fn equal_time_halton_and_zsobol_never_win_and_all_four_trail_at_the_largest_budg
     // Against the lattice with a per-pixel seed at equal total render time, at the largest common
     // budget, all four have more MSE (R2 and pmj02bn measured ×1.3–3.3 on the eight scenes, Halton
     // and ZSobol ×1.6–3.7 once they render at their fair speed), by a number of SE that is printed;
-    // Halton and ZSobol never have less at any budget (no verdict cell fails). Before issue 39 their
+    // Halton and ZSobol never have less at any budget (no verdict cell fails). Before the precomputed-permutation rewrite their
     // per-digit hashing made each render several times slower and they lost by at least MIN_SE
     // everywhere; at ×1.2–1.9 the lattice's time (their scattered ray order, no longer their points'
     // cost) the margin is a few SE on foliage (Halton: MSE ×1.58, +4.3 SE), so it is no longer

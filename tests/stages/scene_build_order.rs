@@ -1,4 +1,4 @@
-//! The fast BVH build does not depend on the order of the mesh's triangles (issue 39): a grid whose
+//! The fast BVH build does not depend on the order of the mesh's triangles: a grid whose
 //! quads' two halves lie far apart in the file, or whose triangles (and each triangle's corners)
 //! are shuffled, gets the tree of the ordered grid, counted by its nodes, leaves, slots and surface
 //! area cost, and renders the same bits; so do the kitchen and the terrain shuffled.

@@ -1,4 +1,4 @@
-//! Point generation alone, per sequence (issue 39): how many nanoseconds one point of each
+//! Point generation alone, per sequence: how many nanoseconds one point of each
 //! sequence costs, so a sequence's share of a render's time is a figure of its own rather than a
 //! guess from whole renders (Halton's and ZSobol's once cost ×3–4.6 the lattice's renders).
 

@@ -321,6 +321,10 @@ pub fn seeds_cells(results: &[JobResult]) -> Option<(u32, Vec<SeedsCell>)> {
             let Some(prefix) = label.strip_suffix("/rotation/independent") else { continue };
             let get = |mode: &str| configs.get(&format!("{prefix}/{mode}/independent"));
             let (Some(bn), Some(st)) = (get("blue-noise"), get("stbn")) else { continue };
+            // A moving camera's noise part is not measured: nothing to say here.
+            if rot.iter().any(|m| !m.noise.is_finite()) {
+                continue;
+            }
             out.push(SeedsCell {
                 place: Place::of(at, floor_of(configs)),
                 prefix: prefix.to_string(),
@@ -456,7 +460,11 @@ mod tests {
         .concat();
         let c = engine_cells(&rs);
         assert_eq!(c.len(), 2, "{c:?}");
-        assert_eq!((c[0].place.pipeline.as_str(), c[0].place.frame), ("ema0.1+atrous", 16), "the last frame only");
+        assert_eq!(
+            (c[0].place.pipeline.as_str(), c[0].place.frame),
+            ("ema0.1+atrous", 16),
+            "the last frame only"
+        );
         assert_eq!(c[0].engine, "sine-cosine/random/ign/independent");
         assert_eq!(c[0].other, "sine-cosine/random/blue-noise/independent");
         // Blue noise − IGN: exactly −0.005 twice → −20 % of 0.025, a verdict however few pairs.

@@ -18,7 +18,7 @@ fn cells() -> Vec<EngineCell> {
 fn cell<'a>(cells: &'a [EngineCell], rays: u32, pipeline: &str) -> &'a EngineCell {
     cells
         .iter()
-        .find(|c| c.rays == rays && c.pipeline == pipeline)
+        .find(|c| c.place.rays == rays && c.place.pipeline == pipeline)
         .unwrap_or_else(|| panic!("no cell at {rays} rays after {pipeline}: {cells:?}"))
 }
 

@@ -25,8 +25,16 @@ fn pm(e: Estimate) -> String {
     if e.se.is_finite() { format!("{:.4} ± {:.4}", e.value, e.se) } else { format!("{:.4}", e.value) }
 }
 
-/// The verdict column's words for `sign` (of b against a): b more error → a wins.
+/// The verdict column's words for `sign` (of b against a): b more error → a wins; "—" where the
+/// margin was not measured (a moving camera's noise part).
 fn verdict(sign: i32, a: &str, b: &str) -> String {
+    verdict_of(sign, true, a, b)
+}
+
+fn verdict_of(sign: i32, measured: bool, a: &str, b: &str) -> String {
+    if !measured {
+        return "—".into();
+    }
     match sign {
         1 => format!("{a} wins"),
         -1 => format!("{b} wins"),
@@ -70,7 +78,7 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
                 margin_text(&c.rmse.margin),
                 margin_text(&c.noise.margin),
                 rmse_verdict(c.rmse.sign, c.below_floor, "paper", "best other"),
-                verdict(c.noise.sign, "paper", "best other"),
+                verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "paper", "best other"),
                 if c.degenerate { "1 ray: sequence axis degenerate".into() } else { String::new() },
             ]
         })
@@ -121,7 +129,7 @@ pub fn stbn_table(results: &[JobResult]) -> Option<Table> {
                 margin_text(&c.rmse.margin),
                 margin_text(&c.noise.margin),
                 rmse_verdict(c.rmse.sign, c.below_floor, "blue noise", "stbn"),
-                verdict(c.noise.sign, "blue noise", "stbn"),
+                verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "blue noise", "stbn"),
             ]
         })
         .collect();
@@ -211,7 +219,7 @@ pub fn engine_table(results: &[JobResult]) -> Option<Table> {
                 margin_text(&c.rmse.margin),
                 margin_text(&c.noise.margin),
                 rmse_verdict(c.rmse.sign, c.below_floor, "engine", "other"),
-                verdict(c.noise.sign, "engine", "other"),
+                verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "engine", "other"),
             ]
         })
         .collect();
@@ -239,13 +247,14 @@ pub fn engine_table(results: &[JobResult]) -> Option<Table> {
     })
 }
 
-/// How many of `rows` have each verdict in column `col`: (first named wins, tie, second named wins,
-/// below floor).
+/// How many of `rows` have each verdict in column `col`: (first named wins, tie, the other wins,
+/// below floor); rows whose margin was not measured ("—") are in none.
 fn tally(rows: &[&Vec<String>], col: usize, first: &str) -> (usize, usize, usize, usize) {
     let wins = rows.iter().filter(|r| r[col] == format!("{first} wins")).count();
     let ties = rows.iter().filter(|r| r[col] == "tie").count();
     let below = rows.iter().filter(|r| r[col] == "below floor").count();
-    (wins, ties, rows.len() - wins - ties - below, below)
+    let others = rows.iter().filter(|r| r[col].ends_with(" wins")).count() - wins;
+    (wins, ties, others, below)
 }
 
 /// Per pipeline × rays per frame × camera (at the pipeline's last frame), how often the paper's

@@ -104,7 +104,8 @@ impl<'a> Guides<'a> {
         views: &'a ViewReferences,
     ) -> Self {
         let mut g = Guides::default();
-        let mut last: Vec<((usize, Pipeline), (u32, u32, u32))> = Vec::new();
+        // Per (scene, pipeline): the last frame any job reports.
+        let mut last: Vec<((usize, Pipeline), u32)> = Vec::new();
         for n in needs {
             let m = n.measurement;
             if m.is_single_frame() {
@@ -118,11 +119,11 @@ impl<'a> Guides<'a> {
                 });
             }
             match last.iter_mut().find(|(k, _)| *k == (t, m.pipeline)) {
-                Some((_, (f, _, _))) => *f = (*f).max(m.frame),
-                None => last.push(((t, m.pipeline), (m.frame, n.width, n.height))),
+                Some((_, f)) => *f = (*f).max(m.frame),
+                None => last.push(((t, m.pipeline), m.frame)),
             }
         }
-        for ((t, p), (frames, _, _)) in last {
+        for ((t, p), frames) in last {
             let floor = floor(&p, &references[t], &g.gbuffers[&t], frames);
             g.floors.push(((t, p), floor));
         }

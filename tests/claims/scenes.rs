@@ -195,15 +195,16 @@ fn sampler(s: Sequence) -> Config {
 }
 
 #[test]
-fn equal_time_halton_and_zsobol_never_win_and_all_four_trail_at_the_largest_budget() {
+fn equal_time_all_four_shipped_samplers_trail_the_lattice_at_the_largest_budget() {
     // Against the lattice with a per-pixel seed at equal total render time, at the largest common
     // budget, all four have more MSE (R2 and pmj02bn measured ×1.3–3.3 on the eight scenes, Halton
     // and ZSobol ×1.6–3.7 once they render at their fair speed), by a number of SE that is printed;
-    // Halton and ZSobol never have less at any budget (no verdict cell fails). Before the precomputed-permutation rewrite their
+    // Before the precomputed-permutation rewrite Halton's and ZSobol's
     // per-digit hashing made each render several times slower and they lost by at least MIN_SE
     // everywhere; at ×1.2–1.9 the lattice's time (their scattered ray order, no longer their points'
-    // cost) the margin is a few SE on foliage (Halton: MSE ×1.58, +4.3 SE), so it is no longer
-    // asserted. At the smallest budget (one or two rays) R2 and pmj02bn can tie or beat the
+    // cost) they are timed like R2 and pmj02bn, and like them (a CI run measured Halton below the
+    // lattice on foliage at the smallest budget, MSE ×0.88, −3.9 SE) only the largest budget is
+    // asserted. At the smallest budget (one or two rays) all four can tie or beat the
     // lattice, whose one or two points per pixel keep their elevations under a per-pixel rotation:
     // a CI run measured R2 below it on the floating rectangle there (MSE ×0.62, −5.5 SE), so that
     // end is printed, not asserted — equal-time verdicts move with the machine's timings.
@@ -227,9 +228,6 @@ fn equal_time_halton_and_zsobol_never_win_and_all_four_trail_at_the_largest_budg
                 r.value,
                 r.se
             );
-            if matches!(seq, Sequence::Halton | Sequence::ZSobol) {
-                assert_ne!(v.outcome, Outcome::Fails, "{scene}, {seq} beats the lattice: {}", v.detail);
-            }
             assert!(r.value > 1.0, "{what}: the lattice has more MSE at the largest budget");
             eprintln!("{what} ({:+.1} SE)", r.in_se());
         }

@@ -15,6 +15,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 pub mod points;
+mod realtime;
 pub mod texture;
 
 /// The files a spec names besides its scenes (noise textures, point sets), read relative to the
@@ -102,55 +103,9 @@ pub fn load(spec_path: &Path) -> Result<Loaded> {
     if let Some(w) = single_replicate_warning(&spec) {
         eprintln!("{w}");
     }
-    check_cameras(&spec, &scenes)?;
-    probe_denoisers(&spec)?;
+    realtime::check_cameras(&spec, &scenes)?;
+    realtime::probe_denoisers(&spec)?;
     Ok(Loaded { spec, scenes })
-}
-
-/// Every camera path a group names, over each of its scenes' cameras and for its frames: a path
-/// that would take a frame's camera somewhere no image can be made from is the spec's error.
-fn check_cameras(spec: &Spec, scenes: &[Arc<Scene>]) -> Result<()> {
-    for g in &spec.groups {
-        for run in g.cameras.iter().filter_map(|c| c.run()) {
-            for &si in &g.scenes {
-                run.path.validate(&scenes[si].view, run.frames.max(1)).map_err(|e| {
-                    Error::input(
-                        &spec.path,
-                        format!(
-                            "key `cameras.{}.path`: over scene '{}': {e}",
-                            run.name, spec.scenes[si].name
-                        ),
-                    )
-                })?;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Every denoiser command a group names, tried on a tiny generated frame (`DenoiseCommand::probe`)
-/// in a directory of the system's temporary one: a command that cannot run, fails or writes
-/// nothing usable is refused before any rendering, and nothing is written where the run writes.
-fn probe_denoisers(spec: &Spec) -> Result<()> {
-    let mut seen = Vec::new();
-    for d in spec.groups.iter().flat_map(|g| &g.denoisers).filter_map(|d| d.get()) {
-        if seen.contains(&d.name) {
-            continue;
-        }
-        seen.push(d.name.clone());
-        let dir = std::env::temp_dir().join(format!("hemilab-probe-{}-{}", std::process::id(), d.name));
-        let tried = d.command.probe(&dir).map_err(|e| {
-            Error::input(
-                &spec.path,
-                format!("key `denoisers.{}`: the command failed on a test frame: {e}", d.name),
-            )
-        });
-        if tried.is_ok() {
-            io::remove_dir_all_if_exists(&dir)?;
-        }
-        tried?;
-    }
-    Ok(())
 }
 
 /// A scene the spec names: a missing file is the spec's mistake, so the message points at its key;

@@ -6,7 +6,7 @@
 //! --resolution 32x24 --output /tmp/grid/out.exr`. Coordinates are printed with `{}` of the f32 value,
 //! which round-trips exactly.
 //!
-//! A third argument orders the triangles (issue 39: the BVH build must not depend on it; the image
+//! A third argument orders the triangles (the BVH build must not depend on it; the image
 //! does not): `ordered` (default; each quad's two triangles next to each other, row by row),
 //! `split` (the first triangle of every quad, then every second one: a quad's halves N² apart) or
 //! `shuffled` (a fixed pseudo-random permutation of all triangles). The vertices stay in grid order.

@@ -7,6 +7,7 @@ pub mod bench;
 mod clearance;
 mod gbuffer;
 mod offset;
+mod order;
 pub mod reproject;
 mod sight;
 mod view;
@@ -27,6 +28,7 @@ use crate::scene::accel::{Hit, Ray};
 use crate::scene::camera::Raster;
 use crate::scene::packet::{Occluders, PACKET, Soa};
 use glam::{Vec2, Vec3};
+use order::RayOrder;
 use rayon::prelude::*;
 use std::cell::RefCell;
 
@@ -59,8 +61,13 @@ struct Scratch {
     primaries: Vec<Primary>,
     points: Vec<Vec2>,
     rays: PixelRays,
-    /// The pixel's answers, one mask per 32 rays.
+    /// The pixel's answers, one mask per 32 rays, in traced order.
     masks: Vec<u32>,
+    /// The order its rays are traced in (grouped by direction), and the answers and weights back
+    /// in the sampler's order where the sum needs them so.
+    order: RayOrder,
+    sampler_masks: Vec<u32>,
+    sampler_weights: Vec<f32>,
 }
 
 /// The AO rays of one pixel: they all start at `origin`.
@@ -134,6 +141,9 @@ pub fn render_view(
                 points: vec![Vec2::ZERO; n],
                 rays: PixelRays::default(),
                 masks: vec![0; n.div_ceil(PACKET)],
+                order: RayOrder::new(),
+                sampler_masks: vec![0; n.div_ceil(PACKET)],
+                sampler_weights: vec![0.0; n],
             },
             |s, t| {
                 #[cfg(target_arch = "x86_64")]
@@ -199,7 +209,7 @@ fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
         let Some(hit) = p.hit else { continue };
         let pixel = p.y as u64 * w as u64 + p.x as u64;
         let from = raster.origin(p.x, p.y);
-        rays_from_hit(
+        let sorted = rays_from_hit(
             scene,
             job,
             integrand,
@@ -208,6 +218,7 @@ fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
             hit,
             &mut s.points,
             &mut s.rays,
+            Some(&mut s.order),
         );
         let (r, b) = (&s.rays, &s.rays.batch);
         let dirs = Soa { x: &b.x[..n], y: &b.y[..n], z: &b.z[..n] };
@@ -215,16 +226,23 @@ fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
         let blocked: u32 = s.masks.iter().map(|m| m.count_ones()).sum();
         occluded += blocked as u64;
         let sum = if unit_weight {
-            // Every weight is exactly 1: the in-order sum below is the count, exactly.
+            // Every weight is exactly 1: the in-order sum below is the count, exactly, in any order.
             blocked as f64
         } else {
-            // The blocked rays' weights in ray order (the f64 sum's order is part of
-            // the result).
+            // The blocked rays' weights in the sampler's order (the f64 sum's order is part of
+            // the result), whatever order they were traced in.
+            let (masks, weights) = if sorted {
+                s.order.unsort(&s.masks, &mut s.sampler_masks);
+                s.order.unsort_values(&b.weight[..n], &mut s.sampler_weights);
+                (&s.sampler_masks, &s.sampler_weights)
+            } else {
+                (&s.masks, &b.weight)
+            };
             let mut sum = 0.0f64;
-            for (k, &mask) in s.masks.iter().enumerate() {
+            for (k, &mask) in masks.iter().enumerate() {
                 let mut m = mask;
                 while m != 0 {
-                    sum += b.weight[k * PACKET + m.trailing_zeros() as usize] as f64;
+                    sum += weights[k * PACKET + m.trailing_zeros() as usize] as f64;
                     m &= m - 1;
                 }
             }
@@ -284,7 +302,17 @@ pub fn pixel_rays_of(
     let Some(hit) = scene.accel.closest(&Ray::new(primary.origin, primary.dir, f32::INFINITY)) else {
         return false;
     };
-    rays_from_hit(scene, job, integrand, (x, y, pixel), (primary.origin, primary.dir), hit, points, out);
+    let _ = rays_from_hit(
+        scene,
+        job,
+        integrand,
+        (x, y, pixel),
+        (primary.origin, primary.dir),
+        hit,
+        points,
+        out,
+        None,
+    );
     let b = &out.batch;
     out.dirs.clear();
     out.dirs.extend((0..b.len()).map(|i| b.get(i)));
@@ -337,7 +365,9 @@ pub(crate) fn tile_primaries(scene: &Scene, raster: &Raster, t: u32, out: &mut V
 
 /// The AO rays of pixel (x, y, index) from its primary ray (origin, direction) and hit: offset
 /// origin (off the hit triangle, then off every neighbour it still lies on: `clearance`), the
-/// sampler's directions and weights. `points` must hold `job.sampler.count` entries.
+/// sampler's directions and weights. `points` must hold `job.sampler.count` entries. With `order`,
+/// more than one packet of rays comes out grouped by direction (`order::RayOrder`), which then
+/// knows the sampler's order; without, in the sampler's order.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn rays_from_hit(
@@ -349,7 +379,8 @@ fn rays_from_hit(
     hit: Hit,
     points: &mut [Vec2],
     out: &mut PixelRays,
-) {
+    order: Option<&mut RayOrder>,
+) -> bool {
     let key = (scene.accel.id(), hit.prim);
     let plane = match &out.plane {
         Some((id, prim, plane)) if (*id, *prim) == key => plane,
@@ -365,6 +396,12 @@ fn rays_from_hit(
     out.normal = n;
     let basis = Frame::from_normal(n);
     job.sampler.fill_pixel(x, y, pixel, points);
+    let sorted = match order {
+        Some(order) if points.len() > PACKET => order.sort(points),
+        _ => None,
+    };
+    let moved = sorted.is_some();
+    let points = sorted.unwrap_or(points);
     // All points at once (vectorized; bit for bit the one-point path, `batch::world_sample`).
     out.batch.fill(job.distribution, points, &basis);
     if integrand != Integrand::Ao {
@@ -374,6 +411,7 @@ fn rays_from_hit(
             *w = integrand.weight(job.distribution, job.distribution.sample(u).dir);
         }
     }
+    moved
 }
 
 /// hemilab's AO query: which of a pixel's rays (all from `origin`) are blocked within `tmax`.

@@ -8,7 +8,7 @@
 use super::hash::{FIX_BITS, fix_add, fix_to_f32, hash};
 use super::registry::{PixelSet, PointSequence, SHIPS_SHIFTED, SequenceInfo, Shipped};
 use super::seed::SeedMode;
-use super::sobol::owen_scramble;
+use super::sobol::laine_karras;
 use glam::Vec2;
 
 /// Base-3 digits kept: 3^21 > 2^32, so every u32 index is inverted exactly.
@@ -53,11 +53,38 @@ pub fn fill(key: u64, count: u32, dx: u32, dy: u32, out: &mut [Vec2]) {
     let sy = hash(key, 2);
     SCRATCH.with_borrow_mut(|scratch| {
         owen_scramble_3(count, sy, out.len(), scratch);
-        for (i, (p, &y)) in out.iter_mut().zip(scratch.iter()).enumerate() {
-            let x = owen_scramble((i as u32).reverse_bits(), sx) >> (32 - FIX_BITS);
-            *p = Vec2::new(fix_to_f32(fix_add(x, dx)), fix_to_f32(fix_add(base3_to_fixed(y), dy)));
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2 (checked just above).
+            return unsafe { points_avx2(scratch, sx, (dx, dy), out) };
         }
+        points(scratch, sx, (dx, dy), out)
     });
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn points_avx2(ys: &[u64], sx: u32, d: (u32, u32), out: &mut [Vec2]) {
+    points(ys, sx, d, out)
+}
+
+/// The points from their scrambled base-3 integers `ys`: x in a first pass that vectorizes (eight
+/// 32-bit hashes and bit reversals at a time), y (64-bit products) in a second.
+#[inline(always)]
+fn points(ys: &[u64], sx: u32, (dx, dy): (u32, u32), out: &mut [Vec2]) {
+    const CHUNK: usize = 64;
+    let mut xs = [0.0f32; CHUNK];
+    for (c, (out, ys)) in out.chunks_mut(CHUNK).zip(ys.chunks(CHUNK)).enumerate() {
+        let xs = &mut xs[..out.len()];
+        for (k, x) in xs.iter_mut().enumerate() {
+            // owen_scramble(reverse(i), sx), with the two reversals that cancel left out.
+            let i = (c * CHUNK + k) as u32;
+            *x = fix_to_f32(fix_add(laine_karras(i, sx).reverse_bits() >> (32 - FIX_BITS), dx));
+        }
+        for ((p, &x), &y) in out.iter_mut().zip(xs.iter()).zip(ys) {
+            *p = Vec2::new(x, fix_to_f32(fix_add(base3_to_fixed(y), dy)));
+        }
+    }
 }
 
 std::thread_local! {

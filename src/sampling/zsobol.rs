@@ -5,10 +5,10 @@
 //! hierarchical ordering of pixels"; pbrt-v4's `ZSobolSampler`). The pixel's 2^L indices form an
 //! aligned block, so its points are a (0, L, 2)-net of Sobol', Owen-scrambled (Burley 2020).
 
-use super::hash::{FIX_BITS, fix_add, fix_to_f32, hash};
+use super::hash::hash;
 use super::registry::{PixelSet, PointSequence, SequenceInfo, Shipped};
 use super::seed::SeedMode;
-use super::sobol::{owen_scramble, sobol_x, sobol_y};
+use super::sobol::{CHUNK, scrambled_points};
 use glam::Vec2;
 
 /// The 24 permutations of {0, 1, 2, 3}.
@@ -165,14 +165,14 @@ impl PixelIndices {
 /// permuted and Owen-scrambled by seeds from `key`, shifted by (`dx`, `dy`) mod 1.
 pub fn fill(n: u32, x: u32, y: u32, key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
     let mut indices = PixelIndices::new(morton(x, y), log2_ceil(n), hash(key, 3));
-    let sx = hash(key, 1) as u32;
-    let sy = hash(key, 2) as u32;
-    for (j, p) in out.iter_mut().enumerate() {
-        // Sobol' dimensions 0 and 1 depend on the index's low 32 bits only.
-        let i = indices.get(j as u32) as u32;
-        let px = owen_scramble(sobol_x(i), sx) >> (32 - FIX_BITS);
-        let py = owen_scramble(sobol_y(i), sy) >> (32 - FIX_BITS);
-        *p = Vec2::new(fix_to_f32(fix_add(px, dx)), fix_to_f32(fix_add(py, dy)));
+    let seeds = (hash(key, 1) as u32, hash(key, 2) as u32);
+    let mut idx = [0u32; CHUNK];
+    for (c, chunk) in out.chunks_mut(CHUNK).enumerate() {
+        for (k, i) in idx[..chunk.len()].iter_mut().enumerate() {
+            // Sobol' dimensions 0 and 1 depend on the index's low 32 bits only.
+            *i = indices.get((c * CHUNK + k) as u32) as u32;
+        }
+        scrambled_points(&idx[..chunk.len()], seeds, (dx, dy), chunk);
     }
 }
 

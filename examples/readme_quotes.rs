@@ -2,7 +2,7 @@
 //! (`hemilab run experiments/paper.toml --out experiments/outputs/paper`):
 //! `cargo run --release --example readme_quotes`. For every such directory, its `quotes.md` is made
 //! again from its `results.json` and `timing.json` (as `tests/claims/readme.rs` does); then every
-//! `<!-- quote NAME -->` block of README.md is replaced by the block of that name (a name no quotes
+//! `<!-- quote NAME -->` block of README.md and of the docs/ pages is replaced by the block of that name (a name no quotes
 //! file holds is an error), and the figures in `experiments/figures/` are copied from the runs.
 
 use hemilab::report::run::quotes::{self, Cost};
@@ -26,18 +26,29 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         io::write_atomic(&out.join("quotes.md"), text.as_bytes())?;
         known.extend(quotes::blocks(&text));
     }
-    let path = root.join("README.md");
-    let mut readme = io::read_string(&path)?;
-    let mut changed = 0;
-    for (name, old) in quotes::blocks(&readme.clone()) {
-        let new = &known.iter().find(|(n, _)| *n == name).ok_or(format!("no committed quote '{name}'"))?.1;
-        if *new != old {
-            readme = readme.replace(&old, new);
-            changed += 1;
+    // The README and the docs/ pages it moved blocks to.
+    let mut pages = vec![root.join("README.md")];
+    for e in std::fs::read_dir(root.join("docs"))? {
+        let p = e?.path();
+        if p.extension().is_some_and(|x| x == "md") {
+            pages.push(p);
         }
     }
-    io::write_atomic(&path, readme.as_bytes())?;
-    println!("{}: {changed} quoted blocks refreshed", path.display());
+    for path in pages {
+        let mut page = io::read_string(&path)?;
+        let mut changed = 0;
+        for (name, old) in quotes::blocks(&page.clone()) {
+            let new = &known.iter().find(|(n, _)| *n == name).ok_or(format!("no committed quote '{name}'"))?.1;
+            if *new != old {
+                page = page.replace(&old, new);
+                changed += 1;
+            }
+        }
+        if changed > 0 {
+            io::write_atomic(&path, page.as_bytes())?;
+        }
+        println!("{}: {changed} quoted blocks refreshed", path.display());
+    }
     // The figures the README shows, from the same runs: `experiments/figures/NAME.png` is the
     // paper run's `NAME.png`, and `SPEC_NAME.png` another spec's `NAME.png`.
     let figures = root.join("experiments/figures");

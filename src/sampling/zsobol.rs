@@ -8,7 +8,7 @@
 use super::hash::hash;
 use super::registry::{PixelSet, PointSequence, SequenceInfo, Shipped};
 use super::seed::SeedMode;
-use super::sobol::{CHUNK, scrambled_points};
+use super::sobol::scrambled_points;
 use glam::Vec2;
 
 /// The 24 permutations of {0, 1, 2, 3}.
@@ -81,24 +81,18 @@ pub fn permuted_index(m: u64, j: u32, l: u32, key: u64) -> u64 {
     out
 }
 
-/// A pixel's permuted indices, j = 0, 1, 2, ... in turn: the numbers `permuted_index` gives,
-/// with each hash made once per distinct value it hashes rather than once per point (
-/// hashing all 16 + l/2 digits of every point made ZSobol renders cost ×3.3–3.8 the lattice's).
-/// The digits from the Morton code (those at or above bit l) are the pixel's: permuted once. A
-/// digit of j is permuted by a hash of the digits above it, which change only every 4^k points
-/// for the k-th digit from the bottom, so each level keeps its permutation and the permuted bits
-/// of it and every level above; a step of j redoes only the levels whose prefix changed (3 steps
-/// in 4 only the bottom one). The odd last bit's hash reads idx >> 1, shared by two points.
+/// A pixel's permuted indices: the numbers `permuted_index` gives, with each hash made once per
+/// distinct value it hashes rather than once per point (hashing all 16 + l/2 digits of every point
+/// made ZSobol renders cost ×3.3–3.8 the lattice's). The digits from the Morton code (those at or
+/// above bit l) are the pixel's: permuted once. A digit of j is permuted by a hash of the digits
+/// above it, which change only every 4^k points for the k-th digit from the bottom (`all`). The odd
+/// last bit's hash reads idx >> 1, shared by two points.
 pub struct PixelIndices {
     idx_high: u64,
-    /// Per digit of j (bottom first): the value above it last hashed, its permutation, and the
-    /// permuted bits of this level and all above it (with the Morton code's).
-    levels: [(u64, [u8; 4], u64); 16],
     /// The permuted digits at or above bit l.
     high: u64,
     digits: usize,
     odd: u32,
-    last_half: (u64, u64),
     key: u64,
 }
 
@@ -116,64 +110,56 @@ impl PixelIndices {
             let above = idx_high >> (shift + 2);
             high |= (PERMS[(hash(key, above ^ (shift << 58)) % 24) as usize][digit] as u64) << shift;
         }
-        PixelIndices {
-            idx_high,
-            levels: [(u64::MAX, [0; 4], 0); 16],
-            high,
-            digits,
-            odd,
-            last_half: (u64::MAX, 0),
-            key,
-        }
+        PixelIndices { idx_high, high, digits, odd, key }
     }
 
-    /// `permuted_index(m, j, l, key)`.
-    #[inline]
-    pub fn get(&mut self, j: u32) -> u64 {
-        let idx = self.idx_high | j as u64;
-        let shift = |k: usize| 2 * k as u64 + self.odd as u64;
-        // The levels whose prefix changed are the lowest ones (each level's prefix is the one
-        // below's without its top digit): 0..t.
-        let mut t = 0;
-        while t < self.digits && self.levels[t].0 != idx >> (shift(t) + 2) {
-            t += 1;
-        }
-        let mut out = if t + 1 < self.digits { self.levels[t + 1].2 } else { self.high };
-        if t < self.digits {
-            let level = &mut self.levels[t];
-            out |= (level.1[((idx >> shift(t)) & 3) as usize] as u64) << shift(t);
-            level.2 = out;
-        }
-        for k in (0..t).rev() {
-            let (s, above) = (shift(k), idx >> (shift(k) + 2));
-            let perm = PERMS[(hash(self.key, above ^ (s << 58)) % 24) as usize];
-            out |= (perm[((idx >> s) & 3) as usize] as u64) << s;
-            self.levels[k] = (above, perm, out);
+    /// The low 32 bits of `permuted_index(m, j, l, key)` for j = 0..out.len() (all a pixel's
+    /// points need: Sobol' dimensions 0 and 1 read only them), level by level rather than point by
+    /// point: one hash per distinct prefix and level, then a table look-up per point and level in
+    /// straight loops, about half the cost of `get` in turn.
+    pub fn all(&self, out: &mut [u32]) {
+        out.fill(self.high as u32);
+        for k in 0..self.digits {
+            let s = 2 * k as u64 + self.odd as u64;
+            let span = 1usize << (s + 2);
+            for (g, chunk) in out.chunks_mut(span).enumerate() {
+                let above = (self.idx_high >> (s + 2)) | g as u64;
+                let perm = PERMS[(hash(self.key, above ^ (s << 58)) % 24) as usize];
+                // The digit is constant over runs of 2^s points: one value OR-ed over each run.
+                for (run, &d) in chunk.chunks_mut(1 << s).zip(perm.iter()) {
+                    let v = (d as u32) << s;
+                    run.iter_mut().for_each(|o| *o |= v);
+                }
+            }
         }
         if self.odd == 1 {
-            let half = idx >> 1;
-            if self.last_half.0 != half {
-                self.last_half = (half, hash(self.key ^ 0xB17, half) & 1);
+            // l >= 1 here, so a pair's indices differ in bit 0 alone and share idx >> 1.
+            for (h, pair) in out.chunks_mut(2).enumerate() {
+                let flip = (hash(self.key ^ 0xB17, (self.idx_high >> 1) | h as u64) & 1) as u32;
+                for (bit, o) in pair.iter_mut().enumerate() {
+                    *o |= bit as u32 ^ flip;
+                }
             }
-            out |= (idx & 1) ^ self.last_half.1;
         }
-        out
     }
 }
 
 /// Fills `out` with the first points of pixel (`x`, `y`)'s block of 2^ceil(log2 n) ZSobol' points,
 /// permuted and Owen-scrambled by seeds from `key`, shifted by (`dx`, `dy`) mod 1.
 pub fn fill(n: u32, x: u32, y: u32, key: u64, dx: u32, dy: u32, out: &mut [Vec2]) {
-    let mut indices = PixelIndices::new(morton(x, y), log2_ceil(n), hash(key, 3));
+    let indices = PixelIndices::new(morton(x, y), log2_ceil(n), hash(key, 3));
     let seeds = (hash(key, 1) as u32, hash(key, 2) as u32);
-    let mut idx = [0u32; CHUNK];
-    for (c, chunk) in out.chunks_mut(CHUNK).enumerate() {
-        for (k, i) in idx[..chunk.len()].iter_mut().enumerate() {
-            // Sobol' dimensions 0 and 1 depend on the index's low 32 bits only.
-            *i = indices.get((c * CHUNK + k) as u32) as u32;
-        }
-        scrambled_points(&idx[..chunk.len()], seeds, (dx, dy), chunk);
-    }
+    INDICES.with_borrow_mut(|idx| {
+        idx.resize(out.len(), 0);
+        // Sobol' dimensions 0 and 1 depend on the index's low 32 bits only.
+        indices.all(idx);
+        scrambled_points(idx, seeds, (dx, dy), out);
+    });
+}
+
+std::thread_local! {
+    /// `fill`'s permuted indices, kept per thread so that a render allocates them once.
+    static INDICES: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// Its seed modes act the common way (`PixelSet::keyed`).
@@ -205,16 +191,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_pixels_indices_in_turn_are_permuted_index() {
+    fn a_pixels_indices_are_permuted_index() {
         for l in [0, 1, 2, 5, 6, 9, 10] {
             for (x, y, key) in [(0, 0, 1), (7, 5, 0xDEAD_BEEF), (65535, 65535, u64::MAX)] {
-                let mut p = PixelIndices::new(morton(x, y), l, key);
-                for j in 0..(1u32 << l).min(700) {
-                    assert_eq!(p.get(j), permuted_index(morton(x, y), j, l, key), "l {l} ({x},{y}) j {j}");
-                }
-                // Out of turn too (the cache is only a cache).
-                for j in [5u32, 3, 700, 0, 64, 63, 1023, 2].map(|j| j % (1 << l)) {
-                    assert_eq!(p.get(j), permuted_index(morton(x, y), j, l, key), "l {l} ({x},{y}) j {j}");
+                let p = PixelIndices::new(morton(x, y), l, key);
+                // A whole block, and a first part of one (a count that is not a power of two).
+                for len in [1usize << l, ((1usize << l) * 2 / 3).max(1)] {
+                    let mut all = vec![0u32; len];
+                    p.all(&mut all);
+                    for (j, &i) in all.iter().enumerate() {
+                        let want = permuted_index(morton(x, y), j as u32, l, key) as u32;
+                        assert_eq!(i, want, "l {l} ({x},{y}) j {j}");
+                    }
                 }
             }
         }

@@ -60,6 +60,9 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
                 GroupKind::Convergence => {
                     block(name.clone(), slopes(spec, g, scene, &aggs));
                     block(format!("{name}/times"), times(g, scene, &aggs));
+                    if let Some(t) = times_vs_lattice(g, scene, &aggs) {
+                        block(format!("{name}/times-vs-lattice"), t);
+                    }
                     if let Some(t) = equal_time_vs_lattice(g, scene, records) {
                         block(format!("{name}/equal-time"), t);
                     }
@@ -201,14 +204,8 @@ fn slopes(spec: &Spec, g: &Group, scene: &str, aggs: &[results::Aggregate]) -> S
 /// at up to six of the sweep's ray counts (every other one of a longer sweep, and its last), and
 /// each row's time relative to the first row's.
 fn times(g: &Group, scene: &str, aggs: &[results::Aggregate]) -> String {
-    let mut rays: Vec<u32> =
-        if g.rays.len() > 6 { g.rays.iter().step_by(2).copied().collect() } else { g.rays.clone() };
-    if let Some(&last) = g.rays.last()
-        && !rays.contains(&last)
-    {
-        rays.push(last);
-    }
-    let ms = |row, n| results::lookup(aggs, scene, row, n).and_then(|a| a.time).map(|t| t.median * 1e3);
+    let rays = quoted_rays(g);
+    let ms = |row, n| median_ms(aggs, scene, row, n);
     let mut s = String::from("| configuration, median ms per render (× the first row's) |");
     for n in &rays {
         let _ = write!(s, " {n} rays |");
@@ -229,6 +226,59 @@ fn times(g: &Group, scene: &str, aggs: &[results::Aggregate]) -> String {
         s.push('\n');
     }
     s
+}
+
+/// Up to six of the sweep's ray counts: every other one of a longer sweep, and its last.
+fn quoted_rays(g: &Group) -> Vec<u32> {
+    let mut rays: Vec<u32> =
+        if g.rays.len() > 6 { g.rays.iter().step_by(2).copied().collect() } else { g.rays.clone() };
+    if let Some(&last) = g.rays.last()
+        && !rays.contains(&last)
+    {
+        rays.push(last);
+    }
+    rays
+}
+
+/// A row's median render time in ms at `rays` (thread CPU time, every timed render).
+fn median_ms(aggs: &[results::Aggregate], scene: &str, row: Row, rays: u32) -> Option<f64> {
+    results::lookup(aggs, scene, row, rays).and_then(|a| a.time).map(|t| t.median * 1e3)
+}
+
+/// Each shipped sampler's (`Sequence::shipped`, sine-cosine) median render time over the lattice's
+/// with a per-pixel seed, at `times`' ray counts: what a sampler costs to render with, beside the
+/// paper's configuration. `None` unless the group has the lattice and one of them.
+fn times_vs_lattice(g: &Group, scene: &str, aggs: &[results::Aggregate]) -> Option<String> {
+    let lattice = COSINE_FIB_PIXEL;
+    let others: Vec<Row> = g
+        .rows
+        .iter()
+        .copied()
+        .filter(|r| Sequence::shipped().contains(&r.sequence) && r.distribution == Distribution::SineCosine)
+        .collect();
+    if !g.rows.contains(&lattice) || others.is_empty() {
+        return None;
+    }
+    let rays = quoted_rays(g);
+    let mut s = format!("| configuration, render time × {}'s |", row_label(lattice));
+    for n in &rays {
+        let _ = write!(s, " {n} rays |");
+    }
+    s.push_str("\n|---|");
+    s.push_str(&"---|".repeat(rays.len()));
+    s.push('\n');
+    for row in others {
+        let _ = write!(s, "| {} |", row_label(row));
+        for &n in &rays {
+            let cell = match (median_ms(aggs, scene, row, n), median_ms(aggs, scene, lattice, n)) {
+                (Some(t), Some(l)) => format!("× {:.2}", t / l),
+                _ => "–".into(),
+            };
+            let _ = write!(s, " {cell} |");
+        }
+        s.push('\n');
+    }
+    Some(s)
 }
 
 /// The blocks of a quotes file (or a README), by name, each as its full text from the opening to

@@ -38,7 +38,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut page = io::read_string(&path)?;
         let mut changed = 0;
         for (name, old) in quotes::blocks(&page.clone()) {
-            let new = &known.iter().find(|(n, _)| *n == name).ok_or(format!("no committed quote '{name}'"))?.1;
+            let new =
+                &known.iter().find(|(n, _)| *n == name).ok_or(format!("no committed quote '{name}'"))?.1;
             if *new != old {
                 page = page.replace(&old, new);
                 changed += 1;

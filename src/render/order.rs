@@ -3,16 +3,14 @@
 //!
 //! The tracer walks the BVH with packets of 32 rays (`scene::packet`), and a packet costs about
 //! what its widest ray cone costs: rays that point the same way visit the same nodes. A sequence's
-//! index order says nothing about that. The Fibonacci lattice's consecutive points happen to lie in
-//! one band of elevation, while Sobol', Halton, ZSobol and pseudo-random numbers put consecutive
-//! points far apart on purpose (every prefix is spread out), so with the rays traced in index order
-//! their packets spanned the hemisphere and their renders cost ×1.3–1.8 the lattice's at 64–1024
-//! rays, a cost of the tracer's order, not of the sequence (docs/performance.md). Every sequence is
-//! therefore traced in the same order: the rays sorted into cells of their projection onto the
-//! tangent plane (Malley's disk, where cosine-weighted rays are uniform), the cells in Morton order
-//! so that 32 consecutive rays fill a compact block of cells (the spatial sort of coherent ray
-//! tracing, e.g. Pharr et al. 1997 "Rendering complex scenes with memory-coherent ray tracing";
-//! Garanzha and Loop 2010 "Fast ray sorting and breadth-first packet traversal").
+//! index order says nothing about that. The Fibonacci lattice's consecutive points lie in one band
+//! of elevation, while Sobol', Halton, ZSobol and pseudo-random numbers put consecutive points far
+//! apart on purpose (every prefix is spread out), so with the rays traced in index order part of
+//! what their renders cost over the lattice's was the tracer's order, not the sequence
+//! (docs/performance.md). Every sequence is therefore traced in the same order: its points sorted
+//! into bands of elevation, one packet's worth a band (a counting sort, as in the ray sorting of
+//! coherent ray tracing: Pharr et al. 1997 "Rendering complex scenes with memory-coherent ray
+//! tracing"; Garanzha and Loop 2010 "Fast ray sorting and breadth-first packet traversal").
 //!
 //! The answers are handed back in the caller's order, so a pixel's estimate, including the order of
 //! its weighted sum, is bit for bit what tracing in index order gives: only the time changes.
@@ -49,7 +47,7 @@ impl RayOrder {
     /// 32 points is a packet of rays that share their angle to the normal, as the Fibonacci
     /// lattice's consecutive points do ((i + 0.5)/n is its v): its order is kept at no cost but
     /// the check, and every other sequence is traced as coherently. (Square cells in Morton order
-    /// were tried: as fast for Sobol', slower for the lattice.)
+    /// were tried: no faster for Sobol', and they move the lattice's points too.)
     pub fn sort(&mut self, points: &[Vec2]) -> Option<&[Vec2]> {
         let n = points.len();
         let bands = (n / BAND).max(1);

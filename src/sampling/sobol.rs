@@ -40,19 +40,23 @@ pub const fn sobol_y_bits(mut i: u32) -> u32 {
 }
 
 /// `SOBOL_Y_BYTES[b][v]` = `sobol_y_bits(v << 8b)`.
-static SOBOL_Y_BYTES: [[u32; 256]; 4] = {
+static SOBOL_Y_BYTES: [[u32; 256]; 4] = byte_tables(false);
+
+/// `sobol_y_bits(v << 8b)` for every byte value v of every byte b, bit-reversed if `reversed`.
+const fn byte_tables(reversed: bool) -> [[u32; 256]; 4] {
     let mut t = [[0u32; 256]; 4];
     let mut b = 0;
     while b < 4 {
         let mut v = 0;
         while v < 256 {
-            t[b][v] = sobol_y_bits((v as u32) << (8 * b));
+            let y = sobol_y_bits((v as u32) << (8 * b));
+            t[b][v] = if reversed { y.reverse_bits() } else { y };
             v += 1;
         }
         b += 1;
     }
     t
-};
+}
 
 /// `sobol_y(i).reverse_bits()` from `SOBOL_Y_REVERSED_BYTES` (reversal commutes with XOR).
 #[inline(always)]
@@ -65,19 +69,7 @@ fn sobol_y_reversed(i: u32) -> u32 {
 }
 
 /// `SOBOL_Y_BYTES` with every entry bit-reversed.
-static SOBOL_Y_REVERSED_BYTES: [[u32; 256]; 4] = {
-    let mut t = [[0u32; 256]; 4];
-    let mut b = 0;
-    while b < 4 {
-        let mut v = 0;
-        while v < 256 {
-            t[b][v] = sobol_y_bits((v as u32) << (8 * b)).reverse_bits();
-            v += 1;
-        }
-        b += 1;
-    }
-    t
-};
+static SOBOL_Y_REVERSED_BYTES: [[u32; 256]; 4] = byte_tables(true);
 
 /// Laine–Karras style hash: each bit flips depending only on lower bits (Burley 2020, listing 2).
 #[inline]

@@ -103,21 +103,25 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
     s
 }
 
-/// Each of the group's shipped (`Sequence::shipped`) rows against the lattice with a per-pixel seed at equal time
-/// (`compare::equal_time`, total render time, one budget to each doubling of time): its MSE over
-/// the lattice's, ± 1 σ, and ln of that ratio in its standard errors (positive: the lattice has
-/// less error). `None` unless the group has the lattice and one of them.
-fn equal_time_vs_lattice(g: &Group, scene: &str, records: &[JobResult]) -> Option<String> {
-    let lattice = COSINE_FIB_PIXEL;
+/// The group's shipped (`Sequence::shipped`) sine-cosine rows, if it has one of them and the
+/// lattice with a per-pixel seed to hold them against.
+fn shipped_beside_lattice(g: &Group) -> Option<Vec<Row>> {
     let others: Vec<Row> = g
         .rows
         .iter()
         .copied()
         .filter(|r| Sequence::shipped().contains(&r.sequence) && r.distribution == Distribution::SineCosine)
         .collect();
-    if !g.rows.contains(&lattice) || others.is_empty() {
-        return None;
-    }
+    (g.rows.contains(&COSINE_FIB_PIXEL) && !others.is_empty()).then_some(others)
+}
+
+/// Each of the group's shipped (`Sequence::shipped`) rows against the lattice with a per-pixel seed at equal time
+/// (`compare::equal_time`, total render time, one budget to each doubling of time): its MSE over
+/// the lattice's, ± 1 σ, and ln of that ratio in its standard errors (positive: the lattice has
+/// less error). `None` unless the group has the lattice and one of them.
+fn equal_time_vs_lattice(g: &Group, scene: &str, records: &[JobResult]) -> Option<String> {
+    let lattice = COSINE_FIB_PIXEL;
+    let others = shipped_beside_lattice(g)?;
     let mut rows = vec![lattice];
     rows.extend(&others);
     let et = equal_time(records, scene, &rows, &g.rays, TimeView::Total, 1);
@@ -250,15 +254,7 @@ fn median_ms(aggs: &[results::Aggregate], scene: &str, row: Row, rays: u32) -> O
 /// paper's configuration. `None` unless the group has the lattice and one of them.
 fn times_vs_lattice(g: &Group, scene: &str, aggs: &[results::Aggregate]) -> Option<String> {
     let lattice = COSINE_FIB_PIXEL;
-    let others: Vec<Row> = g
-        .rows
-        .iter()
-        .copied()
-        .filter(|r| Sequence::shipped().contains(&r.sequence) && r.distribution == Distribution::SineCosine)
-        .collect();
-    if !g.rows.contains(&lattice) || others.is_empty() {
-        return None;
-    }
+    let others = shipped_beside_lattice(g)?;
     let rays = quoted_rays(g);
     let mut s = format!("| configuration, render time × {}'s |", row_label(lattice));
     for n in &rays {

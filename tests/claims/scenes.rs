@@ -201,8 +201,8 @@ fn equal_time_all_four_shipped_samplers_trail_the_lattice_at_the_largest_budget(
     // and ZSobol ×1.6–3.7 once they render at their fair speed), by a number of SE that is printed;
     // Before the precomputed-permutation rewrite Halton's and ZSobol's
     // per-digit hashing made each render several times slower and they lost by at least MIN_SE
-    // everywhere; at ×1.2–1.9 the lattice's time (their scattered ray order, no longer their points'
-    // cost) they are timed like R2 and pmj02bn, and like them (a CI run measured Halton below the
+    // everywhere; at ×1.2–1.3 the lattice's time (their points' cost: every sequence's rays are
+    // traced in the same order) they are timed like R2 and pmj02bn, and like them (a CI run measured Halton below the
     // lattice on foliage at the smallest budget, MSE ×0.88, −3.9 SE) only the largest budget is
     // asserted. At the smallest budget (one or two rays) all four can tie or beat the
     // lattice, whose one or two points per pixel keep their elevations under a per-pixel rotation:

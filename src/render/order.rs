@@ -35,6 +35,9 @@ pub struct RayOrder {
 /// Points a band holds on average: one packet's worth.
 const BAND: usize = PACKET;
 
+/// Interleaved streams of the counting sort.
+const WAYS: usize = 4;
+
 impl RayOrder {
     pub fn new() -> Self {
         Self::default()
@@ -52,8 +55,11 @@ impl RayOrder {
         let n = points.len();
         let bands = (n / BAND).max(1);
         let scale = bands as f32;
-        self.cell.clear();
-        self.cell.extend(points.iter().map(|p| ((p.y * scale) as u32).min(bands as u32 - 1) as u16));
+        let last = bands as u32 - 1;
+        self.cell.resize(n, 0);
+        for (c, p) in self.cell.iter_mut().zip(points) {
+            *c = ((p.y * scale) as u32).min(last) as u16;
+        }
         // In band order already, or that order started part-way (a shift of v mod 1 rotates the
         // bands): as coherent as sorted, so nothing moves.
         let mut descents = 0;
@@ -66,21 +72,41 @@ impl RayOrder {
         if descents <= 1 {
             return None;
         }
+        // A counting sort in WAYS interleaved streams, each over its own part of the points with its
+        // own counts and cursors: a count or cursor bumped twice in a row waits for its own store,
+        // so one stream of points that mostly share a band runs at the store's latency, and
+        // independent streams overlap. Stable: each part's points follow the earlier parts' in
+        // their band, in order.
+        let part = n.div_ceil(WAYS);
         self.start.clear();
-        self.start.resize(bands + 1, 0);
-        for &c in &self.cell {
-            self.start[c as usize + 1] += 1;
+        self.start.resize(WAYS * bands, 0);
+        for i in 0..part {
+            for w in 0..WAYS {
+                if let Some(&c) = self.cell.get(w * part + i) {
+                    self.start[w * bands + c as usize] += 1;
+                }
+            }
         }
-        for c in 0..bands {
-            self.start[c + 1] += self.start[c];
+        let mut next = 0;
+        for b in 0..bands {
+            for w in 0..WAYS {
+                let count = self.start[w * bands + b];
+                self.start[w * bands + b] = next;
+                next += count;
+            }
         }
         self.perm.resize(n, 0);
         self.points.resize(n, Vec2::ZERO);
-        for (i, (&c, &p)) in self.cell.iter().zip(points).enumerate() {
-            let slot = &mut self.start[c as usize];
-            self.perm[*slot as usize] = i as u32;
-            self.points[*slot as usize] = p;
-            *slot += 1;
+        for i in 0..part {
+            for w in 0..WAYS {
+                let k = w * part + i;
+                if let Some(&c) = self.cell.get(k) {
+                    let slot = &mut self.start[w * bands + c as usize];
+                    self.perm[*slot as usize] = k as u32;
+                    self.points[*slot as usize] = points[k];
+                    *slot += 1;
+                }
+            }
         }
         Some(&self.points)
     }

@@ -89,7 +89,7 @@ pub fn permuted_index(m: u64, j: u32, l: u32, key: u64) -> u64 {
 /// last bit's hash reads idx >> 1, shared by two points.
 pub struct PixelIndices {
     idx_high: u64,
-    /// The permuted digits at or above bit l.
+    /// The permuted digits at or above bit l, those below bit 32 (all that `all` reads).
     high: u64,
     digits: usize,
     odd: u32,
@@ -103,13 +103,24 @@ impl PixelIndices {
         let odd = bits & 1;
         // Digits at shifts 2k + odd; those below l are j's.
         let digits = ((l - odd) / 2) as usize;
+        // Only the digits below bit 32 reach the indices `all` gives (Sobol' dimensions 0 and 1
+        // read the low 32 bits); each is permuted by a hash of the digits above it, which
+        // neighbouring pixels share for all but their lowest levels, so the last pixel's
+        // permutation of each level is kept per thread and reused while its prefix is the same.
         let mut high = 0u64;
-        for k in (digits as u32..bits / 2).rev() {
-            let shift = 2 * k as u64 + odd as u64;
-            let digit = ((idx_high >> shift) & 3) as usize;
-            let above = idx_high >> (shift + 2);
-            high |= (PERMS[(hash(key, above ^ (shift << 58)) % 24) as usize][digit] as u64) << shift;
-        }
+        let top = (bits / 2).min(16);
+        LEVELS.with_borrow_mut(|levels| {
+            for k in (digits as u32..top).rev() {
+                let shift = 2 * k as u64 + odd as u64;
+                let digit = ((idx_high >> shift) & 3) as usize;
+                let above = idx_high >> (shift + 2);
+                let level = &mut levels[k as usize];
+                if (level.0, level.1) != (key, above) {
+                    *level = (key, above, (hash(key, above ^ (shift << 58)) % 24) as u8);
+                }
+                high |= (PERMS[level.2 as usize][digit] as u64) << shift;
+            }
+        });
         PixelIndices { idx_high, high, digits, odd, key }
     }
 
@@ -158,6 +169,9 @@ pub fn fill(n: u32, x: u32, y: u32, key: u64, dx: u32, dy: u32, out: &mut [Vec2]
 }
 
 std::thread_local! {
+    /// Per level of a pixel's digits above its points': the last (key, digits above, permutation)
+    /// `PixelIndices::new` hashed (a cache: the permutations are the hash's whatever is in it).
+    static LEVELS: std::cell::RefCell<[(u64, u64, u8); 32]> = const { std::cell::RefCell::new([(0, u64::MAX, 0); 32]) };
     /// `fill`'s permuted indices, kept per thread so that a render allocates them once.
     static INDICES: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
 }

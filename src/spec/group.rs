@@ -3,7 +3,8 @@
 //! `seed_modes`), every problem gathered with its line.
 
 use super::position::line_of;
-use super::validate::{Named, Problems, RawGroup, S, kind_key};
+use super::raw::{Named, RawGroup, S};
+use super::validate::{Problems, kind_key};
 use super::*;
 use crate::plan::{CameraId, CameraRun, DenoiserId};
 

@@ -89,6 +89,7 @@ use std::path::{Component, Path, PathBuf};
 mod group;
 mod keys;
 pub(crate) mod position;
+mod raw;
 mod validate;
 
 pub use validate::{parse_spec, parse_spec_with};

@@ -1,109 +1,11 @@
-//! Phase 1 (serde: shape, unknown keys, types) and phase 2 (ranges, names, duplicates; all problems
-//! gathered with their lines) of reading a spec.
+//! Phase 2 of reading a spec (ranges, names, duplicates; all problems gathered with their lines),
+//! over phase 1's raw shape (`raw`: serde's shape, unknown keys, types).
 
 use super::group::group;
 use super::position::{describe, line_of};
+use super::raw::{CameraChoice, Named, RawReference, RawSpec, S};
 use super::*;
 use crate::error::{Error, Result};
-use serde::Deserialize;
-use toml::Spanned;
-
-// ---- raw shape (phase 1) ----
-
-pub(super) type S<T> = Spanned<T>;
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawSpec {
-    name: Option<S<String>>,
-    scenes: S<Vec<S<String>>>,
-    resolution: Option<S<Vec<S<i64>>>>,
-    ao_distance: Option<S<toml::Value>>,
-    replicates: Option<S<i64>>,
-    seed: Option<S<i64>>,
-    point_figures: Option<S<bool>>,
-    reference: Option<RawReference>,
-    timing: Option<RawTiming>,
-    /// Named camera paths for the real-time groups' `cameras` (`[cameras.NAME]`).
-    #[serde(default)]
-    cameras: std::collections::BTreeMap<String, S<RawCamera>>,
-    /// Named denoiser commands for the groups' `denoisers` (`[denoisers.NAME]`).
-    #[serde(default)]
-    denoisers: std::collections::BTreeMap<String, S<crate::denoise_command::DenoiseCommand>>,
-    #[serde(default)]
-    table: Vec<S<RawGroup>>,
-    #[serde(default)]
-    convergence: Vec<S<RawGroup>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawReference {
-    dir: Option<S<String>>,
-    rays: Option<S<toml::Value>>,
-    replicates: Option<S<i64>>,
-    seed: Option<S<i64>>,
-    distribution: Option<S<String>>,
-    sequence: Option<S<String>>,
-    seed_mode: Option<S<String>>,
-    allocation: Option<S<String>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawTiming {
-    repeats: Option<S<i64>>,
-    seed: Option<S<i64>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawGroup {
-    pub(super) name: S<String>,
-    pub(super) rays: S<Vec<S<i64>>>,
-    pub(super) replicates: Option<S<i64>>,
-    pub(super) scenes: Option<S<Vec<S<String>>>>,
-    pub(super) rows: Option<S<Vec<S<RawRow>>>>,
-    pub(super) distributions: Option<S<Vec<S<String>>>>,
-    pub(super) sequences: Option<S<Vec<S<toml::Value>>>>,
-    pub(super) seed_modes: Option<S<Vec<S<toml::Value>>>>,
-    pub(super) frames: Option<S<i64>>,
-    pub(super) pipelines: Option<S<Vec<S<String>>>>,
-    pub(super) schedules: Option<S<Vec<S<String>>>>,
-    pub(super) integrands: Option<S<Vec<S<String>>>>,
-    pub(super) cameras: Option<S<Vec<S<String>>>>,
-    pub(super) denoisers: Option<S<Vec<S<String>>>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawCamera {
-    /// `"static"`, or a table with one of `orbit`, `dolly`, `pan`, `keyframes` (`scene::camera_path`).
-    pub(super) path: crate::scene::camera_path::CameraPath,
-    /// Halton (2,3) sub-pixel jitter per frame, as TAA engines do; default false.
-    #[serde(default)]
-    pub(super) jitter: bool,
-}
-
-/// A spec's camera as `[cameras.NAME]` writes it.
-pub(super) struct CameraChoice {
-    pub(super) path: crate::scene::camera_path::CameraPath,
-    pub(super) jitter: bool,
-}
-
-/// The named things a group's axes may name: cameras and denoisers.
-pub(super) struct Named<'a> {
-    pub(super) cameras: &'a [(String, CameraChoice)],
-    pub(super) denoisers: &'a [crate::plan::Denoiser],
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawRow {
-    pub(super) distribution: S<String>,
-    pub(super) sequence: S<toml::Value>,
-    pub(super) seed_mode: Option<S<toml::Value>>,
-}
 
 // ---- validation (phase 2) ----
 

@@ -19,6 +19,7 @@
 //! weight the weights do not depend on the image and it is `atrous` applied to each.
 
 use super::edges::{Guide, Taps, default_iterations};
+use super::taps::Pass;
 use crate::image::Image;
 use crate::render::GBuffer;
 use rayon::prelude::*;
@@ -102,6 +103,7 @@ fn run(
         let (src, src_ref) = (&cur, cur_ref.as_deref());
         let mut next = vec![0.0f32; src.len()];
         let mut next_ref = vec![0.0f32; if src_ref.is_some() { src.len() } else { 0 }];
+        let taps_of = Pass::new(&guide, it);
         let pass = |y: usize, row: &mut [f32], row_ref: Option<&mut [f32]>| {
             let mut taps: Taps = [(0, 0.0); 25];
             let mut row_ref = row_ref;
@@ -114,7 +116,7 @@ fn run(
                     }
                     continue;
                 }
-                let k = guide.atrous_taps(x as i64, y as i64, it, &mut taps);
+                let k = taps_of.taps(x as i64, y as i64, &mut taps);
                 let lp = src[p] as f64;
                 let (mut sum, mut sum_ref, mut wsum) = (0.0f64, 0.0f64, 0.0f64);
                 for &(q, g) in &taps[..k] {

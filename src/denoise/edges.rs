@@ -101,6 +101,32 @@ impl<'a> Guide<'a> {
         Self { gbuf, grad: depth_gradient(gbuf), sigma_depth, sigma_normal, normal_power }
     }
 
+    /// A hash of everything the taps depend on: the G-buffer's size, depth, normals and coverage,
+    /// and σ_z, σ_n (`taps::Pass` keeps tables by it). Four independent lanes, so that hashing a
+    /// frame costs a small part of filtering it.
+    pub fn content_key(&self) -> u64 {
+        const K: u64 = 0x9E37_79B9_7F4A_7C15;
+        let g = self.gbuf;
+        let mut lanes = [
+            g.width as u64,
+            g.height as u64,
+            self.sigma_depth.to_bits() as u64,
+            self.sigma_normal.to_bits() as u64,
+        ];
+        let mut mix = |words: &mut dyn Iterator<Item = u32>| {
+            let mut i = 0;
+            for w in words {
+                let l = &mut lanes[i & 3];
+                *l = (*l ^ w as u64).wrapping_mul(K).rotate_left(29);
+                i += 1;
+            }
+        };
+        mix(&mut g.depth.data.iter().map(|v| v.to_bits()));
+        mix(&mut g.coverage.data.iter().map(|v| v.to_bits()));
+        mix(&mut g.normal.iter().flat_map(|n| [n.x.to_bits(), n.y.to_bits(), n.z.to_bits()]));
+        lanes.iter().fold(0u64, |h, &l| (h ^ l).wrapping_mul(K).rotate_left(31))
+    }
+
     pub fn width(&self) -> i64 {
         self.gbuf.width as i64
     }

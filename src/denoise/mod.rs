@@ -17,6 +17,7 @@ pub mod motion;
 pub mod pipeline;
 pub mod svgf;
 pub mod taa;
+pub mod taps;
 
 pub use accumulate::{Accumulator, Temporal};
 pub use atrous::{AtrousParams, atrous, atrous_pair};

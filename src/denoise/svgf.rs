@@ -29,6 +29,7 @@
 use super::edges::{Guide, Taps, default_iterations};
 use super::history::{Reprojected, alpha_eff};
 use super::motion::Motion;
+use super::taps::Pass as TapPass;
 use crate::image::Image;
 use crate::render::GBuffer;
 use rayon::prelude::*;
@@ -352,6 +353,7 @@ type Pass = (Vec<f64>, Vec<f64>, Option<Vec<f64>>);
 fn pass(guide: &Guide, c: &[f64], var: &[f64], cr: Option<&[f64]>, it: u32, sigma_l: f64) -> Pass {
     let w = guide.width() as usize;
     let gvar = prefilter(guide, var);
+    let taps_of = TapPass::new(guide, it);
     let rows: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (0..guide.height() as usize)
         .into_par_iter()
         .map(|y| {
@@ -367,7 +369,7 @@ fn pass(guide: &Guide, c: &[f64], var: &[f64], cr: Option<&[f64]>, it: u32, sigm
                     }
                     continue;
                 }
-                let k = guide.atrous_taps(x as i64, y as i64, it, &mut taps);
+                let k = taps_of.taps(x as i64, y as i64, &mut taps);
                 let scale = sigma_l * gvar[p].sqrt() + LUMINANCE_EPS;
                 let (mut s, mut sv, mut sr, mut ws) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
                 for &(q, g) in &taps[..k] {

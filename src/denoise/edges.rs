@@ -114,11 +114,9 @@ impl<'a> Guide<'a> {
             self.sigma_normal.to_bits() as u64,
         ];
         let mut mix = |words: &mut dyn Iterator<Item = u32>| {
-            let mut i = 0;
-            for w in words {
+            for (i, w) in words.enumerate() {
                 let l = &mut lanes[i & 3];
                 *l = (*l ^ w as u64).wrapping_mul(K).rotate_left(29);
-                i += 1;
             }
         };
         mix(&mut g.depth.data.iter().map(|v| v.to_bits()));

@@ -63,7 +63,7 @@ struct Scratch {
     rays: PixelRays,
     /// The pixel's answers, one mask per 32 rays, in traced order.
     masks: Vec<u32>,
-    /// The order its rays are traced in (grouped by direction), and the answers and weights back
+    /// The order its rays are traced in (bands of elevation, `order`), and the answers and weights back
     /// in the sampler's order where the sum needs them so.
     order: RayOrder,
     sampler_masks: Vec<u32>,
@@ -366,7 +366,7 @@ pub(crate) fn tile_primaries(scene: &Scene, raster: &Raster, t: u32, out: &mut V
 /// The AO rays of pixel (x, y, index) from its primary ray (origin, direction) and hit: offset
 /// origin (off the hit triangle, then off every neighbour it still lies on: `clearance`), the
 /// sampler's directions and weights. `points` must hold `job.sampler.count` entries. With `order`,
-/// more than one packet of rays comes out grouped by direction (`order::RayOrder`), which then
+/// more than one packet of rays comes out in bands of elevation (`order::RayOrder`), which then
 /// knows the sampler's order; without, in the sampler's order.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]

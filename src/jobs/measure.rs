@@ -98,6 +98,15 @@ pub fn errors(image: &FrameImage, against: &Against) -> Result<(ErrorStats, f64)
     Ok((stats, noise))
 }
 
+/// A reported frame's mean LDR-FLIP against its reference over covered pixels
+/// (`metrics::flip`), at FLIP's default viewing condition (`DEFAULT_PPD`; not a spec setting yet).
+/// Sizes are those `errors` has checked.
+pub fn flip(image: &FrameImage, against: &Against) -> f64 {
+    let (reference, coverage) = against.at(image.frame);
+    let map = metrics::flip::ldr_flip_map(reference, &image.output.ao, metrics::flip::DEFAULT_PPD);
+    metrics::flip::mean_flip(&map, coverage)
+}
+
 /// One raw frame.
 pub struct SingleFrame(pub Measurement);
 

@@ -31,6 +31,8 @@ pub struct Aggregate {
     pub rays: u32,
     pub replicates: usize,
     pub rmse: Stat,
+    /// Mean LDR-FLIP per replicate (`JobResult::flip`), mean ± sd over the replicates that have it.
+    pub flip: Stat,
     pub bias: Stat,
     pub autocorr_x: Stat,
     pub autocorr_y: Stat,
@@ -86,6 +88,7 @@ pub fn aggregate(results: &[JobResult]) -> Vec<Aggregate> {
                 rays: c.4,
                 replicates: rs.len(),
                 rmse: st(&|r| r.rmse),
+                flip: st(&|r| r.flip),
                 bias: st(&|r| r.bias),
                 autocorr_x: st(&|r| r.autocorr_x),
                 autocorr_y: st(&|r| r.autocorr_y),
@@ -141,7 +144,7 @@ pub fn aggregate_columns() -> Vec<String> {
 
 const AGG_METRICS: [&str; 6] = ["rmse", "bias", "autocorr_x", "autocorr_y", "lowpass_rmse", "whiteness_z"];
 /// Metrics added later, after the timing columns so that every earlier column keeps its position.
-const AGG_APPENDED: [&str; 1] = ["lowfreq_ratio"];
+const AGG_APPENDED: [&str; 2] = ["lowfreq_ratio", "flip"];
 const AGG_TIMING: [&str; 12] = [
     "time_median_s",
     "time_min_s",
@@ -193,7 +196,9 @@ pub fn aggregates_to_csv(aggs: &[Aggregate]) -> String {
             num(a.efficiency),
             num(a.efficiency_spread)
         );
-        let _ = write!(s, ",{},{}", num(a.lowfreq_ratio.mean), num(a.lowfreq_ratio.sd));
+        for st in [a.lowfreq_ratio, a.flip] {
+            let _ = write!(s, ",{},{}", num(st.mean), num(st.sd));
+        }
         s.push('\n');
     }
     s
@@ -263,10 +268,18 @@ mod tests {
         assert!(csv.starts_with("scene,distribution,sequence,seed_mode,rays,replicates,rmse_mean,rmse_sd,"));
         assert_eq!(csv.lines().count(), 5);
         let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
-        assert_eq!(header[header.len() - 2..], ["lowfreq_ratio_mean", "lowfreq_ratio_sd"], "appended last");
-        assert_eq!(header[header.len() - 3], "efficiency_spread", "every earlier column in place");
+        assert_eq!(
+            header[header.len() - 4..],
+            ["lowfreq_ratio_mean", "lowfreq_ratio_sd", "flip_mean", "flip_sd"],
+            "appended last, in the order they were added"
+        );
+        assert_eq!(header[header.len() - 5], "efficiency_spread", "every earlier column in place");
         let first: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
         assert_eq!(first.len(), header.len());
-        assert_eq!(first[first.len() - 2..], ["0.75", "0"], "mean ± sd of the records' ratios");
+        assert_eq!(
+            first[first.len() - 4..],
+            ["0.75", "0", "", ""],
+            "the ratios' mean ± sd; FLIP not measured"
+        );
     }
 }

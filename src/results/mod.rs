@@ -60,6 +60,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "flicker",
     "floor",
     "denoise_s",
+    "flip",
 ];
 
 /// The columns that hold measured times, or depend on them (how many renders a configuration got:
@@ -182,6 +183,12 @@ pub struct JobResult {
     /// from the render's time, which never includes it.
     #[serde(default)]
     pub denoise_s: f64,
+    /// Mean LDR-FLIP (`metrics::flip`, Andersson et al. 2020) of the image against its reference
+    /// over covered pixels, at `metrics::flip::DEFAULT_PPD` pixels per degree: the perceptual error
+    /// the real-time field reports beside RMSE (the two can rank images differently). NaN (empty,
+    /// null) where it was not measured, as in records written before the column existed.
+    #[serde(default = "nan", deserialize_with = "split::nan_null")]
+    pub flip: f64,
 }
 
 fn raw() -> String {
@@ -268,6 +275,7 @@ impl JobResult {
             flicker: None,
             floor: None,
             denoise_s: 0.0,
+            flip: f64::NAN,
         }
     }
 
@@ -421,6 +429,7 @@ pub fn to_csv(results: &[JobResult]) -> String {
             num(r.flicker.unwrap_or(f64::NAN)),
             num(r.floor.unwrap_or(f64::NAN)),
             num(r.denoise_s),
+            num(r.flip),
         ];
         s.push_str(&fields.join(","));
         s.push('\n');

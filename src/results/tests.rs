@@ -52,7 +52,7 @@ fn csv_header_columns_are_exact() {
         "scene,distribution,sequence,seed_mode,rays,replicate,seed,rmse,bias,autocorr_x,autocorr_y,\
          lowpass_rmse,time_s,rays_per_s,whiteness_z,rays_cast,time_median_s,time_min_s,time_max_s,timings,overhead_s,\
          ao_time_s,ns_per_ray,efficiency,timing_threads,wall_s,covered_pixels,key,image,lowfreq_ratio,\
-         pipeline,frame,schedule,noise_rmse,integrand,camera,denoiser,flicker,floor,denoise_s"
+         pipeline,frame,schedule,noise_rmse,integrand,camera,denoiser,flicker,floor,denoise_s,flip"
     );
     let row: Vec<&str> = lines.next().unwrap().split(',').collect();
     assert_eq!(row.len(), CSV_COLUMNS.len());
@@ -82,7 +82,7 @@ fn csv_quotes_awkward_fields_and_leaves_undefined_empty() {
     let csv = to_csv(&timed(vec![r], 0.1));
     let line = csv.lines().nth(1).unwrap();
     assert!(
-        line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,0,ao,static,,,,0"),
+        line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,0,ao,static,,,,0,"),
         "quoted, then lowfreq_ratio and the real-time columns: {line}"
     );
     assert!(line.contains(",0,0,0.5,128,"), "time and rays_per_s 0, whiteness 0.5: {line}");
@@ -110,4 +110,27 @@ fn json_round_trips_exactly() {
     assert_eq!(to_csv(&back), to_csv(&rs));
     let e = from_json("[{\"scene\": 1}]").unwrap_err();
     assert!(e.contains("line"), "{e}");
+}
+
+#[test]
+fn flip_is_a_column_and_older_records_load_without_it() {
+    let mut rs = timed(vec![result(8, 0, 0.1, 0.5), result(8, 1, 0.1, 0.5)], 0.1);
+    rs[0].flip = 0.25;
+    let csv = to_csv(&rs);
+    let col = CSV_COLUMNS.iter().position(|c| *c == "flip").unwrap();
+    let field = |line: usize| csv.lines().nth(line).unwrap().split(',').nth(col).unwrap().to_string();
+    assert_eq!((field(1), field(2)), ("0.25".to_string(), String::new()), "measured, then not measured");
+    assert!(!TIME_COLUMNS.contains(&"flip"), "an estimator column: identical between runs");
+    let back = from_json(&to_json(&rs)).unwrap();
+    assert_eq!(back[0].flip, 0.25);
+    assert!(back[1].flip.is_nan());
+    // A results.json written before the column existed.
+    let mut old: serde_json::Value = serde_json::from_str(&to_json(&rs)).unwrap();
+    old.as_array_mut().unwrap().iter_mut().for_each(|r| {
+        r.as_object_mut().unwrap().remove("flip");
+    });
+    let back = from_json(&old.to_string()).unwrap();
+    assert!(back.iter().all(|r| r.flip.is_nan()));
+    let aggs = aggregate(&rs);
+    assert_eq!((aggs[0].flip.mean, aggs[0].flip.sd), (0.25, 0.0), "over the replicates that have it");
 }

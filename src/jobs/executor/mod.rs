@@ -339,6 +339,7 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             let image = keep(i, job, &img.output)?;
             let mut record = JobResult::new(job, &stats, img.output.rays, image);
             record.noise_rmse = noise_rmse;
+            record.flip = super::measure::flip(img, &against);
             record.flicker = Some(img.flicker).filter(|f| f.is_finite());
             record.floor = Some(against.floor_at(img.pipeline, img.frame)).filter(|f| f.is_finite());
             record.denoise_s = img.denoise_s;

@@ -181,6 +181,7 @@ mod tests {
             rays,
             replicates: 4,
             rmse: stat,
+            flip: stat,
             bias: stat,
             autocorr_x: stat,
             autocorr_y: stat,

@@ -33,6 +33,8 @@ pub(super) fn result(rays: u32, replicate: u32, rmse: f64, time_s: f64) -> JobRe
     };
     let mut r =
         JobResult::new(&job(rays, replicate), &stats, 16 * rays as u64, format!("img{rays}-{replicate}.exr"));
+    // A measured record has its FLIP (a NaN would make the record unequal to itself).
+    r.flip = 0.5;
     r.add_time(time_s, time_s * 1.5);
     r
 }
@@ -82,7 +84,7 @@ fn csv_quotes_awkward_fields_and_leaves_undefined_empty() {
     let csv = to_csv(&timed(vec![r], 0.1));
     let line = csv.lines().nth(1).unwrap();
     assert!(
-        line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,0,ao,static,,,,0,"),
+        line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,0,ao,static,,,,0,0.5"),
         "quoted, then lowfreq_ratio and the real-time columns: {line}"
     );
     assert!(line.contains(",0,0,0.5,128,"), "time and rays_per_s 0, whiteness 0.5: {line}");
@@ -116,6 +118,7 @@ fn json_round_trips_exactly() {
 fn flip_is_a_column_and_older_records_load_without_it() {
     let mut rs = timed(vec![result(8, 0, 0.1, 0.5), result(8, 1, 0.1, 0.5)], 0.1);
     rs[0].flip = 0.25;
+    rs[1].flip = f64::NAN;
     let csv = to_csv(&rs);
     let col = CSV_COLUMNS.iter().position(|c| *c == "flip").unwrap();
     let field = |line: usize| csv.lines().nth(line).unwrap().split(',').nth(col).unwrap().to_string();
@@ -133,4 +136,6 @@ fn flip_is_a_column_and_older_records_load_without_it() {
     assert!(back.iter().all(|r| r.flip.is_nan()));
     let aggs = aggregate(&rs);
     assert_eq!((aggs[0].flip.mean, aggs[0].flip.sd), (0.25, 0.0), "over the replicates that have it");
+    rs.iter_mut().for_each(|r| r.flip = f64::NAN);
+    assert!(aggregate(&rs)[0].flip.mean.is_nan(), "none measured");
 }

@@ -278,8 +278,8 @@ mod tests {
         assert_eq!(first.len(), header.len());
         assert_eq!(
             first[first.len() - 4..],
-            ["0.75", "0", "", ""],
-            "the ratios' mean ± sd; FLIP not measured"
+            ["0.75", "0", "0.5", "0"],
+            "mean ± sd of the records' ratios and FLIPs"
         );
     }
 }

@@ -3,7 +3,9 @@
 //! ratio (`lowfreq`: low-pass energy against white noise's, with a sign: < 1 blue, > 1 clumped), the
 //! whiteness z-score (`whiteness`: a test of any correlation, every short lag, every direction), the
 //! lag-1 autocorrelation and the low-pass RMSE say whether the error is *structured* — the paper's
-//! Table 3 banding, which RMSE alone cannot see. `flicker` is a sequence's temporal stability.
+//! Table 3 banding, which RMSE alone cannot see. `flicker` is a sequence's temporal stability;
+//! `flip` is LDR-FLIP (Andersson et al. 2020), the perceptual per-pixel difference real-time
+//! rendering reports beside RMSE.
 
 pub mod flicker;
 pub mod flip;

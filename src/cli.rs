@@ -230,6 +230,11 @@ pub struct BenchArgs {
     /// Timed repeats per configuration (min / median / max are reported).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=100))]
     pub repeats: u32,
+    /// Also write the bench's exact AO ray set (the triangles, each pixel's origin and normal, its
+    /// directions) to FILE in the HLRAYS1 format that peer ray tracers can read
+    /// (docs/performance.md); the occluded counts the bench prints are what they must find.
+    #[arg(long, value_name = "FILE")]
+    pub dump_rays: Option<PathBuf>,
 }
 
 /// A positive AO distance, or `inf` / `infinite`.

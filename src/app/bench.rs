@@ -3,10 +3,14 @@
 
 use crate::cli::BenchArgs;
 use crate::error::{Error, Result};
+use crate::io;
 use crate::load::scene_at;
 use crate::render::RenderJob;
+use crate::render::bench::RaySet;
+use crate::render::bench::dump::hlrays1;
 use crate::render::bench::measure::measure;
 use crate::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
+use glam::Vec3;
 use serde_json::Value;
 
 pub fn run(args: BenchArgs) -> Result<()> {
@@ -16,11 +20,39 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let sampler = SamplerConfig::new(sequence, seed_mode, args.rays, 1)
         .map_err(|e| Error::Usage(format!("--rays: {e}")))?;
     let job = RenderJob { distribution, sampler, width, height, ao_distance: scene.ao_distance };
-    let v = measure(&scene, &job, args.distances.as_deref(), args.repeats)?;
+    if let Some(path) = &args.dump_rays {
+        check_dumpable(&args.scene, &scene)?;
+        io::ensure_writable_file(path)?;
+    }
+    let mut dump = |set: &RaySet| -> Result<()> {
+        let Some(path) = &args.dump_rays else { return Ok(()) };
+        let tris: Vec<[Vec3; 3]> =
+            scene.accel.source_triangles().iter().map(|t| [t.v0, t.v1, t.v2].map(Vec3::from)).collect();
+        let bytes = hlrays1(&tris, set).map_err(|e| Error::Refused(format!("--dump-rays: {}", e.0)))?;
+        io::write_atomic(path, &bytes)
+    };
+    let v = measure(&scene, &job, args.distances.as_deref(), args.repeats, &mut dump)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
     } else {
         print_table(&v);
+    }
+    Ok(())
+}
+
+/// The peers a dump is for have no alpha test: on a scene with alpha masks they would count hits
+/// that hemilab's masks let through, so such a dump is refused before any work.
+fn check_dumpable(path: &std::path::Path, scene: &crate::scene::Scene) -> Result<()> {
+    if scene.accel.has_alpha() {
+        return Err(Error::input(
+            path,
+            format!(
+                "--dump-rays: the scene has alpha masks ({} material(s)); a dump's readers have no \
+                 alpha test and would count hits the masks let through. Dump a copy of the scene \
+                 whose masked materials are opaque (glTF alphaMode \"OPAQUE\", OBJ without map_d)",
+                scene.masked_materials
+            ),
+        ));
     }
     Ok(())
 }
@@ -75,6 +107,7 @@ fn print_table(v: &Value) {
             );
         }
         println!("{:>10} mismatching rays: {}", "", mismatch_text(&c["mismatches"]));
+        println!("{:>10} occluded rays: {} of {}", "", c["occluded"]["hemilab"], c["rays"]);
     }
     let p = &v["points"];
     println!(

@@ -21,8 +21,14 @@ const POINT_PIXELS: u32 = 2048;
 /// against its own AO query, and obvhs against hemilab at each distance (default: the scene's d,
 /// 0.3 d and unbounded), `repeats` timed samples each, and every sequence's cost per point.
 /// Returns the JSON `hemilab bench --json`
-/// prints.
-pub fn measure(scene: &Scene, job: &RenderJob, distances: Option<&[f32]>, repeats: u32) -> Result<Value> {
+/// prints. `on_set` is handed the ray set before any timing (`hemilab bench --dump-rays` writes it).
+pub fn measure(
+    scene: &Scene,
+    job: &RenderJob,
+    distances: Option<&[f32]>,
+    repeats: u32,
+    on_set: &mut dyn FnMut(&RaySet) -> Result<()>,
+) -> Result<Value> {
     let all = crate::timing::cores();
     let threads: Vec<usize> = if all > 1 { vec![1, all] } else { vec![1] };
 
@@ -33,6 +39,7 @@ pub fn measure(scene: &Scene, job: &RenderJob, distances: Option<&[f32]>, repeat
     let start = Instant::now();
     let set = bench::ray_set(scene, job);
     let set_s = start.elapsed().as_secs_f64();
+    on_set(&set)?;
     let mut rvq = Vec::new();
     for &t in &threads {
         rvq.push(render_vs_query(scene, job, &set, t, repeats)?);

@@ -5,6 +5,7 @@
 //! Ray generation is outside both timings; building each path's own ray record (obvhs `Ray` with its
 //! inverses, hemilab's packet) is inside its timing. No IO, no printing.
 
+pub mod dump;
 pub mod measure;
 pub mod points;
 

@@ -5,7 +5,12 @@ use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray2, PyUn
 use pyo3::prelude::*;
 
 /// An (rows, cols) float32 array of `data` (row-major).
-pub fn matrix<'py>(py: Python<'py>, rows: usize, cols: usize, data: Vec<f32>) -> PyResult<Bound<'py, PyArray2<f32>>> {
+pub fn matrix<'py>(
+    py: Python<'py>,
+    rows: usize,
+    cols: usize,
+    data: Vec<f32>,
+) -> PyResult<Bound<'py, PyArray2<f32>>> {
     PyArray1::from_vec(py, data).reshape([rows, cols])
 }
 

@@ -4,7 +4,6 @@ use crate::args::Line;
 use crate::arrays::image;
 use crate::error;
 use hemilab::cli::Command;
-use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
@@ -59,7 +58,11 @@ fn spec_name(spec: &Path) -> PyResult<String> {
 #[pyfunction]
 pub fn results_json(py: Python<'_>, dir: PathBuf) -> PyResult<String> {
     let records = py
-        .detach(|| hemilab::outdir::read_results(&dir, &|e| format!("{e}; a `hemilab run` output directory holds results.json")))
+        .detach(|| {
+            hemilab::outdir::read_results(&dir, &|e| {
+                format!("{e}; a `hemilab run` output directory holds results.json")
+            })
+        })
         .map_err(error)?;
     if records.is_empty() && !hemilab::io::exists(&dir.join("results.json")) {
         return Err(error(format!(

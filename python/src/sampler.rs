@@ -152,7 +152,11 @@ fn call(py: Python<'_>, f: &Py<PyAny>, arg: PixelSet, out: &mut [Vec2]) -> Resul
     let value = f.call1(py, (arg,)).map_err(|e| e.to_string())?;
     let value = value.bind(py);
     let shape = |s: &[usize]| -> Result<(), String> {
-        if s.len() == 2 && s[1] == 2 { Ok(()) } else { Err(format!("returned an array of shape {s:?}; (n, 2) wanted")) }
+        if s.len() == 2 && s[1] == 2 {
+            Ok(())
+        } else {
+            Err(format!("returned an array of shape {s:?}; (n, 2) wanted"))
+        }
     };
     let points: Vec<[f64; 2]> = if let Ok(a) = value.extract::<PyReadonlyArray2<'_, f64>>() {
         shape(a.shape())?;
@@ -161,7 +165,9 @@ fn call(py: Python<'_>, f: &Py<PyAny>, arg: PixelSet, out: &mut [Vec2]) -> Resul
         shape(a.shape())?;
         a.as_array().rows().into_iter().map(|r| [r[0] as f64, r[1] as f64]).collect()
     } else {
-        value.extract::<Vec<[f64; 2]>>().map_err(|_| format!("returned {}, not an (n, 2) array of points", type_name(value)))?
+        value
+            .extract::<Vec<[f64; 2]>>()
+            .map_err(|_| format!("returned {}, not an (n, 2) array of points", type_name(value)))?
     };
     if points.len() < n {
         return Err(format!("returned {} points; {n} wanted (an (n, 2) array)", points.len()));
@@ -192,9 +198,16 @@ pub fn check_after(_py: Python<'_>) -> PyResult<()> {
 /// `hemilab::sampling::register` does a Rust one; the same name again replaces the callable.
 #[pyfunction]
 #[pyo3(signature = (name, fill, label=None))]
-pub fn register_sampler(py: Python<'_>, name: &str, fill: Py<PyAny>, label: Option<&str>) -> PyResult<Sampler> {
+pub fn register_sampler(
+    py: Python<'_>,
+    name: &str,
+    fill: Py<PyAny>,
+    label: Option<&str>,
+) -> PyResult<Sampler> {
     if !fill.bind(py).is_callable() {
-        return Err(error(format!("register_sampler('{name}', ...): fill must be callable (PixelSet -> (n, 2) points)")));
+        return Err(error(format!(
+            "register_sampler('{name}', ...): fill must be callable (PixelSet -> (n, 2) points)"
+        )));
     }
     let mut map = REGISTERED.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner());
     if let Some(shared) = map.get(name) {
@@ -205,7 +218,12 @@ pub fn register_sampler(py: Python<'_>, name: &str, fill: Py<PyAny>, label: Opti
     }
     let name: &'static str = Box::leak(name.to_string().into_boxed_str());
     let label: &'static str = Box::leak(label.unwrap_or(name).to_string().into_boxed_str());
-    let shared = Arc::new(Shared { name, callable: RwLock::new(fill), calls: AtomicU64::new(0), nanos: AtomicU64::new(0) });
+    let shared = Arc::new(Shared {
+        name,
+        callable: RwLock::new(fill),
+        calls: AtomicU64::new(0),
+        nanos: AtomicU64::new(0),
+    });
     let info = SequenceInfo { name, label, words: &[], fresh_per_pixel: false, shipped: None };
     hemilab::sampling::register(Box::new(PySequence { info, shared: shared.clone() })).map_err(error)?;
     map.insert(name.to_string(), shared.clone());

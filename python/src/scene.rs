@@ -67,7 +67,12 @@ impl Scene {
 
     fn __repr__(&self) -> String {
         let (w, h) = self.scene.resolution;
-        format!("Scene('{}', {}, {w}x{h}, d = {})", self.scene.name, self.path.display(), self.scene.ao_distance)
+        format!(
+            "Scene('{}', {}, {w}x{h}, d = {})",
+            self.scene.name,
+            self.path.display(),
+            self.scene.ao_distance
+        )
     }
 
     /// `hemilab render SCENE --rays ... ` without the files: (AO, coverage) as float32 (H, W).
@@ -102,11 +107,24 @@ impl Scene {
             .arg(self.path.display());
         let Command::Render(args) = line.parse()? else { unreachable!("a render line parses as render") };
         let s = &args.sampling;
-        let (_, sampler) =
-            hemilab::app::sampler(s.distribution, &s.sequence, &s.seed_mode, s.seed, &s.frames, args.rays, "--rays")
-                .map_err(error)?;
+        let (_, sampler) = hemilab::app::sampler(
+            s.distribution,
+            &s.sequence,
+            &s.seed_mode,
+            s.seed,
+            &s.frames,
+            args.rays,
+            "--rays",
+        )
+        .map_err(error)?;
         let (width, height) = load::image_size(&self.path, &self.scene, args.resolution).map_err(error)?;
-        let job = RenderJob { distribution: s.distribution, sampler, width, height, ao_distance: self.scene.ao_distance };
+        let job = RenderJob {
+            distribution: s.distribution,
+            sampler,
+            width,
+            height,
+            ao_distance: self.scene.ao_distance,
+        };
         let scene = self.scene.clone();
         let pool = Threads::resolve(args.common.threads).pool().map_err(error)?;
         let integrand = args.integrand;
@@ -138,7 +156,8 @@ impl Scene {
         py: Python<'py>,
         resolution: Option<(u32, u32)>,
         reference_dir: Option<PathBuf>,
-    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>, String)> {
+    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>, String)>
+    {
         let (width, height) = self.size(resolution)?;
         let dir = refs::dir_of_scene(reference_dir.as_deref(), &self.path, &self.scene).map_err(error)?;
         let d = hemilab::plan::Geometry::of(None, None, &self.scene).distance.canonical();
@@ -148,7 +167,9 @@ impl Scene {
             .into_iter()
             .filter(|(m, _)| m.resolution == [width, height] && m.ao_distance == d && m.integrand == "ao")
             .filter(|(m, _)| !m.jitter_average)
-            .min_by(|a, b| a.0.noise_floor.unwrap_or(f64::MAX).total_cmp(&b.0.noise_floor.unwrap_or(f64::MAX)));
+            .min_by(|a, b| {
+                a.0.noise_floor.unwrap_or(f64::MAX).total_cmp(&b.0.noise_floor.unwrap_or(f64::MAX))
+            });
         let Some((manifest, exr)) = best else {
             return Err(error(format!(
                 "{}: no stored reference of '{}' at {width}x{height} (d = {d}) in {}; `hemilab advise {}` or \
@@ -176,7 +197,9 @@ impl Scene {
     fn size(&self, r: Option<(u32, u32)>) -> PyResult<(u32, u32)> {
         // The resolution through `--resolution`'s own parser, then the loader's size rule.
         let r = match r {
-            Some(_) => Some(hemilab::cli::parse_resolution(&resolution(r).unwrap_or_default()).map_err(error)?),
+            Some(_) => {
+                Some(hemilab::cli::parse_resolution(&resolution(r).unwrap_or_default()).map_err(error)?)
+            }
             None => None,
         };
         load::image_size(&self.path, &self.scene, r).map_err(error)
@@ -253,7 +276,9 @@ pub fn points<'py>(
     .map_err(error)?;
     let (x, y) = pixel;
     let index = match width {
-        Some(w) if x >= w => return Err(error(format!("pixel ({x}, {y}) is outside an image {w} pixels wide"))),
+        Some(w) if x >= w => {
+            return Err(error(format!("pixel ({x}, {y}) is outside an image {w} pixels wide")));
+        }
         Some(w) => y as u64 * w as u64 + x as u64,
         None if y == 0 => x as u64,
         None => {

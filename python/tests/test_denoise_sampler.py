@@ -77,13 +77,13 @@ def test_a_python_sampler_runs_through_hemilab_run(tmp_path, root):
     spec.write_text(
         f"""name = "py"
 scenes = ["{(root / 'scenes' / 'cornell-box.toml').as_posix()}"]
-resolution = [32, 32]
+resolution = [24, 18]
 replicates = 2
 seed = 1
 
 [reference]
-dir = "{(root / 'reference').as_posix()}"
-rays = 1024
+dir = "ref"
+rays = 256
 replicates = 2
 
 [[table]]
@@ -95,7 +95,7 @@ rows = [
 ]
 """
     )
-    out = pathlib.Path(hemilab.run(spec, out=tmp_path / "out", no_build_reference=True))
+    out = pathlib.Path(hemilab.run(spec, out=tmp_path / "out"))
     records = json.loads((out / "results.json").read_text())
     ours = [r for r in records if r["sequence"] == "py-hammersley"]
     assert len(ours) == 4

@@ -2,6 +2,7 @@
 32x32 against its committed reference), and `metrics` against the errors the run recorded."""
 
 import json
+import pathlib
 
 import numpy as np
 import pytest
@@ -35,13 +36,11 @@ def test_run_writes_the_records_the_command_line_writes(runs):
     for a, b in zip(sorted(ours, key=key), sorted(theirs, key=key)):
         for col in ["scene", "distribution", "sequence", "seed_mode", "rays", "replicate", "seed", "image", *MEASURED]:
             assert a[col] == b[col], (col, a, b)
-    assert (py_out / "index.html").exists() if hasattr(py_out, "exists") else True
+    assert (pathlib.Path(py_out) / "index.html").exists()
 
 
 def test_metrics_are_the_runs_and_its_images_are_renders(runs, root):
     _, py_out = runs
-    import pathlib
-
     out = pathlib.Path(py_out)
     scene = hemilab.Scene.load(root / "scenes" / "cornell-box.toml")
     mean, coverage, _, _ = scene.reference(resolution=(32, 32))
@@ -75,6 +74,6 @@ def test_run_of_a_bad_spec_raises_the_command_lines_message(tmp_path, cli):
     assert p.returncode == 2
     with pytest.raises(hemilab.Error) as e:
         hemilab.run(spec, out=tmp_path / "py")
-    assert p.stderr.strip().startswith("error: ")
-    assert str(e.value) == p.stderr.strip().splitlines()[0][len("error: "):] or str(e.value) in p.stderr
+    assert p.stderr.startswith("error: ")
+    assert str(e.value) == p.stderr.strip()[len("error: "):]
     assert not (tmp_path / "py").exists(), "nothing written"

@@ -11,8 +11,8 @@ mod render;
 mod run;
 
 use crate::cli::{Cli, Command, FrameArgs, ModeArg, SequenceArg};
-use crate::sampling::{Distribution, SamplerConfig};
 use crate::error::{Error, Result};
+use crate::sampling::{Distribution, SamplerConfig};
 use crate::spec::Row;
 
 pub fn run(cli: Cli) -> Result<()> {

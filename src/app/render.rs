@@ -20,8 +20,15 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     let png = out.with_extension("png");
     let s = &args.sampling;
-    let (_, sampler) =
-        crate::app::sampler(s.distribution, &s.sequence, &s.seed_mode, s.seed, &s.frames, args.rays, "--rays")?;
+    let (_, sampler) = crate::app::sampler(
+        s.distribution,
+        &s.sequence,
+        &s.seed_mode,
+        s.seed,
+        &s.frames,
+        args.rays,
+        "--rays",
+    )?;
     // The BVH's build effort follows the rays this image traces (`scene::Effort::for_work`).
     let (scene, width, height) = scene_for(&args.scene, args.resolution, Some(args.rays))?;
     let dir = out.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);

@@ -4,6 +4,9 @@ use hemilab::image::Image;
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
+/// A float32 (H, W) image or (n, k) matrix, as the module returns them.
+pub type Array<'py> = Bound<'py, PyArray2<f32>>;
+
 /// An (rows, cols) float32 array of `data` (row-major).
 pub fn matrix<'py>(
     py: Python<'py>,

@@ -2,7 +2,7 @@
 //! and `hemilab points`, through the functions those commands call.
 
 use crate::args::{Line, resolution};
-use crate::arrays::{image, image_rgb};
+use crate::arrays::{Array, image, image_rgb};
 use crate::error;
 use glam::Vec2;
 use hemilab::cli::Command;
@@ -91,7 +91,7 @@ impl Scene {
         schedule: Option<String>,
         integrand: Option<String>,
         threads: Option<i64>,
-    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>)> {
+    ) -> PyResult<(Array<'py>, Array<'py>)> {
         let line = Line::new("render")
             .flag("rays", rays)
             .opt("distribution", distribution)
@@ -150,14 +150,12 @@ impl Scene {
     /// The stored reference of this scene at `resolution` as `hemilab advise` finds it:
     /// (mean, coverage, standard error, manifest JSON).
     #[pyo3(signature = (resolution=None, reference_dir=None))]
-    #[allow(clippy::type_complexity)]
     fn reference<'py>(
         &self,
         py: Python<'py>,
         resolution: Option<(u32, u32)>,
         reference_dir: Option<PathBuf>,
-    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>, String)>
-    {
+    ) -> PyResult<(Array<'py>, Array<'py>, Array<'py>, String)> {
         let (width, height) = self.size(resolution)?;
         let dir = refs::dir_of_scene(reference_dir.as_deref(), &self.path, &self.scene).map_err(error)?;
         let d = hemilab::plan::Geometry::of(None, None, &self.scene).distance.canonical();
@@ -241,7 +239,7 @@ impl GBuffer {
 /// `hemilab points` without the picture: pixel (x, y)'s points (n, 2) and directions (n, 3).
 #[pyfunction]
 #[pyo3(signature = (distribution, sequence, seed_mode=None, n=64, pixel=(0, 0), width=None, frame=None, schedule=None, seed=None))]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[allow(clippy::too_many_arguments)]
 pub fn points<'py>(
     py: Python<'py>,
     distribution: String,
@@ -253,7 +251,7 @@ pub fn points<'py>(
     frame: Option<i64>,
     schedule: Option<String>,
     seed: Option<i128>,
-) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>)> {
+) -> PyResult<(Array<'py>, Array<'py>)> {
     let line = Line::new("points")
         .flag("distribution", distribution)
         .flag("sequence", sequence)

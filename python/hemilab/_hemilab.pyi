@@ -1,5 +1,6 @@
 """Type stubs of the native module (`hemilab/__init__.py` wraps it with docstrings)."""
 
+import os
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
@@ -56,7 +57,7 @@ class Scene:
     @property
     def name(self) -> str: ...
     @property
-    def path(self) -> str: ...
+    def path(self) -> "os.PathLike[str]": ...
     @property
     def resolution(self) -> Tuple[int, int]: ...
     @property

@@ -490,14 +490,11 @@ pub fn scene_for(
     if let Some(w) = dropped_warning(&scene) {
         eprintln!("{w}");
     }
-    let (width, height) = image_size(path, &scene, resolution)?;
-    Ok((scene, width, height))
+    image_size(path, &scene, resolution).map(|(width, height)| (scene, width, height))
 }
 
-/// The size of an image of `scene` (loaded from `path`) at `resolution` (default: the scene's),
-/// refused as `scene_for` refuses it: too large, or a size at which the camera sees nothing. Apart
-/// from `scene_for` for a caller that loads a scene once and renders it at several sizes (the
-/// Python module's `Scene`).
+/// `scene_for`'s size of an image of `scene` at `resolution` (default: the scene's), for a caller
+/// that loads a scene once and renders it at several sizes (the Python module's `Scene`).
 pub fn image_size(path: &Path, scene: &Scene, resolution: Option<(u32, u32)>) -> Result<(u32, u32)> {
     let (width, height) = resolution.unwrap_or(scene.resolution);
     check_pixels(width, height).map_err(|e| Error::Usage(format!("resolution {e}")))?;

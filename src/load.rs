@@ -490,10 +490,16 @@ pub fn scene_for(
     if let Some(w) = dropped_warning(&scene) {
         eprintln!("{w}");
     }
+    image_size(path, &scene, resolution).map(|(width, height)| (scene, width, height))
+}
+
+/// `scene_for`'s size of an image of `scene` at `resolution` (default: the scene's), for a caller
+/// that loads a scene once and renders it at several sizes (the Python module's `Scene`).
+pub fn image_size(path: &Path, scene: &Scene, resolution: Option<(u32, u32)>) -> Result<(u32, u32)> {
     let (width, height) = resolution.unwrap_or(scene.resolution);
-    check_pixels(width, height).map_err(usage)?;
+    check_pixels(width, height).map_err(|e| Error::Usage(format!("resolution {e}")))?;
     if (width, height) != scene.resolution {
-        check_view(path, &scene, width, height)?;
+        check_view(path, scene, width, height)?;
     }
-    Ok((scene, width, height))
+    Ok((width, height))
 }

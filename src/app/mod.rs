@@ -10,8 +10,9 @@ mod reference;
 mod render;
 mod run;
 
-use crate::cli::{Cli, Command};
+use crate::cli::{Cli, Command, FrameArgs, ModeArg, SequenceArg};
 use crate::error::{Error, Result};
+use crate::sampling::{Distribution, SamplerConfig};
 use crate::spec::Row;
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -25,6 +26,29 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Points(args) => points::run(&args),
         Command::Advise(args) => advise::run(args),
     }
+}
+
+/// The sampler of a command line's `--distribution/--sequence/--seed-mode/--seed/--frame/--schedule`
+/// with `count` points a pixel (`flag` names the count): the names resolved (a point file or
+/// texture read), the row refused as `check_row` refuses it. `render` and `points` build theirs
+/// here, and so does the Python module (`python/`), so that its settings mean what the flags mean.
+pub fn sampler(
+    distribution: Distribution,
+    sequence: &SequenceArg,
+    seed_mode: &ModeArg,
+    seed: u64,
+    frames: &FrameArgs,
+    count: u32,
+    flag: &str,
+) -> Result<(Row, SamplerConfig)> {
+    let (sequence, seed_mode) = (sequence.resolve()?, seed_mode.resolve()?);
+    let row = Row::new(distribution, sequence, seed_mode);
+    check_row(&row, count, flag)?;
+    let config = SamplerConfig::new(row.sequence, row.seed_mode, count, seed)
+        .map_err(|e| Error::Usage(format!("{flag}: {e}")))?
+        .with_frame(frames.frame)
+        .with_schedule(frames.schedule);
+    Ok((row, config))
 }
 
 /// Refuses a command line's row that cannot be drawn or rendered (a vector texture without the

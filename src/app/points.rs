@@ -6,8 +6,6 @@ use crate::error::{Error, Result};
 use crate::io;
 use crate::report::directions_of;
 use crate::report::{self, Format, PointSet};
-use crate::sampling::SamplerConfig;
-use crate::spec::Row;
 
 pub fn run(args: &PointsArgs) -> Result<()> {
     let path = &args.output;
@@ -15,13 +13,15 @@ pub fn run(args: &PointsArgs) -> Result<()> {
         path.extension().and_then(|e| e.to_str()).and_then(Format::from_extension).ok_or_else(|| {
             Error::Usage(format!("{}: the output must end in .png or .svg", path.display()))
         })?;
-    let (sequence, seed_mode) = (args.sequence.resolve()?, args.seed_mode.resolve()?);
-    let row = Row::new(args.distribution, sequence, seed_mode);
-    crate::app::check_row(&row, args.count, "--count")?;
-    let config = SamplerConfig::new(row.sequence, seed_mode, args.count, args.seed)
-        .map_err(|e| Error::Usage(e.to_string()))?
-        .with_frame(args.frames.frame)
-        .with_schedule(args.frames.schedule);
+    let (row, config) = crate::app::sampler(
+        args.distribution,
+        &args.sequence,
+        &args.seed_mode,
+        args.seed,
+        &args.frames,
+        args.count,
+        "--count",
+    )?;
     config.prepare();
     let dirs = directions_of(args.distribution, config);
     let frame = match (args.frames.frame, args.frames.schedule) {

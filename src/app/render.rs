@@ -7,7 +7,6 @@ use crate::io;
 use crate::load::scene_for;
 use crate::progress;
 use crate::render::{self, RenderJob, RenderOutput};
-use crate::sampling::SamplerConfig;
 use crate::scene::Scene;
 use crate::spec::AoDistance;
 use std::path::{Path, PathBuf};
@@ -20,13 +19,16 @@ pub fn run(args: RenderArgs) -> Result<()> {
         return Err(Error::Usage(format!("--output {}: must name an .exr file", args.output.display())));
     }
     let png = out.with_extension("png");
-    let (sequence, seed_mode) = (args.sampling.sequence.resolve()?, args.sampling.seed_mode.resolve()?);
-    let row = crate::spec::Row::new(args.sampling.distribution, sequence, seed_mode);
-    crate::app::check_row(&row, args.rays, "--rays")?;
-    let sampler = SamplerConfig::new(row.sequence, row.seed_mode, args.rays, args.sampling.seed)
-        .map_err(|e| Error::Usage(format!("--rays: {e}")))?
-        .with_frame(args.sampling.frames.frame)
-        .with_schedule(args.sampling.frames.schedule);
+    let s = &args.sampling;
+    let (_, sampler) = crate::app::sampler(
+        s.distribution,
+        &s.sequence,
+        &s.seed_mode,
+        s.seed,
+        &s.frames,
+        args.rays,
+        "--rays",
+    )?;
     // The BVH's build effort follows the rays this image traces (`scene::Effort::for_work`).
     let (scene, width, height) = scene_for(&args.scene, args.resolution, Some(args.rays))?;
     let dir = out.parent().map_or_else(|| PathBuf::from("/"), Path::to_path_buf);

@@ -7,10 +7,12 @@
 
 pub mod flicker;
 pub mod lowfreq;
+pub mod replicates;
 pub mod whiteness;
 
 pub use flicker::{flicker, flicker_sequence};
 pub use lowfreq::{STRUCTURED_RATIO, lowfreq_ratio, lowpass_rmse};
+pub use replicates::{Split, split};
 
 use crate::image::Image;
 use std::fmt;

@@ -52,7 +52,7 @@ fn csv_header_columns_are_exact() {
         "scene,distribution,sequence,seed_mode,rays,replicate,seed,rmse,bias,autocorr_x,autocorr_y,\
          lowpass_rmse,time_s,rays_per_s,whiteness_z,rays_cast,time_median_s,time_min_s,time_max_s,timings,overhead_s,\
          ao_time_s,ns_per_ray,efficiency,timing_threads,wall_s,covered_pixels,key,image,lowfreq_ratio,\
-         pipeline,frame,schedule,noise_rmse,integrand,camera,denoiser,flicker,floor,denoise_s"
+         pipeline,frame,schedule,noise_rmse,integrand,camera,denoiser,flicker,floor,denoise_s,bias_rmse,bias_se"
     );
     let row: Vec<&str> = lines.next().unwrap().split(',').collect();
     assert_eq!(row.len(), CSV_COLUMNS.len());

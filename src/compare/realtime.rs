@@ -56,7 +56,12 @@ impl Config {
 
     fn of(r: &JobResult) -> Option<Self> {
         let (row, schedule) = r.estimator()?;
-        Some(Config { distribution: row.distribution, sequence: row.sequence, seed_mode: row.seed_mode, schedule })
+        Some(Config {
+            distribution: row.distribution,
+            sequence: row.sequence,
+            seed_mode: row.seed_mode,
+            schedule,
+        })
     }
 
     /// The same estimator under another seed mode and the independent schedule.
@@ -176,7 +181,11 @@ fn cells(results: &[JobResult]) -> Cells<'_> {
             temporal: m.pipeline.is_temporal(),
             raw: m.pipeline == crate::denoise::Pipeline::RAW,
         };
-        let noise = if r.bias_rmse.is_finite() { (r.rmse * r.rmse - r.bias_rmse * r.bias_rmse).max(0.0).sqrt() } else { f64::NAN };
+        let noise = if r.bias_rmse.is_finite() {
+            (r.rmse * r.rmse - r.bias_rmse * r.bias_rmse).max(0.0).sqrt()
+        } else {
+            f64::NAN
+        };
         out.entry(at).or_default().entry(config).or_default().push(Measured {
             replicate: r.replicate,
             rmse: r.rmse,
@@ -232,7 +241,10 @@ impl Parts {
     fn of(v: &[Measured]) -> Self {
         let m = v.first().copied();
         Parts {
-            bias: Estimate { value: m.map_or(f64::NAN, |m| m.bias_rmse), se: m.map_or(f64::NAN, |m| m.bias_se) },
+            bias: Estimate {
+                value: m.map_or(f64::NAN, |m| m.bias_rmse),
+                se: m.map_or(f64::NAN, |m| m.bias_se),
+            },
             noise: m.map_or(f64::NAN, |m| m.noise_rmse),
         }
     }

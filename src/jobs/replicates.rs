@@ -101,6 +101,14 @@ pub fn split(
         r.bias_se = s.bias_rmse_se();
         r.noise_rmse = s.noise_rmse();
     }
+    floors(records, jobs);
+    Ok(())
+}
+
+/// Sets every record's `floor` from the records' own `bias_rmse` (module doc): by `split`, and by
+/// `merge`, whose shards each saw only their own configurations (a configuration's replicates are
+/// in one shard, `plan::unit_key`, so its split is whole; a place's configurations may not be).
+pub fn floors(records: &mut [JobResult], jobs: &[Job]) {
     // Per place, the preferred unbiased configuration's bias.
     let mut best: BTreeMap<String, ((u8, bool, bool), usize)> = BTreeMap::new();
     for (i, job) in jobs.iter().enumerate() {
@@ -113,5 +121,4 @@ pub fn split(
     for (i, job) in jobs.iter().enumerate() {
         records[i].floor = best.get(&place(job)).map(|&(_, k)| records[k].bias_rmse);
     }
-    Ok(())
 }

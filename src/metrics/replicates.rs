@@ -113,7 +113,9 @@ mod tests {
         let b = img(&[0.3, 0.4, 0.8, -5.0]);
         let c = img(&[0.7, 0.2, 1.0, 2.0]);
         let s = split(&[&a, &b, &c], &reference, &mask).unwrap();
-        let mse = |x: &Image| (0..3).map(|i| (x.data[i] as f64 - reference.data[i] as f64).powi(2)).sum::<f64>() / 3.0;
+        let mse = |x: &Image| {
+            (0..3).map(|i| (x.data[i] as f64 - reference.data[i] as f64).powi(2)).sum::<f64>() / 3.0
+        };
         let mean_mse = (mse(&a) + mse(&b) + mse(&c)) / 3.0;
         assert!((s.bias2 + s.noise2 - mean_mse).abs() < 1e-12, "{s:?} {mean_mse}");
         assert!(s.bias2_se.is_finite());

@@ -304,7 +304,11 @@ impl JobResult {
     /// The estimator this record measured, its names parsed: (distribution, sequence, seed mode)
     /// and the schedule (`None` if one is a name this version does not know).
     pub fn estimator(&self) -> Option<(Row, crate::sampling::Schedule)> {
-        let row = Row::new(self.distribution.parse().ok()?, self.sequence.parse().ok()?, self.seed_mode.parse().ok()?);
+        let row = Row::new(
+            self.distribution.parse().ok()?,
+            self.sequence.parse().ok()?,
+            self.seed_mode.parse().ok()?,
+        );
         Some((row, self.schedule.parse().ok()?))
     }
 

@@ -64,14 +64,20 @@ fn an_offset_beats_a_rotation_of_the_lattice_at_one_ray_per_frame_and_the_rotati
     // 0.046, slats 0.105 against 0.052; bias 0.055 ± 0.001 against 0.023, 0.093 ± 0.001 against
     // 0.023; the noise parts 0.044 against 0.040 and 0.049 against 0.047.
     for scene in ["kitchen", "slats"] {
-        let (rel, t) =
-            margin(&rmse(scene, "fibonacci", "rotation"), &rmse(scene, "fibonacci", "blue-noise"));
+        let (rel, t) = margin(&rmse(scene, "fibonacci", "rotation"), &rmse(scene, "fibonacci", "blue-noise"));
         eprintln!("{scene}: blue-noise against rotation {:+.1} % RMSE (t {t:.1})", 100.0 * rel);
         assert!(t < -critical(), "{scene}: blue-noise against rotation {:+.1} %, t {t:.1}", 100.0 * rel);
-        let (rot, bn) = (records(scene, "fibonacci", "rotation")[0], records(scene, "fibonacci", "blue-noise")[0]);
+        let (rot, bn) =
+            (records(scene, "fibonacci", "rotation")[0], records(scene, "fibonacci", "blue-noise")[0]);
         let se = rot.bias_se.hypot(bn.bias_se);
-        eprintln!("{scene}: bias {:.4} ± {:.4} against {:.4} ± {:.4}", rot.bias_rmse, rot.bias_se, bn.bias_rmse, bn.bias_se);
-        assert!(rot.bias_rmse - bn.bias_rmse > 5.0 * se, "{scene}: the rotation's bias {rot:?} against {bn:?}");
+        eprintln!(
+            "{scene}: bias {:.4} ± {:.4} against {:.4} ± {:.4}",
+            rot.bias_rmse, rot.bias_se, bn.bias_rmse, bn.bias_se
+        );
+        assert!(
+            rot.bias_rmse - bn.bias_rmse > 5.0 * se,
+            "{scene}: the rotation's bias {rot:?} against {bn:?}"
+        );
     }
 }
 

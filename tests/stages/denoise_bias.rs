@@ -43,11 +43,17 @@ fn a_filter_that_adds_a_constant_has_that_bias() {
     let s = split(&refs, &reference, &ones(w, h)).unwrap();
     assert!((s.bias_rmse() - c as f64).abs() < 1e-6 && s.noise2 == 0.0, "{s:?}");
     // Noisy input (σ = 0.2, 8 replicates): c within four jackknife standard errors.
-    let noisy: Vec<Image> = (0..8).map(|r| add(&add(&reference, &ones(w, h), c), &noise(w, h, 0.0, 0.2, 100 + r), 1.0)).collect();
+    let noisy: Vec<Image> =
+        (0..8).map(|r| add(&add(&reference, &ones(w, h), c), &noise(w, h, 0.0, 0.2, 100 + r), 1.0)).collect();
     let refs: Vec<&Image> = noisy.iter().collect();
     let s = split(&refs, &reference, &ones(w, h)).unwrap();
     let want = (c as f64).powi(2);
-    assert!((s.bias2 - want).abs() < 4.0 * s.bias2_se, "bias² {} ± {} against c² {want}", s.bias2, s.bias2_se);
+    assert!(
+        (s.bias2 - want).abs() < 4.0 * s.bias2_se,
+        "bias² {} ± {} against c² {want}",
+        s.bias2,
+        s.bias2_se
+    );
 }
 
 #[test]
@@ -55,7 +61,8 @@ fn on_white_noise_of_known_variance_the_noise_estimate_is_unbiased() {
     // σ = 0.2 around the reference, 8 replicates, 64 × 48 pixels: mean s² has sd σ² √(2/7/P).
     let (w, h, sd) = (64u32, 48u32, 0.2f64);
     let reference = noise(w, h, 0.5, 0.1, 2);
-    let imgs: Vec<Image> = (0..8).map(|r| add(&reference, &noise(w, h, 0.0, sd as f32, 200 + r), 1.0)).collect();
+    let imgs: Vec<Image> =
+        (0..8).map(|r| add(&reference, &noise(w, h, 0.0, sd as f32, 200 + r), 1.0)).collect();
     let refs: Vec<&Image> = imgs.iter().collect();
     let s = split(&refs, &reference, &ones(w, h)).unwrap();
     let tol = 4.0 * sd * sd * (2.0 / 7.0 / (w * h) as f64).sqrt();
@@ -92,7 +99,11 @@ fn a_linear_filters_replicate_bias_is_the_filter_on_the_reference() {
                 let mut run = p.start(w, h);
                 (0..4u64)
                     .map(|f| {
-                        let x = with_background(&add(&reference, &noise(w, h, 0.0, 0.2, 1000 + 10 * r + f), 1.0), &g, 0.0);
+                        let x = with_background(
+                            &add(&reference, &noise(w, h, 0.0, 0.2, 1000 + 10 * r + f), 1.0),
+                            &g,
+                            0.0,
+                        );
                         run.push(&x, &g, &still)
                     })
                     .last()

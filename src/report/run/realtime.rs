@@ -203,7 +203,9 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
                 pm(c.blue_noise),
                 pm(c.stbn),
                 margin_text(&c.blue_noise_vs_rotation),
-                c.bias.map(|b| if b.value.is_finite() { format!("{:.4}", b.value) } else { "—".into() }).join(" / "),
+                c.bias
+                    .map(|b| if b.value.is_finite() { format!("{:.4}", b.value) } else { "—".into() })
+                    .join(" / "),
             ]
         })
         .collect();
@@ -315,7 +317,9 @@ pub fn summary_table(results: &[JobResult]) -> Option<Table> {
             let mut m: Vec<f64> = rs.iter().map(|r| pct(&r[P_MARGIN])).collect();
             let mut n: Vec<f64> = rs.iter().map(|r| pct(&r[P_NOISE_MARGIN])).collect();
             let mut floors: Vec<&str> = rs.iter().map(|r| r[P_FLOOR].as_str()).collect();
-            floors.sort_by(|a, b| a.parse::<f64>().unwrap_or(f64::NAN).total_cmp(&b.parse::<f64>().unwrap_or(f64::NAN)));
+            floors.sort_by(|a, b| {
+                a.parse::<f64>().unwrap_or(f64::NAN).total_cmp(&b.parse::<f64>().unwrap_or(f64::NAN))
+            });
             let floor = match (floors.first(), floors.last()) {
                 (Some(a), Some(z)) if a == z => a.to_string(),
                 (Some(a), Some(z)) => format!("{a}–{z}"),

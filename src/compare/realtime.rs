@@ -22,7 +22,8 @@
 //! filter's, e.g. a rotation's fixed elevations against SVGF's brightening); and where either
 //! side's mean RMSE is below the pipeline's floor (its bias on per-pixel-unbiased input,
 //! `JobResult::floor`) it is **below floor**. Configurations are typed (`Config`), never read back
-//! from their labels.
+//! from their labels. Records made before the split (no `bias_rmse`) are read as they were: their
+//! noise RMSE is the joint application's, per replicate.
 
 use crate::compare::margin::{self, Margin};
 use crate::compare::model::Estimate;
@@ -181,10 +182,12 @@ fn cells(results: &[JobResult]) -> Cells<'_> {
             temporal: m.pipeline.is_temporal(),
             raw: m.pipeline == crate::denoise::Pipeline::RAW,
         };
+        // Records made before the split from replicates carry the joint application's noise RMSE
+        // (against the reference under the noisy frames' weights) per replicate: read as it was.
         let noise = if r.bias_rmse.is_finite() {
             (r.rmse * r.rmse - r.bias_rmse * r.bias_rmse).max(0.0).sqrt()
         } else {
-            f64::NAN
+            r.noise_rmse
         };
         out.entry(at).or_default().entry(config).or_default().push(Measured {
             replicate: r.replicate,
@@ -239,7 +242,8 @@ pub struct Parts {
 
 impl Parts {
     fn of(v: &[Measured]) -> Self {
-        let m = v.first().copied();
+        // A record made before the split has no bias: its noise RMSE is another measure.
+        let m = v.first().copied().filter(|m| m.bias_rmse.is_finite());
         Parts {
             bias: Estimate {
                 value: m.map_or(f64::NAN, |m| m.bias_rmse),

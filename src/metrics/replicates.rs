@@ -34,7 +34,7 @@ pub struct Split {
 impl Split {
     /// √max(bias², 0).
     pub fn bias_rmse(&self) -> f64 {
-        self.bias2.max(0.0).sqrt()
+        if self.bias2.is_nan() { f64::NAN } else { self.bias2.max(0.0).sqrt() }
     }
 
     /// √noise².

@@ -466,16 +466,8 @@ pub fn to_json(results: &[JobResult]) -> String {
 }
 
 /// Reads `results.json` back; the message says what is wrong and where (line, column).
-/// Records written before `noise_rmse` existed are raw images: their noise RMSE is their RMSE.
 pub fn from_json(text: &str) -> Result<Vec<JobResult>, String> {
-    let mut rs: Vec<JobResult> = serde_json::from_str(text).map_err(|e| e.to_string())?;
-    let raw = |r: &JobResult| {
-        r.pipeline.parse::<crate::denoise::Pipeline>().is_ok_and(|p| p == crate::denoise::Pipeline::RAW)
-    };
-    for r in rs.iter_mut().filter(|r| r.noise_rmse.is_nan() && raw(r)) {
-        r.noise_rmse = r.rmse;
-    }
-    Ok(rs)
+    serde_json::from_str(text).map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

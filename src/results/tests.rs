@@ -82,7 +82,7 @@ fn csv_quotes_awkward_fields_and_leaves_undefined_empty() {
     let csv = to_csv(&timed(vec![r], 0.1));
     let line = csv.lines().nth(1).unwrap();
     assert!(
-        line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,0,ao,static,,,,0"),
+        line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,,ao,static,,,,0,,"),
         "quoted, then lowfreq_ratio and the real-time columns: {line}"
     );
     assert!(line.contains(",0,0,0.5,128,"), "time and rays_per_s 0, whiteness 0.5: {line}");

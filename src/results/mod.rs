@@ -84,7 +84,7 @@ pub const TIME_COLUMNS: &[&str] = &[
 /// The measurements of one job. Names are strings so a results file stays readable even if a
 /// variant is renamed later. Times are those of the timing protocol (`crate::timing`): the CPU
 /// time of the one thread that rendered the image, render only (no reference, metrics or IO).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct JobResult {
     pub scene: String,
@@ -197,6 +197,15 @@ pub struct JobResult {
     /// method); NaN below three replicates or where the bias is 0.
     #[serde(default = "nan", deserialize_with = "split::nan_null")]
     pub bias_se: f64,
+}
+
+/// Two records are the same when their files are: an undefined column (NaN, null in JSON) equals
+/// an undefined one, so that two runs' records with an undefined split (one replicate, no jackknife
+/// below three) still compare equal (resume, merge's duplicate check).
+impl PartialEq for JobResult {
+    fn eq(&self, other: &Self) -> bool {
+        serde_json::to_value(self).ok() == serde_json::to_value(other).ok()
+    }
 }
 
 fn raw() -> String {

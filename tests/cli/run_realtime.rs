@@ -96,9 +96,10 @@ fn every_camera_is_split_from_its_replicates_and_the_parts_add_up_to_the_mean_ms
         assert_eq!(same.len(), 2);
         let mse = same.iter().map(|o| o.rmse * o.rmse).sum::<f64>() / 2.0;
         let parts = r.bias_rmse.powi(2) + r.noise_rmse.powi(2);
-        assert!(parts >= mse * (1.0 - 1e-9), "{parts} against {mse}: bias² is clipped at 0 only upwards");
+        // RMSE's errors are f32 differences, the split's f64: equal to 1e-6.
+        assert!(parts >= mse * (1.0 - 1e-6), "{parts} against {mse}: bias² is clipped at 0 only upwards");
         if r.bias_rmse > 0.0 {
-            assert!((parts - mse).abs() < 1e-9 * mse, "{parts} against {mse}");
+            assert!((parts - mse).abs() < 1e-6 * mse, "{parts} against {mse}");
         }
     }
     // A resumed run reads the same split back from the kept images.

@@ -13,7 +13,7 @@
 //!   leave-one-out estimate needs a variance of its own).
 //!
 //! Unlike the joint application (the reference pushed through the same filter weights), this needs
-//! nothing of the filter: it is what the field means by a filter's bias, E[F(x)] − ref, for any
+//! nothing of the filter: it is what the field means by a filter's bias, E\[F(x)\] − ref, for any
 //! filter, linear or not, and for a user's denoiser. With one replicate nothing is measured (NaN).
 //! Pure: images in, numbers out.
 

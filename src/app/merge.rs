@@ -84,6 +84,8 @@ pub fn run(args: MergeArgs) -> Result<()> {
         bar.inc(1);
     }
     bar.finish_and_clear();
+    // A place's floor may be a configuration another shard measured.
+    crate::jobs::replicates::floors(&mut merged, &plan.jobs);
     outdir::write_results(&out, &merged)?;
 
     let overhead = merged_overhead(&loaded.spec, &shards);

@@ -197,6 +197,9 @@ mod tests {
             rays_per_s: 1e7,
             efficiency,
             efficiency_spread: spread,
+            bias_rmse: f64::NAN,
+            bias_se: f64::NAN,
+            noise_rmse: f64::NAN,
         }
     }
 

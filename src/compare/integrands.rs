@@ -60,14 +60,11 @@ pub fn scene_name(base: &str, integrand: Integrand) -> String {
     if integrand == Integrand::Ao { base.to_string() } else { format!("{base}-{integrand}") }
 }
 
-/// The scene a record names under integrand `i` without it: `scene_name`'s inverse (`None` when
-/// `scene` is not `scene_name(base, i)` for any base).
-fn base_name(scene: &str, i: Integrand) -> Option<&str> {
-    if i == Integrand::Ao {
-        return Some(scene);
-    }
-    let base = scene.strip_suffix(i.to_string().as_str())?.strip_suffix('-')?;
-    (scene_name(base, i) == scene).then_some(base)
+/// Of the scenes `bases` (their own names: those measured under AO), the one a record of
+/// integrand `i` names `scene`: built forwards by `scene_name`, never cut out of the name (`None`
+/// when no base gives `scene`).
+fn base_name<'a>(scene: &str, i: Integrand, bases: &[&'a str]) -> Option<&'a str> {
+    bases.iter().copied().find(|b| scene_name(b, i) == scene)
 }
 
 /// A record's integrand, typed: its `Measurement`'s (`None` for a record whose measurement does
@@ -76,12 +73,18 @@ fn integrand(r: &JobResult) -> Option<Integrand> {
     r.measurement().map(|m| m.integrand)
 }
 
-/// The scenes measured under more than one integrand, by their own names, in record order.
+/// The scenes measured under AO and another integrand, by their own names, in record order.
 pub fn scenes(results: &[JobResult]) -> Vec<String> {
+    let mut bases: Vec<&str> = Vec::new();
+    for r in results.iter().filter(|r| integrand(r) == Some(Integrand::Ao)) {
+        if !bases.contains(&r.scene.as_str()) {
+            bases.push(&r.scene);
+        }
+    }
     let mut out: Vec<String> = Vec::new();
     for r in results {
         let Some(i) = integrand(r).filter(|i| *i != Integrand::Ao) else { continue };
-        if let Some(base) = base_name(&r.scene, i)
+        if let Some(base) = base_name(&r.scene, i, &bases)
             && !out.iter().any(|b| b == base)
         {
             out.push(base.to_string());
@@ -252,14 +255,20 @@ mod tests {
 
     #[test]
     fn base_name_inverts_scene_name_for_every_integrand() {
+        let bases = ["kitchen", "cornell-box", "a-visibility"];
         for i in [Integrand::Ao, Integrand::Visibility, Integrand::CosLobe(4), Integrand::CosLobe(32)] {
-            for base in ["kitchen", "cornell-box", "a-visibility"] {
-                assert_eq!(base_name(&scene_name(base, i), i), Some(base), "{base} under {i}");
+            for base in bases {
+                assert_eq!(base_name(&scene_name(base, i), i, &bases), Some(base), "{base} under {i}");
             }
         }
-        // A name that does not end in the integrand's is no scene measured under it.
-        assert_eq!(base_name("kitchen", Integrand::Visibility), None);
-        assert_eq!(base_name("kitchen-cos-lobe-4", Integrand::CosLobe(32)), None);
-        assert_eq!(base_name("kitchenvisibility", Integrand::Visibility), None);
+        // A name that no base gives under the integrand is no scene measured under it.
+        assert_eq!(base_name("kitchen", Integrand::Visibility, &bases), None);
+        assert_eq!(base_name("kitchen-cos-lobe-4", Integrand::CosLobe(32), &bases), None);
+        assert_eq!(base_name("kitchenvisibility", Integrand::Visibility, &bases), None);
+        assert_eq!(
+            base_name("sponza-visibility", Integrand::Visibility, &bases),
+            None,
+            "not measured under AO"
+        );
     }
 }

@@ -6,18 +6,15 @@
 //! - per scene × camera path (`plan::CameraId`), every frame's view (the path's camera, its
 //!   Halton (2, 3) jitter), its G-buffer, the motion from the frame before (`render::reproject`),
 //!   and the references of the frames where error and flicker are measured
-//!   (`reference::ViewReferences`, obtained by the run before the executor starts);
-//! - per scene × pipeline, the **filter floor**: the RMSE against the reference of the pipeline
-//!   applied to the reference itself, frame after frame of the static camera,
-//!   RMSE(F(reference), reference). It is what the filter costs a noise-free input; an RMSE below
-//!   it is the filter's bias cancelling the sampler's (Fibonacci × rotation at 1 ray keeps one
-//!   elevation per pixel), never a win. The floor is the scene's view's, for moving cameras too (a
-//!   path's frames have references only where error is measured).
+//!   (`reference::ViewReferences`, obtained by the run before the executor starts).
+//!
+//! The filter's floor is not made here: it is the filter's bias measured from the replicates of
+//! per-pixel-unbiased input (`jobs::replicates`), not the filter applied to the reference (which a
+//! non-linear filter such as SVGF passes through unchanged).
 
 use super::reference::ViewReferences;
-use crate::denoise::{Motion, Pipeline};
+use crate::denoise::Motion;
 use crate::image::Image;
-use crate::metrics;
 use crate::plan::{CameraId, Measurement};
 use crate::reference::store::Reference;
 use crate::render::{self, FrameGBuffer, GBuffer, ReprojectParams, View};
@@ -51,12 +48,10 @@ impl CameraFrames<'_> {
 pub struct Guides<'a> {
     gbuffers: HashMap<usize, GBuffer>,
     cameras: HashMap<(usize, CameraId), CameraFrames<'a>>,
-    /// Per (scene, pipeline): the floor at frames 1, 2, … (index frame − 1).
-    floors: Vec<((usize, Pipeline), Vec<f64>)>,
 }
 
 /// What one job is measured against: its reference (the static camera's; a path's frames read
-/// theirs from `camera`), the filters' guides, the floor, and where a denoiser command works.
+/// theirs from `camera`), the filters' guides, and where a denoiser command works.
 pub struct Against<'a> {
     pub reference: &'a Image,
     pub coverage: &'a Image,
@@ -64,8 +59,6 @@ pub struct Against<'a> {
     pub gbuffer: Option<&'a GBuffer>,
     /// The camera path's frames (`None`: the scene's camera, unjittered).
     pub camera: Option<&'a CameraFrames<'a>>,
-    /// Every pipeline's floor per frame on the job's scene (empty for a single frame).
-    pub floors: Vec<(Pipeline, &'a [f64])>,
     /// A directory of the job's own for a denoiser command's files.
     pub scratch: Option<PathBuf>,
 }
@@ -78,12 +71,6 @@ impl Against<'_> {
             None => (self.reference, self.coverage),
         }
     }
-
-    /// The floor of `pipeline` at frame `frame` (from 1); NaN where none was computed.
-    pub fn floor_at(&self, pipeline: Pipeline, frame: u32) -> f64 {
-        let f = self.floors.iter().find(|(p, _)| *p == pipeline).map(|(_, f)| *f);
-        f.and_then(|f| f.get(frame as usize - 1).copied()).unwrap_or(f64::NAN)
-    }
 }
 
 /// A plan's multi-frame job as `Guides::new` reads it: its scene (`target`), measurement and size.
@@ -95,17 +82,14 @@ pub struct Need<'m> {
 }
 
 impl<'a> Guides<'a> {
-    /// For every job of a plan: what its filters need. `references` are the scenes' own
-    /// (by target), `views` the camera paths' frames'.
+    /// For every job of a plan: what its filters need; `views` are the camera paths' frames'
+    /// references.
     pub fn new<'m>(
         needs: impl IntoIterator<Item = Need<'m>>,
         scene: impl Fn(usize) -> &'a Scene,
-        references: &'a [Reference],
         views: &'a ViewReferences,
     ) -> Self {
         let mut g = Guides::default();
-        // Per (scene, pipeline): the last frame any job reports.
-        let mut last: Vec<((usize, Pipeline), u32)> = Vec::new();
         for n in needs {
             let m = n.measurement;
             if m.is_single_frame() {
@@ -118,14 +102,6 @@ impl<'a> Guides<'a> {
                     camera_frames(scene(t), run, n.width, n.height, views.of(t, m.camera))
                 });
             }
-            match last.iter_mut().find(|(k, _)| *k == (t, m.pipeline)) {
-                Some((_, f)) => *f = (*f).max(m.frame),
-                None => last.push(((t, m.pipeline), m.frame)),
-            }
-        }
-        for ((t, p), frames) in last {
-            let floor = floor(&p, &references[t], &g.gbuffers[&t], frames);
-            g.floors.push(((t, p), floor));
         }
         g
     }
@@ -144,12 +120,6 @@ impl<'a> Guides<'a> {
             coverage: &reference.coverage,
             gbuffer: if single { None } else { self.gbuffers.get(&target) },
             camera: self.cameras.get(&(target, m.camera)),
-            floors: self
-                .floors
-                .iter()
-                .filter(|(k, _)| k.0 == target)
-                .map(|(k, f)| (k.1, f.as_slice()))
-                .collect(),
             scratch,
         }
     }
@@ -180,20 +150,4 @@ fn camera_frames<'a>(
         })
         .collect();
     CameraFrames { views, gbuffers, motions, still: run.path.is_static(), references }
-}
-
-/// The pipeline's floor at frames 1..=`frames` of the static camera: the reference pushed through
-/// it as every frame (`FrameFilter::push`), each output's RMSE against the reference.
-pub fn floor(p: &Pipeline, reference: &Reference, gbuf: &GBuffer, frames: u32) -> Vec<f64> {
-    if *p == Pipeline::RAW {
-        return vec![0.0; frames as usize];
-    }
-    let motion = Motion::identity(gbuf.width, gbuf.height);
-    let mut run = p.start(gbuf.width, gbuf.height);
-    (0..frames)
-        .map(|_| {
-            let shown = run.push(&reference.mean, gbuf, &motion);
-            metrics::measure(&shown, &reference.mean, &reference.coverage).map_or(f64::NAN, |s| s.rmse)
-        })
-        .collect()
 }

@@ -6,15 +6,13 @@
 //!   paper's tables).
 //! - `Frames`: the frames of a static camera, rendered with `SamplerConfig::with_frame(f)
 //!   .with_schedule(s)` and accumulated by the pipeline's temporal part; then its spatial part,
-//!   guided by the scene's G-buffer; the error against the reference (what the user sees) and
-//!   against the reference under the same spatial filter (the noise part, `noise_rmse`), so a
-//!   filter's bias and the sampler's noise stay apart.
+//!   guided by the scene's G-buffer; the error against the reference (what the user sees). How
+//!   much of it is bias and how much noise is measured once every replicate of the configuration
+//!   is (`jobs::replicates`), from the images kept.
 //!
 //! A moving or jittered camera (`plan::CameraId`) renders frame f from its path's view, filtered
 //! through the motion from frame f − 1 (`jobs::guides::CameraFrames`); its error is against the
-//! reference of that frame. The joint application that splits a filter's noise from its bias
-//! needs a reference for every frame, so it is made where one reference serves them all (the
-//! static camera, jittered or not); a moving camera's `noise_rmse` is NaN (not measured).
+//! reference of that frame.
 //!
 //! Beside the error, each reported frame's **flicker** (`metrics::flicker`): the RMS over pixels of
 //! (o_t − o_{t−1}) − (r_t − r_{t−1}), the change the viewer sees that the converged image does not
@@ -40,26 +38,15 @@ use crate::render::{self, GBuffer, RenderJob, RenderOutput, View};
 use crate::scene::Scene;
 use crate::timing::{Time, clock};
 
-/// What the noise part of a reported frame's error is measured against.
-pub enum Noise {
-    /// No filter: the noise is the error itself.
-    Unfiltered,
-    /// The reference under the same filter weights (`denoise::FrameFilter::push_pair`).
-    Against(Image),
-    /// Not measured (a moving camera, a user's denoiser): NaN.
-    Unknown,
-}
-
 /// The image of one reported frame: after the whole pipeline, with the rays of every frame so
-/// far, what its noise is measured against, its flicker, and the render time of those frames
-/// (`None`: the caller's time of the whole render).
+/// far, its flicker, and the render time of those frames (`None`: the caller's time of the whole
+/// render).
 pub struct FrameImage {
     /// The pipeline it went through.
     pub pipeline: Pipeline,
     /// The frame, counted from 1.
     pub frame: u32,
     pub output: RenderOutput,
-    pub noise: Noise,
     /// `metrics::flicker` against the frame before (NaN for frame 1 and single frames).
     pub flicker: f64,
     /// The user's denoiser's wall-clock time on this frame's image, seconds (0 without one).
@@ -86,16 +73,10 @@ pub trait Measure: Sync {
     fn frames(&self) -> u64;
 }
 
-/// A reported frame's error statistics against its reference and its noise RMSE (`Noise`).
-pub fn errors(image: &FrameImage, against: &Against) -> Result<(ErrorStats, f64), MetricsError> {
+/// A reported frame's error statistics against its reference.
+pub fn errors(image: &FrameImage, against: &Against) -> Result<ErrorStats, MetricsError> {
     let (reference, coverage) = against.at(image.frame);
-    let stats = metrics::measure(&image.output.ao, reference, coverage)?;
-    let noise = match &image.noise {
-        Noise::Unfiltered => stats.rmse,
-        Noise::Against(f) => metrics::measure(&image.output.ao, f, coverage)?.rmse,
-        Noise::Unknown => f64::NAN,
-    };
-    Ok((stats, noise))
+    metrics::measure(&image.output.ao, reference, coverage)
 }
 
 /// A reported frame's mean LDR-FLIP against its reference over covered pixels
@@ -124,7 +105,6 @@ impl Measure for SingleFrame {
             pipeline: Pipeline::RAW,
             frame: 1,
             output,
-            noise: Noise::Unfiltered,
             flicker: f64::NAN,
             denoise_s: 0.0,
             time: None,
@@ -137,9 +117,7 @@ impl Measure for SingleFrame {
 }
 
 /// Frames pushed through a pipeline (`denoise::Pipeline::start`): every frame the pipeline shows
-/// is filtered in order, since its history is its own output; where one reference serves every
-/// frame it is pushed beside them under the same weights, so that the noise part of the error is
-/// measured for a non-linear filter too.
+/// is filtered in order, since its history is its own output.
 pub struct Frames(pub Measurement);
 
 /// One frame's guides: its view, G-buffer and motion from the frame before.
@@ -229,8 +207,6 @@ impl Measure for Frames {
         let temporal = m.pipeline.is_temporal();
         let rendered: Vec<u32> =
             if temporal { (0..last).collect() } else { runs[0].kept.iter().map(|f| f - 1).collect() };
-        // The joint application needs every frame's reference: where one serves all of them.
-        let paired = m.denoiser.get().is_none() && against.camera.is_none_or(|c| c.still);
         let (mut rays, mut occluded) = (0u64, 0u64);
         let mut spent = Time { cpu_s: 0.0, wall_s: 0.0 };
         let mut out = Vec::with_capacity(reported.len());
@@ -248,19 +224,15 @@ impl Measure for Frames {
             }
             for run in &mut runs {
                 if temporal && !run.kept.contains(&(f + 1)) {
-                    let reference = paired.then(|| against.at(f + 1).0);
-                    run.filter.advance(&o.ao, reference, g.gbuffer, &g.motion);
+                    run.filter.advance(&o.ao, None, g.gbuffer, &g.motion);
                     continue;
                 }
-                let (shown, filtered_reference) = if paired {
-                    let (s, r) = run.filter.push_pair(&o.ao, against.at(f + 1).0, g.gbuffer, &g.motion);
-                    (s, Some(r))
-                } else if temporal {
-                    (run.filter.push(&o.ao, g.gbuffer, &g.motion), None)
+                let shown = if temporal {
+                    run.filter.push(&o.ao, g.gbuffer, &g.motion)
                 } else {
                     // Nothing carries over between the frames of a pipeline that shows one: each
                     // is filtered by a run of its own.
-                    (run.pipeline.start(rj.width, rj.height).push(&o.ao, g.gbuffer, &g.motion), None)
+                    run.pipeline.start(rj.width, rj.height).push(&o.ao, g.gbuffer, &g.motion)
                 };
                 if !run.kept.contains(&(f + 1)) {
                     continue;
@@ -270,12 +242,6 @@ impl Measure for Frames {
                     let flicker = match &run.previous {
                         Some((p, prev)) if *p == f => flicker(against, f + 1, prev, &shown),
                         _ => f64::NAN,
-                    };
-                    let unfiltered = run.pipeline == Pipeline::RAW && m.denoiser.get().is_none();
-                    let noise = match filtered_reference {
-                        _ if unfiltered => Noise::Unfiltered,
-                        Some(r) => Noise::Against(r),
-                        None => Noise::Unknown,
                     };
                     let output = RenderOutput {
                         ao: shown.clone(),
@@ -287,7 +253,6 @@ impl Measure for Frames {
                         pipeline: run.pipeline,
                         frame: f + 1,
                         output,
-                        noise,
                         flicker,
                         denoise_s,
                         time: Some(spent),

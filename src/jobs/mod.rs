@@ -10,6 +10,7 @@ pub mod guides;
 pub mod long_run;
 pub mod measure;
 pub mod reference;
+pub mod replicates;
 pub mod runner;
 pub mod sweep;
 

@@ -10,11 +10,13 @@
 pub mod flicker;
 pub mod flip;
 pub mod lowfreq;
+pub mod replicates;
 pub mod whiteness;
 
 pub use flicker::{flicker, flicker_sequence};
 pub use flip::{DEFAULT_PPD, ldr_flip_map, mean_flip};
 pub use lowfreq::{STRUCTURED_RATIO, lowfreq_ratio, lowpass_rmse};
+pub use replicates::{Split, split};
 
 use crate::image::Image;
 use std::fmt;

@@ -54,6 +54,11 @@ pub struct Aggregate {
     /// [`efficiency_spread`]).
     pub efficiency: f64,
     pub efficiency_spread: f64,
+    /// The configuration's error split from its replicates (`JobResult::bias_rmse`, `bias_se`,
+    /// `noise_rmse`: the same in every record of it); NaN with one replicate.
+    pub bias_rmse: f64,
+    pub bias_se: f64,
+    pub noise_rmse: f64,
 }
 
 /// Mean and sd per (scene, distribution, sequence, seed_mode, rays), in order of first appearance;
@@ -104,6 +109,9 @@ pub fn aggregate(results: &[JobResult]) -> Vec<Aggregate> {
                 rays_per_s: if median > 0.0 { rays_cast / median } else { f64::NAN },
                 efficiency,
                 efficiency_spread: efficiency_spread(efficiency, mse, rs.len(), time, first.ao_time_s),
+                bias_rmse: first.bias_rmse,
+                bias_se: first.bias_se,
+                noise_rmse: first.noise_rmse,
             }
         })
         .collect()
@@ -139,8 +147,12 @@ pub fn aggregate_columns() -> Vec<String> {
         c.push(format!("{m}_mean"));
         c.push(format!("{m}_sd"));
     }
+    c.extend(AGG_SPLIT.map(String::from));
     c
 }
+
+/// The split from replicates, one value per configuration, appended after everything else.
+const AGG_SPLIT: [&str; 3] = ["bias_rmse", "bias_se", "noise_rmse"];
 
 const AGG_METRICS: [&str; 6] = ["rmse", "bias", "autocorr_x", "autocorr_y", "lowpass_rmse", "whiteness_z"];
 /// Metrics added later, after the timing columns so that every earlier column keeps its position.
@@ -199,6 +211,7 @@ pub fn aggregates_to_csv(aggs: &[Aggregate]) -> String {
         for st in [a.lowfreq_ratio, a.flip] {
             let _ = write!(s, ",{},{}", num(st.mean), num(st.sd));
         }
+        let _ = write!(s, ",{},{},{}", num(a.bias_rmse), num(a.bias_se), num(a.noise_rmse));
         s.push('\n');
     }
     s
@@ -268,18 +281,20 @@ mod tests {
         assert!(csv.starts_with("scene,distribution,sequence,seed_mode,rays,replicates,rmse_mean,rmse_sd,"));
         assert_eq!(csv.lines().count(), 5);
         let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+        assert_eq!(header[header.len() - 3..], ["bias_rmse", "bias_se", "noise_rmse"], "appended last");
         assert_eq!(
-            header[header.len() - 4..],
+            header[header.len() - 7..header.len() - 3],
             ["lowfreq_ratio_mean", "lowfreq_ratio_sd", "flip_mean", "flip_sd"],
-            "appended last, in the order they were added"
+            "appended in the order they were added"
         );
-        assert_eq!(header[header.len() - 5], "efficiency_spread", "every earlier column in place");
+        assert_eq!(header[header.len() - 8], "efficiency_spread", "every earlier column in place");
         let first: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
         assert_eq!(first.len(), header.len());
         assert_eq!(
-            first[first.len() - 4..],
+            first[first.len() - 7..first.len() - 3],
             ["0.75", "0", "0.5", "0"],
             "mean ± sd of the records' ratios and FLIPs"
         );
+        assert_eq!(first[first.len() - 3..], ["", "", ""], "no split without the images");
     }
 }

@@ -61,6 +61,8 @@ pub const CSV_COLUMNS: &[&str] = &[
     "floor",
     "denoise_s",
     "flip",
+    "bias_rmse",
+    "bias_se",
 ];
 
 /// The columns that hold measured times, or depend on them (how many renders a configuration got:
@@ -83,7 +85,7 @@ pub const TIME_COLUMNS: &[&str] = &[
 /// The measurements of one job. Names are strings so a results file stays readable even if a
 /// variant is renamed later. Times are those of the timing protocol (`crate::timing`): the CPU
 /// time of the one thread that rendered the image, render only (no reference, metrics or IO).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct JobResult {
     pub scene: String,
@@ -155,8 +157,10 @@ pub struct JobResult {
     /// The per-frame randomization schedule.
     #[serde(default = "independent")]
     pub schedule: String,
-    /// RMSE of the image after the pipeline against the reference after the same spatial filter:
-    /// the noise part of the error, the filter's bias left out. `rmse` for a raw image.
+    /// The noise part of the configuration's error, measured from its replicates
+    /// (`metrics::replicates`): √(mean over covered pixels of each pixel's sample variance over the
+    /// replicates), what a new seed changes. The same in every replicate's record; NaN (empty,
+    /// null) with one replicate or where the images were not kept.
     #[serde(default = "nan", deserialize_with = "split::nan_null")]
     pub noise_rmse: f64,
     /// What the rays integrated (`sampling::Integrand`'s name): `ao` for every record written
@@ -174,9 +178,10 @@ pub struct JobResult {
     /// None (empty, null) for frame 1, a single frame, and where it is not measured.
     #[serde(default)]
     pub flicker: Option<f64>,
-    /// The filter's floor: the RMSE of the pipeline applied to the reference itself (frames of the
-    /// static camera, pushed to this frame) against the reference; 0 without a filter, None (empty, null) for a single frame. An RMSE
-    /// below its floor is the filter's bias cancelling the sampler's, never a win.
+    /// The floor of the pipeline at this place (scene, rays, pipeline, frame, camera, denoiser):
+    /// its `bias_rmse` measured on input that is unbiased in every pixel (`jobs::replicates` says
+    /// which configuration); None (empty, null) where no such configuration has two replicates.
+    /// An RMSE below its floor is the filter's bias cancelling the sampler's, never a win.
     #[serde(default)]
     pub floor: Option<f64>,
     /// The user's denoiser's wall-clock time on this frame's image, seconds (0 without one): apart
@@ -189,6 +194,25 @@ pub struct JobResult {
     /// null) where it was not measured, as in records written before the column existed.
     #[serde(default = "nan", deserialize_with = "split::nan_null")]
     pub flip: f64,
+    /// The bias part of the configuration's error, measured from its replicates
+    /// (`metrics::replicates`): √max(bias², 0), bias² = mean over covered pixels of
+    /// (x̄ − ref)² − s²/R. With `noise_rmse`, bias² + noise² is the mean MSE over the replicates.
+    /// The same in every replicate's record; NaN (empty, null) with one replicate.
+    #[serde(default = "nan", deserialize_with = "split::nan_null")]
+    pub bias_rmse: f64,
+    /// The standard error of `bias_rmse` (the jackknife over replicates of bias², by the delta
+    /// method); NaN below three replicates or where the bias is 0.
+    #[serde(default = "nan", deserialize_with = "split::nan_null")]
+    pub bias_se: f64,
+}
+
+/// Two records are the same when their files are: an undefined column (NaN, null in JSON) equals
+/// an undefined one, so that two runs' records with an undefined split (one replicate, no jackknife
+/// below three) still compare equal (resume, merge's duplicate check).
+impl PartialEq for JobResult {
+    fn eq(&self, other: &Self) -> bool {
+        serde_json::to_value(self).ok() == serde_json::to_value(other).ok()
+    }
 }
 
 fn raw() -> String {
@@ -268,7 +292,7 @@ impl JobResult {
             pipeline: job.measurement.pipeline.to_string(),
             frame: job.measurement.frame,
             schedule: job.measurement.schedule.name().into(),
-            noise_rmse: stats.rmse,
+            noise_rmse: f64::NAN,
             integrand: job.measurement.integrand.to_string(),
             camera: job.measurement.camera.name(),
             denoiser: job.measurement.denoiser.name(),
@@ -276,6 +300,8 @@ impl JobResult {
             floor: None,
             denoise_s: 0.0,
             flip: f64::NAN,
+            bias_rmse: f64::NAN,
+            bias_se: f64::NAN,
         }
     }
 
@@ -290,6 +316,17 @@ impl JobResult {
             camera: crate::plan::CameraId::named(&self.camera)?,
             denoiser: crate::plan::DenoiserId::named(&self.denoiser)?,
         })
+    }
+
+    /// The estimator this record measured, its names parsed: (distribution, sequence, seed mode)
+    /// and the schedule (`None` if one is a name this version does not know).
+    pub fn estimator(&self) -> Option<(Row, crate::sampling::Schedule)> {
+        let row = Row::new(
+            self.distribution.parse().ok()?,
+            self.sequence.parse().ok()?,
+            self.seed_mode.parse().ok()?,
+        );
+        Some((row, self.schedule.parse().ok()?))
     }
 
     /// Whether this is a paper-table record (one raw frame, `Measurement::is_single_frame`): the
@@ -430,6 +467,8 @@ pub fn to_csv(results: &[JobResult]) -> String {
             num(r.floor.unwrap_or(f64::NAN)),
             num(r.denoise_s),
             num(r.flip),
+            num(r.bias_rmse),
+            num(r.bias_se),
         ];
         s.push_str(&fields.join(","));
         s.push('\n');
@@ -445,16 +484,8 @@ pub fn to_json(results: &[JobResult]) -> String {
 }
 
 /// Reads `results.json` back; the message says what is wrong and where (line, column).
-/// Records written before `noise_rmse` existed are raw images: their noise RMSE is their RMSE.
 pub fn from_json(text: &str) -> Result<Vec<JobResult>, String> {
-    let mut rs: Vec<JobResult> = serde_json::from_str(text).map_err(|e| e.to_string())?;
-    let raw = |r: &JobResult| {
-        r.pipeline.parse::<crate::denoise::Pipeline>().is_ok_and(|p| p == crate::denoise::Pipeline::RAW)
-    };
-    for r in rs.iter_mut().filter(|r| r.noise_rmse.is_nan() && raw(r)) {
-        r.noise_rmse = r.rmse;
-    }
-    Ok(rs)
+    serde_json::from_str(text).map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

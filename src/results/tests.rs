@@ -54,7 +54,7 @@ fn csv_header_columns_are_exact() {
         "scene,distribution,sequence,seed_mode,rays,replicate,seed,rmse,bias,autocorr_x,autocorr_y,\
          lowpass_rmse,time_s,rays_per_s,whiteness_z,rays_cast,time_median_s,time_min_s,time_max_s,timings,overhead_s,\
          ao_time_s,ns_per_ray,efficiency,timing_threads,wall_s,covered_pixels,key,image,lowfreq_ratio,\
-         pipeline,frame,schedule,noise_rmse,integrand,camera,denoiser,flicker,floor,denoise_s,flip"
+         pipeline,frame,schedule,noise_rmse,integrand,camera,denoiser,flicker,floor,denoise_s,flip,bias_rmse,bias_se"
     );
     let row: Vec<&str> = lines.next().unwrap().split(',').collect();
     assert_eq!(row.len(), CSV_COLUMNS.len());
@@ -84,7 +84,7 @@ fn csv_quotes_awkward_fields_and_leaves_undefined_empty() {
     let csv = to_csv(&timed(vec![r], 0.1));
     let line = csv.lines().nth(1).unwrap();
     assert!(
-        line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,0,ao,static,,,,0,0.5"),
+        line.ends_with(",\"a,b \"\"c\"\".exr\",0.75,raw,1,independent,,ao,static,,,,0,0.5,,"),
         "quoted, then lowfreq_ratio and the real-time columns: {line}"
     );
     assert!(line.contains(",0,0,0.5,128,"), "time and rays_per_s 0, whiteness 0.5: {line}");
@@ -95,7 +95,7 @@ fn csv_quotes_awkward_fields_and_leaves_undefined_empty() {
 fn json_round_trips_exactly() {
     // 0.10253214158314959 reads back one ulp off without serde_json's `float_roundtrip`, which
     // made a resumed run's numbers differ from an uninterrupted one's.
-    let rs = timed(
+    let mut rs = timed(
         vec![
             result(8, 0, 0.1, 0.5),
             result(8, 1, 0.12345678901234567, 0.0),
@@ -103,11 +103,14 @@ fn json_round_trips_exactly() {
         ],
         0.3,
     );
+    // The split of a configuration (NaN, which is never equal to itself, with one replicate).
+    (rs[2].bias_rmse, rs[2].bias_se, rs[2].noise_rmse) = (0.012345678901234567, 0.001, 0.1);
     let back = from_json(&to_json(&rs)).unwrap();
     assert_eq!(back[2], rs[2]);
     assert!(back[2].flicker.is_none() && back[2].floor.is_none());
     // Undefined columns (NaN) are null in JSON and read back as NaN.
     assert!(rs[0].ao_time_s.is_nan() && back[0].ao_time_s.is_nan());
+    assert!(back[0].noise_rmse.is_nan() && back[0].bias_rmse.is_nan(), "an undefined split stays undefined");
     assert_eq!(to_json(&back), to_json(&rs));
     assert_eq!(to_csv(&back), to_csv(&rs));
     let e = from_json("[{\"scene\": 1}]").unwrap_err();

@@ -107,6 +107,20 @@ impl SeedMode {
         }
     }
 
+    /// Whether each pixel's estimate is unbiased over runs (the tables above): `shift`, `blue-noise`
+    /// and `stbn` for every sequence (a Cranley–Patterson shift uniform over runs); `static`,
+    /// `rotation` and the engine patterns only when the set itself is pseudo-random
+    /// (`pseudo_random`: the `random` sequence, whose static set is random over runs); a texture
+    /// never by this rule (its uniformity is measured at load, not known here).
+    pub fn unbiased_per_pixel(self, pseudo_random: bool) -> bool {
+        match self {
+            SeedMode::Shift | SeedMode::BlueNoise | SeedMode::Stbn => true,
+            SeedMode::Static | SeedMode::Rotation => pseudo_random,
+            m if m.pattern().is_some() => pseudo_random,
+            _ => false,
+        }
+    }
+
     /// Slices of the mode's spatiotemporal mask (frame f reads slice f mod depth, and the schedule
     /// acts once per cycle): `stbn`'s and a texture's; 1 for every other mode.
     pub fn depth(self) -> u32 {

@@ -5,6 +5,7 @@
 
 use crate::support::common::*;
 use crate::support::examples::example;
+use hemilab::results::JobResult;
 
 /// Kitchen at 32x24, 1 ray per frame over 4 frames, through SVGF and EMA, with the scene's camera
 /// and an orbit of 6 degrees with jitter; `extra` goes into the table.
@@ -58,14 +59,15 @@ fn a_moving_camera_and_a_users_denoiser_run_end_to_end() {
         assert!(r.camera == "static" || r.camera == "orbit", "{}", r.camera);
         assert!(r.rmse.is_finite() && r.rmse > 0.0);
         assert!(r.denoise_s > 0.0, "the denoiser's own time is reported: {}", r.denoise_s);
-        assert!(r.floor.is_some(), "the floor of {} at frame {}", r.pipeline, r.frame);
+        // Fibonacci × rotation alone: no input unbiased per pixel, so no floor.
+        assert!(r.floor.is_none(), "no floor of {} at frame {}", r.pipeline, r.frame);
         assert_eq!(r.flicker.is_some(), r.frame > 1, "flicker from frame 2: {:?} at {}", r.flicker, r.frame);
-        // The denoiser's bias is not split from the noise: not measured.
-        assert!(r.noise_rmse.is_nan());
+        // The denoiser's output is split from its two replicates like any other (no jackknife below 3).
+        assert!(r.noise_rmse.is_finite() && r.bias_rmse.is_finite() && r.bias_se.is_nan(), "{r:?}");
     }
     let csv = std::fs::read_to_string(t.path("out/results.csv")).unwrap();
     let header = csv.lines().next().unwrap();
-    for c in ["camera", "denoiser", "flicker", "floor", "denoise_s"] {
+    for c in ["camera", "denoiser", "flicker", "floor", "denoise_s", "bias_rmse", "bias_se", "noise_rmse"] {
         assert!(header.split(',').any(|h| h == c), "{c} in {header}");
     }
     // The orbit's measured frames (and the one before each) have references of their own.
@@ -77,15 +79,34 @@ fn a_moving_camera_and_a_users_denoiser_run_end_to_end() {
 }
 
 #[test]
-fn the_static_camera_keeps_its_noise_split_and_a_moving_one_says_it_is_not_measured() {
+fn every_camera_is_split_from_its_replicates_and_the_parts_add_up_to_the_mean_mse() {
     let t = Tmp::new("rt-split");
     let s = t.spec("rt.toml", &spec("", ""));
     t.run_ok(&s, "out", "refs", &[]);
     let rs = records(&t.path("out"));
     assert_eq!(rs.len(), 24);
     for r in &rs {
-        assert_eq!(r.noise_rmse.is_finite(), r.camera == "static", "{} {}", r.camera, r.noise_rmse);
+        assert!(r.noise_rmse.is_finite() && r.bias_rmse.is_finite(), "{} {r:?}", r.camera);
         assert!(r.denoise_s == 0.0 && r.denoiser.is_empty());
+        // bias² + noise² is the mean MSE over the configuration's replicates.
+        let same: Vec<&JobResult> = rs
+            .iter()
+            .filter(|o| (&o.camera, &o.pipeline, o.frame) == (&r.camera, &r.pipeline, r.frame))
+            .collect();
+        assert_eq!(same.len(), 2);
+        let mse = same.iter().map(|o| o.rmse * o.rmse).sum::<f64>() / 2.0;
+        let parts = r.bias_rmse.powi(2) + r.noise_rmse.powi(2);
+        // RMSE's errors are f32 differences, the split's f64: equal to 1e-6.
+        assert!(parts >= mse * (1.0 - 1e-6), "{parts} against {mse}: bias² is clipped at 0 only upwards");
+        if r.bias_rmse > 0.0 {
+            assert!((parts - mse).abs() < 1e-6 * mse, "{parts} against {mse}");
+        }
+    }
+    // A resumed run reads the same split back from the kept images.
+    t.run_ok(&s, "out", "refs", &[]);
+    let again = records(&t.path("out"));
+    for (a, b) in rs.iter().zip(&again) {
+        assert_eq!((a.bias_rmse, a.noise_rmse, a.floor), (b.bias_rmse, b.noise_rmse, b.floor));
     }
 }
 

@@ -66,7 +66,7 @@ fn smoke_run_writes_results_with_the_required_columns() {
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     assert_eq!(&header[..PROMISED.len()], &PROMISED, "promised columns, in this order");
     assert_eq!(header, hemilab::results::CSV_COLUMNS, "later columns appended, in their order");
-    assert_eq!(header.last(), Some(&"flip"), "the newest column is last");
+    assert_eq!(header.last(), Some(&"bias_se"), "the newest column is last");
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
 
     let text = std::fs::read_to_string(&spec).unwrap();

@@ -6,6 +6,7 @@
 mod support;
 
 mod compare_equal_time;
+mod denoise_bias;
 mod denoise_command;
 mod denoise_filters;
 mod denoise_gbuffer;

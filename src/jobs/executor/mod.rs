@@ -277,7 +277,6 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             height: jobs[i].height,
         }),
         |si| &loaded.scenes[si],
-        references,
         views,
     );
     let frames_of = |id: usize| measures.get(id).map_or(1, |m| m.frames());
@@ -335,13 +334,11 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             }
             let job = &plan.jobs[i];
             let refuse = |e: metrics::MetricsError| Error::Refused(format!("job {}: {e}", job.file_stem()));
-            let (stats, noise_rmse) = super::measure::errors(img, &against).map_err(refuse)?;
+            let stats = super::measure::errors(img, &against).map_err(refuse)?;
             let image = keep(i, job, &img.output)?;
             let mut record = JobResult::new(job, &stats, img.output.rays, image);
-            record.noise_rmse = noise_rmse;
             record.flip = super::measure::flip(img, &against);
             record.flicker = Some(img.flicker).filter(|f| f.is_finite());
-            record.floor = Some(against.floor_at(img.pipeline, img.frame)).filter(|f| f.is_finite());
             record.denoise_s = img.denoise_s;
             record.key = keys[i].clone();
             record.timing_threads = protocol.threads_per_render as u32;
@@ -394,6 +391,21 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
     if renders > 0 {
         results::fill_timing(&mut records, &by_name);
     }
+    // Every replicate is measured now: each configuration's bias and noise, from the kept images.
+    let against = |i: usize| {
+        let job = &plan.jobs[i];
+        let si = loaded.scene_of(job).0;
+        let a = guides.against(si, &job.measurement, &references[si], None);
+        let (r, c) = a.at(job.measurement.frame);
+        (r.clone(), c.clone())
+    };
+    let image = |r: &JobResult| -> Result<Option<crate::image::Image>> {
+        if r.image.is_empty() || !outdir::has_image(out, &r.image) {
+            return Ok(None);
+        }
+        outdir::read_image(out, &r.image).map(Some)
+    };
+    super::replicates::split(&mut records, &plan.jobs, &against, &image)?;
     let wall_s = start.elapsed().as_secs_f64();
     Ok((records, Session { overhead, renders, cpu_s, wall_s, reused }))
 }

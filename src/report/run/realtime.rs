@@ -3,11 +3,14 @@
 //! noise beat per-frame-independent blue noise; does what engines ship (their rotation patterns)
 //! match the masks and the paper's; and the noise each seed mode leaves. The cells,
 //! margins and verdicts are `compare::realtime`'s (paired over replicates, 5 % two-sided); this
-//! file words and formats them.
+//! file words and formats them. Every cell shows each side's error split from its replicates: bias
+//! (± its jackknife standard error) and noise; "—" where a configuration has one replicate (the
+//! split is undefined there). An RMSE verdict that is the two sides' biases at work is printed as
+//! a "bias interaction", never a win.
 
 use crate::compare::margin::Margin;
 use crate::compare::model::Estimate;
-use crate::compare::realtime::{engine_cells, paper_cells, seeds_cells, stbn_cells};
+use crate::compare::realtime::{Parts, engine_cells, paper_cells, seeds_cells, stbn_cells};
 use crate::report::Table;
 use crate::results::JobResult;
 use std::collections::BTreeMap;
@@ -48,15 +51,38 @@ fn floor_text(f: f64) -> String {
 }
 
 /// The RMSE verdict's words, "below floor" where a mean RMSE is below the pipeline's floor (the
-/// filter's bias cancelling a sampler's: never a win).
-fn rmse_verdict(sign: i32, below_floor: bool, a: &str, b: &str) -> String {
-    if below_floor && sign != 0 { "below floor".into() } else { verdict(sign, a, b) }
+/// filter's bias cancelling a sampler's: never a win), "bias interaction" where the margin is
+/// within the two sides' biases and their noise ranks the other way (`compare::realtime`).
+fn rmse_verdict(sign: i32, below_floor: bool, bias_interaction: bool, a: &str, b: &str) -> String {
+    if below_floor && sign != 0 {
+        "below floor".into()
+    } else if bias_interaction {
+        "bias interaction".into()
+    } else {
+        verdict(sign, a, b)
+    }
+}
+
+/// "0.0123 ± 0.0004 / 0.0101": a side's bias (with its standard error) and noise, "—" unmeasured.
+fn parts_text(p: Parts) -> String {
+    if !p.noise.is_finite() {
+        return "—".into();
+    }
+    let bias = if p.bias.se.is_finite() {
+        format!("{:.4} ± {:.4}", p.bias.value, p.bias.se)
+    } else {
+        format!("{:.4}", p.bias.value)
+    };
+    format!("{bias} / {:.4}", p.noise)
 }
 
 /// Column indices of `paper_table` the summary and sentences read.
 const P_PIPELINE: usize = 3;
-const P_VERDICT: usize = 10;
-const P_NOISE_VERDICT: usize = 11;
+const P_FLOOR: usize = 4;
+const P_MARGIN: usize = 10;
+const P_NOISE_MARGIN: usize = 11;
+const P_VERDICT: usize = 12;
+const P_NOISE_VERDICT: usize = 13;
 
 /// Question (1): one row per (scene, rays, camera, pipeline at its last frame): the floor, the
 /// paper's RMSE, the best other estimator and its RMSE, both margins (best other against the paper:
@@ -73,11 +99,13 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
                 c.place.pipeline_text(),
                 floor_text(c.place.floor),
                 pm(c.paper),
-                c.best,
+                c.best.to_string(),
                 pm(c.best_rmse),
+                parts_text(c.paper_parts),
+                parts_text(c.best_parts),
                 margin_text(&c.rmse.margin),
                 margin_text(&c.noise.margin),
-                rmse_verdict(c.rmse.sign, c.below_floor, "paper", "best other"),
+                rmse_verdict(c.rmse.sign, c.below_floor, c.bias_interaction, "paper", "best other"),
                 verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "paper", "best other"),
                 if c.degenerate { "1 ray: sequence axis degenerate".into() } else { String::new() },
             ]
@@ -95,6 +123,8 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
             "paper's RMSE",
             "best other",
             "its RMSE",
+            "paper's bias / noise",
+            "best other's bias / noise",
             "margin (RMSE)",
             "margin (noise RMSE)",
             "verdict (RMSE, 5 %)",
@@ -128,7 +158,7 @@ pub fn stbn_table(results: &[JobResult]) -> Option<Table> {
                 pm(c.stbn),
                 margin_text(&c.rmse.margin),
                 margin_text(&c.noise.margin),
-                rmse_verdict(c.rmse.sign, c.below_floor, "blue noise", "stbn"),
+                rmse_verdict(c.rmse.sign, c.below_floor, c.bias_interaction, "blue noise", "stbn"),
                 verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "blue noise", "stbn"),
             ]
         })
@@ -173,13 +203,16 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
                 pm(c.blue_noise),
                 pm(c.stbn),
                 margin_text(&c.blue_noise_vs_rotation),
+                c.bias
+                    .map(|b| if b.value.is_finite() { format!("{:.4}", b.value) } else { "—".into() })
+                    .join(" / "),
             ]
         })
         .collect();
     let per = if fewest == 1 { "ray" } else { "rays" };
     (!rows.is_empty()).then(|| Table {
         title: format!(
-            "Real-time at {fewest} {per} per frame: the noise left after accumulation, by seed mode"
+            "Real-time at {fewest} {per} per frame: the noise (and bias) left after accumulation, by seed mode"
         ),
         header: [
             "scene",
@@ -190,6 +223,7 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
             "blue-noise",
             "stbn",
             "blue-noise against rotation",
+            "bias (rotation / blue-noise / stbn)",
         ]
         .map(String::from)
         .to_vec(),
@@ -212,13 +246,13 @@ pub fn engine_table(results: &[JobResult]) -> Option<Table> {
                 c.place.camera.clone(),
                 c.place.pipeline_text(),
                 floor_text(c.place.floor),
-                c.engine,
+                c.engine.to_string(),
                 pm(c.engine_rmse),
-                c.other,
+                c.other.to_string(),
                 pm(c.other_rmse),
                 margin_text(&c.rmse.margin),
                 margin_text(&c.noise.margin),
-                rmse_verdict(c.rmse.sign, c.below_floor, "engine", "other"),
+                rmse_verdict(c.rmse.sign, c.below_floor, c.bias_interaction, "engine", "other"),
                 verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "engine", "other"),
             ]
         })
@@ -248,13 +282,13 @@ pub fn engine_table(results: &[JobResult]) -> Option<Table> {
 }
 
 /// How many of `rows` have each verdict in column `col`: (first named wins, tie, the other wins,
-/// below floor); rows whose margin was not measured ("—") are in none.
-fn tally(rows: &[&Vec<String>], col: usize, first: &str) -> (usize, usize, usize, usize) {
-    let wins = rows.iter().filter(|r| r[col] == format!("{first} wins")).count();
-    let ties = rows.iter().filter(|r| r[col] == "tie").count();
-    let below = rows.iter().filter(|r| r[col] == "below floor").count();
-    let others = rows.iter().filter(|r| r[col].ends_with(" wins")).count() - wins;
-    (wins, ties, others, below)
+/// below floor, bias interaction); rows whose margin was not measured ("—") are in none.
+fn tally(rows: &[&Vec<String>], col: usize, first: &str) -> (usize, usize, usize, usize, usize) {
+    let count = |w: &str| rows.iter().filter(|r| r[col] == w).count();
+    let wins = count(&format!("{first} wins"));
+    let (ties, below, bias) = (count("tie"), count("below floor"), count("bias interaction"));
+    let others = rows.len() - wins - ties - below - bias - count("—");
+    (wins, ties, others, below, bias)
 }
 
 /// Per pipeline × rays per frame × camera (at the pipeline's last frame), how often the paper's
@@ -278,11 +312,14 @@ pub fn summary_table(results: &[JobResult]) -> Option<Table> {
     let rows = by
         .into_iter()
         .map(|((pipeline, rays, camera), rs)| {
-            let (w, t, l, b) = tally(&rs, P_VERDICT, "paper");
-            let (nw, nt, nl, _) = tally(&rs, P_NOISE_VERDICT, "paper");
-            let mut m: Vec<f64> = rs.iter().map(|r| pct(&r[8])).collect();
-            let mut n: Vec<f64> = rs.iter().map(|r| pct(&r[9])).collect();
-            let floors: Vec<&str> = rs.iter().map(|r| r[4].as_str()).collect();
+            let (w, t, l, b, x) = tally(&rs, P_VERDICT, "paper");
+            let (nw, nt, nl, _, _) = tally(&rs, P_NOISE_VERDICT, "paper");
+            let mut m: Vec<f64> = rs.iter().map(|r| pct(&r[P_MARGIN])).collect();
+            let mut n: Vec<f64> = rs.iter().map(|r| pct(&r[P_NOISE_MARGIN])).collect();
+            let mut floors: Vec<&str> = rs.iter().map(|r| r[P_FLOOR].as_str()).collect();
+            floors.sort_by(|a, b| {
+                a.parse::<f64>().unwrap_or(f64::NAN).total_cmp(&b.parse::<f64>().unwrap_or(f64::NAN))
+            });
             let floor = match (floors.first(), floors.last()) {
                 (Some(a), Some(z)) if a == z => a.to_string(),
                 (Some(a), Some(z)) => format!("{a}–{z}"),
@@ -294,7 +331,7 @@ pub fn summary_table(results: &[JobResult]) -> Option<Table> {
                 camera,
                 rs.len().to_string(),
                 floor,
-                format!("{w} / {t} / {l} / {b}"),
+                format!("{w} / {t} / {l} / {b} / {x}"),
                 pct_text(median(&mut m)),
                 format!("{nw} / {nt} / {nl}"),
                 pct_text(median(&mut n)),
@@ -311,7 +348,7 @@ pub fn summary_table(results: &[JobResult]) -> Option<Table> {
             "camera",
             "cells",
             "floor",
-            "RMSE: paper wins / tie / best other wins / below floor",
+            "RMSE: paper wins / tie / best other wins / below floor / bias interaction",
             "median margin",
             "noise RMSE: paper wins / tie / best other wins",
             "median margin",
@@ -328,36 +365,37 @@ pub fn text(results: &[JobResult]) -> Vec<String> {
     let mut out = Vec::new();
     if let Some(t) = paper_table(results) {
         let rows: Vec<&Vec<String>> = t.rows.iter().collect();
-        let ((w, tie, l, b), (nw, ntie, nl, _)) =
+        let ((w, tie, l, b, x), (nw, ntie, nl, _, _)) =
             (tally(&rows, P_VERDICT, "paper"), tally(&rows, P_NOISE_VERDICT, "paper"));
         out.push(format!(
             "Real-time: after the pipeline, sine-cosine × Fibonacci × per-pixel seed has significantly less RMSE \
              than every other configuration in {w} of {} cells, ties the best other in {tie}, loses in {l}, \
-             and is below the filter's floor in {b} (no verdict there); on the noise RMSE it wins {nw}, ties \
-             {ntie} and loses {nl} (scene × rays per frame × camera × pipeline at its last frame; 5 % \
-             two-sided, paired over replicates).",
+             is below the filter's floor in {b} and a bias interaction in {x} (no verdict there); on the noise \
+             part (from the replicates) it wins {nw}, ties {ntie} and loses {nl} (scene × rays per frame × \
+             camera × pipeline at its last frame; 5 % two-sided, paired over replicates).",
             rows.len()
         ));
     }
     if let Some(t) = stbn_table(results) {
         let rows: Vec<&Vec<String>> = t.rows.iter().collect();
-        let ((bn, tie, st, b), (nbn, ntie, nst, _)) =
+        let ((bn, tie, st, b, x), (nbn, ntie, nst, _, _)) =
             (tally(&rows, S_VERDICT, "blue noise"), tally(&rows, S_NOISE_VERDICT, "blue noise"));
         out.push(format!(
             "Under temporal accumulation, spatiotemporal blue noise has significantly less RMSE than \
-             per-frame-independent blue noise in {st} of {} cells, ties in {tie}, has more in {bn} and is below \
-             the floor in {b}; on the noise RMSE it has less in {nst}, ties in {ntie} and has more in {nbn}.",
+             per-frame-independent blue noise in {st} of {} cells, ties in {tie}, has more in {bn}, is below \
+             the floor in {b} and a bias interaction in {x}; on the noise part it has less in {nst}, ties in \
+             {ntie} and has more in {nbn}.",
             rows.len()
         ));
     }
     if let Some(t) = engine_table(results) {
         let rows: Vec<&Vec<String>> = t.rows.iter().collect();
-        let ((e, tie, o, b), (ne, ntie, no, _)) =
+        let ((e, tie, o, b, x), (ne, ntie, no, _, _)) =
             (tally(&rows, E_VERDICT, "engine"), tally(&rows, E_VERDICT + 1, "engine"));
         out.push(format!(
             "The engines' rotation patterns: the best of them has significantly less RMSE than the best other \
-             seed mode in {e} of {} cells, ties in {tie}, has more in {o} and is below the floor in {b}; on the \
-             noise RMSE less in {ne}, ties in {ntie} and more in {no}.",
+             seed mode in {e} of {} cells, ties in {tie}, has more in {o}, is below the floor in {b} and a bias \
+             interaction in {x}; on the noise part less in {ne}, ties in {ntie} and more in {no}.",
             rows.len()
         ));
     }
@@ -378,7 +416,8 @@ mod tests {
                 let mut r = JobResult::for_test("k", Row::new(D::SineCosine, seq, mode), 2, rep, v, 1.0);
                 r.pipeline = pipeline.into();
                 r.frame = frame;
-                r.noise_rmse = v / 2.0;
+                r.bias_rmse = 0.0;
+                r.noise_rmse = rmse;
                 r
             })
             .collect()
@@ -403,11 +442,15 @@ mod tests {
         // Best other: stbn at 0.015 against 0.02; the paired differences are exactly −0.005 twice.
         assert_eq!(t.rows[0][5], "0.0200 ± 0.0010");
         assert_eq!(
-            (t.rows[0][8].as_str(), t.rows[0][P_VERDICT].as_str()),
+            (t.rows[0][P_MARGIN].as_str(), t.rows[0][P_VERDICT].as_str()),
             ("-25.0 ± 0.0 %", "best other wins")
         );
+        assert_eq!(t.rows[0][8], "0.0000 / 0.0200", "the paper's bias / noise (no standard error)");
         assert_eq!(t.rows[0][P_NOISE_VERDICT], "best other wins", "noise RMSE: the same halves");
-        assert_eq!((t.rows[1][8].as_str(), t.rows[1][P_VERDICT].as_str()), ("+20.0 ± 0.0 %", "paper wins"));
+        assert_eq!(
+            (t.rows[1][P_MARGIN].as_str(), t.rows[1][P_VERDICT].as_str()),
+            ("+20.0 ± 0.0 %", "paper wins")
+        );
         let s = stbn_table(&rs).unwrap();
         assert_eq!(s.rows.len(), 1);
         // stbn − blue noise: −0.016 and −0.014 → −50 % ± 3.3 % of 0.03: beyond t(1 dof) = 12.7 SE.
@@ -416,7 +459,7 @@ mod tests {
         assert_eq!(sum.rows.len(), 2);
         assert_eq!(
             sum.rows[0][..7],
-            ["ema0.1+atrous (frame 16)", "2", "static", "1", "—", "0 / 0 / 1 / 0", "-25.0 %"]
+            ["ema0.1+atrous (frame 16)", "2", "static", "1", "—", "0 / 0 / 1 / 0 / 0", "-25.0 %"]
                 .map(String::from)
         );
         // A floor above both means: the verdict is withheld.

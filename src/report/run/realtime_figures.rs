@@ -102,10 +102,10 @@ fn frame_curves(
         let title =
             format!("'{scene}', {rays} {per}/frame, {pipeline}, {}: noise after k frames", schedule.name());
         let caption = format!(
-            "{}: on '{scene}' at {rays} {per} per frame, the RMSE of the image after {pipeline} against the reference \
-             under the same spatial filter (the noise part, `noise_rmse`: the filter's bias left out), mean ± sd \
-             over {} replicates, against the number of frames accumulated; schedule {} (how each frame's seed \
-             moves). An EMA converges to a floor set by α, not to zero.",
+            "{}: on '{scene}' at {rays} {per} per frame, the noise part of the error after {pipeline} (`noise_rmse`: \
+             √ of the mean over pixels of each pixel's variance over the {} replicates; the bias left out), against \
+             the number of frames accumulated; schedule {} (how each frame's seed moves). An EMA converges to a \
+             floor set by α, not to zero.",
             g.name,
             g.replicates,
             schedule.name()

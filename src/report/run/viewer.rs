@@ -276,7 +276,7 @@ pub fn section(data: &ReportInput, files: &mut Vec<File>) -> Result<Option<Strin
         "Per scene, camera and rays per frame, and per pipeline, schedule and denoiser there: the {BEST} \
          configurations with the least mean RMSE at the last frame, and the paper's (sine-cosine × Fibonacci \
          × per-pixel seed); every measured frame of the lowest replicate, each as {layers_text} (8-bit \
-         PNG, the report's grey), and the reference of every frame: {count} images, {:.1} MB.",
+         PNG, the report's grey), and the reference of every frame: {count} PNG files, {:.1} MB.",
         bytes as f64 / 1e6
     );
     let intro = format!(

@@ -123,7 +123,9 @@ const STYLE: &str = "#viewer .controls{display:flex;flex-wrap:wrap;gap:.4em 1.2e
 #viewer-label-a{left:4px}#viewer-label-b{right:4px;text-align:right}\
 #viewer-legend{display:flex;gap:.6em;align-items:center;margin:.4em 0;font-size:90%}\
 #viewer-bar{display:inline-block;width:220px;height:14px;border:1px solid #888}\
-#viewer-note{color:#a33}";
+#viewer-note{color:#a33}\
+#viewer.focus{position:fixed;inset:0;z-index:10;background:#fff;overflow:auto;padding:0 1em}\
+#viewer.focus .intro{display:none}";
 
 /// The page's viewer section (`intro`: how to use it and what was exported, plain text): the controls,
 /// the stage and the two scripts.
@@ -132,7 +134,7 @@ pub fn section_html(intro: &str) -> String {
         format!("<label><input type=\"radio\" name=\"viewer-layer\" value=\"{v}\"> {text}</label>")
     };
     format!(
-        "<section id=\"viewer\">\n<style>{STYLE}</style>\n<h2>Compare the images</h2>\n<p>{}</p>\n\
+        "<section id=\"viewer\">\n<style>{STYLE}</style>\n<h2>Compare the images</h2>\n<p class=\"intro\">{}</p>\n\
 <div class=\"controls\">\n<label>view <select id=\"viewer-view\"></select></label>\n\
 <label>left <select id=\"viewer-a\"></select></label>\n<label>right <select id=\"viewer-b\"></select></label>\n\
 </div>\n<div class=\"controls\">\n<span><button id=\"viewer-prev\" type=\"button\">◀</button> \
@@ -140,7 +142,8 @@ pub fn section_html(intro: &str) -> String {
 <span>layer: {} {} {}</span>\n<span>zoom <button id=\"viewer-zoom-out\" type=\"button\">−</button> \
 <button id=\"viewer-zoom-fit\" type=\"button\">fit</button> <button id=\"viewer-zoom-in\" type=\"button\">+</button> \
 <span id=\"viewer-zoom\"></span></span>\n<span id=\"viewer-pixel\"></span>\n\
-<a id=\"viewer-link\" href=\"#\">link to this view</a>\n</div>\n\
+<a id=\"viewer-link\" href=\"#\">link to this view</a>\n\
+<button id=\"viewer-focus\" type=\"button\">whole window</button>\n</div>\n\
 <div id=\"viewer-stage\">\n<img id=\"viewer-img-a\" alt=\"\">\n<div id=\"viewer-clip-b\"><img id=\"viewer-img-b\" alt=\"\"></div>\n\
 <div id=\"viewer-split\"></div>\n<span id=\"viewer-label-a\"></span><span id=\"viewer-label-b\"></span>\n</div>\n\
 <div id=\"viewer-legend\"><span id=\"viewer-lo\"></span><span id=\"viewer-bar\"></span><span id=\"viewer-hi\"></span> \

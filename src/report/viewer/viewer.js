@@ -3,8 +3,9 @@
 // It reads window.HEMILAB_VIEWER (viewer/manifest.js, written by the run) and shows plain <img>
 // elements scaled by CSS (`image-rendering: pixelated`): nothing is read back from a canvas, so the
 // page works opened from disk (file://), where a browser refuses to read pixels of local images.
-// The whole view lives in the URL's hash, so a link reproduces it; a state that does not parse
-// falls back to the defaults, field by field, and says which fields it ignored.
+// The whole view lives in the URL's hash, so a link reproduces it (and opens the viewer over the
+// whole window); a state that does not parse falls back to the defaults, field by field, and says
+// which fields it ignored.
 (function () {
   "use strict";
   var M = window.HEMILAB_VIEWER;
@@ -84,7 +85,7 @@
   // What one side shows: its file and its caption.
   function side(i) {
     var V = view(), ref = at(V.reference, st.f);
-    if (i < 0) { return { src: ref.image, text: "reference" + (V.frames.length > 1 ? ", frame " + ref.frame : "") }; }
+    if (i < 0) { return { src: ref.image, text: "reference" + (V.reference.length > 1 ? ", frame " + ref.frame : "") }; }
     var S = V.series[i], F = at(S.frames, st.f), layer = st.l === "flip" && !F.flip ? "image" : st.l;
     var text = S.label + (V.frames.length > 1 ? ", frame " + F.frame : "") + ": RMSE " + F.rmse.toFixed(4);
     if (F.flip_mean !== null && F.flip_mean !== undefined) { text += ", FLIP " + F.flip_mean.toFixed(4); }
@@ -98,7 +99,9 @@
   function zoom() { return st.z || fitZoom(); }
   function place() {
     var V = view();
-    stage.style.height = Math.round(Math.min(0.8 * window.innerHeight, stage.clientWidth * V.height / V.width)) + "px";
+    // Over the whole window the stage takes what the controls leave; on the page 80 % of its height.
+    var room = root.classList.contains("focus") ? window.innerHeight - (stage.getBoundingClientRect().top - root.getBoundingClientRect().top) - 70 : 0.8 * window.innerHeight;
+    stage.style.height = Math.round(Math.max(120, Math.min(room, stage.clientWidth * V.height / V.width))) + "px";
     var z = zoom(), W = stage.clientWidth, H = stage.clientHeight;
     var x = st.z ? st.x : V.width / 2, y = st.z ? st.y : V.height / 2;
     [imgA, imgB].forEach(function (img) {
@@ -177,7 +180,10 @@
   if (st.bad.length) {
     $("viewer-note").textContent = "The link's " + st.bad.join(", ") + " did not name anything here; shown with the defaults instead.";
   }
-  if (/(^|[#&])v=/.test(location.hash)) { root.scrollIntoView(); }
+  // A link to a view opens it over the whole window (the page is long; a link is sent for the view).
+  var focus = function (on) { root.classList.toggle("focus", on); $("viewer-focus").textContent = on ? "back to the page" : "whole window"; place(); };
+  $("viewer-focus").onclick = function () { focus(!root.classList.contains("focus")); };
+  if (/(^|[#&])v=/.test(location.hash)) { focus(true); }
 
   $("viewer-view").onchange = function () { setView(Number(this.value)); render(); };
   $("viewer-a").onchange = function () { st.a = Number(this.value); render(); };

@@ -6,10 +6,12 @@
 //! Table 3 banding, which RMSE alone cannot see. `flicker` is a sequence's temporal stability.
 
 pub mod flicker;
+pub mod flip;
 pub mod lowfreq;
 pub mod whiteness;
 
 pub use flicker::{flicker, flicker_sequence};
+pub use flip::{DEFAULT_PPD, ldr_flip_map, mean_flip};
 pub use lowfreq::{STRUCTURED_RATIO, lowfreq_ratio, lowpass_rmse};
 
 use crate::image::Image;

@@ -14,6 +14,7 @@ mod denoise_svgf;
 mod denoise_temporal;
 mod fuzz_inputs;
 mod metrics_flicker;
+mod metrics_flip;
 mod metrics_known;
 mod plan_integrands;
 mod plan_order;

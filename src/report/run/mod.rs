@@ -70,7 +70,11 @@ pub fn report(run: Run) -> Result<Report> {
         overhead: run.session.overhead.clone(),
         notes: run.notes,
         images: run.images,
-        flip: None,
+        flip: Some(data::Flip {
+            ppd: crate::metrics::DEFAULT_PPD,
+            map: &crate::metrics::ldr_flip_map,
+            mean: &crate::metrics::mean_flip,
+        }),
     };
     let mut figures = figures::all(&data, &mut files)?;
     figures.other.extend(realtime_figures::all(&data, &mut files)?);

@@ -128,11 +128,13 @@ fn the_viewer_shows_what_the_url_says_in_a_real_browser() {
         assert!(series.len() >= 4 && series.len() <= 6, "{}", series.len());
         for s in series {
             for f in s["frames"].as_array().unwrap() {
-                for layer in ["image", "error"] {
+                for layer in ["image", "error", "flip"] {
                     assert!(out.join(f[layer].as_str().unwrap()).is_file(), "{}", f[layer]);
                     files += 1;
                 }
                 assert!(f["error_scale"].as_f64().unwrap() > 0.0);
+                let flip = f["flip_mean"].as_f64().unwrap();
+                assert!(flip > 0.0 && flip < 1.0, "mean FLIP {flip}");
             }
         }
     }

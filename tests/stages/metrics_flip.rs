@@ -35,9 +35,13 @@ fn agrees_with_flip_evaluator_on_the_committed_images() {
         let want = case["mean"].as_f64().unwrap();
         assert!((mean - want).abs() < 1e-4, "{name}: mean FLIP {mean} but flip-evaluator says {want}");
         for s in case["samples"].as_array().unwrap() {
-            let (x, y, want) = (s[0].as_u64().unwrap() as u32, s[1].as_u64().unwrap() as u32, s[2].as_f64().unwrap());
+            let (x, y, want) =
+                (s[0].as_u64().unwrap() as u32, s[1].as_u64().unwrap() as u32, s[2].as_f64().unwrap());
             let got = map.at(x, y) as f64;
-            assert!((got - want).abs() < 1e-4, "{name}: FLIP at ({x}, {y}) is {got} but flip-evaluator says {want}");
+            assert!(
+                (got - want).abs() < 1e-4,
+                "{name}: FLIP at ({x}, {y}) is {got} but flip-evaluator says {want}"
+            );
         }
     }
 }

@@ -63,11 +63,7 @@ fn xyz_to_cielab(c: Color) -> Color {
     let factor = 1.0 / (3.0 * delta_square);
     let term = 4.0f32 / 29.0;
     let f = |v: f32| if v > delta_cube { v.powf(1.0 / 3.0) } else { factor * v + term };
-    let (x, y, z) = (
-        f(c[0] * INV_ILLUMINANT[0]),
-        f(c[1] * INV_ILLUMINANT[1]),
-        f(c[2] * INV_ILLUMINANT[2]),
-    );
+    let (x, y, z) = (f(c[0] * INV_ILLUMINANT[0]), f(c[1] * INV_ILLUMINANT[1]), f(c[2] * INV_ILLUMINANT[2]));
     [116.0 * y - 16.0, 500.0 * (x - y), 200.0 * (y - z)]
 }
 

@@ -81,7 +81,8 @@ impl Opponent {
         let n = self.gray.len();
         let (mut hd, mut hdd, mut hg) = (vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]);
         rows(&self.gray, w, &[&taps.dg, &taps.ddg, &taps.g], &mut [&mut hd, &mut hdd, &mut hg]);
-        let (mut dx, mut ddx, mut dy, mut ddy) = (vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]);
+        let (mut dx, mut ddx, mut dy, mut ddy) =
+            (vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]);
         columns(&hd, w, &taps.g, &mut dx);
         columns(&hdd, w, &taps.g, &mut ddx);
         columns(&hg, w, &taps.dg, &mut dy);

@@ -117,7 +117,7 @@ const STYLE: &str = "#viewer .controls{display:flex;flex-wrap:wrap;gap:.4em 1.2e
 #viewer select{max-width:28em}\
 #viewer-stage{position:relative;overflow:hidden;width:100%;height:60vh;background:#607080;cursor:ew-resize;touch-action:none;user-select:none}\
 #viewer-stage img{position:absolute;max-width:none;border:0;image-rendering:pixelated;image-rendering:crisp-edges}\
-#viewer-clip-b{position:absolute;inset:0}\
+#viewer-clip-b{position:absolute;inset:0;background:#607080}\
 #viewer-split{position:absolute;top:0;bottom:0;width:2px;background:#ff0}\
 #viewer-label-a,#viewer-label-b{position:absolute;top:4px;background:rgba(0,0,0,.6);color:#fff;padding:2px 6px;font-size:13px;max-width:48%}\
 #viewer-label-a{left:4px}#viewer-label-b{right:4px;text-align:right}\

@@ -153,6 +153,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         title: "Gallery",
         lead: &[],
         intro: "Synthetic data.",
+        interactive: "",
         tables: &tables,
         figures: &figs,
         collapsed: &[],

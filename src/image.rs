@@ -172,6 +172,43 @@ pub fn encode_png_rgb(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, St
     encode_png(width, height, ::image::ExtendedColorType::Rgb8, rgb)
 }
 
+/// 8-bit grey + alpha PNG from interleaved (grey, alpha) bytes: a preview whose pixels without a
+/// surface are transparent.
+pub fn encode_png_grey_alpha(width: u32, height: u32, grey_alpha: &[u8]) -> Result<Vec<u8>, String> {
+    encode_png(width, height, ::image::ExtendedColorType::La8, grey_alpha)
+}
+
+/// 8-bit indexed-colour PNG: one palette index a pixel, at most 256 colours. A colour-mapped image
+/// (a diverging or magma map) takes a third of the bytes of its RGB form.
+pub fn encode_png_indexed(
+    width: u32,
+    height: u32,
+    palette: &[[u8; 3]],
+    indices: &[u8],
+) -> Result<Vec<u8>, String> {
+    if palette.is_empty() || palette.len() > 256 {
+        return Err(format!("a PNG palette has 1 to 256 colours, not {}", palette.len()));
+    }
+    if indices.len() != width as usize * height as usize
+        || indices.iter().any(|&i| i as usize >= palette.len())
+    {
+        return Err(format!(
+            "{} indices into {} colours are not a {width}x{height} image",
+            indices.len(),
+            palette.len()
+        ));
+    }
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, width, height);
+    enc.set_color(png::ColorType::Indexed);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_palette(palette.iter().flatten().copied().collect::<Vec<u8>>());
+    let mut w = enc.write_header().map_err(|e| e.to_string())?;
+    w.write_image_data(indices).map_err(|e| e.to_string())?;
+    w.finish().map_err(|e| e.to_string())?;
+    Ok(out)
+}
+
 /// 16-bit PNG of interleaved samples with `channels` per pixel (1 grey, 2 grey + alpha, 3 RGB,
 /// 4 RGBA): how hemilab's own masks are written as noise textures (examples/write_masks.rs).
 pub fn encode_png16(width: u32, height: u32, channels: u32, samples: &[u16]) -> Result<Vec<u8>, String> {

@@ -104,9 +104,23 @@ pub fn run(args: MergeArgs) -> Result<()> {
     // A merged run's cost is its shards' (each shard's own timing.json); the whole has none.
     let cost = None;
     let images = |r: &JobResult| outdir::record_image(&out, r);
+    // The camera paths' frame references, for the report's viewer only: where the directory lacks
+    // them, the viewer leaves those cameras out rather than the merge failing.
+    let si_of = |j: &plan::Job| loaded.scene_of(j).0;
+    let views = crate::jobs::reference::obtain_views(
+        spec,
+        &plan,
+        &loaded.scenes,
+        si_of,
+        &ref_dir,
+        Policy::ReuseOnly,
+        &runner,
+    )
+    .unwrap_or_default();
     let run = report::run::Run {
         loaded: &loaded,
         references: &references,
+        views: &views,
         results: &merged,
         protocol,
         session: &session,

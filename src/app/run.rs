@@ -98,6 +98,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     let run = report::run::Run {
         loaded: &loaded,
         references: &references,
+        views: &views,
         results: &results,
         protocol,
         session: &session,

@@ -1,9 +1,10 @@
 //! The paper's Tables 2 and 3 as pictures: AO images in a rows × columns table, each labelled with
 //! its row, column and caption (RMSE, error autocorrelation), the reference beside; and the same
-//! layout showing the signed error (image − reference) in a diverging colour map with its scale.
+//! layout showing the signed error (image − reference) in a diverging colour map with its scale, or
+//! per-pixel FLIP maps (computed by the caller) in magma.
 
 use super::canvas::{Align, Canvas, text_size};
-use super::colormap::{BACKGROUND, diverging, grey};
+use super::colormap::{BACKGROUND, diverging, grey, magma};
 use crate::image::Image;
 
 /// One table cell: an AO image (1 = open = white), its coverage mask (0 = no surface) and a caption.
@@ -33,6 +34,7 @@ struct Tile {
 enum Side {
     Reference(Tile),
     ColourBar { scale: f32 },
+    FlipBar,
 }
 
 /// AO images (grey, 1 = white) with the reference image beside the first row.
@@ -84,6 +86,20 @@ pub fn error_grid(
         })
         .collect();
     compose(title, row_labels, col_labels, tiles, Some(Side::ColourBar { scale }), size)
+}
+
+/// FLIP maps (0 = no perceived difference, black; 1 = the most, pale yellow) in a table, each cell's
+/// `image` the map and its `mask` the pixels it covers, with a 0–1 colour bar beside.
+pub fn flip_grid(
+    title: &str,
+    row_labels: &[String],
+    col_labels: &[String],
+    cells: &[Vec<GridCell>],
+) -> Result<Vec<u8>, String> {
+    let (w, h) = check(row_labels, col_labels, cells, None)?;
+    let size = display_size(w, h);
+    let tiles = cells.iter().map(|row| row.iter().map(|c| tile(c, size, magma)).collect()).collect();
+    compose(title, row_labels, col_labels, tiles, Some(Side::FlipBar), size)
 }
 
 /// Validates shapes; returns the common image size.
@@ -175,7 +191,7 @@ fn signed_error(cell: &GridCell, reference: &GridCell) -> Image {
     Image::from_vec(cell.image.width, cell.image.height, data)
 }
 
-fn robust_scale<'a>(errors: impl Iterator<Item = &'a Image>) -> f32 {
+pub(crate) fn robust_scale<'a>(errors: impl Iterator<Item = &'a Image>) -> f32 {
     let mut abs: Vec<f32> =
         errors.flat_map(|e| e.data.iter()).filter(|v| v.is_finite()).map(|v| v.abs()).collect();
     if abs.is_empty() {
@@ -208,7 +224,7 @@ fn compose(
     let side_w = match &side {
         None => 0,
         Some(Side::Reference(t)) => 2 * PAD + col_w.max(text_size(&t.caption, CAPTION_PX, false).0 as i64),
-        Some(Side::ColourBar { .. }) => 2 * PAD + 150,
+        Some(Side::ColourBar { .. } | Side::FlipBar) => 2 * PAD + 150,
     };
     let ncols = col_labels.len() as i64;
     let width = left + ncols * (col_w + PAD) + side_w + PAD;
@@ -237,6 +253,7 @@ fn compose(
             draw_tile(&mut cv, &t, sx + (col_w - cw as i64) / 2, top, (cw, ch), sx + col_w / 2);
         }
         Some(Side::ColourBar { scale }) => colour_bar(&mut cv, sx, top, ch.max(160) as i64, scale),
+        Some(Side::FlipBar) => flip_bar(&mut cv, sx, top, ch.max(160) as i64),
     }
     cv.into_png()
 }
@@ -263,6 +280,22 @@ fn colour_bar(cv: &mut Canvas, x: i64, y: i64, h: i64, scale: f32) {
         [(1.0, format!("+{}", fmt_scale(scale))), (0.0, "0".into()), (-1.0, format!("−{}", fmt_scale(scale)))]
     {
         let ty = y + ((1.0 - t) / 2.0 * (h - 1) as f32).round() as i64;
+        cv.fill_rect(x + bw as i64, ty, 6, 1, INK);
+        cv.label(text, x + bw as i64 + 10, ty, CAPTION_PX, Align::Left, false);
+    }
+}
+
+/// Vertical bar from 1 (top) to 0 (bottom) in magma.
+fn flip_bar(cv: &mut Canvas, x: i64, y: i64, h: i64) {
+    let bw = 24u32;
+    cv.label("FLIP", x, y - 14, CAPTION_PX, Align::Left, false);
+    let (y, h) = (y + 8, h - 16);
+    for j in 0..h {
+        cv.fill_rect(x, y + j, bw, 1, magma(1.0 - j as f32 / (h - 1).max(1) as f32));
+    }
+    cv.outline(x, y, bw, h as u32, INK);
+    for (t, text) in [(1.0, "1"), (0.5, "0.5"), (0.0, "0")] {
+        let ty = y + ((1.0 - t) * (h - 1) as f32).round() as i64;
         cv.fill_rect(x + bw as i64, ty, 6, 1, INK);
         cv.label(text, x + bw as i64 + 10, ty, CAPTION_PX, Align::Left, false);
     }
@@ -334,6 +367,17 @@ mod tests {
         let png = error_grid("e", &labels(1, "r"), &labels(1, "c"), &[vec![cell]], &refc, None).unwrap();
         let (_, _, px) = decode_png(&png);
         assert!(px.contains(&diverging(1.0)) && px.contains(&diverging(-1.0)) && px.contains(&BACKGROUND));
+    }
+
+    #[test]
+    fn a_flip_grid_draws_maps_in_magma_with_its_bar() {
+        let map = gradient(8, 2);
+        let mask = Image::from_vec(8, 2, (0..16).map(|i| if i == 2 { 0.0 } else { 1.0 }).collect());
+        let cell = GridCell { image: &map, mask: Some(&mask), caption: "FLIP 0.5".into() };
+        let (_, _, px) =
+            decode_png(&flip_grid("f", &labels(1, "r"), &labels(1, "c"), &[vec![cell]]).unwrap());
+        assert!(px.contains(&magma(0.0)) && px.contains(&magma(1.0)) && px.contains(&BACKGROUND));
+        assert!(flip_grid("f", &labels(1, "r"), &labels(2, "c"), &[vec![]]).is_err());
     }
 
     #[test]

@@ -23,13 +23,16 @@ th{background:#eee}td:first-child,th:first-child{text-align:left}\
 figure{margin:2em 0}img{max-width:100%;border:1px solid #ddd}figcaption{margin-top:.4em}";
 
 /// One page: the title, `lead` tables right under it (what a reader must see first), intro
-/// paragraphs (plain text, blank line = new paragraph), tables, figures, then `collapsed` tables,
-/// each folded in a `<details>` element (long reference tables that would otherwise push the
-/// figures off the first screens).
+/// paragraphs (plain text, blank line = new paragraph), an `interactive` section, tables, figures,
+/// then `collapsed` tables, each folded in a `<details>` element (long reference tables that would
+/// otherwise push the figures off the first screens).
 pub struct Page<'a> {
     pub title: &'a str,
     pub lead: &'a [Table],
     pub intro: &'a str,
+    /// HTML the page's owner made whole (the comparison viewer, `report::viewer`), put in as it is
+    /// after the intro and the method; empty for none. The Markdown page points to the HTML one.
+    pub interactive: &'a str,
     pub tables: &'a [Table],
     pub figures: &'a [Figure],
     pub collapsed: &'a [Table],
@@ -61,7 +64,7 @@ pub fn html_page(page: &Page) -> String {
 /// The page as HTML, opened by `opening`: title, answer, key figures, lead tables, intro, the
 /// method folded, tables, figures, folded tables.
 pub fn html_page_opened(page: &Page, opening: &Opening) -> String {
-    let Page { title, lead, intro, tables, figures, collapsed } = *page;
+    let Page { title, lead, intro, interactive, tables, figures, collapsed } = *page;
     let mut s = String::new();
     s += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
     s += &format!("<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n", esc(title));
@@ -87,6 +90,7 @@ pub fn html_page_opened(page: &Page, opening: &Opening) -> String {
         }
         s += "</details>\n";
     }
+    s += interactive;
     for t in tables {
         s += &format!("<h2>{}</h2>\n", esc(&t.title));
         s += &html_table(t);
@@ -138,7 +142,7 @@ pub fn markdown_page(page: &Page) -> String {
 
 /// `html_page_opened` as Markdown.
 pub fn markdown_page_opened(page: &Page, opening: &Opening) -> String {
-    let Page { title, lead, intro, tables, figures, collapsed } = *page;
+    let Page { title, lead, intro, interactive, tables, figures, collapsed } = *page;
     let md_table = markdown_table;
     let md_figure = |f: &Figure| {
         let mut s =
@@ -165,6 +169,10 @@ pub fn markdown_page_opened(page: &Page, opening: &Opening) -> String {
             s += &format!("{p}\n\n");
         }
         s += "</details>\n\n";
+    }
+    if !interactive.is_empty() {
+        s += "The images can be compared side by side, zoomed and stepped through their frames in the \
+              viewer of the HTML page (index.html, section \"Compare the images\").\n\n";
     }
     for t in tables {
         s += &format!("## {}\n\n", t.title);
@@ -246,7 +254,7 @@ mod tests {
     }
 
     fn page<'a>(title: &'a str, intro: &'a str, tables: &'a [Table], figures: &'a [Figure]) -> Page<'a> {
-        Page { title, lead: &[], intro, tables, figures, collapsed: &[] }
+        Page { title, lead: &[], intro, interactive: "", tables, figures, collapsed: &[] }
     }
 
     #[test]

@@ -22,10 +22,11 @@ mod html;
 pub(crate) mod plot;
 mod points;
 pub mod run;
+pub mod viewer;
 
 pub use backend::Format;
 pub use banding::banding_plot;
-pub use grid::{GridCell, error_grid, image_grid};
+pub use grid::{GridCell, error_grid, flip_grid, image_grid};
 pub use html::{
     Figure, METHOD_SUMMARY, Opening, Page, Table, html_page, html_page_opened, markdown_page,
     markdown_page_opened, markdown_table, referenced_files,

@@ -20,6 +20,7 @@ mod render;
 mod render_gltf;
 mod render_integrand;
 mod report_page;
+mod report_viewer;
 mod run_answer;
 mod run_errors;
 mod run_realtime;

@@ -88,6 +88,7 @@ pub fn page(
         title: &title,
         lead: &[],
         intro: &intro,
+        interactive: "",
         tables: &tables,
         figures,
         collapsed: &collapsed,

@@ -12,10 +12,29 @@ use crate::results::{self, Aggregate, JobResult};
 use crate::spec::{Group, GroupKind, Row};
 use crate::timing::{Protocol, Summary};
 
+/// How FLIP maps are made (`metrics::flip`): the map of a test image against its reference at
+/// `ppd` pixels per degree, and its mean over a coverage. Passed in, so the report draws maps but
+/// computes no metric of its own.
+#[derive(Clone, Copy)]
+pub struct Flip<'a> {
+    pub ppd: f64,
+    pub map: &'a dyn Fn(&Image, &Image, f64) -> Image,
+    pub mean: &'a dyn Fn(&Image, &Image) -> f64,
+}
+
+impl Flip<'_> {
+    /// The map of `image` against `reference`.
+    pub fn of(&self, reference: &Image, image: &Image) -> Image {
+        (self.map)(reference, image, self.ppd)
+    }
+}
+
 /// Everything the figures and the page are drawn from.
 pub struct ReportInput<'a> {
     pub loaded: &'a Loaded,
     pub references: &'a [Reference],
+    /// The camera paths' frames' references, by scene and camera (frame from 0).
+    pub views: &'a crate::jobs::reference::ViewReferences,
     pub results: &'a [JobResult],
     pub aggs: Vec<Aggregate>,
     /// How the renders were timed, and each scene's no-AO-ray overhead (spec order).
@@ -26,12 +45,26 @@ pub struct ReportInput<'a> {
     /// A record's kept image and its coverage, read by the command that owns the files
     /// (`outdir::record_image`): the image figures' only input from disk.
     pub images: &'a dyn Fn(&JobResult) -> Result<(Image, Image)>,
+    /// FLIP maps for the error figures and the viewer (`None`: those layers are left out).
+    pub flip: Option<Flip<'a>>,
 }
 
 impl<'a> ReportInput<'a> {
     /// A record's kept image (what was measured) and its coverage.
     pub fn image(&self, r: &JobResult) -> Result<(Image, Image)> {
         (self.images)(r)
+    }
+
+    /// The reference frame `f` (from 1) of scene `si` seen by `camera` is measured against: the
+    /// scene's for its own camera, the path's frame's otherwise (frame 0's for a still, jittered
+    /// path); `None` where the run did not obtain it.
+    pub fn reference_at(&self, si: usize, camera: crate::plan::CameraId, f: u32) -> Option<&'a Reference> {
+        match camera.run() {
+            None => self.references.get(si),
+            Some(run) => {
+                self.views.of(si, camera).get(&if run.path.is_static() { 0 } else { f.saturating_sub(1) })
+            }
+        }
     }
 
     /// Sweep `g` on `scene` at equal time (`compare::equal_time`), `per_doubling` budgets to each

@@ -168,6 +168,31 @@ fn table_figures(
         g.name
     );
     figs.push(add_figure(files, &name, cap, vec![], bytes)?);
+    if let Some(flip) = data.flip {
+        let maps: Vec<Vec<(Image, Image, String)>> = images
+            .iter()
+            .map(|row| {
+                row.iter()
+                    .map(|(img, cov, _)| {
+                        let cov = report::viewer::layers::both(cov, &reference.coverage);
+                        let map = flip.of(&reference.mean, img);
+                        let mean = (flip.mean)(&map, &cov);
+                        (map, cov, format!("mean FLIP {mean:.4}"))
+                    })
+                    .collect()
+            })
+            .collect();
+        let title = format!("{}: FLIP maps (LDR-FLIP against the reference), replicate 0", g.name);
+        let name = format!("{stem}_flip.png");
+        let bytes = drawn(&name, report::flip_grid(&title, &row_labels, &col_labels, &grid_cells(&maps)));
+        let cap = format!(
+            "{}: where the images above differ visibly from the reference, as LDR-FLIP sees it at {} pixels \
+             per degree (0 = no visible difference, black; 1 = the most, pale yellow), AO as linear grey; \
+             captions give each map's mean over the covered pixels.",
+            g.name, flip.ppd
+        );
+        figs.push(add_figure(files, &name, cap, vec![], bytes)?);
+    }
     Ok(figs)
 }
 

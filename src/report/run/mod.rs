@@ -15,10 +15,12 @@ pub mod realtime;
 pub mod realtime_figures;
 pub mod summary;
 pub mod verdicts;
+pub mod viewer;
 
 use crate::error::Result;
 use crate::image::Image;
 use crate::jobs::executor::Session;
+use crate::jobs::reference::ViewReferences;
 use crate::load::Loaded;
 use crate::outdir::{self, File};
 use crate::reference::store::Reference;
@@ -32,6 +34,8 @@ use crate::timing::Protocol;
 pub struct Run<'a> {
     pub loaded: &'a Loaded,
     pub references: &'a [Reference],
+    /// The camera paths' frames' references (`jobs::reference::obtain_views`; empty without paths).
+    pub views: &'a ViewReferences,
     pub results: &'a [JobResult],
     pub protocol: Protocol,
     pub session: &'a Session,
@@ -59,15 +63,22 @@ pub fn report(run: Run) -> Result<Report> {
     let data = data::ReportInput {
         loaded: run.loaded,
         references: run.references,
+        views: run.views,
         results: run.results,
         aggs,
         protocol: run.protocol,
         overhead: run.session.overhead.clone(),
         notes: run.notes,
         images: run.images,
+        flip: Some(data::Flip {
+            ppd: crate::metrics::DEFAULT_PPD,
+            map: &crate::metrics::ldr_flip_map,
+            mean: &crate::metrics::mean_flip,
+        }),
     };
     let mut figures = figures::all(&data, &mut files)?;
     figures.other.extend(realtime_figures::all(&data, &mut files)?);
-    page::page(&data, &figures, &mut files);
+    let viewer = viewer::section(&data, &mut files)?;
+    page::page(&data, &figures, viewer.as_deref().unwrap_or(""), &mut files);
     Ok(Report { files, summary })
 }

@@ -20,7 +20,7 @@ use crate::spec::{GroupKind, Row};
 use crate::timing;
 
 /// The page (`report.md`, then `index.html`) and `equal_time.csv` before it, added to `files`.
-pub fn page(data: &ReportInput, figures: &Figures, files: &mut Vec<File>) {
+pub fn page(data: &ReportInput, figures: &Figures, viewer: &str, files: &mut Vec<File>) {
     let spec = &data.loaded.spec;
     let answer = answer::answer(data);
     let (mut lead, mut tables, mut collapsed) = (Vec::new(), Vec::new(), Vec::new());
@@ -101,6 +101,7 @@ pub fn page(data: &ReportInput, figures: &Figures, files: &mut Vec<File>) {
         lead: &lead,
         intro: &findings,
         tables: &tables,
+        interactive: viewer,
         figures: &figures.other,
         collapsed: &collapsed,
     };

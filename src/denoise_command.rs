@@ -410,13 +410,21 @@ mod tests {
         std::fs::create_dir_all(dir.join("tools")).unwrap();
         std::fs::write(dir.join("tools/denoise.py"), "").unwrap();
         std::fs::write(dir.join("weights.tza"), "").unwrap();
-        let args = ["tools/denoise.py", "--quality", "fast", "weights.tza", "{input}", "{output}", "missing.py"];
+        let args =
+            ["tools/denoise.py", "--quality", "fast", "weights.tza", "{input}", "{output}", "missing.py"];
         let c = DenoiseCommand { program: "python3".into(), ..cmd(&args) }.resolve(&dir);
         let at = |p: &str| dir.join(p).to_string_lossy().into_owned();
         assert_eq!(
             c.args,
-            [at("tools/denoise.py"), "--quality".into(), "fast".into(), at("weights.tza"), "{input}".into(),
-                "{output}".into(), "missing.py".into()]
+            [
+                at("tools/denoise.py"),
+                "--quality".into(),
+                "fast".into(),
+                at("weights.tza"),
+                "{input}".into(),
+                "{output}".into(),
+                "missing.py".into()
+            ]
         );
         assert_eq!(c.program, "python3");
         std::fs::remove_dir_all(&dir).unwrap();

@@ -348,9 +348,7 @@ impl Answer {
         let best = self.recommended()?.row;
         let other = |c: &&Candidate| c.row != best;
         self.finalists.iter().filter(other).find(|c| !c.structured()).or_else(|| {
-            self.recommended()
-                .filter(|b| b.structured())
-                .and_then(|_| self.finalists.iter().find(other))
+            self.recommended().filter(|b| b.structured()).and_then(|_| self.finalists.iter().find(other))
         })
     }
 

@@ -156,7 +156,10 @@ fn finalists_are_measured_where_the_budget_fits_and_answer_from_measurements() {
         "at the budget: no note"
     );
     let frame = crate::report::advise::text::advice_line(&ans_over, "frame");
-    assert!(frame.contains("ms per frame: ship") && frame.contains("per pixel per frame (measured there"), "{frame}");
+    assert!(
+        frame.contains("ms per frame: ship") && frame.contains("per pixel per frame (measured there"),
+        "{frame}"
+    );
     // A missing replicate: the budget stays interpolated.
     assert!(!interpolated.measure(&by, 5, 1.0).measured);
     // Measured MSE carries the replicates' σ only; the gain the model's.
@@ -241,9 +244,14 @@ fn a_real_time_pipeline_sweeps_the_engine_patterns_as_engines_ship_them() {
     };
     let rows = |p: &str| setup::check(&request(p)).unwrap().rows;
     assert_eq!(rows("raw"), select(&[]).unwrap(), "raw: the default set alone");
+    let statics = raw.iter().filter(|r| r.seed_mode == SeedMode::Static).count();
+    assert!(statics > 0);
     for p in ["atrous", "ema0.1+atrous", "svgf"] {
         let rs = rows(p);
         assert!(engine.iter().all(|r| rs.contains(r)), "{p}: the engines' patterns are swept");
-        assert_eq!(rs.len(), raw.len() + engine.len(), "{p}");
+        // An accumulating pipeline sweeps no static seed: its error repeats every frame.
+        let temporal = p != "atrous";
+        assert_eq!(rs.len(), raw.len() + engine.len() - if temporal { statics } else { 0 }, "{p}");
+        assert_eq!(rs.iter().any(|r| r.seed_mode == SeedMode::Static), !temporal, "{p}");
     }
 }

@@ -84,8 +84,16 @@ pub fn run(args: PlanArgs) -> Result<()> {
                     "{} must be built ({} each{}){}",
                     built.len(),
                     how_built(&loaded, b),
-                    if b.views > 1 { format!(", the mean of {} jittered views", b.views) } else { String::new() },
-                    if built.len() < needed { format!(", {} stored", needed - built.len()) } else { String::new() }
+                    if b.views > 1 {
+                        format!(", the mean of {} jittered views", b.views)
+                    } else {
+                        String::new()
+                    },
+                    if built.len() < needed {
+                        format!(", the other {} stored or the scene's own", needed - built.len())
+                    } else {
+                        String::new()
+                    }
                 ),
             };
             let _ = writeln!(

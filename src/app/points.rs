@@ -48,6 +48,12 @@ pub fn run(args: &PointsArgs) -> Result<()> {
         .map_err(|e| Error::Refused(format!("{}: cannot draw the points: {e}", path.display())))?;
     io::write_atomic(&target, &bytes)?;
     // As `render` does: what was drawn, and where.
-    println!("{} points, {}, run seed {}{frame} ({which}) -> {}", args.count, row.name(), args.seed, path.display());
+    println!(
+        "{} points, {}, run seed {}{frame} ({which}) -> {}",
+        args.count,
+        row.name(),
+        args.seed,
+        path.display()
+    );
     Ok(())
 }

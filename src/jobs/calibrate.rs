@@ -335,6 +335,10 @@ pub fn builds(loaded: &Loaded, selected: &Plan, dir: &std::path::Path) -> Result
     let si_of = |j: &Job| loaded.scene_of(j).0;
     for n in crate::jobs::reference::needed_views(selected, &loaded.scenes, si_of) {
         if let Some(manifest) = refs::missing_view(spec, n.scene, &loaded.scenes[n.scene], dir, &n.view)? {
+            // A frame seen from the scene's own camera (an orbit's frame 0) is the scene's reference.
+            if out.iter().any(|b: &Build| b.manifest.file_stem() == manifest.file_stem()) {
+                continue;
+            }
             let views = if n.view.jitter_average { crate::scene::camera_path::JITTER_CYCLE } else { 1 };
             out.push(Build { scene: n.scene, manifest, view: Some((n.camera, n.frame)), views });
         }

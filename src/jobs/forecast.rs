@@ -80,7 +80,11 @@ pub fn advise(
             "a sweep of {}{}{}",
             todo.jobs.len(),
             if todo.jobs.len() < plan.jobs.len() {
-                format!(" ({} of {} kept from an earlier run)", plan.jobs.len() - todo.jobs.len(), plan.jobs.len())
+                format!(
+                    " ({} of {} kept from an earlier run)",
+                    plan.jobs.len() - todo.jobs.len(),
+                    plan.jobs.len()
+                )
             } else {
                 String::new()
             },
@@ -90,7 +94,10 @@ pub fn advise(
                 n => format!(" and about {final_jobs} finalists' at {n} ms budgets"),
             }
         ),
-        cpu_s: sweep.render_cpu_s + sweep.overhead_cpu_s + final_cpu + refs_s / cal.contention * workers as f64,
+        cpu_s: sweep.render_cpu_s
+            + sweep.overhead_cpu_s
+            + final_cpu
+            + refs_s / cal.contention * workers as f64,
         wall_s: sweep.wall_s + final_wall + refs_s,
         threads: workers,
         bytes,

@@ -95,7 +95,9 @@ mod tests {
             bytes: 504e6,
         };
         let line = f.line("advise");
-        assert!(line.starts_with("advise plan: 12 references to build, 2044 images: ≈ 1 h 30 min on 2 threads"));
+        assert!(
+            line.starts_with("advise plan: 12 references to build, 2044 images: ≈ 1 h 30 min on 2 threads")
+        );
         assert!(line.ends_with("(3 h 00 min of CPU time), ≈ 504 MB written"), "{line}");
         let e = f.check(30.0).unwrap_err();
         assert!(e.starts_with("--max-minutes 30: this would take about 1 h 30 min"), "{e}");

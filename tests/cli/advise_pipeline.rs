@@ -8,7 +8,8 @@ use crate::support::common;
 use super::advise::{json, num};
 use common::{Tmp, scene};
 
-const ONLY: &str = "sine-cosine/fibonacci/rotation,sine-cosine/random/blue-noise,sine-cosine/fibonacci/static";
+const ONLY: &str =
+    "sine-cosine/fibonacci/rotation,sine-cosine/random/blue-noise,sine-cosine/fibonacci/static";
 
 fn advise(t: &Tmp, pipeline: &str, frames: &str) -> std::process::Output {
     let mut args: Vec<String> =
@@ -57,14 +58,20 @@ fn advise_ranks_the_image_after_the_pipeline_at_one_frames_time() {
     assert!(records.iter().all(|r| r.seed_mode != "static"), "{records:?}");
     let page = std::fs::read_to_string(out.join("advice.md")).unwrap();
     assert!(page.contains(hemilab::advice::REPEATING_ERROR), "{page}");
-    assert!(page.contains("hemilab advise: cornell-box at 20x16 after ema0.1+atrous at frame 4 (budgets in ms per frame)"));
+    assert!(page.contains(
+        "hemilab advise: cornell-box at 20x16 after ema0.1+atrous at frame 4 (budgets in ms per frame)"
+    ));
     // The budgets an engine has: rays per pixel per frame, no ms budget unless asked for.
     assert!(a["budgets_ms"].as_array().unwrap().is_empty(), "{}", a["budgets_ms"]);
     let per_ray = a["ray_budgets"].as_array().unwrap();
-    assert_eq!(per_ray.iter().map(|x| x["rays_per_pixel_per_frame"].as_u64().unwrap()).collect::<Vec<_>>(), [1, 2]);
+    assert_eq!(
+        per_ray.iter().map(|x| x["rays_per_pixel_per_frame"].as_u64().unwrap()).collect::<Vec<_>>(),
+        [1, 2]
+    );
     for x in per_ray {
         let ranking = x["ranking"].as_array().unwrap();
-        assert_eq!(ranking.len(), 2, "{x}");
+        // The paper's default and the two --only rows not static (the static one is not swept).
+        assert_eq!(ranking.len(), 3, "{x}");
         assert_eq!(x["recommended"], ranking[0]["configuration"]);
         assert!(num(&ranking[0]["rmse"]) <= num(&ranking[1]["rmse"]));
         assert!(x["near_ties"].as_array().unwrap().contains(&ranking[0]["configuration"]));
@@ -78,7 +85,11 @@ fn advise_ranks_the_image_after_the_pipeline_at_one_frames_time() {
             assert!(num(&e["sampler_ns_per_point"]) > 0.0, "{e}");
             let mine: Vec<&hemilab::results::JobResult> = ranked
                 .iter()
-                .filter(|r| r.rays == rays && format!("{}/{}/{}", r.distribution, r.sequence, r.seed_mode) == super::advise::label(&e["configuration"]))
+                .filter(|r| {
+                    r.rays == rays
+                        && format!("{}/{}/{}", r.distribution, r.sequence, r.seed_mode)
+                            == super::advise::label(&e["configuration"])
+                })
                 .collect();
             assert_eq!(mine.len(), 2, "{e}");
             let mut t: Vec<f64> = mine.iter().map(|r| r.time_s * 1e3).collect();
@@ -87,12 +98,22 @@ fn advise_ranks_the_image_after_the_pipeline_at_one_frames_time() {
         }
     }
     let text = common::stdout(&o);
-    assert!(text.lines().any(|l| l.starts_with("At 1 ray per pixel per frame after ema0.1+atrous at frame 4: ship ")), "{text}");
+    assert!(
+        text.lines()
+            .any(|l| l.starts_with("At 1 ray per pixel per frame after ema0.1+atrous at frame 4: ship ")),
+        "{text}"
+    );
 
     // Asked for ms budgets, it answers them too, per frame.
     let o = t.hemilab(&{
-        let mut v: Vec<String> = ["advise", &scene("cornell-box.toml"), "--resolution", "20x16", "--rays", "1,2"].map(String::from).to_vec();
-        v.extend(["--replicates", "2", "--only", ONLY, "--reference-dir", "ref", "--quiet", "--threads", "2"].map(String::from));
+        let mut v: Vec<String> =
+            ["advise", &scene("cornell-box.toml"), "--resolution", "20x16", "--rays", "1,2"]
+                .map(String::from)
+                .to_vec();
+        v.extend(
+            ["--replicates", "2", "--only", ONLY, "--reference-dir", "ref", "--quiet", "--threads", "2"]
+                .map(String::from),
+        );
         v.extend(["--pipeline", "ema0.1+atrous", "--frames", "4", "--out", "out"].map(String::from));
         let b = ranked.iter().map(|r| r.time_s).fold(0.0, f64::max) * 1e3 * 0.9;
         v.extend(["--budget-ms".to_string(), format!("{b}")]);

@@ -236,7 +236,13 @@ fn default_output_directory_is_out_slash_spec_name() {
     // Without --quiet it says so before any work, too.
     let o = t.hemilab(&["run", "tiny.toml", "--reference-dir", "ref"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stderr(&o).lines().any(|l| l.starts_with("resuming from out/tiny: 6 of 6 jobs have their records there")), "{}", stderr(&o));
+    assert!(
+        stderr(&o)
+            .lines()
+            .any(|l| l.starts_with("resuming from out/tiny: 6 of 6 jobs have their records there")),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

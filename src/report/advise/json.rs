@@ -4,12 +4,12 @@
 //! and structure value), the error model every ± is 1 σ of, and the winner map's counts.
 
 use super::text::{advice_line, outside_note, status};
-use crate::compare::per_ray::{AtRays, Entry};
 use crate::advice::analysis::{Analysis, Measured};
 use crate::advice::answer::{self, Answer, Candidate, FINALISTS, RankScored};
 use crate::advice::{setup, winner};
 use crate::compare::budget::{AtBudget, Metric, Place, Ranking, round_significant};
 use crate::compare::model;
+use crate::compare::per_ray::{AtRays, Entry};
 use crate::compare::{PAPER_DEFAULT, structure};
 use crate::spec::Row;
 use crate::timing;

@@ -339,8 +339,14 @@ fn ladder_table(a: &Analysis, per: &str) -> Table {
     }
     Table {
         title: "Every point of the sweep (time: median ± σ; errors ± σ over the replicates)".into(),
-        header: ["configuration".into(), "rays".into(), format!("time per {per} (ms)"), "RMSE".into(), "low-pass RMSE".into()]
-            .to_vec(),
+        header: [
+            "configuration".into(),
+            "rays".into(),
+            format!("time per {per} (ms)"),
+            "RMSE".into(),
+            "low-pass RMSE".into(),
+        ]
+        .to_vec(),
         rows,
     }
 }

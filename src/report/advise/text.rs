@@ -3,9 +3,9 @@
 
 use crate::advice::analysis::Analysis;
 use crate::advice::answer::Answer;
-use crate::compare::per_ray::AtRays;
 use crate::compare::budget::{Place, Ranking, round_significant};
 use crate::compare::model::{self, Estimate};
+use crate::compare::per_ray::AtRays;
 use crate::compare::{PAPER_DEFAULT, structure};
 use crate::spec::Row;
 use std::fmt::Write as _;

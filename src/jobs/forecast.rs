@@ -121,8 +121,8 @@ pub fn left<'a>(plan: &Plan, previous: impl Iterator<Item = &'a crate::results::
         let row = j.row().canonical();
         let k = key(
             row.distribution.name(),
-            &row.sequence.name(),
-            &row.seed_mode.name(),
+            row.sequence.name(),
+            row.seed_mode.name(),
             j.rays,
             j.replicate,
             j.seed,

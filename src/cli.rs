@@ -306,7 +306,7 @@ pub struct AdviseArgs {
           help = pipeline_help())]
     pub pipeline: crate::denoise::Pipeline,
     /// With a temporal --pipeline: the frame whose image is ranked (frames accumulated), 1..=1024
-    /// (default 8).
+    /// (default 64: steady state).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub frames: Option<u32>,
     /// What the rays integrate: ao, visibility (unweighted), cos-lobe-N (N >= 2); its reference

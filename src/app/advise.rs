@@ -33,9 +33,10 @@ use crate::{advice, outdir};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-/// Frames accumulated by a temporal `--pipeline` when `--frames` is not given: an EMA of α 0.1 has
-/// most of its weight on the last eight or so.
-const DEFAULT_FRAMES: u32 = 8;
+/// Frames accumulated by a temporal `--pipeline` when `--frames` is not given: steady state, as a
+/// game is seen — an EMA of α 0.1 keeps 0.9⁶⁴ ≈ 0.1 % of its first frame by then, and a
+/// spatiotemporal blue-noise mask has run its whole cycle of 64 slices.
+const DEFAULT_FRAMES: u32 = 64;
 
 pub fn run(args: AdviseArgs) -> Result<()> {
     let request = match &args.from {

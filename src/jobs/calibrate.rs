@@ -58,7 +58,7 @@ pub struct SceneCal {
 pub struct Calibrated {
     pub scenes: Vec<Option<SceneCal>>,
     /// Bytes per pixel of a job's image as written (AO and coverage, compressed losslessly): one
-    /// calibration render encoded, a noisy image of few rays, which compresses least.
+    /// 1-ray calibration render encoded, the noisiest image a run writes, which compresses least.
     pub exr_bytes_per_pixel: f64,
     /// Bytes of one record in results.json and results.csv together.
     pub record_bytes: f64,
@@ -179,6 +179,8 @@ pub fn calibrate(
     }
     let results: Mutex<Vec<(Probe, Time, u64)>> = Mutex::new(Vec::new());
     let sample: Mutex<Option<(usize, RenderOutput)>> = Mutex::new(None);
+    // A 1-ray image, the noisiest a run writes, for the bytes per pixel of its images.
+    let noisiest: Mutex<Option<RenderOutput>> = Mutex::new(None);
     let work = |w: &timing::Worker, &(p, r): &(Probe, usize)| -> Result<(Probe, Time, RenderOutput)> {
         let scene = &loaded.scenes[p.scene];
         if let Some(wj) = &warm[p.scene] {
@@ -191,6 +193,13 @@ pub fn calibrate(
     };
     let done = |_: &(Probe, usize), (p, t, out): (Probe, Time, RenderOutput)| -> Result<()> {
         results.lock().unwrap_or_else(|e| e.into_inner()).push((p, t, out.rays));
+        if p.rays == 1 && p.row.is_some() {
+            let mut n = noisiest.lock().unwrap_or_else(|e| e.into_inner());
+            if n.is_none() {
+                *n = Some(out);
+                return Ok(());
+            }
+        }
         let mut s = sample.lock().unwrap_or_else(|e| e.into_inner());
         if s.is_none() && p.rays > 1 {
             *s = Some((p.scene, out));
@@ -242,19 +251,25 @@ pub fn calibrate(
     // Per recorded job: metrics and the EXR; per record: the results files.
     let out = sample.into_inner().unwrap_or_else(|e| e.into_inner());
     let mut exr_bytes_per_pixel = EXR_BYTES_PER_PIXEL_AT_MOST;
+    if let Some(n) = noisiest.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        let exr = image::encode_exr(&[
+            Channel { name: "Y", image: &n.ao },
+            Channel { name: "A", image: &n.coverage },
+        ]);
+        if let Ok(bytes) = &exr {
+            exr_bytes_per_pixel = bytes.len() as f64 / n.ao.len().max(1) as f64;
+        }
+    }
     let mut record_bytes = 0.0;
     let (measure_s, serialize_per_record_s) = match out {
         Some((si, out)) => {
             let c0 = clock::thread_cpu_s();
             let stats = crate::metrics::measure(&out.ao, &out.ao, &out.coverage)
                 .map_err(|e| Error::Refused(format!("calibration: {e}")))?;
-            let exr = image::encode_exr(&[
+            let _ = image::encode_exr(&[
                 Channel { name: "Y", image: &out.ao },
                 Channel { name: "A", image: &out.coverage },
             ]);
-            if let Ok(bytes) = &exr {
-                exr_bytes_per_pixel = bytes.len() as f64 / out.ao.len().max(1) as f64;
-            }
             let c1 = clock::thread_cpu_s();
             let records: Vec<JobResult> = full
                 .jobs

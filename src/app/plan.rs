@@ -155,7 +155,8 @@ pub fn run(args: PlanArgs) -> Result<()> {
         let (_, sc) = loaded.scene_of(j);
         plan::Geometry::of(j.resolution, j.ao_distance, sc).pixels()
     };
-    let jobs_bytes = cost::output_bytes(&selected, pixels, cal.exr_bytes_per_pixel, cal.record_bytes, true);
+    let jobs_bytes =
+        cost::output_bytes(&selected, pixels, |j| cal.bytes_per_pixel(j), cal.record_bytes, true);
     let refs_bytes: f64 = builds
         .iter()
         .map(|b| {
@@ -166,11 +167,12 @@ pub fn run(args: PlanArgs) -> Result<()> {
         .sum();
     let _ = writeln!(
         s,
-        "disk: ≈ {} ({} job images at {:.1} bytes per pixel as one was encoded here, and their records; \
-         references {})",
+        "disk: ≈ {} ({} job images at {:.1} bytes per pixel for a raw frame, {:.1} for a filtered one, as \
+         encoded here, and their records; references {})",
         plan::format_bytes(jobs_bytes + refs_bytes),
         selected.jobs.len(),
         cal.exr_bytes_per_pixel,
+        cal.filtered_exr_bytes_per_pixel,
         if builds.is_empty() { "none to build".into() } else { plan::format_bytes(refs_bytes) }
     );
     if let Some(n) = count {

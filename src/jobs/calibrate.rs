@@ -58,8 +58,11 @@ pub struct SceneCal {
 pub struct Calibrated {
     pub scenes: Vec<Option<SceneCal>>,
     /// Bytes per pixel of a job's image as written (AO and coverage, compressed losslessly): one
-    /// 1-ray calibration render encoded, the noisiest image a run writes, which compresses least.
+    /// 1-ray calibration render encoded (a raw frame) …
     pub exr_bytes_per_pixel: f64,
+    /// … and the same filtered (`denoise::gaussian`): a frame after a pipeline or a denoiser, whose
+    /// smooth values compress least.
+    pub filtered_exr_bytes_per_pixel: f64,
     /// Bytes of one record in results.json and results.csv together.
     pub record_bytes: f64,
     /// Wall seconds per CPU second a worker will see: the geometric mean of `measured` and
@@ -94,6 +97,15 @@ impl Calibrated {
     pub fn overhead_s(&self, loaded: &Loaded, scene_id: &str) -> f64 {
         let si = loaded.spec.scenes.iter().position(|s| s.id == scene_id).expect("planned scene");
         self.scenes[si].as_ref().map_or(0.0, |s| s.overhead_s)
+    }
+
+    /// Bytes per pixel of `job`'s image as written: a filtered one's after a pipeline or a
+    /// denoiser, a raw frame's otherwise.
+    pub fn bytes_per_pixel(&self, job: &Job) -> f64 {
+        let m = &job.measurement;
+        let filtered =
+            m.pipeline != crate::denoise::Pipeline::RAW || m.denoiser != crate::plan::DenoiserId::NONE;
+        if filtered { self.filtered_exr_bytes_per_pixel } else { self.exr_bytes_per_pixel }
     }
 
     pub fn model(&self, loaded: &Loaded, jobs: usize, workers: usize) -> cost::Model {
@@ -251,13 +263,18 @@ pub fn calibrate(
     // Per recorded job: metrics and the EXR; per record: the results files.
     let out = sample.into_inner().unwrap_or_else(|e| e.into_inner());
     let mut exr_bytes_per_pixel = EXR_BYTES_PER_PIXEL_AT_MOST;
+    let mut filtered_exr_bytes_per_pixel = EXR_BYTES_PER_PIXEL_AT_MOST;
     if let Some(n) = noisiest.into_inner().unwrap_or_else(|e| e.into_inner()) {
-        let exr = image::encode_exr(&[
-            Channel { name: "Y", image: &n.ao },
-            Channel { name: "A", image: &n.coverage },
-        ]);
-        if let Ok(bytes) = &exr {
-            exr_bytes_per_pixel = bytes.len() as f64 / n.ao.len().max(1) as f64;
+        let per_pixel = |ao: &image::Image| {
+            image::encode_exr(&[Channel { name: "Y", image: ao }, Channel { name: "A", image: &n.coverage }])
+                .map(|b| b.len() as f64 / ao.len().max(1) as f64)
+        };
+        if let Ok(b) = per_pixel(&n.ao) {
+            exr_bytes_per_pixel = b;
+        }
+        let smooth = crate::denoise::gaussian(&n.ao, &n.coverage, crate::denoise::GAUSS_SIGMA);
+        if let Ok(b) = per_pixel(&smooth) {
+            filtered_exr_bytes_per_pixel = b;
         }
     }
     let mut record_bytes = 0.0;
@@ -290,6 +307,7 @@ pub fn calibrate(
     Ok(Calibrated {
         scenes,
         exr_bytes_per_pixel,
+        filtered_exr_bytes_per_pixel,
         record_bytes,
         contention,
         measured,

@@ -70,8 +70,9 @@ pub fn advise(
     let geometry = Geometry::of(loaded.spec.resolution, loaded.spec.ao_distance, &loaded.scenes[0]);
     let pixels = geometry.pixels() as f64;
     // The sweep keeps numbers only; the finalists' images are kept (the winner maps read them).
-    let bytes = cost::output_bytes(todo, |_| 0, 0.0, cal.record_bytes, false)
-        + final_jobs as f64 * (pixels * cal.exr_bytes_per_pixel + cal.record_bytes)
+    let per_pixel = plan.jobs.first().map_or(cal.exr_bytes_per_pixel, |j| cal.bytes_per_pixel(j));
+    let bytes = cost::output_bytes(todo, |_| 0, |_| 0.0, cal.record_bytes, false)
+        + final_jobs as f64 * (pixels * per_pixel + cal.record_bytes)
         + builds.len() as f64 * pixels * cal.exr_bytes_per_pixel * 1.5;
     let forecast = Forecast {
         references: Some(builds.len()),

@@ -100,18 +100,18 @@ pub fn jobs(
 }
 
 /// What a run of a plan writes, in bytes: one image per job (`pixels(job)` pixels at
-/// `bytes_per_pixel`, as the calibration encoded one) and its records (`record_bytes` each, in
-/// results.json and results.csv); `images` false for a command that keeps numbers only (advise's
-/// sweep).
+/// `bytes_per_pixel(job)`, as the calibration encoded one like it) and its records
+/// (`record_bytes` each, in results.json and results.csv); `images` false for a command that keeps
+/// numbers only (advise's sweep).
 pub fn output_bytes(
     plan: &Plan,
     pixels: impl Fn(&Job) -> u64,
-    bytes_per_pixel: f64,
+    bytes_per_pixel: impl Fn(&Job) -> f64,
     record_bytes: f64,
     images: bool,
 ) -> f64 {
     let image: f64 =
-        if images { plan.jobs.iter().map(|j| pixels(j) as f64 * bytes_per_pixel).sum() } else { 0.0 };
+        if images { plan.jobs.iter().map(|j| pixels(j) as f64 * bytes_per_pixel(j)).sum() } else { 0.0 };
     image + plan.jobs.len() as f64 * record_bytes
 }
 
@@ -166,8 +166,8 @@ rows = [ { distribution = "sine", sequence = "random" } ]
 "#,
         );
         assert_eq!(p.jobs.len(), 6);
-        assert_eq!(output_bytes(&p, |_| 100, 2.5, 1000.0, true), 6.0 * (250.0 + 1000.0));
-        assert_eq!(output_bytes(&p, |_| 100, 2.5, 1000.0, false), 6000.0);
+        assert_eq!(output_bytes(&p, |_| 100, |_| 2.5, 1000.0, true), 6.0 * (250.0 + 1000.0));
+        assert_eq!(output_bytes(&p, |_| 100, |_| 2.5, 1000.0, false), 6000.0);
         assert_eq!(crate::plan::format_bytes(504e6), "504 MB");
         assert_eq!(crate::plan::format_bytes(1.8e10), "18 GB");
         assert_eq!(crate::plan::format_bytes(2.34e9), "2.3 GB");

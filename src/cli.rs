@@ -206,6 +206,11 @@ pub struct RenderArgs {
     /// Output EXR (Y = AO with 1 = open, A = coverage); a PNG preview is written beside it.
     #[arg(long)]
     pub output: PathBuf,
+    /// Longest the render may be forecast to take, in wall minutes on this machine; a longer one
+    /// is refused before it starts (the forecast says how long it would be).
+    #[arg(long, default_value_t = crate::plan::forecast::DEFAULT_MAX_MINUTES, value_name = "M",
+          value_parser = crate::plan::forecast::parse_max_minutes)]
+    pub max_minutes: f64,
     #[command(flatten)]
     pub common: Common,
 }
@@ -289,14 +294,10 @@ pub struct AdviseArgs {
     /// whole image at the resolution (default: three spread over the paper default's measured times).
     #[arg(long, value_parser = parse_budget, value_delimiter = ',', value_name = "LIST")]
     pub budget_ms: Vec<f64>,
-    /// Ray counts per pixel to measure, comma-separated, at least two different.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        value_name = "LIST",
-        default_value = "1,2,4,8,16,32,64",
-        value_parser = clap::value_parser!(u32).range(1..=65_536)
-    )]
+    /// Ray counts per pixel to measure, comma-separated, at least two different (default
+    /// 1,2,4,8,16,32,64; with --pipeline 1,2,4: the rays per pixel per frame an engine spends, and
+    /// the budgets its advice is given for).
+    #[arg(long, value_delimiter = ',', value_name = "LIST", value_parser = clap::value_parser!(u32).range(1..=65_536))]
     pub rays: Vec<u32>,
     /// Image size, WxH (default: the largest stored reference of the scene with at most 3072
     /// pixels, else the scene's own scaled down to that).
@@ -305,14 +306,12 @@ pub struct AdviseArgs {
     /// Independent replicates (seeds) per configuration and ray count, 2..=1000.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(2..=1000))]
     pub replicates: u32,
-    /// Rank the image a real-time renderer shows: frames accumulated and filtered by this pipeline
-    /// (raw, gauss, atrous, mean, emaA, or temporal+spatial such as ema0.1+atrous); budgets are then
-    /// per frame, and the sweep adds the engines' rotation patterns (ign, bayer, magic-square,
-    /// r2-dither) as engines ship them.
-    #[arg(long, default_value = "raw", value_parser = parse_pipeline, value_name = "PIPELINE")]
+    // The help names every pipeline from the list the parser's errors give (one source of truth).
+    #[arg(long, default_value = "raw", value_parser = parse_pipeline, value_name = "PIPELINE",
+          help = pipeline_help())]
     pub pipeline: crate::denoise::Pipeline,
     /// With a temporal --pipeline: the frame whose image is ranked (frames accumulated), 1..=1024
-    /// (default 8).
+    /// (default 64: steady state).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub frames: Option<u32>,
     /// What the rays integrate: ao, visibility (unweighted), cos-lobe-N (N >= 2); its reference
@@ -341,8 +340,24 @@ pub struct AdviseArgs {
     /// repository's layout of scenes/ beside reference/; never the current directory).
     #[arg(long, value_name = "DIR")]
     pub reference_dir: Option<PathBuf>,
+    /// Longest advise may be forecast to take, in wall minutes on this machine (its reference, the
+    /// sweep and the finalists); a longer one is refused before any work, saying how long it would be.
+    #[arg(long, default_value_t = crate::plan::forecast::DEFAULT_MAX_MINUTES, value_name = "M",
+          value_parser = crate::plan::forecast::parse_max_minutes)]
+    pub max_minutes: f64,
     #[command(flatten)]
     pub common: Common,
+}
+
+/// `advise --pipeline`'s help: what it does, then every pipeline name as the parser's error lists
+/// them (`denoise::pipeline::ALLOWED`).
+fn pipeline_help() -> String {
+    format!(
+        "Rank the image a real-time renderer shows: frames accumulated and filtered by this pipeline; \
+         budgets are then per frame, and the sweep adds the engines' rotation patterns (ign, bayer, \
+         magic-square, r2-dither) as engines ship them. PIPELINE: {}",
+        crate::denoise::pipeline::ALLOWED
+    )
 }
 
 /// A time budget in ms: positive and finite.

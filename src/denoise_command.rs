@@ -27,7 +27,7 @@
 //! ```toml
 //! [denoise_command]
 //! program = "python3"                            # looked up on PATH unless it holds a '/'
-//! args = ["examples/oidn_denoise.py", "{input}", "{output}"]
+//! args = ["../examples/oidn_denoise.py", "{input}", "{output}"]   # files relative to the spec
 //! timeout_s = 60                                 # per frame; default 60
 //! ```
 
@@ -100,12 +100,23 @@ impl DenoiseCommand {
         Ok(())
     }
 
-    /// The command with a relative program path (one holding a '/') taken from `base` (the spec's
-    /// directory), as every other path in a spec is; a bare name stays a PATH look-up.
+    /// The command with its paths taken from `base` (the spec's directory), as every other path
+    /// in a spec is, never from the directory hemilab happens to run in: a relative program path
+    /// (one holding a '/'; a bare name stays a PATH look-up), and every argument that, read
+    /// against `base`, names a file or directory there (a script, a weights file: `args =
+    /// ["oidn_denoise.py", "{input}", "{output}"]` beside the spec). Other arguments (options,
+    /// numbers, the placeholders) are passed as written.
     pub fn resolve(mut self, base: &Path) -> Self {
         let p = Path::new(&self.program);
         if p.is_relative() && self.program.contains('/') {
             self.program = base.join(p).to_string_lossy().into_owned();
+        }
+        for a in &mut self.args {
+            let path = Path::new(a.as_str());
+            let plain = !a.is_empty() && !a.starts_with('-') && !a.contains('{');
+            if plain && path.is_relative() && io::exists(&base.join(path)) {
+                *a = base.join(path).to_string_lossy().into_owned();
+            }
         }
         self
     }
@@ -389,6 +400,34 @@ mod tests {
         assert_eq!(c("tools/denoise").program, "/specs/tools/denoise");
         assert_eq!(c("python3").program, "python3");
         assert_eq!(c("/usr/bin/env").program, "/usr/bin/env");
+    }
+
+    #[test]
+    fn resolve_takes_an_argument_naming_a_file_beside_the_spec_from_there() {
+        // A script beside the spec is found from any working directory; options, placeholders and
+        // names of nothing there are passed as written.
+        let dir = std::env::temp_dir().join(format!("hemilab-denoise-args-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("tools")).unwrap();
+        std::fs::write(dir.join("tools/denoise.py"), "").unwrap();
+        std::fs::write(dir.join("weights.tza"), "").unwrap();
+        let args =
+            ["tools/denoise.py", "--quality", "fast", "weights.tza", "{input}", "{output}", "missing.py"];
+        let c = DenoiseCommand { program: "python3".into(), ..cmd(&args) }.resolve(&dir);
+        let at = |p: &str| dir.join(p).to_string_lossy().into_owned();
+        assert_eq!(
+            c.args,
+            [
+                at("tools/denoise.py"),
+                "--quality".into(),
+                "fast".into(),
+                at("weights.tza"),
+                "{input}".into(),
+                "{output}".into(),
+                "missing.py".into()
+            ]
+        );
+        assert_eq!(c.program, "python3");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

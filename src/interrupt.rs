@@ -22,7 +22,8 @@ use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 static SIGNAL: AtomicI32 = AtomicI32::new(0);
 /// Whether the executor is running jobs (it then stops by itself at the first signal).
 static IN_JOBS: AtomicBool = AtomicBool::new(false);
-static STATUS: Mutex<Status> = Mutex::new(Status { done: 0, total: 0, saved_in: None, started: false });
+static STATUS: Mutex<Status> =
+    Mutex::new(Status { done: 0, total: 0, saved_in: None, started: false, one_image: None });
 
 /// What the executor has done so far, for the message.
 struct Status {
@@ -32,6 +33,8 @@ struct Status {
     /// memory only (`advise`, which writes its outputs at the end).
     saved_in: Option<PathBuf>,
     started: bool,
+    /// `render`: when its one image started, and the file it writes at the end.
+    one_image: Option<(std::time::Instant, PathBuf)>,
 }
 
 /// Takes SIGINT and SIGTERM on a thread of their own. Call it before any thread is started.
@@ -123,6 +126,14 @@ pub fn saves_to(out: &Path) {
     }
 }
 
+/// `render` has started its one image, which it writes to `output` only when it is finished: a
+/// signal then says how long it had run and that nothing is kept (a render does not resume).
+pub fn renders_one_image(output: &Path) {
+    if let Ok(mut s) = STATUS.lock() {
+        s.one_image = Some((std::time::Instant::now(), output.to_path_buf()));
+    }
+}
+
 /// What to say after a signal, from what the executor reported.
 pub fn message() -> String {
     message_now(match SIGNAL.load(Ordering::SeqCst) {
@@ -134,6 +145,15 @@ pub fn message() -> String {
 fn message_now(sig: i32) -> String {
     let rerun = command_line();
     let Ok(s) = STATUS.lock() else { return format!("{}: stopped; rerun `{rerun}` to go on", name(sig)) };
+    if let Some((since, output)) = &s.one_image {
+        return format!(
+            "{}: stopped after {} of rendering; the image was not finished and nothing was written ({} is \
+             written only when it is; a render does not resume): rerun `{rerun}` to render it from the start",
+            name(sig),
+            crate::plan::format_duration(since.elapsed().as_secs_f64()),
+            output.display()
+        );
+    }
     match (&s.saved_in, s.started) {
         (Some(out), true) => format!(
             "{}: stopped; {} of {} jobs are saved in {}; rerun `{rerun}` to resume from them",

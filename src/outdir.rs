@@ -265,6 +265,18 @@ pub fn index(out: &Path) -> PathBuf {
     out.join(INDEX_HTML)
 }
 
+/// advise's default output directory for a scene file's stem and a pipeline: `out/advise-room`
+/// for raw frames (the paper's question), `out/advise-room-svgf` after a pipeline, so that one
+/// pipeline's advice never replaces another's.
+pub fn advise_default(stem: &str, pipeline: &str) -> PathBuf {
+    let name = if pipeline == crate::denoise::Pipeline::RAW.to_string() {
+        format!("advise-{stem}")
+    } else {
+        format!("advise-{stem}-{pipeline}")
+    };
+    Path::new("out").join(name)
+}
+
 /// Where advise builds its output set before the set replaces `out` in one step
 /// ([`commit_advise_stage`]): a hidden sibling, `.<name>.partial`, on the same filesystem. A run
 /// killed before the end leaves it, and the next run resumes from its records.

@@ -9,6 +9,7 @@ use crate::advice::winner::{self, Pixel};
 use crate::compare::PAPER_DEFAULT;
 use crate::compare::budget::{Curve, Metric, rank};
 use crate::compare::equal_time::{TimeView, curve};
+use crate::compare::per_ray::{self, AtRays};
 use crate::jobs::executor::Session;
 use crate::metrics::covered;
 use crate::reference::store::Reference;
@@ -75,13 +76,35 @@ pub struct Analysis {
     /// The finalists' session's median times over the sweep's at the counts both measured
     /// (geometric mean): how much slower (> 1) the machine ran then. `None`: nothing in common.
     pub session_ratio: Option<f64>,
+    /// After a real-time pipeline: the answer per ray budget (rays per pixel per frame), every
+    /// configuration ranked at each swept ray count (`compare::per_ray`); empty for raw images.
+    pub per_ray: Vec<AtRays>,
+    /// Each configuration's sampler cost per point on this machine at each ray count, ns
+    /// (`jobs::sampler_cost`), filled in by the command that measures it.
+    pub sampler_ns: Vec<(Row, u32, f64)>,
+}
+
+impl Analysis {
+    /// `row`'s sampler cost per point at `rays`, ns (NaN if not measured).
+    pub fn sampler_ns(&self, row: Row, rays: u32) -> f64 {
+        self.sampler_ns.iter().find(|(r, n, _)| *r == row && *n == rays).map_or(f64::NAN, |x| x.2)
+    }
 }
 
 /// Ladders, budgets, rankings and the sweep's (interpolated) answers; no maps yet.
 pub fn analyse(setup: &Setup, results: &[JobResult], budgets_ms: &[f64]) -> Analysis {
     let curves = curves(setup, results);
     let default = curves.iter().find(|c| c.row == PAPER_DEFAULT).expect("the paper default is always run");
-    let (budgets_s, defaulted) = if budgets_ms.is_empty() {
+    // After a real-time pipeline the budgets an engine has are rays per pixel per frame; a budget
+    // in ms of this machine's CPU time only when asked for.
+    let per_ray: Vec<AtRays> = if setup.pipeline == crate::denoise::Pipeline::RAW {
+        Vec::new()
+    } else {
+        setup.rays.iter().map(|&r| per_ray::rank(results, &setup.rows, r)).collect()
+    };
+    let (budgets_s, defaulted) = if budgets_ms.is_empty() && !per_ray.is_empty() {
+        (Vec::new(), false)
+    } else if budgets_ms.is_empty() {
         (crate::advice::default_budgets(default), true)
     } else {
         (budgets_ms.iter().map(|b| b * 1e-3).collect(), false)
@@ -90,7 +113,16 @@ pub fn analyse(setup: &Setup, results: &[JobResult], budgets_ms: &[f64]) -> Anal
         .iter()
         .map(|&b| Answer::interpolated(rank(&curves, b, Metric::Rmse), rank(&curves, b, Metric::Lowpass)))
         .collect();
-    Analysis { curves, budgets_s, default_budgets: defaulted, answers, maps: vec![], session_ratio: None }
+    Analysis {
+        curves,
+        budgets_s,
+        default_budgets: defaulted,
+        answers,
+        maps: vec![],
+        session_ratio: None,
+        per_ray,
+        sampler_ns: Vec::new(),
+    }
 }
 
 /// Every (configuration, ray count) some budget's answer measures (`answer::counts`), each once.

@@ -341,10 +341,15 @@ impl Answer {
         self.finalists.iter().find(|c| !c.structured()).or_else(|| self.finalists.first())
     }
 
-    /// The next finalist after the recommendation whose error is not structured.
+    /// The next finalist after the recommendation whose error is not structured; when every
+    /// finalist's is structured (the recommendation then is too), the next finalist, so that the
+    /// runner-up is never left blank while there is one.
     pub fn runner_up(&self) -> Option<&Candidate> {
         let best = self.recommended()?.row;
-        self.finalists.iter().find(|c| c.row != best && !c.structured())
+        let other = |c: &&Candidate| c.row != best;
+        self.finalists.iter().filter(other).find(|c| !c.structured()).or_else(|| {
+            self.recommended().filter(|b| b.structured()).and_then(|_| self.finalists.iter().find(other))
+        })
     }
 
     /// The least-MSE finalist when it is structured and so not recommended.

@@ -95,6 +95,20 @@ pub fn sensible_rows_with(sequences: &[Sequence], modes: &[SeedMode]) -> Vec<Row
     rows
 }
 
+/// Why a static seed is not a candidate under a pipeline that accumulates frames (the page says it
+/// in this one line): its error repeats every frame.
+pub const REPEATING_ERROR: &str = "Static seeds are not candidates here: a static seed draws the same points in every frame, \
+     so its error is the same in every frame and accumulating frames never averages it away.";
+
+/// The configurations a pipeline's advice can recommend: under an accumulating (temporal)
+/// pipeline, none whose error repeats every frame (a static seed, `REPEATING_ERROR`).
+pub fn candidates_for(rows: Vec<Row>, pipeline: crate::denoise::Pipeline) -> Vec<Row> {
+    if !pipeline.is_temporal() {
+        return rows;
+    }
+    rows.into_iter().filter(|r| r.seed_mode != SeedMode::Static).collect()
+}
+
 /// The engines' rotation patterns (`SeedMode::pattern`: ign, bayer, magic-square, r2-dither) as
 /// engines ship them: each rotating a cosine-weighted kernel of pseudo-random points or the
 /// Fibonacci lattice (the paper's), in that order. Advise's default sweep adds them when it ranks

@@ -70,6 +70,23 @@ impl Request {
         text
     }
 
+    /// What makes `earlier` another question than this one, if anything: its scene (as an
+    /// absolute path), its pipeline, frame or integrand. Other rays, replicates or budgets are the
+    /// same question asked again (a rerun resumes from the records it shares).
+    pub fn differs_from(&self, earlier: &Request) -> Option<String> {
+        let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+        if abs(&self.scene) != abs(&earlier.scene) {
+            return Some(format!("the scene {}", earlier.scene.display()));
+        }
+        if (self.pipeline, self.frames) != (earlier.pipeline, earlier.frames) {
+            return Some(format!("pipeline {} at frame {}", earlier.pipeline, earlier.frames));
+        }
+        if self.integrand != earlier.integrand {
+            return Some(format!("integrand {}", earlier.integrand));
+        }
+        None
+    }
+
     /// Reads `to_json`'s text back; the message says what is missing or wrong.
     pub fn from_json(text: &str) -> std::result::Result<Self, String> {
         let v: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
@@ -113,6 +130,13 @@ impl Request {
     }
 }
 
+/// The ray counts advise sweeps when `--rays` is not given: 1 to 64 for the paper's raw image
+/// (budgets in ms fall between them), 1, 2 and 4 after a real-time pipeline (the rays per pixel
+/// per frame an engine spends, each a budget of its own).
+pub fn default_rays(pipeline: crate::denoise::Pipeline) -> Vec<u32> {
+    if pipeline == crate::denoise::Pipeline::RAW { vec![1, 2, 4, 8, 16, 32, 64] } else { vec![1, 2, 4] }
+}
+
 /// Everything a run of advise needs, checked.
 pub struct Setup {
     pub loaded: Loaded,
@@ -125,6 +149,27 @@ pub struct Setup {
     pub choice: String,
     /// Where the reference is found or built.
     pub reference_dir: PathBuf,
+    /// What is ranked: the image after this pipeline at this frame (raw, 1: the paper's image).
+    pub pipeline: crate::denoise::Pipeline,
+    pub frames: u32,
+}
+
+impl Setup {
+    /// What a budget is the time of: "image", or "frame" after a real-time pipeline.
+    pub fn per(&self) -> &'static str {
+        if self.pipeline == crate::denoise::Pipeline::RAW { "image" } else { "frame" }
+    }
+
+    /// What the page's title says is ranked: "room at 64x48", "room at 320x180 after svgf at
+    /// frame 8".
+    pub fn title(&self) -> String {
+        let [w, h] = self.loaded.spec.resolution.unwrap_or([0, 0]);
+        let mut t = format!("{} at {w}x{h}", self.stem);
+        if self.pipeline != crate::denoise::Pipeline::RAW {
+            t += &format!(" after {} at frame {}", self.pipeline, self.frames);
+        }
+        t
+    }
 }
 
 /// A request's flags checked on their own, before any file is read.
@@ -155,6 +200,8 @@ pub fn check(args: &Request) -> Result<Checked> {
         added.extend(advice::engine_rows().into_iter().filter(|r| !added.contains(r)).collect::<Vec<_>>());
     }
     let rows = advice::select_with(&args.only, &added).map_err(|e| Error::Usage(format!("--only: {e}")))?;
+    // An accumulating pipeline never recommends a seed whose error repeats every frame: not swept.
+    let rows = advice::candidates_for(rows, args.pipeline);
     // Advise measures every gain against the paper's default, sine-cosine, whose weights are
     // unbounded on unweighted visibility (infinite variance: no RMSE of it means anything). So
     // that integrand is refused here rather than ranked; `run` measures it (experiments/integrands.toml).
@@ -252,6 +299,8 @@ pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> 
         stem,
         choice,
         reference_dir,
+        pipeline: args.pipeline,
+        frames: args.frames,
     })
 }
 

@@ -23,6 +23,7 @@ use crate::compare::budget::round_significant;
 use crate::error::{Error, Result};
 use crate::jobs::calibrate;
 use crate::jobs::executor;
+use crate::jobs::forecast;
 use crate::jobs::runner::JobRunner;
 use crate::jobs::sweep;
 use crate::load::{dropped_warning, load_scene};
@@ -32,9 +33,10 @@ use crate::{advice, outdir};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-/// Frames accumulated by a temporal `--pipeline` when `--frames` is not given: an EMA of α 0.1 has
-/// most of its weight on the last eight or so.
-const DEFAULT_FRAMES: u32 = 8;
+/// Frames accumulated by a temporal `--pipeline` when `--frames` is not given: steady state, as a
+/// game is seen — an EMA of α 0.1 keeps 0.9⁶⁴ ≈ 0.1 % of its first frame by then, and a
+/// spatiotemporal blue-noise mask has run its whole cycle of 64 slices.
+const DEFAULT_FRAMES: u32 = 64;
 
 pub fn run(args: AdviseArgs) -> Result<()> {
     let request = match &args.from {
@@ -42,7 +44,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
             .map_err(|e| Error::input(&dir.join(outdir::ADVISE_REQUEST), e))?,
         None => Request {
             scene: args.scene.clone().expect("clap requires a scene without --from"),
-            rays: args.rays.clone(),
+            rays: if args.rays.is_empty() { setup::default_rays(args.pipeline) } else { args.rays.clone() },
             only: args.only.clone(),
             replicates: args.replicates,
             resolution: args.resolution,
@@ -62,33 +64,25 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         },
     };
     let setup = set_up(&request)?;
-    // What is measured, and at what size and why, before minutes of work, and again with the answer.
+    // What is measured, and at what size and why, before minutes of work, and again with the answer
+    // (once with --from, which renders nothing: with the answer).
     let [w, h] = setup.loaded.spec.resolution.unwrap_or([0, 0]);
     let about = format!("{}\n{}", crate::load::summary(&setup.loaded.scenes[0], w, h), setup.choice);
-    if !args.common.quiet {
+    if !args.common.quiet && args.from.is_none() {
         eprintln!("{about}");
     }
-    let default_out = || Path::new("out").join(format!("advise-{}", setup.stem));
+    // Each pipeline's advice in a folder of its own: `out/advise-room`, `out/advise-room-svgf`.
+    let default_out = || outdir::advise_default(&setup.stem, &request.pipeline.to_string());
     let out = args.out.clone().or_else(|| args.from.clone()).unwrap_or_else(default_out);
     outdir::check_advise_out(&out)?;
+    if args.from.is_none() {
+        refuse_another_question(&request, &out, &default_out())?;
+    }
     let stage_at = outdir::advise_stage(&out)?;
     let threads = crate::jobs::Threads::resolve(args.common.threads);
     let workers = threads.workers;
     let spec = &setup.loaded.spec;
     let protocol = threads.protocol(None, spec);
-    if args.from.is_none() && !args.budget_ms.is_empty() {
-        refuse_impossible(&setup, &args.budget_ms, workers)?;
-    }
-    let runner = JobRunner::new(threads, args.common.quiet)?;
-    let policy = if args.from.is_some() { Policy::ReuseOnly } else { Policy::ReuseOrBuild };
-    let reference = crate::jobs::reference::obtain(
-        spec,
-        0,
-        &setup.loaded.scenes[0],
-        &setup.reference_dir,
-        policy,
-        &runner,
-    )?;
 
     // Earlier records: --from's directory, the output directory's, a killed run's stage.
     let mut sources: Vec<PathBuf> = Vec::new();
@@ -101,6 +95,36 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     for dir in &sources {
         previous.extend(outdir::previous_results(dir)?);
     }
+    // What it will cost, before any work: refused over --max-minutes (exit 2, nothing written).
+    if args.from.is_none() {
+        let todo = forecast::left(&setup.plan, previous.values());
+        let finalists = forecast::Finalists {
+            replicates: analysis::verify_replicates(spec.replicates),
+            frames: request.frames,
+            budgets_s: args.budget_ms.iter().map(|b| b * 1e-3).collect(),
+            default_budgets: request.pipeline == crate::denoise::Pipeline::RAW,
+        };
+        let (f, cal) =
+            forecast::advise(&setup.loaded, &setup.plan, &todo, &setup.reference_dir, &finalists, workers)?;
+        f.check(args.max_minutes).map_err(|e| Error::Usage(format!("{}\n{e}", f.line("advise"))))?;
+        if !args.common.quiet {
+            eprintln!("{}", f.line("advise"));
+        }
+        if !args.budget_ms.is_empty() {
+            refuse_impossible(&setup, &cal, &args.budget_ms)?;
+        }
+    }
+    let runner = JobRunner::new(threads, args.common.quiet)?;
+    let policy = if args.from.is_some() { Policy::ReuseOnly } else { Policy::ReuseOrBuild };
+    let reference = crate::jobs::reference::obtain(
+        spec,
+        0,
+        &setup.loaded.scenes[0],
+        &setup.reference_dir,
+        policy,
+        &runner,
+    )?;
+
     let stage = outdir::begin_advise_stage(&out, &sources.iter().map(PathBuf::as_path).collect::<Vec<_>>())?;
     outdir::write_advise_request(&stage, &request.to_json())?;
     let store = sweep::Store::new(&stage, &previous);
@@ -142,6 +166,9 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     // What advise ranks: the images after the pipeline, at the time of one frame (`as_ranked`).
     let results = as_ranked(&results).map_err(Error::Refused)?;
     let mut analysis = analysis::analyse(&setup, &results, &args.budget_ms);
+    if !analysis.per_ray.is_empty() {
+        analysis.sampler_ns = crate::jobs::sampler_cost::of_rows(&setup.rows, &setup.rays);
+    }
     let replicates = analysis::verify_replicates(spec.replicates);
     let vplan = setup::verify_jobs(spec, &analysis::finalists(&analysis), replicates);
     let (verified, verify_session) = if args.from.is_some() {
@@ -221,8 +248,8 @@ fn set_up(request: &Request) -> Result<Setup> {
 /// Refuses (exit 2, in seconds) budgets no configuration can render an image in, naming the
 /// cheapest render: a calibration of a fraction of a second instead of a sweep that would only
 /// find out at its end.
-fn refuse_impossible(setup: &Setup, budgets_ms: &[f64], workers: usize) -> Result<()> {
-    let (cheapest_s, job) = calibrate::cheapest(&setup.loaded, &setup.plan, workers)?;
+fn refuse_impossible(setup: &Setup, cal: &calibrate::Calibrated, budgets_ms: &[f64]) -> Result<()> {
+    let (cheapest_s, job) = calibrate::cheapest(&setup.loaded, &setup.plan, cal)?;
     let budgets_s: Vec<f64> = budgets_ms.iter().map(|b| b * 1e-3).collect();
     let low = advice::impossible(&budgets_s, cheapest_s);
     if low.is_empty() {
@@ -241,4 +268,23 @@ fn refuse_impossible(setup: &Setup, budgets_ms: &[f64], workers: usize) -> Resul
         ms(cheapest_s),
         ms(cheapest_s),
     )))
+}
+
+/// Refuses an `out` that holds the advice to another question (another scene, pipeline, frame or
+/// integrand): advise replaces its output directory whole, and nothing the user asked to keep is
+/// lost. The same question asked again (other budgets, rays) resumes there.
+fn refuse_another_question(request: &Request, out: &Path, default: &Path) -> Result<()> {
+    let Ok(text) = outdir::read_advise_request(out) else { return Ok(()) };
+    let Ok(earlier) = Request::from_json(&text) else { return Ok(()) };
+    match request.differs_from(&earlier) {
+        None => Ok(()),
+        Some(what) => Err(Error::input(
+            out,
+            format!(
+                "holds advise's answer for {what}; advise replaces its output directory whole, so give \
+                 this one another --out (its default is {})",
+                default.display()
+            ),
+        )),
+    }
 }

@@ -3,10 +3,9 @@
 
 use crate::cli::PlanArgs;
 use crate::error::Result;
-use crate::jobs::calibrate::{adaptive_rays, calibrate, references_s};
+use crate::jobs::calibrate::{Build, adaptive_rays, builds, by_scene, calibrate, references_s};
 use crate::load::load;
 use crate::plan::{self, Job, Plan, cost, format_duration};
-use crate::reference::Manifest;
 use crate::reference::store as refs;
 use crate::shard::manifest as shard;
 use crate::timing::clock;
@@ -23,15 +22,9 @@ pub fn run(args: PlanArgs) -> Result<()> {
     let threads = crate::jobs::Threads::resolve(args.threads).workers;
 
     let ref_dir = refs::dir(args.reference_dir.as_deref(), spec);
-    let builds: Vec<Option<Manifest>> = (0..loaded.scenes.len())
-        .map(|si| refs::missing(spec, si, &loaded.scenes[si], &ref_dir))
-        .collect::<Result<_>>()?;
-    let builds: Vec<Option<Manifest>> = builds
-        .into_iter()
-        .enumerate()
-        .map(|(si, b)| b.filter(|_| full.jobs.iter().any(|j| loaded.scene_of(j).0 == si)))
-        .collect();
-    let cal = calibrate(&loaded, &full, &builds, threads)?;
+    // Built only for the scenes and camera paths the plan uses (`calibrate::builds`).
+    let builds = builds(&loaded, &full, &ref_dir)?;
+    let cal = calibrate(&loaded, &full, &by_scene(&loaded, &builds), threads)?;
     let refs_s = references_s(&loaded, &cal, &builds, threads);
     let estimate = |p: &Plan| {
         cost::jobs(
@@ -65,20 +58,51 @@ pub fn run(args: PlanArgs) -> Result<()> {
         spec.timing.repeats, threads, b.renders
     );
     for (si, sc) in spec.scenes.iter().enumerate() {
-        match &builds[si] {
-            Some(m) => {
-                let how = match adaptive_rays(&loaded, si, m) {
-                    Some(r) => format!(
-                        "adaptive: a pilot of {0} x {1} rays, then {0} x about {r}",
-                        m.replicates, m.rays
-                    ),
-                    None => format!("{} x {} rays", m.replicates, m.rays),
-                };
-                let _ = writeln!(s, "reference '{}': must be built ({how})", sc.name);
+        if !full.jobs.iter().any(|j| loaded.scene_of(j).0 == si) {
+            continue;
+        }
+        match builds.iter().find(|b| b.scene == si && b.view.is_none()) {
+            Some(b) => {
+                let _ = writeln!(s, "reference '{}': must be built ({})", sc.name, how_built(&loaded, b));
             }
             None => {
                 let _ = writeln!(s, "reference '{}': stored in {}, reused", sc.name, ref_dir.display());
             }
+        }
+        let si_of = |j: &Job| loaded.scene_of(j).0;
+        let views = crate::jobs::reference::needed_views(&full, &loaded.scenes, si_of);
+        let mut cameras: Vec<plan::CameraId> =
+            views.iter().filter(|v| v.scene == si).map(|v| v.camera).collect();
+        cameras.dedup();
+        for c in cameras {
+            let needed = views.iter().filter(|v| v.scene == si && v.camera == c).count();
+            let built: Vec<&Build> =
+                builds.iter().filter(|b| b.scene == si && b.view.is_some_and(|(bc, _)| bc == c)).collect();
+            let what = match built.first() {
+                None => format!("stored in {}, reused", ref_dir.display()),
+                Some(b) => format!(
+                    "{} must be built ({} each{}){}",
+                    built.len(),
+                    how_built(&loaded, b),
+                    if b.views > 1 {
+                        format!(", the mean of {} jittered views", b.views)
+                    } else {
+                        String::new()
+                    },
+                    if built.len() < needed {
+                        format!(", the other {} stored or the scene's own", needed - built.len())
+                    } else {
+                        String::new()
+                    }
+                ),
+            };
+            let _ = writeln!(
+                s,
+                "references of camera '{}' on '{}': {needed} (a moving camera's measured frames and the frame \
+                 before each): {what}",
+                c.name(),
+                sc.name
+            );
         }
     }
     let _ =
@@ -127,6 +151,30 @@ pub fn run(args: PlanArgs) -> Result<()> {
         if refs_s > 0.0 { format_duration(refs_s) } else { "none to build".into() },
         load_s
     );
+    let pixels = |j: &Job| {
+        let (_, sc) = loaded.scene_of(j);
+        plan::Geometry::of(j.resolution, j.ao_distance, sc).pixels()
+    };
+    let jobs_bytes =
+        cost::output_bytes(&selected, pixels, |j| cal.bytes_per_pixel(j), cal.record_bytes, true);
+    let refs_bytes: f64 = builds
+        .iter()
+        .map(|b| {
+            let [w, h] = b.manifest.resolution;
+            // Three channels: the mean, its standard error, the coverage.
+            w as f64 * h as f64 * cal.exr_bytes_per_pixel * 1.5
+        })
+        .sum();
+    let _ = writeln!(
+        s,
+        "disk: ≈ {} ({} job images at {:.1} bytes per pixel for a raw frame, {:.1} for a filtered one, as \
+         encoded here, and their records; references {})",
+        plan::format_bytes(jobs_bytes + refs_bytes),
+        selected.jobs.len(),
+        cal.exr_bytes_per_pixel,
+        cal.filtered_exr_bytes_per_pixel,
+        if builds.is_empty() { "none to build".into() } else { plan::format_bytes(refs_bytes) }
+    );
     if let Some(n) = count {
         let of = shard::partition(&loaded, &full, n);
         let _ = writeln!(
@@ -166,4 +214,13 @@ pub fn run(args: PlanArgs) -> Result<()> {
     }
     print!("{s}");
     Ok(())
+}
+
+/// How a reference is built: "4 x 1024 rays", or an adaptive one's pilot and renders.
+fn how_built(loaded: &crate::load::Loaded, b: &Build) -> String {
+    let m = &b.manifest;
+    match adaptive_rays(loaded, b.scene, m) {
+        Some(r) => format!("adaptive: a pilot of {0} x {1} rays, then {0} x about {r}", m.replicates, m.rays),
+        None => format!("{} x {} rays", m.replicates, m.rays),
+    }
 }

@@ -29,16 +29,27 @@ pub fn run(args: &PointsArgs) -> Result<()> {
         (f, s) => format!(", frame {f} ({s})"),
     };
     let title = format!("{} (run seed {}{frame})", row.name(), args.seed);
-    let set = PointSet { title: format!("{} points", args.count), dirs };
+    // A static seed is the same set in every pixel and frame: one panel with its side view. A
+    // per-pixel seed mode is a grid of pixels × frames, the spread one pixel's panel cannot show.
+    let per_pixel = seed_mode != crate::sampling::SeedMode::Static;
+    let (rows, which) = if per_pixel {
+        let rows = report::pixel_frame_rows(args.distribution, config);
+        let (f0, n) = (args.frames.frame, report::GRID_FRAMES);
+        (rows, format!("pixels (0..1, 0..1) x frames {f0}..{}", f0 + n - 1))
+    } else {
+        let set = PointSet { title: format!("{} points", args.count), dirs };
+        (vec![(String::new(), vec![set])], "pixel 0".to_string())
+    };
+    let title = if per_pixel { format!("{title}, {} points per pixel", args.count) } else { title };
     // As `render`'s --output: made where the path says (no `a/..` left behind), checked first.
     let target = io::absolute(path);
     io::ensure_writable_dir(target.parent().unwrap_or(&target))?;
-    let bytes = report::point_panels(&title, &[(String::new(), vec![set])], true, format)
+    let bytes = report::point_panels(&title, &rows, !per_pixel, format)
         .map_err(|e| Error::Refused(format!("{}: cannot draw the points: {e}", path.display())))?;
     io::write_atomic(&target, &bytes)?;
     // As `render` does: what was drawn, and where.
     println!(
-        "{} points, {}, run seed {}{frame} (pixel 0) -> {}",
+        "{} points, {}, run seed {}{frame} ({which}) -> {}",
         args.count,
         row.name(),
         args.seed,

@@ -50,11 +50,20 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     // The masks and tables it reads, before the clock starts (the spatiotemporal masks take seconds).
     job.sampler.prepare();
+    // What it will cost, before it starts: refused over --max-minutes (exit 2, nothing written).
+    let threads = crate::jobs::Threads::resolve(args.common.threads);
+    let forecast = crate::jobs::forecast::render(&scene, &job, args.integrand, threads.pool_threads)?;
+    forecast
+        .check(args.max_minutes)
+        .map_err(|e| Error::Usage(format!("{}\n{e}", forecast.line("render"))))?;
+    if !args.common.quiet {
+        println!("{}", forecast.line("render"));
+    }
+    crate::interrupt::renders_one_image(&args.output);
     let bar = progress::bar(width as u64 * height as u64, "render", args.common.quiet);
     let start = Instant::now();
-    let result = crate::jobs::Threads::resolve(args.common.threads)
-        .pool()?
-        .install(|| render::render_integrand(&scene, &job, args.integrand, &|n| bar.inc(n)));
+    let result =
+        threads.pool()?.install(|| render::render_integrand(&scene, &job, args.integrand, &|n| bar.inc(n)));
     let secs = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
 

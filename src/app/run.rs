@@ -26,6 +26,16 @@ pub fn run(args: RunArgs) -> Result<()> {
     let full = plan::plan(&loaded.spec);
     let plan = shard.map_or_else(|| full.clone(), |s| shard::select(&loaded, &full, s));
     let previous = if args.force { HashMap::new() } else { outdir::previous_results(&out)? };
+    // A resumed run says so first (its closing line counts what it did reuse).
+    let kept = plan.jobs.len() - crate::jobs::forecast::left(&plan, previous.values()).jobs.len();
+    if kept > 0 && !args.common.quiet {
+        eprintln!(
+            "resuming from {}: {kept} of {} jobs have their records there and are reused (a changed reference \
+             or scene renders them again)",
+            out.display(),
+            plan.jobs.len()
+        );
+    }
     let threads = Threads::resolve(args.common.threads);
     let runner = JobRunner::new(threads, args.common.quiet)?;
 

@@ -25,6 +25,7 @@ pub mod equal_time;
 pub mod integrands;
 pub mod margin;
 pub mod model;
+pub mod per_ray;
 pub mod realtime;
 pub mod structure;
 

@@ -35,6 +35,9 @@ use std::sync::Mutex;
 const CALIBRATION_RAYS: u64 = 250_000;
 /// … and all estimator renders of all scenes together no more than this.
 const CALIBRATION_TOTAL_RAYS: u64 = 4_000_000;
+/// Bytes per pixel of two uncompressed 32-bit channels: a job image's size when no calibration
+/// image was encoded.
+pub const EXR_BYTES_PER_PIXEL_AT_MOST: f64 = 8.0;
 /// Timed samples of the overhead and 1-ray renders per scene.
 const CALIBRATION_SAMPLES: usize = 3;
 /// Untimed CPU seconds each calibration worker renders on a scene first.
@@ -54,6 +57,14 @@ pub struct SceneCal {
 
 pub struct Calibrated {
     pub scenes: Vec<Option<SceneCal>>,
+    /// Bytes per pixel of a job's image as written (AO and coverage, compressed losslessly): one
+    /// 1-ray calibration render encoded (a raw frame) …
+    pub exr_bytes_per_pixel: f64,
+    /// … and the same filtered (`denoise::gaussian`): a frame after a pipeline or a denoiser, whose
+    /// smooth values compress least.
+    pub filtered_exr_bytes_per_pixel: f64,
+    /// Bytes of one record in results.json and results.csv together.
+    pub record_bytes: f64,
     /// Wall seconds per CPU second a worker will see: the geometric mean of `measured` and
     /// `averaged`. The calibration's own wall/CPU is a direct measurement but of a fraction of a
     /// second, in which the scheduler favours threads that just started; the load average
@@ -86,6 +97,15 @@ impl Calibrated {
     pub fn overhead_s(&self, loaded: &Loaded, scene_id: &str) -> f64 {
         let si = loaded.spec.scenes.iter().position(|s| s.id == scene_id).expect("planned scene");
         self.scenes[si].as_ref().map_or(0.0, |s| s.overhead_s)
+    }
+
+    /// Bytes per pixel of `job`'s image as written: a filtered one's after a pipeline or a
+    /// denoiser, a raw frame's otherwise.
+    pub fn bytes_per_pixel(&self, job: &Job) -> f64 {
+        let m = &job.measurement;
+        let filtered =
+            m.pipeline != crate::denoise::Pipeline::RAW || m.denoiser != crate::plan::DenoiserId::NONE;
+        if filtered { self.filtered_exr_bytes_per_pixel } else { self.exr_bytes_per_pixel }
     }
 
     pub fn model(&self, loaded: &Loaded, jobs: usize, workers: usize) -> cost::Model {
@@ -171,6 +191,8 @@ pub fn calibrate(
     }
     let results: Mutex<Vec<(Probe, Time, u64)>> = Mutex::new(Vec::new());
     let sample: Mutex<Option<(usize, RenderOutput)>> = Mutex::new(None);
+    // A 1-ray image, the noisiest a run writes, for the bytes per pixel of its images.
+    let noisiest: Mutex<Option<RenderOutput>> = Mutex::new(None);
     let work = |w: &timing::Worker, &(p, r): &(Probe, usize)| -> Result<(Probe, Time, RenderOutput)> {
         let scene = &loaded.scenes[p.scene];
         if let Some(wj) = &warm[p.scene] {
@@ -183,6 +205,13 @@ pub fn calibrate(
     };
     let done = |_: &(Probe, usize), (p, t, out): (Probe, Time, RenderOutput)| -> Result<()> {
         results.lock().unwrap_or_else(|e| e.into_inner()).push((p, t, out.rays));
+        if p.rays == 1 && p.row.is_some() {
+            let mut n = noisiest.lock().unwrap_or_else(|e| e.into_inner());
+            if n.is_none() {
+                *n = Some(out);
+                return Ok(());
+            }
+        }
         let mut s = sample.lock().unwrap_or_else(|e| e.into_inner());
         if s.is_none() && p.rays > 1 {
             *s = Some((p.scene, out));
@@ -233,6 +262,22 @@ pub fn calibrate(
 
     // Per recorded job: metrics and the EXR; per record: the results files.
     let out = sample.into_inner().unwrap_or_else(|e| e.into_inner());
+    let mut exr_bytes_per_pixel = EXR_BYTES_PER_PIXEL_AT_MOST;
+    let mut filtered_exr_bytes_per_pixel = EXR_BYTES_PER_PIXEL_AT_MOST;
+    if let Some(n) = noisiest.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        let per_pixel = |ao: &image::Image| {
+            image::encode_exr(&[Channel { name: "Y", image: ao }, Channel { name: "A", image: &n.coverage }])
+                .map(|b| b.len() as f64 / ao.len().max(1) as f64)
+        };
+        if let Ok(b) = per_pixel(&n.ao) {
+            exr_bytes_per_pixel = b;
+        }
+        let smooth = crate::denoise::gaussian(&n.ao, &n.coverage, crate::denoise::GAUSS_SIGMA);
+        if let Ok(b) = per_pixel(&smooth) {
+            filtered_exr_bytes_per_pixel = b;
+        }
+    }
+    let mut record_bytes = 0.0;
     let (measure_s, serialize_per_record_s) = match out {
         Some((si, out)) => {
             let c0 = clock::thread_cpu_s();
@@ -250,6 +295,7 @@ pub fn calibrate(
                 .collect();
             let text = (results::to_json(&records), results::to_csv(&records));
             let c2 = clock::thread_cpu_s();
+            record_bytes = (text.0.len() + text.1.len()) as f64 / records.len().max(1) as f64;
             drop(text);
             ((c1 - c0) * ratio_of[si], (c2 - c1) / full.jobs.len().max(1) as f64)
         }
@@ -260,6 +306,9 @@ pub fn calibrate(
     let contention = averaged.map_or(measured, |a| (measured * a).sqrt());
     Ok(Calibrated {
         scenes,
+        exr_bytes_per_pixel,
+        filtered_exr_bytes_per_pixel,
+        record_bytes,
         contention,
         measured,
         averaged,
@@ -270,11 +319,10 @@ pub fn calibrate(
     })
 }
 
-/// The cheapest render of `plan` on this machine now, from `calibrate` (a fraction of a second of
-/// renders, no reference needed): every estimator's line at the plan's fewest rays, the least of
+/// The cheapest render of `plan` on this machine now, from its calibration `cal` (a fraction of a
+/// second of renders, no reference needed): every estimator's line at the plan's fewest rays, the least of
 /// them, with its job. What `advise` checks a budget against before its sweep.
-pub fn cheapest(loaded: &Loaded, plan: &Plan, workers: usize) -> Result<(f64, Job)> {
-    let cal = calibrate(loaded, plan, &vec![None; loaded.scenes.len()], workers)?;
+pub fn cheapest(loaded: &Loaded, plan: &Plan, cal: &Calibrated) -> Result<(f64, Job)> {
     let fewest = plan.jobs.iter().map(|j| j.rays).min().unwrap_or(1);
     plan.jobs
         .iter()
@@ -292,16 +340,65 @@ pub fn adaptive_rays(loaded: &Loaded, si: usize, m: &Manifest) -> Option<u32> {
     Some(a.budget.unwrap_or_else(|| refs::auto_rays(&loaded.spec, si)))
 }
 
-/// Wall seconds to build the references that must be built (on `threads` threads): every
-/// replicate at the manifest's rays (an adaptive reference's pilot), and an adaptive one's renders.
-pub fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Option<Manifest>], threads: usize) -> f64 {
+/// A reference a run of the plan would build: the scene's own, or a camera path frame's.
+pub struct Build {
+    pub scene: usize,
+    pub manifest: Manifest,
+    /// `None`: the scene's own view; else the camera and frame (from 0) it is of.
+    pub view: Option<(crate::plan::CameraId, u32)>,
+    /// Renders per replicate: 1, or the jitter cycle a jittered camera's reference averages.
+    pub views: u32,
+}
+
+/// The references a run of `selected` would build in `dir` (`reference::store::missing`,
+/// `missing_view`): each scene's own that a job of the plan uses, then every camera path frame's
+/// the jobs read (`jobs::reference::needed_views`), a moving camera's one per measured frame and
+/// the frame before it.
+pub fn builds(loaded: &Loaded, selected: &Plan, dir: &std::path::Path) -> Result<Vec<Build>> {
+    let spec = &loaded.spec;
+    let mut out = Vec::new();
+    for (si, scene) in loaded.scenes.iter().enumerate() {
+        if !selected.jobs.iter().any(|j| loaded.scene_of(j).0 == si) {
+            continue;
+        }
+        if let Some(manifest) = refs::missing(spec, si, scene, dir)? {
+            out.push(Build { scene: si, manifest, view: None, views: 1 });
+        }
+    }
+    let si_of = |j: &Job| loaded.scene_of(j).0;
+    for n in crate::jobs::reference::needed_views(selected, &loaded.scenes, si_of) {
+        if let Some(manifest) = refs::missing_view(spec, n.scene, &loaded.scenes[n.scene], dir, &n.view)? {
+            // A frame seen from the scene's own camera (an orbit's frame 0) is the scene's reference.
+            if out.iter().any(|b: &Build| b.manifest.file_stem() == manifest.file_stem()) {
+                continue;
+            }
+            let views = if n.view.jitter_average { crate::scene::camera_path::JITTER_CYCLE } else { 1 };
+            out.push(Build { scene: n.scene, manifest, view: Some((n.camera, n.frame)), views });
+        }
+    }
+    Ok(out)
+}
+
+/// Per scene, a reference it must build, if any: what `calibrate` adds the reference's estimator
+/// for.
+pub fn by_scene(loaded: &Loaded, builds: &[Build]) -> Vec<Option<Manifest>> {
+    (0..loaded.scenes.len())
+        .map(|si| builds.iter().find(|b| b.scene == si).map(|b| b.manifest.clone()))
+        .collect()
+}
+
+/// Wall seconds to build `builds` (on `threads` threads): every replicate at the manifest's rays
+/// (an adaptive reference's pilot), and an adaptive one's renders; a jittered view's replicate
+/// is `views` renders of 1/`views` of the rays each (`jobs::reference`'s `build_view`).
+pub fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Build], threads: usize) -> f64 {
     let mut cpu = 0.0;
-    for (si, b) in builds.iter().enumerate() {
-        let Some(m) = b else { continue };
+    for b in builds {
+        let (si, m) = (b.scene, &b.manifest);
         let passes = [Some(m.rays), adaptive_rays(loaded, si, m)];
         for rays in passes.into_iter().flatten() {
-            for job in plan::reference_jobs(&loaded.spec, si, rays) {
-                cpu += cal.render_s(loaded, &job);
+            let per = rays.div_ceil(b.views.max(1)).max(1);
+            for job in plan::reference_jobs(&loaded.spec, si, per) {
+                cpu += cal.render_s(loaded, &job) * b.views as f64;
             }
         }
     }
@@ -317,13 +414,8 @@ pub fn estimate_s(
     reference_dir: &std::path::Path,
     threads: usize,
 ) -> Result<f64> {
-    let builds: Vec<Option<Manifest>> = (0..loaded.scenes.len())
-        .map(|si| {
-            let used = selected.jobs.iter().any(|j| loaded.scene_of(j).0 == si);
-            Ok(if used { refs::missing(&loaded.spec, si, &loaded.scenes[si], reference_dir)? } else { None })
-        })
-        .collect::<Result<_>>()?;
-    let cal = calibrate(loaded, full, &builds, threads)?;
+    let builds = builds(loaded, selected, reference_dir)?;
+    let cal = calibrate(loaded, full, &by_scene(loaded, &builds), threads)?;
     let b = cost::jobs(
         selected,
         |j| cal.render_s(loaded, j),

@@ -6,12 +6,14 @@
 pub mod calibrate;
 pub mod config;
 pub mod executor;
+pub mod forecast;
 pub mod guides;
 pub mod long_run;
 pub mod measure;
 pub mod reference;
 pub mod replicates;
 pub mod runner;
+pub mod sampler_cost;
 pub mod sweep;
 
 pub use config::Threads;

@@ -86,8 +86,46 @@ pub fn view_frames(
     frames
 }
 
-/// Every camera path frame reference the plan needs (`ViewReferences`), each obtained as
-/// `obtain_view` does: reused from `dir` when its manifest matches, else built.
+/// One camera path frame's reference a plan reads: scene index, camera, frame (from 0), view.
+pub struct NeededView {
+    pub scene: usize,
+    pub camera: CameraId,
+    pub frame: u32,
+    pub view: ReferenceView,
+}
+
+/// Every camera path frame reference the plan's jobs read (`view_frames` of every moving or
+/// jittered camera), by scene, camera and frame: what `obtain_views` obtains and `plan` counts.
+pub fn needed_views(
+    plan: &plan::Plan,
+    scenes: &[std::sync::Arc<Scene>],
+    si_of: impl Fn(&plan::Job) -> usize,
+) -> Vec<NeededView> {
+    let mut cameras: Vec<(usize, CameraId)> = plan
+        .jobs
+        .iter()
+        .filter(|j| j.measurement.camera != CameraId::STATIC)
+        .map(|j| (si_of(j), j.measurement.camera))
+        .collect();
+    cameras.sort_unstable();
+    cameras.dedup();
+    let mut out = Vec::new();
+    for (si, camera) in cameras {
+        let run = camera.run().expect("a camera other than the static one is interned");
+        let scene = &scenes[si];
+        for frame in view_frames(plan, &si_of, si, camera) {
+            let view = ReferenceView {
+                camera: run.path.camera(&scene.view, frame, run.frames.max(1)),
+                jitter_average: run.jitter,
+            };
+            out.push(NeededView { scene: si, camera, frame, view });
+        }
+    }
+    out
+}
+
+/// Every camera path frame reference the plan needs (`ViewReferences`, `needed_views`), each
+/// obtained as `obtain_view` does: reused from `dir` when its manifest matches, else built.
 pub fn obtain_views(
     spec: &Spec,
     plan: &plan::Plan,
@@ -98,26 +136,9 @@ pub fn obtain_views(
     runner: &JobRunner,
 ) -> Result<ViewReferences> {
     let mut out = ViewReferences::default();
-    let mut cameras: Vec<(usize, CameraId)> = plan
-        .jobs
-        .iter()
-        .filter(|j| j.measurement.camera != CameraId::STATIC)
-        .map(|j| (si_of(j), j.measurement.camera))
-        .collect();
-    cameras.sort_unstable();
-    cameras.dedup();
-    for (si, camera) in cameras {
-        let run = camera.run().expect("a camera other than the static one is interned");
-        let scene = &scenes[si];
-        let mut refs = std::collections::HashMap::new();
-        for f in view_frames(plan, &si_of, si, camera) {
-            let view = ReferenceView {
-                camera: run.path.camera(&scene.view, f, run.frames.max(1)),
-                jitter_average: run.jitter,
-            };
-            refs.insert(f, obtain_view(spec, si, scene, &view, dir, policy, runner)?);
-        }
-        out.by_camera.insert((si, camera), refs);
+    for n in needed_views(plan, scenes, si_of) {
+        let r = obtain_view(spec, n.scene, &scenes[n.scene], &n.view, dir, policy, runner)?;
+        out.by_camera.entry((n.scene, n.camera)).or_default().insert(n.frame, r);
     }
     Ok(out)
 }

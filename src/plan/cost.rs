@@ -5,7 +5,7 @@
 //! `overhead_renders` times; then cheap units are topped up by the protocol's own rule
 //! (`timing::top_up`); and every worker warms up on each scene before its first timed render.
 
-use super::{Job, Plan, units};
+use super::{Job, Plan, series, units};
 use crate::timing::{self, Protocol};
 
 /// The protocol and the machine's per-job costs, as the estimate needs them.
@@ -48,8 +48,8 @@ pub struct Breakdown {
     pub wall_s: f64,
 }
 
-/// `render_s(job)`: CPU seconds of one render of the job; `overhead_s(scene_id)`: of the scene's
-/// no-AO-ray render.
+/// `render_s(job)`: CPU seconds of one render of the job (of one frame, for a series of frames);
+/// `overhead_s(scene_id)`: of the scene's no-AO-ray render.
 pub fn jobs(
     plan: &Plan,
     render_s: impl Fn(&Job) -> f64,
@@ -58,11 +58,27 @@ pub fn jobs(
 ) -> Breakdown {
     let units = units(plan);
     let mut b = Breakdown { units: units.len(), ..Breakdown::default() };
+    // A series of frames is rendered once, by its leader, frame after frame (`plan::series`).
+    let mut leads = vec![false; plan.jobs.len()];
+    for s in series(plan) {
+        leads[s.leader] = true;
+    }
     for u in &units {
-        let t = render_s(&plan.jobs[u[0]]);
-        let n = m.samples(u.len(), u.len().max(m.protocol.repeats as usize), t);
+        let first = &plan.jobs[u[0]];
+        let t = render_s(first);
+        if first.measurement.is_single_frame() {
+            let n = m.samples(u.len(), u.len().max(m.protocol.repeats as usize), t);
+            b.renders += n;
+            b.render_cpu_s += n as f64 * t;
+            continue;
+        }
+        // Each of the unit's series renders its leader's frames; a multi-frame unit is not topped
+        // up (`Measurement::tops_up`), but re-rendered to `repeats` like any other.
+        let leaders: Vec<&Job> = u.iter().filter(|&&i| leads[i]).map(|&i| &plan.jobs[i]).collect();
+        let frames = leaders.iter().map(|j| j.measurement.frames_rendered().len()).max().unwrap_or(1);
+        let n = leaders.len().max(m.protocol.repeats as usize);
         b.renders += n;
-        b.render_cpu_s += n as f64 * t;
+        b.render_cpu_s += n as f64 * frames as f64 * t;
     }
     let mut scenes: Vec<&str> = plan.jobs.iter().map(|j| j.scene_id.as_str()).collect();
     scenes.sort_unstable();
@@ -81,6 +97,22 @@ pub fn jobs(
     let per_worker = (b.render_cpu_s + b.overhead_cpu_s + b.post_cpu_s) / workers as f64;
     b.wall_s = (per_worker + scenes.len() as f64 * m.protocol.warmup_s) * m.contention.max(1.0);
     b
+}
+
+/// What a run of a plan writes, in bytes: one image per job (`pixels(job)` pixels at
+/// `bytes_per_pixel(job)`, as the calibration encoded one like it) and its records
+/// (`record_bytes` each, in results.json and results.csv); `images` false for a command that keeps
+/// numbers only (advise's sweep).
+pub fn output_bytes(
+    plan: &Plan,
+    pixels: impl Fn(&Job) -> u64,
+    bytes_per_pixel: impl Fn(&Job) -> f64,
+    record_bytes: f64,
+    images: bool,
+) -> f64 {
+    let image: f64 =
+        if images { plan.jobs.iter().map(|j| pixels(j) as f64 * bytes_per_pixel(j)).sum() } else { 0.0 };
+    image + plan.jobs.len() as f64 * record_bytes
 }
 
 /// Largest calibration image: the paper's 160x120 is calibrated as it is run.
@@ -118,6 +150,59 @@ mod tests {
             w as u64 * h as u64 <= CALIBRATION_PIXELS && (w as f64 / h as f64 - 4.0).abs() < 0.1,
             "{w}x{h}"
         );
+    }
+
+    #[test]
+    fn output_bytes_count_each_jobs_image_and_record() {
+        let p = plan_of(
+            r#"
+scenes = ["a.toml"]
+resolution = [10, 10]
+replicates = 3
+[[table]]
+name = "t"
+rays = [2, 4]
+rows = [ { distribution = "sine", sequence = "random" } ]
+"#,
+        );
+        assert_eq!(p.jobs.len(), 6);
+        assert_eq!(output_bytes(&p, |_| 100, |_| 2.5, 1000.0, true), 6.0 * (250.0 + 1000.0));
+        assert_eq!(output_bytes(&p, |_| 100, |_| 2.5, 1000.0, false), 6000.0);
+        assert_eq!(crate::plan::format_bytes(504e6), "504 MB");
+        assert_eq!(crate::plan::format_bytes(1.8e10), "18 GB");
+        assert_eq!(crate::plan::format_bytes(2.34e9), "2.3 GB");
+        assert_eq!(crate::plan::format_bytes(12.0), "12 bytes");
+    }
+
+    #[test]
+    fn a_series_of_frames_costs_its_frames_once() {
+        // Frames 1, 2, 4 and 8 of two accumulating pipelines are read from one render of 8 frames
+        // per replicate: 3 replicates, 2 rays → 3 renders of 8 frames each, not 24 one-frame ones.
+        let p = plan_of(
+            r#"
+scenes = ["a.toml"]
+resolution = [10, 10]
+replicates = 3
+[[table]]
+name = "t"
+rays = [2]
+distributions = ["sine"]
+sequences = ["random"]
+pipelines = ["mean", "ema0.1"]
+frames = 8
+"#,
+        );
+        assert!(p.jobs.len() >= 8, "{} jobs", p.jobs.len());
+        let mut protocol = Protocol::new(1, 1, 1);
+        protocol.warmup_s = 0.0;
+        protocol.min_total_s = 100.0;
+        let m = Model { protocol, overhead_renders: 1, post_s: 0.0, contention: 1.0 };
+        let b = jobs(&p, |_| 0.5, |_| 0.0, &m);
+        assert_eq!((b.units, b.renders), (1, 3), "{b:?}");
+        assert!((b.render_cpu_s - 3.0 * 8.0 * 0.5).abs() < 1e-12, "{b:?}");
+        // Re-rendered to the protocol's repeats like any unit, never topped up.
+        let b = jobs(&p, |_| 0.5, |_| 0.0, &Model { protocol: Protocol::new(5, 1, 1), ..m });
+        assert_eq!(b.renders, 5, "{b:?}");
     }
 
     #[test]

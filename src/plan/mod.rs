@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 pub mod cost;
+pub mod forecast;
 mod geometry;
 mod measurement;
 
@@ -291,6 +292,18 @@ pub fn format_jobs(plan: &Plan) -> String {
         );
     }
     s
+}
+
+/// "504 MB", "18 GB", "12 kB" (powers of 1000, two significant digits at least).
+pub fn format_bytes(bytes: f64) -> String {
+    let units = ["bytes", "kB", "MB", "GB", "TB", "PB"];
+    let mut v = bytes.max(0.0);
+    let mut u = 0;
+    while v >= 999.5 && u + 1 < units.len() {
+        v /= 1000.0;
+        u += 1;
+    }
+    if u == 0 || v >= 9.95 { format!("{v:.0} {}", units[u]) } else { format!("{v:.1} {}", units[u]) }
 }
 
 /// "2 h 05 min", "3 min 07 s", "12.3 s".

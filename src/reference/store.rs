@@ -185,6 +185,20 @@ pub fn missing(spec: &Spec, si: usize, scene: &Scene, dir: &Path) -> Result<Opti
     Ok(load_if_matching(spec, &wanted, &exr, &json)?.err().map(|_| wanted))
 }
 
+/// The reference of `view` of scene `si` (a camera path's frame), if `dir` holds no usable one.
+pub fn missing_view(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    dir: &Path,
+    view: &ReferenceView,
+) -> Result<Option<Manifest>> {
+    let g = Geometry::of(spec.resolution, spec.ao_distance, scene);
+    let wanted = wanted_view(spec, si, scene, g, view);
+    let (exr, json) = paths(dir, &wanted);
+    Ok(load_if_matching(spec, &wanted, &exr, &json)?.err().map(|_| wanted))
+}
+
 /// `Ok(Err((file, why)))` when there is nothing reusable; `Err` only for a stored file that cannot
 /// be read.
 pub fn load_if_matching(

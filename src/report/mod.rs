@@ -32,4 +32,6 @@ pub use html::{
     markdown_page_opened, markdown_table, referenced_files,
 };
 pub use plot::{Guide, Series, convergence_plot};
-pub use points::{PointSet, directions, directions_of, figure_rows, point_panels};
+pub use points::{
+    GRID_FRAMES, PointSet, directions, directions_of, figure_rows, pixel_frame_rows, point_panels,
+};

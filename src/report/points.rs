@@ -163,6 +163,34 @@ pub fn directions_of(distribution: Distribution, config: SamplerConfig) -> Vec<V
     pts.into_iter().map(|u| distribution.sample(u).dir).collect()
 }
 
+/// The pixels and frames a grid of a per-pixel seed mode shows (`pixel_frame_rows`): four
+/// neighbouring pixels of an image this wide, over three consecutive frames.
+pub const GRID_PIXELS: [(u32, u32); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
+pub const GRID_FRAMES: u32 = 3;
+pub const GRID_WIDTH: u32 = 64;
+
+/// Rows of a grid of pixels × frames: a per-pixel seed mode moves the set from pixel to pixel and
+/// (by its schedule) from frame to frame, so one panel of pixel 0 says little. Row "frame f" for
+/// f from `config.frame`, a panel per pixel (x, y) of an image `GRID_WIDTH` pixels wide: exactly
+/// the sets the renderer would use there.
+pub fn pixel_frame_rows(distribution: Distribution, config: SamplerConfig) -> Vec<(String, Vec<PointSet>)> {
+    (config.frame..config.frame + GRID_FRAMES)
+        .map(|f| {
+            let c = config.with_frame(f);
+            let sets = GRID_PIXELS
+                .iter()
+                .map(|&(x, y)| {
+                    let mut pts = vec![Vec2::ZERO; c.count as usize];
+                    c.fill_pixel(x, y, y as u64 * GRID_WIDTH as u64 + x as u64, &mut pts);
+                    let dirs = pts.into_iter().map(|u| distribution.sample(u).dir).collect();
+                    PointSet { title: format!("pixel ({x}, {y})"), dirs }
+                })
+                .collect();
+            (format!("frame {f}"), sets)
+        })
+        .collect()
+}
+
 /// Rows of a point figure: one row per distribution, one panel per point count ("500 points"), all
 /// from pixel 0 of `sequence` with `seed`. Table 1 is the Fibonacci lattice through the three
 /// distributions; Figures 2-4 are one pseudo-random row each.
@@ -253,6 +281,20 @@ mod tests {
         let mut ragged = set(vec![Vec3::Z]);
         ragged.push(("r2".into(), vec![]));
         assert!(point_panels("t", &ragged, false, Format::Png).is_err());
+    }
+
+    #[test]
+    fn a_per_pixel_seed_mode_draws_pixels_by_frames_and_they_differ() {
+        let c = SamplerConfig::new(Sequence::Fibonacci, SeedMode::Rotation, 16, 1).unwrap().with_frame(5);
+        let rows = pixel_frame_rows(Distribution::SineCosine, c);
+        assert_eq!(rows.iter().map(|r| r.0.as_str()).collect::<Vec<_>>(), ["frame 5", "frame 6", "frame 7"]);
+        assert!(rows.iter().all(|r| r.1.len() == GRID_PIXELS.len()));
+        assert_eq!(rows[0].1[1].title, "pixel (1, 0)");
+        // Pixel (0, 0) of the first frame is the single panel's set; pixels and frames differ.
+        assert_eq!(rows[0].1[0].dirs, directions_of(Distribution::SineCosine, c));
+        assert_ne!(rows[0].1[0].dirs, rows[0].1[1].dirs);
+        assert_ne!(rows[0].1[0].dirs, rows[1].1[0].dirs);
+        assert!(point_panels("grid", &rows, false, Format::Svg).is_ok());
     }
 
     #[test]

@@ -78,6 +78,11 @@ fn advise_resumes_and_reanalyses_without_rendering() {
     let same = json(&t.path("same/advice.json"));
     assert_eq!(answers(&same), answers(&first));
     assert!(same["recommendations"].as_array().unwrap().iter().all(|r| r["measured"] == true));
+    // Not quiet, --from says the resolution and why once (it rendered nothing to say it before).
+    let o = t.hemilab(&["advise", "--from", "again", "--budget-ms", &budgets.join(","), "--out", "same"]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let said = format!("{}{}", common::stdout(&o), common::stderr(&o));
+    assert_eq!(said.lines().filter(|l| l.starts_with("resolution ")).count(), 1, "{said}");
 
     // Budgets outside every measured time: said so, not extrapolated; the earlier map is gone.
     let o = from(&t, "again", &["--budget-ms", "0.00001,100000"]);

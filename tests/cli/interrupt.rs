@@ -186,6 +186,45 @@ fn a_signal_during_a_reference_build_leaves_no_lock_file() {
     assert!(locks().is_empty(), "left behind: {:?}\n{text}", locks());
 }
 
+/// Ctrl-C during `render`: the message says how long it had rendered and that nothing was written
+/// (once it said "stopped before any job ran … rerun to go on" after seconds of work, and a render
+/// does not resume).
+#[test]
+fn a_signal_stops_render_which_says_nothing_was_written() {
+    let t = Tmp::new("interrupt-render");
+    // About a billion rays on one thread: far longer than the test waits, well under 30 minutes.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hemilab"))
+        .args([
+            "render",
+            &scene("cornell-box.toml"),
+            "--rays",
+            "16384",
+            "--resolution",
+            "256x256",
+            "--output",
+            "img.exr",
+            "--threads",
+            "1",
+        ])
+        .current_dir(&t.0)
+        .stdout(std::fs::File::create(t.path("r.out")).unwrap())
+        .stderr(std::fs::File::create(t.path("r.log")).unwrap())
+        .spawn()
+        .expect("start hemilab");
+    let out = || std::fs::read_to_string(t.path("r.out")).unwrap_or_default();
+    wait_for(&mut child, "the render's plan", &|| out().contains("render plan: "));
+    std::thread::sleep(Duration::from_millis(300));
+    signal(&child, libc::SIGINT);
+    let status = child.wait().unwrap();
+    let text = std::fs::read_to_string(t.path("r.log")).unwrap();
+    assert_eq!(status.code(), Some(130), "{text}");
+    let last = text.lines().last().unwrap_or_default();
+    assert!(last.starts_with("interrupted (SIGINT): stopped after "), "{last}");
+    assert!(last.contains("the image was not finished and nothing was written (img.exr"), "{last}");
+    assert!(last.contains("a render does not resume") && !last.contains("before any job ran"), "{last}");
+    assert!(!t.path("img.exr").exists() && !t.path("img.png").exists());
+}
+
 /// Ctrl-C during advise's sweep: its progress lines are labelled by phase, and the message says how
 /// many jobs are kept, where, and the command that resumes from them (once it said nothing was
 /// saved, while the rerun reused all but a few); the rerun reuses them.

@@ -12,6 +12,7 @@ mod external_sampler;
 mod first_hour;
 mod help_readme;
 mod interrupt;
+mod no_surprises;
 mod plan_estimate;
 mod points;
 mod reference_adaptive;

@@ -54,7 +54,10 @@ fn points_writes_a_png_and_an_svg_panel() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.contains("<svg") && text.contains("100 points") && text.contains("uniform"));
-    assert_eq!(text.matches("<circle").count(), 1 + 2 * 100, "outline + top and side view of each point");
+    // A per-pixel seed: a grid of 4 pixels x 3 frames, top views (outline + each point).
+    assert_eq!(text.matches("<circle").count(), 12 * (1 + 100), "{}", String::from_utf8_lossy(&out.stdout));
+    assert!(text.contains("pixel (1, 1)") && text.contains("frame 2"));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("(pixels (0..1, 0..1) x frames 0..2)"));
 }
 
 #[test]

@@ -233,6 +233,16 @@ fn default_output_directory_is_out_slash_spec_name() {
     let o = t.hemilab(&["run", "tiny.toml", "--reference-dir", "ref", "--quiet"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(closing(&o), "6 jobs: 0 rendered, 6 reused; report: out/tiny/index.html", "{}", stdout(&o));
+    // Without --quiet it says so before any work, too.
+    let o = t.hemilab(&["run", "tiny.toml", "--reference-dir", "ref"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o)
+            .lines()
+            .any(|l| l.starts_with("resuming from out/tiny: 6 of 6 jobs have their records there")),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

@@ -370,7 +370,11 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             .collect();
         let extra = timing::top_up(&units, protocol.min_total_s, protocol.max_repeats);
         let slots = timing::schedule(&extra, protocol.seed ^ 0x5eed_0002);
-        bar.set_length(bar.length().unwrap_or(0) + cost(&slots));
+        // A phase of its own: lengthening the first round's bar would send its percentage back
+        // (80 % → 27 %) under the same label.
+        bar.reset();
+        bar.set_length(cost(&slots));
+        bar.set_message(format!("{label}, timing repeats"));
         let workers = timing::workers(protocol.workers).map_err(Error::Refused)?;
         let queued = timing::run_queue(&slots, workers, work, |slot, d| state.done(n, slot, d, write));
         stop_if_interrupted()?;

@@ -9,6 +9,7 @@ use crate::advice::answer::{self, Answer, Candidate, FINALISTS, RankScored};
 use crate::advice::{setup, winner};
 use crate::compare::budget::{AtBudget, Metric, Place, Ranking, round_significant};
 use crate::compare::model;
+use crate::compare::per_ray::{AtRays, Entry};
 use crate::compare::{PAPER_DEFAULT, structure};
 use crate::spec::Row;
 use crate::timing;
@@ -85,7 +86,7 @@ fn ranked(x: &AtBudget, sc: &RankScored) -> Value {
     })
 }
 
-fn recommendation(a: &Answer) -> Value {
+fn recommendation(a: &Answer, per: &str) -> Value {
     let r = &a.ranking;
     let outside: Vec<Value> = r
         .outside
@@ -104,7 +105,7 @@ fn recommendation(a: &Answer) -> Value {
         Some(best) => entry(best, a),
         None => json!({ "configuration": null, "rays": null, "rmse": null, "gain_vs_paper_default": null }),
     };
-    let note = if r.ranked.is_empty() { outside_note(r) } else { advice_line(a) };
+    let note = if r.ranked.is_empty() { outside_note(r) } else { advice_line(a, per) };
     let or_null = |c: Option<&Candidate>| c.map_or(Value::Null, |c| entry(c, a));
     let o = v.as_object_mut().expect("an object");
     o.insert("budget_ms".into(), json!(ms_value(a.budget_s)));
@@ -123,6 +124,32 @@ fn recommendation(a: &Answer) -> Value {
     o.insert("lowpass_ranking".into(), scored(&a.lowpass, &a.lowpass_scores));
     o.insert("outside".into(), Value::Array(outside));
     v
+}
+
+/// A ray budget's answer (after a real-time pipeline): every configuration at that many rays per
+/// pixel per frame, least RMSE first, with its paired margin to the best and whether it is a
+/// near-tie; `recommended` the best, `near_ties` the best and those within its margin.
+fn ray_budget(x: &AtRays, a: &Analysis) -> Value {
+    let entry = |e: &Entry| {
+        json!({
+            "configuration": conf(e.row),
+            "rmse": e.rmse.value,
+            "rmse_se": e.rmse.se,
+            "mse": e.mse.iter().map(|(r, v)| json!({"replicate": r, "mse": v})).collect::<Vec<_>>(),
+            "time_per_frame_ms": e.time_s * 1e3,
+            "sampler_ns_per_point": a.sampler_ns(e.row, x.rays),
+            "mse_above_best": e.behind.map(|m| m.mean),
+            "mse_above_best_se": e.behind.map(|m| m.se),
+            "near_tie": e.near_tie,
+        })
+    };
+    json!({
+        "rays_per_pixel_per_frame": x.rays,
+        "recommended": x.best().map(|e| conf(e.row)),
+        "near_ties": x.near_ties().map(|e| conf(e.row)).collect::<Vec<_>>(),
+        "alpha": crate::compare::per_ray::ALPHA,
+        "ranking": x.entries.iter().map(entry).collect::<Vec<_>>(),
+    })
 }
 
 pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
@@ -218,7 +245,8 @@ pub fn advice_json(m: &Measured, a: &Analysis) -> Value {
         "paper_default": conf(PAPER_DEFAULT),
         "budgets_ms": a.budgets_s.iter().map(|&b| ms_value(b)).collect::<Vec<_>>(),
         "budgets_chosen_by_advise": a.default_budgets,
-        "recommendations": a.answers.iter().map(recommendation).collect::<Vec<_>>(),
+        "recommendations": a.answers.iter().map(|x| recommendation(x, m.setup.per())).collect::<Vec<_>>(),
+        "ray_budgets": a.per_ray.iter().map(|x| ray_budget(x, a)).collect::<Vec<_>>(),
         "winner_map": {
             "file": (!a.maps.is_empty()).then_some("winner_map.png"),
             "significance": format!(

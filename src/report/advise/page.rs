@@ -3,10 +3,11 @@
 //! measured, the interpolated rankings, and every measured point.
 
 use super::maps::winner_note;
-use super::text::{advice_line, label, model_text, ms, pm, status};
+use super::text::{advice_line, label, model_text, ms, pm, ray_line, status};
 use crate::advice::analysis::{Analysis, Measured};
 use crate::advice::answer::{Answer, FINALISTS, RankScored};
 use crate::compare::budget::{Metric, Ranking};
+use crate::compare::per_ray::AtRays;
 use crate::compare::{PAPER_DEFAULT, structure};
 use crate::outdir::{self, File};
 use crate::report::{self, Figure, Table};
@@ -29,10 +30,27 @@ pub fn page(
     let json = crate::report::advise::json::advice_json(m, a);
     let mut text = serde_json::to_string_pretty(&json).unwrap_or_default();
     text.push('\n');
-    let lines: Vec<String> = a.answers.iter().map(advice_line).collect();
-    let [w, h] = m.setup.loaded.spec.resolution.unwrap_or([0, 0]);
-    let title = format!("hemilab advise: {} at {w}x{h}", m.setup.stem);
+    let per = m.setup.per();
+    let after = format!("after {} at frame {}", m.setup.pipeline, m.setup.frames);
+    // The answer first: per ray budget after a real-time pipeline, then per ms budget.
+    let mut lines: Vec<String> = a.per_ray.iter().map(|x| ray_line(x, a, &after)).collect();
+    lines.extend(a.answers.iter().map(|x| advice_line(x, per)));
+    let title = format!("hemilab advise: {} (budgets in ms per {per})", m.setup.title());
     let mut intro = lines.clone();
+    if m.setup.pipeline.is_temporal() {
+        intro.push(crate::advice::REPEATING_ERROR.into());
+    }
+    if !a.per_ray.is_empty() {
+        intro.push(format!(
+            "After a real-time pipeline the budget is rays per pixel per frame, as an engine has it: at each \
+             ray count every configuration is ranked by its RMSE {after}, and the near-ties are those whose \
+             MSE is not behind the best's by a paired margin significant at {} (two-sided Student's t over \
+             the replicates). Beside each, one frame's CPU time here (one thread, the whole image) and its \
+             sampler's own cost per point (points drawn and mapped, no ray traced). Budgets in ms only with \
+             --budget-ms.",
+            crate::compare::per_ray::ALPHA
+        ));
+    }
     intro.push(model_text());
     intro.push(time_text(m));
     intro.push(format!(
@@ -74,15 +92,18 @@ pub fn page(
             .into(),
     );
     let intro = intro.join("\n\n");
-    let mut tables = vec![summary_table(a)];
-    tables.extend(a.answers.iter().filter(|x| !x.finalists.is_empty()).map(finalists_table));
+    let mut tables: Vec<Table> = a.per_ray.iter().map(|x| per_ray_table(x, a, &after)).collect();
+    if !a.answers.is_empty() || a.per_ray.is_empty() {
+        tables.push(summary_table(a));
+    }
+    tables.extend(a.answers.iter().filter(|x| !x.finalists.is_empty()).map(|x| finalists_table(x, per)));
     tables.extend(
         a.answers
             .iter()
             .filter(|x| !x.ranking.ranked.is_empty())
-            .map(|x| ranking_table(&x.ranking, &x.ranking_scores)),
+            .map(|x| ranking_table(&x.ranking, &x.ranking_scores, per)),
     );
-    let collapsed = vec![ladder_table(a)];
+    let collapsed = vec![ladder_table(a, per)];
     files.push(File::new(outdir::ADVICE_JSON, text));
     let page = report::Page {
         title: &title,
@@ -124,6 +145,48 @@ pub fn page(
         outdir::index(shown).display()
     );
     (s, warnings)
+}
+
+/// A ray budget's ranking: the first `SHOWN` configurations (all are in advice.json).
+fn per_ray_table(x: &AtRays, a: &Analysis, after: &str) -> Table {
+    let rows = x
+        .entries
+        .iter()
+        .take(SHOWN)
+        .enumerate()
+        .map(|(i, e)| {
+            vec![
+                (i + 1).to_string(),
+                label(e.row),
+                pm(e.rmse, 4),
+                e.behind.map_or("best".into(), |m| {
+                    format!("+{:.1} % ± {:.1} %", 100.0 * m.relative(), 100.0 * m.relative_se())
+                }),
+                if e.near_tie { "yes".into() } else { String::new() },
+                ms(e.time_s),
+                format!("{:.1}", a.sampler_ns(e.row, x.rays)),
+            ]
+        })
+        .collect();
+    Table {
+        title: format!(
+            "At {} per pixel per frame, {after}: {} configurations ranked by RMSE",
+            if x.rays == 1 { "1 ray".to_string() } else { format!("{} rays", x.rays) },
+            x.entries.len()
+        ),
+        header: [
+            "#",
+            "configuration",
+            "RMSE",
+            "MSE above the best's (paired)",
+            "near-tie",
+            "time per frame (ms)",
+            "sampler (ns per point)",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+    }
 }
 
 fn summary_table(a: &Analysis) -> Table {
@@ -172,7 +235,7 @@ fn summary_table(a: &Analysis) -> Table {
     }
 }
 
-fn finalists_table(x: &Answer) -> Table {
+fn finalists_table(x: &Answer, per: &str) -> Table {
     let best = x.recommended().map(|b| b.row);
     let rows = x
         .finalists
@@ -197,7 +260,7 @@ fn finalists_table(x: &Answer) -> Table {
         .collect();
     Table {
         title: format!(
-            "At {} ms per image: the finalists {}",
+            "At {} ms per {per}: the finalists {}",
             ms(x.budget_s),
             if x.measured {
                 "measured at the ray count that fits the budget".to_string()
@@ -221,7 +284,7 @@ fn finalists_table(x: &Answer) -> Table {
     }
 }
 
-fn ranking_table(r: &Ranking, scores: &[RankScored]) -> Table {
+fn ranking_table(r: &Ranking, scores: &[RankScored], per: &str) -> Table {
     let mut shown: Vec<usize> = (0..r.ranked.len().min(SHOWN)).collect();
     if let Some(i) = r.ranked.iter().position(|a| a.row == PAPER_DEFAULT).filter(|&i| i >= SHOWN) {
         shown.push(i);
@@ -243,7 +306,7 @@ fn ranking_table(r: &Ranking, scores: &[RankScored]) -> Table {
         .collect();
     Table {
         title: format!(
-            "At {} ms per image, interpolated from the sweep: {} configurations ranked by RMSE{}",
+            "At {} ms per {per}, interpolated from the sweep: {} configurations ranked by RMSE{}",
             ms(r.budget_s),
             r.ranked.len(),
             if r.outside.is_empty() {
@@ -267,7 +330,7 @@ fn ranking_table(r: &Ranking, scores: &[RankScored]) -> Table {
     }
 }
 
-fn ladder_table(a: &Analysis) -> Table {
+fn ladder_table(a: &Analysis, per: &str) -> Table {
     let mut rows = Vec::new();
     for c in &a.curves {
         for p in &c.points {
@@ -277,9 +340,14 @@ fn ladder_table(a: &Analysis) -> Table {
     }
     Table {
         title: "Every point of the sweep (time: median ± σ; errors ± σ over the replicates)".into(),
-        header: ["configuration", "rays", "time per image (ms)", "RMSE", "low-pass RMSE"]
-            .map(String::from)
-            .to_vec(),
+        header: [
+            "configuration".into(),
+            "rays".into(),
+            format!("time per {per} (ms)"),
+            "RMSE".into(),
+            "low-pass RMSE".into(),
+        ]
+        .to_vec(),
         rows,
     }
 }

@@ -1,9 +1,11 @@
 //! The sentences and small facts advise's page and advice.json share: the answer per budget, why a
 //! budget has no answer, how numbers print.
 
+use crate::advice::analysis::Analysis;
 use crate::advice::answer::Answer;
 use crate::compare::budget::{Place, Ranking, round_significant};
 use crate::compare::model::{self, Estimate};
+use crate::compare::per_ray::AtRays;
 use crate::compare::{PAPER_DEFAULT, structure};
 use crate::spec::Row;
 use std::fmt::Write as _;
@@ -18,17 +20,19 @@ fn rays(n: u32) -> String {
 
 /// One sentence per budget: what to ship, measured at its ray count, and what it gains; or why
 /// there is no answer. Every ± and margin is 1 σ of the error model (`compare::model`), as the
-/// answer scored it (`Answer::score`).
-pub fn advice_line(a: &Answer) -> String {
+/// answer scored it (`Answer::score`). `per`: what a budget is the time of ("image", or "frame"
+/// after a real-time pipeline).
+pub fn advice_line(a: &Answer, per: &str) -> String {
     let b = ms(a.budget_s);
     let Some(best) = a.recommended() else {
-        return format!("At {b} ms per image: {}.", outside_note(&a.ranking));
+        return format!("At {b} ms per {per}: {}.", outside_note(&a.ranking));
     };
     let scored = a.score(best);
     let e = scored.rmse;
-    let mut s = format!("At {b} ms per image: ship {} with {} per pixel", label(best.row), rays(best.rays));
+    let px = if per == "frame" { "per pixel per frame" } else { "per pixel" };
+    let mut s = format!("At {b} ms per {per}: ship {} with {} {px}", label(best.row), rays(best.rays));
     if a.measured {
-        let _ = write!(s, " (measured there: RMSE {}, {} ms per image)", pm(e, 4), pm(scored.time_ms, 2));
+        let _ = write!(s, " (measured there: RMSE {}, {} ms per {per})", pm(e, 4), pm(scored.time_ms, 2));
         if !a.fits(best) {
             let _ = write!(
                 s,
@@ -36,15 +40,15 @@ pub fn advice_line(a: &Answer) -> String {
                 100.0 * (best.time_s / a.budget_s - 1.0)
             );
         } else if scored.time_ms.value > a.budget_s * 1e3 * 1.005 {
-            // Above the budget yet shipped: say why, or the number reads as a mistake.
+            // Above the budget yet shipped: say why in one plain sentence, or it reads as a mistake.
             let _ = write!(
                 s,
-                " — {:.0} % above the budget, which counts as fitting it: a time is allowed up to {} σ of the \
-                 session factor above (σ {:.0} %, how much this machine's speed moves between sessions) \
-                 before the next lower ray count is shipped instead",
+                " — its measured time is {:.0} % over the budget, which is within this machine's timing \
+                 noise (its speed moves by about {:.0} % from one session to the next, and up to {} times that \
+                 counts as fitting), so it ships rather than the next lower ray count",
                 100.0 * (scored.time_ms.value / (a.budget_s * 1e3) - 1.0),
-                crate::advice::answer::FITS_SIGMA,
-                100.0 * model::RUN_FACTOR
+                100.0 * model::RUN_FACTOR,
+                crate::advice::answer::FITS_SIGMA
             );
         }
     } else {
@@ -101,6 +105,40 @@ pub fn advice_line(a: &Answer) -> String {
             " ({} configurations outside their measured times here, unranked)",
             a.ranking.outside.len()
         );
+    }
+    s + "."
+}
+
+/// One sentence per ray budget after a real-time pipeline (`after`, e.g. "after svgf at frame
+/// 8"): what to ship at that many rays per pixel per frame, its RMSE, its time per frame here and
+/// its sampler's cost per point, the near-ties within its paired margin, and the paper's default.
+pub fn ray_line(at: &AtRays, a: &Analysis, after: &str) -> String {
+    let per = format!("{} per pixel per frame", rays(at.rays));
+    let Some(best) = at.best() else { return format!("At {per} {after}: nothing was measured.") };
+    let mut s = format!(
+        "At {per} {after}: ship {} (RMSE {}; here {} ms per frame, its sampler {:.1} ns per point)",
+        label(best.row),
+        pm(best.rmse, 4),
+        ms(best.time_s),
+        a.sampler_ns(best.row, at.rays)
+    );
+    let ties: Vec<String> = at.near_ties().skip(1).map(|e| label(e.row)).collect();
+    if ties.is_empty() {
+        s += "; no other configuration is within its paired margin";
+    } else {
+        let _ = write!(s, "; within its paired margin (near-ties): {}", ties.join(", "));
+    }
+    match at.entry(PAPER_DEFAULT) {
+        Some(d) if d.row == best.row => s += "; the paper's default is the best here",
+        Some(d) => {
+            let _ = write!(
+                s,
+                "; the paper's default has {:.0} % more RMSE ({})",
+                100.0 * (d.rmse.value / best.rmse.value - 1.0),
+                pm(d.rmse, 4)
+            );
+        }
+        None => {}
     }
     s + "."
 }

@@ -31,7 +31,7 @@ pub fn run(args: &PointsArgs) -> Result<()> {
     let title = format!("{} (run seed {}{frame})", row.name(), args.seed);
     // A static seed is the same set in every pixel and frame: one panel with its side view. A
     // per-pixel seed mode is a grid of pixels × frames, the spread one pixel's panel cannot show.
-    let per_pixel = seed_mode != crate::sampling::SeedMode::Static;
+    let per_pixel = row.seed_mode != crate::sampling::SeedMode::Static;
     let (rows, which) = if per_pixel {
         let rows = report::pixel_frame_rows(args.distribution, config);
         let (f0, n) = (args.frames.frame, report::GRID_FRAMES);

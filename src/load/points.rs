@@ -128,7 +128,12 @@ fn npy_points(bytes: &[u8]) -> Result<Read, String> {
         Some(">f8") => (8, false),
         Some("<f4") | Some("=f4") => (4, true),
         Some(">f4") => (4, false),
-        other => return Err(format!("has dtype {}; readable: float64, float32", other.unwrap_or("?"))),
+        other => {
+            return Err(format!(
+                "has dtype {}; readable: float64, float32",
+                other.unwrap_or("?").escape_debug()
+            ));
+        }
     };
     let fortran = field("fortran_order").is_some_and(|r| r.starts_with("True"));
     let dims = field("shape")
@@ -139,7 +144,11 @@ fn npy_points(bytes: &[u8]) -> Result<Read, String> {
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
-        .map(|s| s.parse().map_err(|_| format!("its .npy shape ({dims}) has '{s}', not a size")))
+        .map(|s| {
+            // Shown on one line, as the header holds it (escaped), however it is broken.
+            let shown = |t: &str| t.chars().take(60).collect::<String>().escape_debug().to_string();
+            s.parse().map_err(|_| format!("its .npy shape ({}) has '{}', not a size", shown(dims), shown(s)))
+        })
         .collect::<Result<_, _>>()?;
     let (sets, per_set) = match shape[..] {
         [n, 2] => (1, n),

@@ -22,14 +22,25 @@ pub const MAX_DECLARED_BUFFER: u64 = 1 << 32;
 /// have: 2^26, 64 M vertices.
 pub const MAX_SPARSE_ONLY: u64 = 1 << 26;
 
+/// A JSON member as the crate reads it: `null` is absent (serde gives `None` for it).
+trait Field {
+    fn field(&self, key: &str) -> Option<&Value>;
+}
+
+impl Field for Value {
+    fn field(&self, key: &str) -> Option<&Value> {
+        self.get(key).filter(|v| !v.is_null())
+    }
+}
+
 /// The array `key` of the top level (empty when absent).
 fn list<'a>(j: &'a Value, key: &str) -> &'a [Value] {
-    j.get(key).and_then(Value::as_array).map_or(&[], |a| &a[..])
+    j.field(key).and_then(Value::as_array).map_or(&[], |a| &a[..])
 }
 
 /// The index `v[key]`, if present, checked against the top-level array `target`; `at` names `v`.
 fn reference(j: &Value, v: &Value, key: &str, target: &str, at: &dyn Fn() -> String) -> Result<(), String> {
-    let Some(x) = v.get(key) else { return Ok(()) };
+    let Some(x) = v.field(key) else { return Ok(()) };
     index(j, x, target, &|| format!("{}.{key}", at())).map(|_| ())
 }
 
@@ -54,8 +65,8 @@ pub fn document(j: &Value) -> Result<(), String> {
     }
     references(j)?;
     for (i, c) in list(j, "cameras").iter().enumerate() {
-        let kind = c.get("type").and_then(Value::as_str).unwrap_or("");
-        if matches!(kind, "perspective" | "orthographic") && c.get(kind).is_none_or(|o| !o.is_object()) {
+        let kind = c.field("type").and_then(Value::as_str).unwrap_or("");
+        if matches!(kind, "perspective" | "orthographic") && c.field(kind).is_none_or(|o| !o.is_object()) {
             return Err(format!(
                 "cameras[{i}]: its `type` is \"{kind}\" but it has no `{kind}` object (the type names the object \
                  that holds the projection)"
@@ -63,7 +74,7 @@ pub fn document(j: &Value) -> Result<(), String> {
         }
     }
     for (i, image) in list(j, "images").iter().enumerate() {
-        match (image.get("uri"), image.get("bufferView"), image.get("mimeType")) {
+        match (image.field("uri"), image.field("bufferView"), image.field("mimeType")) {
             (None, None, _) => {
                 return Err(format!("images[{i}]: has neither a `uri` nor a `bufferView` (it needs one)"));
             }
@@ -77,7 +88,7 @@ pub fn document(j: &Value) -> Result<(), String> {
         }
     }
     for (i, m) in list(j, "materials").iter().enumerate() {
-        if let Some(c) = m.get("alphaCutoff") {
+        if let Some(c) = m.field("alphaCutoff") {
             match c.as_f64() {
                 Some(v) if (0.0..=1.0).contains(&v) => {}
                 _ => {
@@ -91,10 +102,10 @@ pub fn document(j: &Value) -> Result<(), String> {
     }
     for (m, mesh) in list(j, "meshes").iter().enumerate() {
         for (p, prim) in list(mesh, "primitives").iter().enumerate() {
-            let Some(a) = prim.get("indices").and_then(Value::as_u64) else { continue };
+            let Some(a) = prim.field("indices").and_then(Value::as_u64) else { continue };
             let acc = &list(j, "accessors")[a as usize];
-            let ct = acc.get("componentType").and_then(Value::as_u64).unwrap_or(0);
-            let ty = acc.get("type").and_then(Value::as_str).unwrap_or("");
+            let ct = acc.field("componentType").and_then(Value::as_u64).unwrap_or(0);
+            let ty = acc.field("type").and_then(Value::as_str).unwrap_or("");
             if !matches!(ct, 5121 | 5123 | 5125) || ty != "SCALAR" {
                 return Err(format!(
                     "meshes[{m}].primitives[{p}].indices: accessors[{a}] is {ty} of componentType {ct}; indices \
@@ -113,7 +124,7 @@ fn references(j: &Value) -> Result<(), String> {
     for (m, mesh) in list(j, "meshes").iter().enumerate() {
         for (p, prim) in list(mesh, "primitives").iter().enumerate() {
             let at = || format!("meshes[{m}].primitives[{p}]");
-            let attributes = prim.get("attributes").and_then(Value::as_object);
+            let attributes = prim.field("attributes").and_then(Value::as_object);
             for (name, a) in attributes.into_iter().flatten() {
                 index(j, a, "accessors", &|| format!("{}.attributes.{name}", at()))?;
             }
@@ -129,7 +140,7 @@ fn references(j: &Value) -> Result<(), String> {
     for (i, a) in list(j, "accessors").iter().enumerate() {
         let at = || format!("accessors[{i}]");
         reference(j, a, "bufferView", "bufferViews", &at)?;
-        if let Some(s) = a.get("sparse") {
+        if let Some(s) = a.field("sparse") {
             reference(j, &s["indices"], "bufferView", "bufferViews", &|| format!("{}.sparse.indices", at()))?;
             reference(j, &s["values"], "bufferView", "bufferViews", &|| format!("{}.sparse.values", at()))?;
         }
@@ -167,7 +178,7 @@ fn references(j: &Value) -> Result<(), String> {
             (m, "occlusionTexture"),
             (m, "emissiveTexture"),
         ] {
-            if let Some(info) = holder.get(key) {
+            if let Some(info) = holder.field(key) {
                 reference(j, info, "index", "textures", &|| format!("materials[{i}] {key}"))?;
             }
         }
@@ -177,7 +188,7 @@ fn references(j: &Value) -> Result<(), String> {
 
 /// `v[key]` as a size (absent: `default`).
 fn size(v: &Value, key: &str, default: Option<u64>, at: &dyn Fn() -> String) -> Result<u64, String> {
-    match v.get(key) {
+    match v.field(key) {
         None => default.ok_or_else(|| format!("{}: `{key}` is missing", at())),
         Some(x) => x.as_u64().ok_or_else(|| format!("{}: `{key}` {x} is not a size", at())),
     }
@@ -185,13 +196,13 @@ fn size(v: &Value, key: &str, default: Option<u64>, at: &dyn Fn() -> String) -> 
 
 /// The bytes of one element of an accessor (None: a component type or type the crate refuses).
 fn element(a: &Value) -> Option<u64> {
-    let component = match a.get("componentType")?.as_u64()? {
+    let component = match a.field("componentType")?.as_u64()? {
         5120 | 5121 => 1,
         5122 | 5123 => 2,
         5125 | 5126 => 4,
         _ => return None,
     };
-    let n = match a.get("type")?.as_str()? {
+    let n = match a.field("type")?.as_str()? {
         "SCALAR" => 1,
         "VEC2" => 2,
         "VEC3" => 3,
@@ -225,7 +236,7 @@ fn sizes(j: &Value) -> Result<(), String> {
         let at = || format!("bufferViews[{i}]");
         let (offset, len) = (size(v, "byteOffset", Some(0), &at)?, size(v, "byteLength", None, &at)?);
         let buffer = v
-            .get("buffer")
+            .field("buffer")
             .and_then(Value::as_u64)
             .ok_or_else(|| format!("{}: `buffer` is missing", at()))?;
         let room = size(&buffers[buffer as usize], "byteLength", None, &|| format!("buffers[{buffer}]"))?;
@@ -235,10 +246,10 @@ fn sizes(j: &Value) -> Result<(), String> {
                 at()
             ));
         }
-        if let Some(ext) = v.get("extensions").and_then(|e| e.get("EXT_meshopt_compression")) {
+        if let Some(ext) = v.field("extensions").and_then(|e| e.field("EXT_meshopt_compression")) {
             meshopt_view(j, ext, len, &at)?;
         }
-        extent.push((len, v.get("byteStride").and_then(Value::as_u64)));
+        extent.push((len, v.field("byteStride").and_then(Value::as_u64)));
     }
     for (i, a) in list(j, "accessors").iter().enumerate() {
         let at = || format!("accessors[{i}]");
@@ -248,7 +259,7 @@ fn sizes(j: &Value) -> Result<(), String> {
         }
         let Some(elem) = element(a) else { continue };
         let offset = size(a, "byteOffset", Some(0), &at)?;
-        match a.get("bufferView").and_then(Value::as_u64) {
+        match a.field("bufferView").and_then(Value::as_u64) {
             Some(v) => {
                 within(extent[v as usize], offset, count, elem, &|| format!("{} (bufferViews[{v}])", at()))?
             }
@@ -260,13 +271,13 @@ fn sizes(j: &Value) -> Result<(), String> {
             }
             None => {}
         }
-        let Some(s) = a.get("sparse") else { continue };
+        let Some(s) = a.field("sparse") else { continue };
         let n = size(s, "count", None, &|| format!("{}.sparse", at()))?;
         if n == 0 || n > count {
             return Err(format!("{}.sparse: `count` {n} is not in 1..={count} (the accessor's count)", at()));
         }
         let ix = &s["indices"];
-        let ix_size = match ix.get("componentType").and_then(Value::as_u64) {
+        let ix_size = match ix.field("componentType").and_then(Value::as_u64) {
             Some(5121) => 1,
             Some(5123) => 2,
             Some(5125) => 4,
@@ -326,7 +337,7 @@ fn meshopt_view(j: &Value, ext: &Value, len: u64, at: &dyn Fn() -> String) -> Re
         return Err(format!("{}: decodes to {count} x {stride} bytes, more than the view's {len}", at()));
     }
     let buffer =
-        index(j, ext.get("buffer").unwrap_or(&Value::Null), "buffers", &|| format!("{}.buffer", at()))?;
+        index(j, ext.field("buffer").unwrap_or(&Value::Null), "buffers", &|| format!("{}.buffer", at()))?;
     let room = size(&list(j, "buffers")[buffer], "byteLength", None, &|| format!("buffers[{buffer}]"))?;
     let (offset, n) = (size(ext, "byteOffset", Some(0), &at)?, size(ext, "byteLength", None, &at)?);
     if offset.checked_add(n).is_none_or(|end| end > room) {

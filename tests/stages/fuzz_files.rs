@@ -72,32 +72,41 @@ fn fuzz(
     mutate: &dyn Fn(&[u8], &mut Rng) -> Vec<u8>,
     case: &dyn Fn(u64, &[u8]) -> Result<(), String>,
 ) {
+    // A longer run by hand: HEMILAB_FUZZ_CASES=100000 cargo test --release --test stages fuzz_files
+    let cases = std::env::var("HEMILAB_FUZZ_CASES").ok().and_then(|c| c.parse().ok()).unwrap_or(cases);
     let watchdog = Watchdog::new();
     let (mut failed, mut accepted, mut total) = (Vec::new(), 0, 0);
     let began = Instant::now();
-    let previous = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
     for (k, seed) in seeds.iter().enumerate() {
         for n in 0..cases {
             let mut rng = Rng::new(0xF17E_0000 ^ ((k as u64) << 32 | n));
             let bytes = mutate(seed, &mut rng);
             watchdog.start(format!("{name} seed {k} case {n}"));
-            match catch_unwind(AssertUnwindSafe(|| case(n, &bytes))) {
-                Ok(Ok(())) => accepted += 1,
-                Ok(Err(e)) if e.lines().count() == 1 && !e.contains("reader failed") => {}
-                Ok(Err(e)) => failed.push(format!("seed {k} case {n}: {e}")),
+            let why = match catch_unwind(AssertUnwindSafe(|| case(n, &bytes))) {
+                Ok(Ok(())) => {
+                    accepted += 1;
+                    None
+                }
+                Ok(Err(e)) if e.lines().count() == 1 && !e.contains("reader failed") => None,
+                Ok(Err(e)) => Some(e),
                 Err(p) => {
                     let what = p
                         .downcast_ref::<String>()
                         .cloned()
                         .or(p.downcast_ref::<&str>().map(|s| s.to_string()));
-                    failed.push(format!("seed {k} case {n}: panicked: {}", what.unwrap_or_default()));
+                    Some(format!("panicked: {}", what.unwrap_or_default()))
                 }
+            };
+            if let Some(why) = why {
+                // The input kept beside the message, to open by hand.
+                let kept =
+                    std::env::temp_dir().join(format!("hemilab-fuzz-{}-{k}-{n}", name.replace(' ', "-")));
+                std::fs::write(&kept, &bytes).unwrap();
+                failed.push(format!("seed {k} case {n} (input kept as {}): {why}", kept.display()));
             }
             total += 1;
         }
     }
-    std::panic::set_hook(previous);
     let took = began.elapsed().as_secs_f64();
     assert!(
         failed.is_empty(),
@@ -159,7 +168,7 @@ fn mutated_gltf_files_are_read_or_refused_with_one_message() {
         up: glam::DVec3::Y,
         fov_y_deg: 45.0,
     });
-    fuzz("glTF", &files, 500, &mutate_case, &|_, bytes| {
+    fuzz("glTF", &files, 3000, &mutate_case, &|_, bytes| {
         let (k, file) = (bytes[0] as usize, &bytes[2..]);
         let bin = &seeds[k].1;
         // The foliage scene names its buffer and leaf texture by URI; the others use the GLB chunk.
@@ -262,7 +271,7 @@ fn mutated_textures_are_read_or_refused_with_one_message() {
         }
         b
     };
-    fuzz("textures", &seeds, 250, &mutate_case, &|n, bytes| {
+    fuzz("textures", &seeds, 1000, &mutate_case, &|n, bytes| {
         let ext = if bytes.starts_with(b"\x89PNG") || n % 2 == 0 { "png" } else { "exr" };
         let name = format!("c{n}.{ext}");
         std::fs::write(t.path(&name), bytes).unwrap();
@@ -318,7 +327,7 @@ fn mutated_point_sets_are_read_or_refused_with_one_message() {
         b.extend(&seed[10 + len..]);
         b
     };
-    fuzz("point sets", &seeds, 300, &mutate_case, &|n, bytes| {
+    fuzz("point sets", &seeds, 1000, &mutate_case, &|n, bytes| {
         let name = format!("p{n}.npy");
         std::fs::write(t.path(&name), bytes).unwrap();
         let got = hemilab::load::points::points(&t, &name);

@@ -31,8 +31,6 @@ fn read(rel: &str) -> String {
 /// one path only).
 fn fuzz(name: &str, seeds: &[String], case: &dyn Fn(&str) -> bool) {
     let (mut panicked, mut accepted, mut total) = (Vec::new(), 0, 0);
-    let previous = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
     for (k, seed) in seeds.iter().enumerate() {
         for n in 0..CASES {
             let mut rng = Rng::new((k as u64) << 32 | n);
@@ -44,7 +42,6 @@ fn fuzz(name: &str, seeds: &[String], case: &dyn Fn(&str) -> bool) {
             total += 1;
         }
     }
-    std::panic::set_hook(previous);
     assert!(panicked.is_empty(), "{name}: {} inputs panicked, e.g.\n{}", panicked.len(), panicked[0]);
     eprintln!("{name}: {total} mutated inputs, {accepted} accepted, none panicked");
     assert!(accepted * 20 > total && accepted * 20 < total * 19, "{name}: {accepted} of {total} accepted");

@@ -145,7 +145,7 @@ impl Scene {
         let triangle_count = indices.len();
         // Exact repeats are drawn once (`repeats`): the same image, without the build's quadratic
         // time over thousands of identical boxes. They still count as the mesh's triangles.
-        let once = repeats::first_copies(&positions, &indices, alpha.as_ref());
+        let once = repeats::kept_copies(&positions, &indices, alpha.as_ref());
         let repeated_triangles = once.iter().filter(|&&f| !f).count();
         if repeated_triangles > 0 {
             let mut k = once.iter();

@@ -70,6 +70,9 @@ fn bad_textures_and_point_sets_are_one_message() {
     assert!(!t.path("o.exr").exists(), "nothing written");
 }
 
+/// A change to a glTF file's JSON.
+type Edit = dyn Fn(&mut serde_json::Value);
+
 #[test]
 fn bad_gltf_files_are_one_message_naming_the_file_and_the_object() {
     let t = Tmp::new("bad-gltf");
@@ -79,7 +82,7 @@ fn bad_gltf_files_are_one_message_naming_the_file_and_the_object() {
          eye = [0.5, 0.5, 3.0]\ntarget = [0.5, 0.5, 0.0]\nup = [0.0, 1.0, 0.0]\nfov_y_deg = 45.0\n",
     )
     .unwrap();
-    let cases: Vec<(Box<dyn Fn(&mut serde_json::Value)>, &str)> = vec![
+    let cases: Vec<(Box<Edit>, &str)> = vec![
         (
             Box::new(|d| {
                 let a = d["meshes"][1]["primitives"][0]["indices"].as_u64().unwrap() as usize;

@@ -8,11 +8,27 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 pub fn read_string(path: &Path) -> Result<String> {
-    fs::read_to_string(path).map_err(|e| Error::io(path, e))
+    String::from_utf8(read_bytes(path)?).map_err(|e| {
+        Error::io(path, std::io::Error::other(format!("is not UTF-8 text ({})", e.utf8_error())))
+    })
 }
 
+/// A regular file's bytes. Every file hemilab reads is one the user names (a spec, a scene, a mesh,
+/// a texture, a point set): a device, FIFO or socket (`/dev/zero`, `/dev/stdin`) has no end, so it
+/// is refused rather than read forever, and the read stops at the size the file had when opened.
 pub fn read_bytes(path: &Path) -> Result<Vec<u8>> {
-    fs::read(path).map_err(|e| Error::io(path, e))
+    use std::io::Read;
+    let file = fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let meta = file.metadata().map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        let what =
+            if meta.is_dir() { "a directory" } else { "not a regular file (a device, FIFO or socket)" };
+        let e = std::io::Error::new(std::io::ErrorKind::InvalidInput, format!("is {what}; name a file"));
+        return Err(Error::io(path, e));
+    }
+    let mut bytes = Vec::new();
+    file.take(meta.len()).read_to_end(&mut bytes).map_err(|e| Error::io(path, e))?;
+    Ok(bytes)
 }
 
 pub fn exists(path: &Path) -> bool {

@@ -128,29 +128,40 @@ fn npy_points(bytes: &[u8]) -> Result<Read, String> {
         Some(">f8") => (8, false),
         Some("<f4") | Some("=f4") => (4, true),
         Some(">f4") => (4, false),
-        other => return Err(format!("has dtype {}; readable: float64, float32", other.unwrap_or("?"))),
+        other => {
+            return Err(format!(
+                "has dtype {}; readable: float64, float32",
+                other.unwrap_or("?").escape_debug()
+            ));
+        }
     };
     let fortran = field("fortran_order").is_some_and(|r| r.starts_with("True"));
-    let shape: Vec<usize> = field("shape")
+    let dims = field("shape")
         .and_then(|r| r.strip_prefix('('))
         .and_then(|r| r.split(')').next())
-        .map(|r| {
-            r.split(',').map(str::trim).filter(|s| !s.is_empty()).filter_map(|s| s.parse().ok()).collect()
-        })
         .ok_or("its .npy header has no shape")?;
+    let shape: Vec<usize> = dims
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            // Shown on one line, as the header holds it (escaped), however it is broken.
+            let shown = |t: &str| t.chars().take(60).collect::<String>().escape_debug().to_string();
+            s.parse().map_err(|_| format!("its .npy shape ({}) has '{}', not a size", shown(dims), shown(s)))
+        })
+        .collect::<Result<_, _>>()?;
     let (sets, per_set) = match shape[..] {
         [n, 2] => (1, n),
         [p, n, 2] => (p, n),
         _ => return Err(format!("has shape {shape:?}; a point set is N × 2 or P × N × 2")),
     };
     let data = &bytes[start + len..];
-    let count = sets * per_set * 2;
-    if data.len() < count * size {
-        return Err(format!(
-            "holds {} bytes of data, its shape {shape:?} needs {}",
-            data.len(),
-            count * size
-        ));
+    // The header's promise checked against the bytes before anything is allocated: a shape whose
+    // size overflows (2^62 × 2 points) is simply more than the file holds.
+    let needed = sets.checked_mul(per_set).and_then(|n| n.checked_mul(2 * size));
+    if needed.is_none_or(|b| b > data.len()) {
+        let needs = needed.map_or("more than 2^64".to_string(), |b| b.to_string());
+        return Err(format!("holds {} bytes of data, its shape {shape:?} needs {needs}", data.len()));
     }
     let read = |k: usize| -> f64 {
         let b = &data[k * size..(k + 1) * size];

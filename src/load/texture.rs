@@ -1,8 +1,9 @@
 //! Reading a noise texture the user names into `sampling::texture`'s table.
 //!
 //! - **Files**: one PNG (8 or 16 bit; grey, grey + alpha, RGB, RGBA) or EXR per slice. A path with
-//!   `%d` (or `%0Nd`, zero-padded to N digits) is a numbered pattern: slices 0, 1, 2, … (or from 1,
-//!   when no slice 0 exists) up to the first number with no file. Without one it is a single slice.
+//!   `%d` (or `%0Nd`, zero-padded to N digits, or `%Nd`, space-padded as printf pads; N up to 9) is a
+//!   numbered pattern: slices 0, 1, 2, … (or from 1, when no slice 0 exists) up to the first number
+//!   with no file. Without one it is a single slice.
 //! - **Channels**: a PNG's in order (grey; grey, alpha; R, G, B(, A)); an EXR's R, G, B when it has
 //!   them, else its one channel (Y or any). `offset` reads channels 0 and 1 (one channel: read at
 //!   two independent shifts), `rotation` channel 0, `vector` channels 0–2 (three needed).
@@ -35,7 +36,8 @@ pub fn texture(base: &Path, written: &str, use_: TextureUse) -> Result<SeedMode,
     for file in &files {
         let shown = file.display();
         let bytes = io::read_bytes(file).map_err(|e| e.to_string())?;
-        let (l, samples) = decode(file, &bytes)?;
+        let (l, samples) = crate::scene::guard::contained("image", || decode(file, &bytes))
+            .map_err(|e| if e.starts_with("texture") { e } else { format!("texture {shown}: {e}") })?;
         match &layout {
             None => layout = Some((l, file.clone())),
             Some((first, from))
@@ -140,14 +142,25 @@ fn warning(
 /// The files of a texture: the numbered slices of a `%d` pattern, or the one file.
 fn slice_files(base: &Path, written: &str) -> Result<Vec<PathBuf>, String> {
     let at = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf()).display().to_string();
-    let Some((head, width, tail)) = pattern(written) else {
+    let Some(Pattern { head, width, pad, tail }) = pattern(written)? else {
         let file = base.join(written);
         if !io::exists(&file) {
+            // `t.png:diagonal`: the file exists and the word after it is not a use.
+            if let Some((path, use_)) = written.rsplit_once(':')
+                && (io::exists(&base.join(path)) || pattern(path).is_ok_and(|p| p.is_some()))
+                && let Err(e) = TextureUse::parse(use_)
+            {
+                return Err(format!("texture '{written}': {e} (after the file name, a `:` names the use)"));
+            }
             return Err(format!("texture file '{written}' not found (looked for {})", at(&file)));
         }
         return Ok(vec![file]);
     };
-    let name = |i: usize| base.join(format!("{head}{i:0width$}{tail}"));
+    // printf's `%Nd` pads with spaces, `%0Nd` with zeros.
+    let name = |i: usize| {
+        let number = if pad == '0' { format!("{i:0width$}") } else { format!("{i:>width$}") };
+        base.join(format!("{head}{number}{tail}"))
+    };
     let start = if io::exists(&name(0)) { 0 } else { 1 };
     let mut files = Vec::new();
     while io::exists(&name(start + files.len())) {
@@ -166,17 +179,51 @@ fn slice_files(base: &Path, written: &str) -> Result<Vec<PathBuf>, String> {
     Ok(files)
 }
 
-/// `a%d.png` → ("a", 0, ".png"); `a%03d.png` → ("a", 3, ".png"); None without a `%…d`.
-fn pattern(written: &str) -> Option<(&str, usize, &str)> {
-    let i = written.find('%')?;
+/// The widest number a pattern may pad to: slice numbers have at most 4 digits (`MAX_SLICES`), and
+/// a wider field is a typo (`%099999999999d` would ask for a name longer than any file system's).
+pub const MAX_PATTERN_WIDTH: usize = 9;
+
+/// A numbered pattern: `head`, the slice number padded to `width` with `pad`, `tail`.
+#[derive(Debug, PartialEq)]
+struct Pattern<'a> {
+    head: &'a str,
+    width: usize,
+    pad: char,
+    tail: &'a str,
+}
+
+/// `a%d.png` → ("a", 0, ".png"); `a%03d.png` → zero-padded to 3; `a%3d.png` → space-padded to 3
+/// (as printf pads); None without a `%…d`, an error for a `%…d` this reader does not take (a flag
+/// other than `0`, a width over `MAX_PATTERN_WIDTH`).
+fn pattern(written: &str) -> Result<Option<Pattern<'_>>, String> {
+    let Some(i) = written.find('%') else { return Ok(None) };
     let rest = &written[i + 1..];
-    let digits = rest.find('d')?;
-    let spec = &rest[..digits];
-    if !spec.chars().all(|c| c.is_ascii_digit()) {
-        return None;
+    let Some(d) = rest.find(|c: char| !matches!(c, '0'..='9' | '-' | '+' | ' ' | '#' | '\'')) else {
+        return Ok(None);
+    };
+    if !rest[d..].starts_with('d') {
+        return Ok(None);
     }
-    let width = spec.parse::<usize>().unwrap_or(0);
-    Some((&written[..i], width, &rest[digits + 1..]))
+    let spec = &rest[..d];
+    let refuse = |why: &str| {
+        Err(format!(
+            "texture pattern '{written}': '%{spec}d' {why}; a pattern takes %d, %Nd (space-padded, as printf) or \
+             %0Nd (zero-padded), N up to {MAX_PATTERN_WIDTH}"
+        ))
+    };
+    let (pad, digits) = match spec.strip_prefix('0') {
+        Some(d) => ('0', d),
+        None => (' ', spec),
+    };
+    if !digits.chars().all(|c| c.is_ascii_digit()) {
+        return refuse("has a flag this reader does not take");
+    }
+    let width = match digits.parse::<usize>() {
+        _ if digits.is_empty() => 0,
+        Ok(w) if w <= MAX_PATTERN_WIDTH => w,
+        _ => return refuse("pads wider than any slice number needs"),
+    };
+    Ok(Some(Pattern { head: &written[..i], width, pad, tail: &rest[d + 1..] }))
 }
 
 /// One slice's size, channels and samples, by the file's extension.
@@ -186,6 +233,7 @@ fn decode(file: &Path, bytes: &[u8]) -> Result<(Layout, Samples), String> {
     match ext.as_str() {
         "png" => decode_png(bytes).map_err(|e| format!("texture {shown} is not a readable PNG: {e}")),
         "exr" => {
+            exr_size(bytes).map_err(|e| format!("texture {shown} is not a readable EXR: {e}"))?;
             let channels =
                 decode_exr(bytes).map_err(|e| format!("texture {shown} is not a readable EXR: {e}"))?;
             exr_samples(channels).map_err(|e| format!("texture {shown}: {e}"))
@@ -214,6 +262,28 @@ fn decode_png(bytes: &[u8]) -> Result<(Layout, Samples), String> {
         D::ImageRgba16(b) => (layout(4), Samples::Int { bits: 16, data: b.into_raw() }),
         other => return Err(format!("its pixel format {:?} is not 8- or 16-bit integer", other.color())),
     })
+}
+
+/// The most texels one slice may have: 2^26 (8192 x 8192), far above any noise texture (64 x 64 to
+/// 1024 x 1024) and below what the decoder could allocate without failing.
+pub const MAX_TEXELS: u64 = 1 << 26;
+
+/// An EXR's header read first, so that a data window of 2^31 x 2^31 (an allocation failure, which
+/// aborts) is refused before its pixels are decoded.
+fn exr_size(bytes: &[u8]) -> Result<(), String> {
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(|e| e.to_string())?;
+    for h in &meta.headers {
+        let (w, ht) = (h.layer_size.0 as u64, h.layer_size.1 as u64);
+        let channels = h.channels.list.len() as u64;
+        if w * ht > MAX_TEXELS || channels > 64 {
+            return Err(format!(
+                "its header declares {w}x{ht} pixels with {channels} channel(s); a texture slice may have at most \
+                 {MAX_TEXELS} texels and 64 channels"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// An EXR's channels in the texture's order: R, G, B where present, else its single channel.
@@ -305,9 +375,13 @@ mod tests {
 
     #[test]
     fn patterns_take_plain_and_padded_numbers() {
-        assert_eq!(pattern("m/stbn_%d.png"), Some(("m/stbn_", 0, ".png")));
-        assert_eq!(pattern("m/x%03d.exr"), Some(("m/x", 3, ".exr")));
-        assert_eq!(pattern("m/x.png"), None);
-        assert_eq!(pattern("m/100%.png"), None);
+        let p = |head, width, pad, tail| Ok(Some(Pattern { head, width, pad, tail }));
+        assert_eq!(pattern("m/stbn_%d.png"), p("m/stbn_", 0, ' ', ".png"));
+        assert_eq!(pattern("m/x%03d.exr"), p("m/x", 3, '0', ".exr"));
+        assert_eq!(pattern("m/x%5d.exr"), p("m/x", 5, ' ', ".exr"));
+        assert_eq!(pattern("m/x.png"), Ok(None));
+        assert_eq!(pattern("m/100%.png"), Ok(None));
+        assert!(pattern("s_%099999999999d.png").unwrap_err().contains("N up to 9"));
+        assert!(pattern("s_%-5d.png").unwrap_err().contains("flag"));
     }
 }

@@ -18,8 +18,10 @@
 //!   H): NVIDIA's advice for several samples per pixel from one texture.
 //!
 //! **Values.** Texel t of a b-bit PNG is the offset t / 2^b, the cell [t/2^b, (t+1)/2^b) (UNORM's
-//! t / (2^b − 1) would put 0 and 1, one offset mod 1, in two levels); an EXR's float is the offset
-//! itself, mod 1. A PNG vector is UNORM-encoded, c = 2 t / (2^b − 1) − 1 as NVIDIA writes it; an
+//! t / (2^b − 1) would put 0 and 1, one offset mod 1, in two levels); an EXR's float in [0, 1] is
+//! the offset itself (1 is 0). A float outside [0, 1] is refused, naming its texel, not wrapped:
+//! such values mean another encoding (signed noise in [−1, 1], an unnormalized 0–255 export), and
+//! taken mod 1 they would silently be other offsets than the file's author meant. A PNG vector is UNORM-encoded, c = 2 t / (2^b − 1) − 1 as NVIDIA writes it; an
 //! EXR vector holds the components.
 //!
 //! **A run's seed** ([`TextureShift`]): a toroidal shift of the texture in x, y (and t when D > 1),

@@ -42,9 +42,11 @@ pub fn prepare(bytes: &[u8]) -> Result<Prepared, String> {
     } else {
         (bytes.to_vec(), None)
     };
+    let json: Value = serde_json::from_slice(&text).map_err(|e| unreadable(&e))?;
+    // What the crate's validation and readers assume, checked first (`gltf_check`).
+    super::gltf_check::document(&json)?;
     let mut root: ::gltf::json::Root =
         ::gltf::json::deserialize::from_slice(&text).map_err(|e| unreadable(&e))?;
-    let json: Value = serde_json::from_slice(&text).map_err(|e| unreadable(&e))?;
     let notes = required(&root.extensions_required, &json)?;
     // Every required extension is now implemented here or known to be harmless: the crate's own
     // check (an allow-list of the extensions it models) has nothing left to decide.

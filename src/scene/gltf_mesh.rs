@@ -29,7 +29,17 @@ pub struct Parsed {
 
 /// Reads a `.gltf` (JSON) or `.glb` (binary) file. `fetch(uri)` returns the bytes of a buffer's
 /// external file, or why not (e.g. "not found, looked for /abs/path").
+///
+/// The file is checked before the `gltf` crate reads it (`gltf_check`), and a panic the checks
+/// missed is one error, not an abort (`guard`).
 pub fn parse_gltf(
+    bytes: &[u8],
+    fetch: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
+) -> Result<Parsed, String> {
+    super::guard::contained("glTF", || parse_checked(bytes, fetch))
+}
+
+fn parse_checked(
     bytes: &[u8],
     fetch: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
 ) -> Result<Parsed, String> {
@@ -39,7 +49,19 @@ pub fn parse_gltf(
     for b in document.buffers() {
         let data = match b.source() {
             // An EXT_meshopt_compression fallback buffer has no bytes: its views are decoded into it.
-            _ if super::gltf_meshopt::is_fallback(&json, b.index()) => vec![0; b.length()],
+            // Its length is at most `gltf_check::MAX_DECLARED_BUFFER`; the allocator may still say no.
+            _ if super::gltf_meshopt::is_fallback(&json, b.index()) => {
+                let mut zeros = Vec::new();
+                zeros.try_reserve_exact(b.length()).map_err(|_| {
+                    format!(
+                        "buffer {}: cannot allocate its {} bytes (fallback buffer)",
+                        b.index(),
+                        b.length()
+                    )
+                })?;
+                zeros.resize(b.length(), 0);
+                zeros
+            }
             ::gltf::buffer::Source::Bin => blob.clone().ok_or_else(|| {
                 format!("buffer {}: refers to the GLB binary chunk, which the file lacks", b.index())
             })?,
@@ -321,7 +343,7 @@ fn image_bytes(
         ::gltf::image::Source::View { view, .. } => {
             let (start, len) = (view.offset(), view.length());
             buffers[view.buffer().index()]
-                .get(start..start + len)
+                .get(start..start.saturating_add(len))
                 .map(<[u8]>::to_vec)
                 .ok_or_else(|| format!("buffer view {} lies outside its buffer", view.index()))
         }

@@ -49,16 +49,18 @@ fn decode_view(view: &Value, ext: &Value, buffers: &mut [Vec<u8>]) -> Result<(),
         .get(src)
         .and_then(|b| b.get(offset..offset.checked_add(len)?))
         .ok_or_else(|| format!("its data (buffer {src}, bytes {offset}..+{len}) lies outside the buffer"))?;
-    let mut out = decode(mode, stride, count, data)?;
-    apply_filter(filter, mode, stride, &mut out)?;
     let (dst, at, room) =
         (num(view, "buffer", None)?, num(view, "byteOffset", Some(0))?, num(view, "byteLength", None)?);
-    if out.len() > room {
-        return Err(format!("decodes to {} bytes ({count} x {stride}), the view holds {room}", out.len()));
+    // Before decoding: the decoder allocates count x stride bytes, which must fit in the view (a
+    // count of 2^31 would otherwise ask the allocator for gigabytes, and an allocation failure aborts).
+    if count.checked_mul(stride).is_none_or(|n| n > room) {
+        return Err(format!("decodes to {count} x {stride} bytes, the view holds {room}"));
     }
+    let mut out = decode(mode, stride, count, data)?;
+    apply_filter(filter, mode, stride, &mut out)?;
     let target = buffers
         .get_mut(dst)
-        .and_then(|b| b.get_mut(at..at + out.len()))
+        .and_then(|b| b.get_mut(at..at.checked_add(out.len())?))
         .ok_or_else(|| format!("the view (buffer {dst}, bytes {at}..+{room}) lies outside its buffer"))?;
     target.copy_from_slice(&out);
     Ok(())

@@ -90,7 +90,10 @@ pub fn parse_obj_with(bytes: &[u8], fetch: Option<Fetch<'_>>) -> Result<ObjLoad,
     let parsed = read(bytes, BATCH_BYTES)?;
     let mut mesh = Mesh { skipped: parsed.skipped.clone(), ..Mesh::default() };
     let masks = match fetch {
-        Some(fetch) => super::obj_masks::masks(&parsed, fetch, &mut mesh.notes)?,
+        // Its textures are decoded by the `image` crate: a panic there is one error (`guard`).
+        Some(fetch) => {
+            super::guard::contained("image", || super::obj_masks::masks(&parsed, fetch, &mut mesh.notes))?
+        }
         None => None,
     };
     let mut source = masks.as_ref().map(|_| super::alpha::Source::default());

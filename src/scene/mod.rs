@@ -13,11 +13,13 @@ pub mod foliage;
 #[cfg(any(test, feature = "testing"))]
 pub mod generate;
 pub mod gltf_accessor;
+pub mod gltf_check;
 pub mod gltf_ext;
 pub mod gltf_mesh;
 pub mod gltf_meshopt;
 #[cfg(any(test, feature = "testing"))]
 pub mod gltf_write;
+pub mod guard;
 pub mod mesh;
 pub mod mtl;
 pub(crate) mod near;
@@ -27,6 +29,7 @@ mod obj_masks;
 pub mod packet;
 #[cfg(any(test, feature = "testing"))]
 pub mod procedural;
+mod repeats;
 #[cfg(any(test, feature = "testing"))]
 pub mod tree;
 
@@ -71,6 +74,9 @@ pub struct Scene {
     pub masked_triangles: usize,
     /// Triangles dropped at load (zero area or non-finite), for one warning.
     pub dropped_triangles: usize,
+    /// Triangles that repeat an earlier one exactly, counted in `triangle_count` but given to the
+    /// BVH once (`repeats`: the image is the same).
+    pub repeated_triangles: usize,
     /// Mesh elements skipped because they are not faces (`Mesh::skipped_description`), for one
     /// warning.
     pub skipped_elements: Option<String>,
@@ -118,7 +124,7 @@ impl Scene {
         indices.retain(|_| *kept.next().expect("one flag a triangle"));
         let dropped = dropped + (before - indices.len());
         // The alpha masks of the kept triangles (only scenes with masks have any).
-        let alpha = alpha.filter(alpha::Source::any).map(|mut source| {
+        let mut alpha = alpha.filter(alpha::Source::any).map(|mut source| {
             source.retain(&keep);
             source
         });
@@ -136,8 +142,20 @@ impl Scene {
             used.dedup();
             (used.len(), triangles)
         });
-        let effort = Effort::for_work(rays, indices.len());
         let triangle_count = indices.len();
+        // Exact repeats are drawn once (`repeats`): the same image, without the build's quadratic
+        // time over thousands of identical boxes. They still count as the mesh's triangles.
+        let once = repeats::kept_copies(&positions, &indices, alpha.as_ref());
+        let repeated_triangles = once.iter().filter(|&&f| !f).count();
+        if repeated_triangles > 0 {
+            let mut k = once.iter();
+            indices.retain(|_| *k.next().expect("one flag a triangle"));
+            if let Some(a) = alpha.as_mut() {
+                a.retain(&once);
+            }
+        }
+        drop(once);
+        let effort = Effort::for_work(rays, indices.len());
         // The masks need the input triangles in input order; the build takes the indices.
         let alpha = alpha.map(|source| (source, indices.clone()));
         let (mut accel, bvh_build_s) = Accel::build_indexed(&positions, indices, effort);
@@ -160,6 +178,7 @@ impl Scene {
             masked_materials,
             masked_triangles,
             dropped_triangles: dropped,
+            repeated_triangles,
             skipped_elements,
             notes,
             bvh_build_s,

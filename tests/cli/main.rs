@@ -7,6 +7,7 @@ mod support;
 mod advise;
 mod advise_pipeline;
 mod advise_runs;
+mod bad_inputs;
 mod bench_dump;
 mod external_sampler;
 mod first_hour;

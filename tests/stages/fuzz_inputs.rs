@@ -10,6 +10,7 @@
 //! plain and zstd). No .mtl file is ever opened (AO needs no materials), so `mtllib` and `usemtl`
 //! lines are mutated as part of the OBJ seeds.
 
+use crate::support::mutate::{Rng, mutate};
 use hemilab::render::render;
 use hemilab::sampling::{Distribution, SamplerConfig, SeedMode, Sequence};
 use hemilab::scene::{Scene, file, mesh};
@@ -18,144 +19,6 @@ use std::path::Path;
 
 /// Cases per seed file and reader.
 const CASES: u64 = 2000;
-
-/// Tokens a person (or a bad editor) puts where they do not belong.
-const TOKENS: &[&str] = &[
-    "=",
-    "[",
-    "]",
-    "[[",
-    "]]",
-    "{",
-    "}",
-    "\"",
-    "'",
-    "\"\"\"",
-    "#",
-    ",",
-    ".",
-    "-",
-    "+",
-    "-0",
-    "0",
-    "1",
-    "1e400",
-    "-1e30",
-    "1e30",
-    "nan",
-    "inf",
-    "-inf",
-    "2147483648",
-    "4294967296",
-    "18446744073709551616",
-    "0.0",
-    "1e-320",
-    "é",
-    "é = [256, 256]",
-    "ü",
-    "𝄞",
-    "\u{feff}",
-    "\n",
-    " ",
-    "\t",
-    "\r\n",
-    "\r",
-    "\0",
-    "\\",
-    "\\u00e9",
-    "true",
-    "[camera]",
-    "[camera.perspective]",
-    "[[table]]",
-    "[reference]",
-    "up",
-    "eye",
-    "target",
-    "rays",
-    "scenes",
-    "resolution",
-    "ao_distance",
-    "infinite",
-    "f",
-    "v",
-    "l",
-    "p",
-    "vt",
-    "vn",
-    "o",
-    "g",
-    "s",
-    "/",
-    "//",
-    "1/2/3",
-    "-1",
-    "-2",
-    "999999",
-    "mtllib",
-    "usemtl",
-    "curv",
-    "surf",
-    "# comment",
-];
-
-/// xorshift64*: a fixed, portable stream per case.
-struct Rng(u64);
-
-impl Rng {
-    fn new(seed: u64) -> Self {
-        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
-    }
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
-
-/// A character boundary of `s` at or before byte `i`.
-fn boundary(s: &str, mut i: usize) -> usize {
-    i = i.min(s.len());
-    while !s.is_char_boundary(i) {
-        i -= 1;
-    }
-    i
-}
-
-/// One to three mutations of `text`.
-fn mutate(text: &str, rng: &mut Rng) -> String {
-    let mut s = text.to_string();
-    for _ in 0..1 + rng.below(3) {
-        let at = boundary(&s, rng.below(s.len() + 1));
-        let token = TOKENS[rng.below(TOKENS.len())];
-        match rng.below(8) {
-            0 | 1 => s.insert_str(at, token),
-            2 => {
-                let end = boundary(&s, at + 1 + rng.below(8)).max(at);
-                s.replace_range(at..end, token);
-            }
-            3 => {
-                let end = boundary(&s, at + 1 + rng.below(16)).max(at);
-                s.replace_range(at..end, "");
-            }
-            4 => s.truncate(at),
-            _ => {
-                let mut lines: Vec<&str> = s.split('\n').collect();
-                let (i, j) = (rng.below(lines.len()), rng.below(lines.len()));
-                match rng.below(3) {
-                    0 => lines.swap(i, j),
-                    1 => drop(lines.remove(i)),
-                    _ => lines.insert(i, lines[j]),
-                }
-                s = lines.join("\n");
-            }
-        }
-    }
-    s
-}
 
 fn read(rel: &str) -> String {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -168,8 +31,6 @@ fn read(rel: &str) -> String {
 /// one path only).
 fn fuzz(name: &str, seeds: &[String], case: &dyn Fn(&str) -> bool) {
     let (mut panicked, mut accepted, mut total) = (Vec::new(), 0, 0);
-    let previous = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
     for (k, seed) in seeds.iter().enumerate() {
         for n in 0..CASES {
             let mut rng = Rng::new((k as u64) << 32 | n);
@@ -181,7 +42,6 @@ fn fuzz(name: &str, seeds: &[String], case: &dyn Fn(&str) -> bool) {
             total += 1;
         }
     }
-    std::panic::set_hook(previous);
     assert!(panicked.is_empty(), "{name}: {} inputs panicked, e.g.\n{}", panicked.len(), panicked[0]);
     eprintln!("{name}: {total} mutated inputs, {accepted} accepted, none panicked");
     assert!(accepted * 20 > total && accepted * 20 < total * 19, "{name}: {accepted} of {total} accepted");

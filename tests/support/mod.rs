@@ -8,6 +8,7 @@ pub mod gltf_ext;
 pub mod images;
 pub mod jobs;
 pub mod lambert;
+pub mod mutate;
 pub mod parallax;
 pub mod room;
 pub mod stats;

@@ -60,6 +60,49 @@ pub struct Manifest {
     /// text it was.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub jitter_average: bool,
+    /// The content address of the reference's pixels (`pixel_hash` of its mean, standard error and
+    /// coverage), checked whenever the reference is read: an image edited after it was made (a
+    /// pixel nudged, a NaN) is refused naming the file instead of being measured against. Not part
+    /// of what determines the image (`matches`, run keys), only of what the file must hold.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pixels: Option<String>,
+}
+
+/// The content address of a reference image: FNV-1a (64-bit; Fowler, Noll and Vo, the hash the
+/// plan already keys jobs with) over its size and, channel by channel (`Y`, `stderr`, `A`), every
+/// value's f32 bits, little-endian; written `fnv1a64:` and 16 hex digits. Any change of any pixel's
+/// bits changes it but for a 2^-64 chance: this guards against edits and damage, not adversaries.
+pub fn pixel_hash(mean: &Image, stderr: &Image, coverage: &Image) -> String {
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |bytes: &[u8]| {
+        for &b in bytes {
+            h ^= b as u64;
+            h = h.wrapping_mul(PRIME);
+        }
+    };
+    eat(&mean.width.to_le_bytes());
+    eat(&mean.height.to_le_bytes());
+    for (name, img) in [("Y", mean), ("stderr", stderr), ("A", coverage)] {
+        eat(name.as_bytes());
+        eat(&(img.data.len() as u64).to_le_bytes());
+        for v in &img.data {
+            eat(&v.to_bits().to_le_bytes());
+        }
+    }
+    format!("fnv1a64:{h:016x}")
+}
+
+/// The first non-finite value of a reference's channels, as "channel C at pixel (x, y) is V": a
+/// NaN or infinity in a reference would make every error measured against it empty or infinite.
+pub fn first_non_finite(mean: &Image, stderr: &Image, coverage: &Image) -> Option<String> {
+    for (name, img) in [("Y", mean), ("stderr", stderr), ("A", coverage)] {
+        if let Some(i) = img.data.iter().position(|v| !v.is_finite()) {
+            let w = img.width.max(1) as usize;
+            return Some(format!("channel {name} at pixel ({}, {}) is {}", i % w, i / w, img.data[i]));
+        }
+    }
+    None
 }
 
 fn ao() -> String {
@@ -179,6 +222,7 @@ impl Manifest {
             adaptive: None,
             integrand: scene.integrand.to_string(),
             jitter_average: false,
+            pixels: None,
         }
     }
 
@@ -246,8 +290,31 @@ impl Manifest {
         if d.is_empty() { Ok(()) } else { Err(d) }
     }
 
-    /// File stem under `reference/`: readable, and the same for every ray count, so a rebuilt
-    /// reference replaces the old one instead of piling up beside it.
+    /// What determines the image, as text: the manifest without what was measured (noise floor,
+    /// time, pixel hash, an adaptive reference's totals) and with the camera in its older form.
+    fn settings(&self) -> String {
+        let adaptive = self.adaptive.clone().map(|a| Adaptive { total_rays: None, max_rays: None, ..a });
+        let m = Manifest {
+            noise_floor: None,
+            time_s: None,
+            pixels: None,
+            adaptive,
+            camera: CameraRecord::Legacy(self.camera.legacy()),
+            ..self.clone()
+        };
+        m.to_json()
+    }
+
+    /// File stem of a reference whose view has a reference of other settings already
+    /// (`file_stem` taken): the view's stem and a hash of everything that determines the image,
+    /// so another estimator, ray count or allocation gets a name of its own and never overwrites
+    /// the one there (a 20-ray adaptive reference once replaced a committed one of the same view).
+    pub fn settings_stem(&self) -> String {
+        format!("{}-{:08x}", self.file_stem(), crate::plan::fnv1a64(self.settings().as_bytes()) as u32)
+    }
+
+    /// File stem under `reference/`: readable, and the same for every ray count and estimator: the
+    /// first reference of a view takes it; one of other settings takes `settings_stem`.
     pub fn file_stem(&self) -> String {
         let name = std::path::Path::new(&self.scene)
             .file_stem()

@@ -14,6 +14,7 @@ mod interrupt;
 mod plan_estimate;
 mod points;
 mod reference_adaptive;
+mod reference_content;
 mod reference_dir;
 mod render;
 mod render_gltf;

@@ -5,7 +5,7 @@ use super::data::agg_label;
 use crate::jobs::executor::Session;
 use crate::reference as refmath;
 use crate::reference::store::Reference;
-use crate::results::Aggregate;
+use crate::results::{Aggregate, JobResult};
 use crate::spec::Spec;
 use std::fmt::Write;
 
@@ -18,7 +18,29 @@ pub struct Summary {
     pub warnings: Vec<String>,
 }
 
-pub fn summary(spec: &Spec, references: &[Reference], aggs: &[Aggregate], session: &Session) -> Summary {
+/// The smallest mean RMSE over replicates that scene `name`'s own reference must resolve: of every
+/// measurement of the scene's static camera (raw or denoised, any frame), so that a spec whose rows
+/// are all denoised still has one (it once read "smallest RMSE inf", and the noise-floor warning
+/// could never fire). A camera path's frames are measured against references of their own.
+fn smallest_rmse(results: &[JobResult], name: &str) -> f64 {
+    let mut groups: Vec<((&str, &str, &str, &str, u32), &str, u32, &str, &str, f64, usize)> = Vec::new();
+    for r in results.iter().filter(|r| r.scene == name && r.camera == "static" && r.rmse.is_finite()) {
+        let key = (r.config(), r.pipeline.as_str(), r.frame, r.schedule.as_str(), r.denoiser.as_str());
+        match groups.iter_mut().find(|g| (g.0, g.1, g.2, g.3, g.4) == key) {
+            Some(g) => (g.5, g.6) = (g.5 + r.rmse, g.6 + 1),
+            None => groups.push((key.0, key.1, key.2, key.3, key.4, r.rmse, 1)),
+        }
+    }
+    groups.iter().map(|g| g.5 / g.6 as f64).fold(f64::INFINITY, f64::min)
+}
+
+pub fn summary(
+    spec: &Spec,
+    references: &[Reference],
+    results: &[JobResult],
+    aggs: &[Aggregate],
+    session: &Session,
+) -> Summary {
     let mut s = String::new();
     let mut warnings = Vec::new();
     let _ = writeln!(
@@ -30,8 +52,7 @@ pub fn summary(spec: &Spec, references: &[Reference], aggs: &[Aggregate], sessio
         // The spec's scene name (the file stem) is the results' `scene` column; the scene file's own
         // `name` may differ.
         let name = &spec.scenes[si].name;
-        let smallest =
-            aggs.iter().filter(|a| &a.scene == name).map(|a| a.rmse.mean).fold(f64::INFINITY, f64::min);
+        let smallest = smallest_rmse(results, name);
         let floor = r.noise_floor();
         let target = refmath::target_floor(smallest);
         let _ = writeln!(s, "reference '{name}': noise floor {floor:.2e}, smallest RMSE {smallest:.2e}");

@@ -23,7 +23,10 @@ pub(super) fn check_cameras(spec: &Spec, scenes: &[Arc<Scene>]) -> Result<()> {
                 let at = |e: String| {
                     Error::input(
                         &spec.path,
-                        format!("key `cameras.{}.path`: over scene '{}': {e}", run.name, spec.scenes[si].name),
+                        format!(
+                            "key `cameras.{}.path`: over scene '{}': {e}",
+                            run.name, spec.scenes[si].name
+                        ),
                     )
                 };
                 run.path.validate(&scenes[si].view, frames).map_err(at)?;

@@ -304,7 +304,10 @@ pub fn with_pixel_hash(json: &Path) -> Result<String> {
     };
     let check = Manifest::from_json(&new).map_err(bad)?;
     if check.pixels.as_deref() != Some(hash.as_str()) {
-        return Err(Error::input(json, format!("its `pixels` is not the hash of {} ({hash})", exr.display())));
+        return Err(Error::input(
+            json,
+            format!("its `pixels` is not the hash of {} ({hash})", exr.display()),
+        ));
     }
     Ok(new)
 }
@@ -413,7 +416,9 @@ pub fn save(
     manifest.noise_floor = Some(reference::noise_floor(&stderr, &coverage));
     manifest.time_s = Some(started.elapsed().as_secs_f64());
     if let Some(bad) = reference::first_non_finite(&mean, &stderr, &coverage) {
-        return Err(Error::Refused(format!("the reference rendered for '{scene_name}' is not finite: {bad}")));
+        return Err(Error::Refused(format!(
+            "the reference rendered for '{scene_name}' is not finite: {bad}"
+        )));
     }
     manifest.pixels = Some(reference::pixel_hash(&mean, &stderr, &coverage));
     // Image first, manifest last: a crash in between leaves no manifest, so nothing stale is reused.

@@ -19,7 +19,8 @@ fn repo(rel: &str) -> PathBuf {
 fn copy_smoke_reference(t: &Tmp) {
     std::fs::create_dir_all(t.path("ref")).unwrap();
     for ext in ["exr", "json"] {
-        std::fs::copy(repo(&format!("reference/{SMOKE}.{ext}")), t.path(&format!("ref/{SMOKE}.{ext}"))).unwrap();
+        std::fs::copy(repo(&format!("reference/{SMOKE}.{ext}")), t.path(&format!("ref/{SMOKE}.{ext}")))
+            .unwrap();
     }
 }
 
@@ -45,7 +46,11 @@ fn an_edited_committed_reference_is_refused_naming_its_image() {
     type Edit = Box<dyn Fn(&mut Image)>;
     let cases: [(&str, Edit, &str); 3] = [
         ("plus", Box::new(|y: &mut Image| y.data.iter_mut().for_each(|v| *v += 0.05)), "was changed after"),
-        ("one-nan", Box::new(|y: &mut Image| y.data[5 * 32 + 7] = f32::NAN), "channel Y at pixel (7, 5) is NaN"),
+        (
+            "one-nan",
+            Box::new(|y: &mut Image| y.data[5 * 32 + 7] = f32::NAN),
+            "channel Y at pixel (7, 5) is NaN",
+        ),
         ("all-nan", Box::new(|y: &mut Image| y.data.iter_mut().for_each(|v| *v = f32::NAN)), "is NaN"),
     ];
     for (name, edit, says) in cases {
@@ -66,7 +71,11 @@ fn an_edited_committed_reference_is_refused_naming_its_image() {
             let e = assert_error(&o, &format!("ref/{SMOKE}.exr"));
             assert!(e.contains(says), "{name}: {e}");
             assert!(!t.path("out/results.json").exists(), "{name}: nothing measured");
-            assert_eq!(std::fs::read(t.path(&format!("ref/{SMOKE}.exr"))).unwrap(), edited, "not rebuilt over");
+            assert_eq!(
+                std::fs::read(t.path(&format!("ref/{SMOKE}.exr"))).unwrap(),
+                edited,
+                "not rebuilt over"
+            );
             assert_eq!(std::fs::read(t.path(&format!("ref/{SMOKE}.json"))).unwrap(), manifest);
         }
     }

@@ -396,7 +396,8 @@ fn a_truncated_shard_image_is_named_and_nothing_is_written() {
     std::fs::write(d1.join(&image), &bytes[..bytes.len() / 2]).unwrap();
     let before = t.listing();
     let args = ["merge", "tiny.toml", "out/tiny/shard-0-of-2", "out/tiny/shard-1-of-2"];
-    let o = output(hemilab(&t, &[&args[..], &["--reference-dir", "ref", "--out", "m", "--quiet"]].concat(), &[]));
+    let o =
+        output(hemilab(&t, &[&args[..], &["--reference-dir", "ref", "--out", "m", "--quiet"]].concat(), &[]));
     let e = assert_error(&o, &format!("out/tiny/shard-1-of-2/{image}"));
     assert!(e.contains("not a readable EXR"), "{e}");
     assert!(!t.path("m").exists(), "nothing written");
@@ -434,7 +435,11 @@ fn a_second_shard_into_one_out_is_refused_and_no_record_is_dropped() {
     assert_eq!(without_times(&records(&t.path("one"))), without_times(&first));
 
     // A shard into a whole run's directory would keep only its own part of the records: refused.
-    let o = output(hemilab(&t, &["run", "tiny.toml", "--out", "whole", "--reference-dir", "ref", "--quiet"], &[]));
+    let o = output(hemilab(
+        &t,
+        &["run", "tiny.toml", "--out", "whole", "--reference-dir", "ref", "--quiet"],
+        &[],
+    ));
     assert!(o.status.success(), "{}", stderr(&o));
     let whole = records(&t.path("whole"));
     let o = output(hemilab(

@@ -203,7 +203,11 @@ frames = 2
         );
         let s = t.spec("blind.toml", &text);
         for command in ["plan", "run"] {
-            let o = t.hemilab(&[command, s.to_str().unwrap(), "--reference-dir", "refs", "--quiet"]);
+            let mut args = vec![command, s.to_str().unwrap(), "--reference-dir", "refs"];
+            if command == "run" {
+                args.push("--quiet");
+            }
+            let o = t.hemilab(&args);
             let e = assert_error(&o, &s.display().to_string());
             assert!(e.contains(&format!("key `cameras.{name}.path`")) && e.contains(frame), "{name}: {e}");
             assert!(e.contains("sees no triangle"), "{e}");

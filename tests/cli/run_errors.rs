@@ -169,11 +169,19 @@ fn manifest_mismatch_is_refused_with_no_build_reference() {
     assert!(e.contains("seed: stored 4, wanted 3"), "{e}");
     assert!(!t.path("out").exists());
 
-    // Without the flag the reference is rebuilt, and the numbers are those of the clean run: the
-    // stale image was never compared.
+    // Without the flag a reference of the spec's settings is built under a name of its own beside
+    // the stale one, which is kept as it is (a reference is never overwritten by a different one),
+    // and the numbers are those of the clean run: the stale image was never compared.
     t.run_ok(&spec, "out", "ref", &[]);
-    assert_ne!(std::fs::read(manifest.with_extension("exr")).unwrap(), stale_exr);
-    assert!(std::fs::read_to_string(manifest).unwrap().contains("\"rays\": 64"));
+    assert_eq!(std::fs::read(manifest.with_extension("exr")).unwrap(), stale_exr, "the stale one is kept");
+    let built: Vec<_> = std::fs::read_dir(t.path("ref"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json") && p != manifest)
+        .collect();
+    assert_eq!(built.len(), 1, "{built:?}");
+    let text = std::fs::read_to_string(&built[0]).unwrap();
+    assert!(text.contains("\"rays\": 64") && text.contains("\"seed\": 3"), "{text}");
     let rebuilt = records(&t.path("out"));
     assert_eq!(
         rebuilt.iter().map(timeless).collect::<Vec<_>>(),

@@ -555,6 +555,24 @@ mod manifest_tests {
     }
 
     #[test]
+    fn settings_stem_names_what_determines_the_image() {
+        let a = wanted();
+        let mut measured = a.clone();
+        measured.noise_floor = Some(1e-3);
+        measured.time_s = Some(2.0);
+        measured.pixels = Some("fnv1a64:0123456789abcdef".into());
+        assert_eq!(measured.settings_stem(), a.settings_stem(), "what was measured is not a setting");
+        let mut rays = a.clone();
+        rays.rays = 99;
+        assert_ne!(rays.settings_stem(), a.settings_stem());
+        assert_eq!(rays.file_stem(), a.file_stem(), "one view, one first name");
+        assert!(a.settings_stem().starts_with(&format!("{}-", a.file_stem())));
+        assert_eq!(a.settings_stem().len(), a.file_stem().len() + 9);
+        // The hash is no part of the manifest's match.
+        assert_eq!(measured.matches(&a), Ok(()));
+    }
+
+    #[test]
     fn file_stem_ignores_rays() {
         let mut a = wanted();
         let b = a.clone();

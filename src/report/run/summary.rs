@@ -23,15 +23,14 @@ pub struct Summary {
 /// are all denoised still has one (it once read "smallest RMSE inf", and the noise-floor warning
 /// could never fire). A camera path's frames are measured against references of their own.
 fn smallest_rmse(results: &[JobResult], name: &str) -> f64 {
-    let mut groups: Vec<((&str, &str, &str, &str, u32), &str, u32, &str, &str, f64, usize)> = Vec::new();
+    // (configuration, pipeline, frame, schedule, denoiser) → (sum of RMSE, replicates).
+    let mut groups: std::collections::HashMap<String, (f64, usize)> = std::collections::HashMap::new();
     for r in results.iter().filter(|r| r.scene == name && r.camera == "static" && r.rmse.is_finite()) {
-        let key = (r.config(), r.pipeline.as_str(), r.frame, r.schedule.as_str(), r.denoiser.as_str());
-        match groups.iter_mut().find(|g| (g.0, g.1, g.2, g.3, g.4) == key) {
-            Some(g) => (g.5, g.6) = (g.5 + r.rmse, g.6 + 1),
-            None => groups.push((key.0, key.1, key.2, key.3, key.4, r.rmse, 1)),
-        }
+        let key = format!("{:?};{};{};{};{}", r.config(), r.pipeline, r.frame, r.schedule, r.denoiser);
+        let g = groups.entry(key).or_default();
+        (g.0, g.1) = (g.0 + r.rmse, g.1 + 1);
     }
-    groups.iter().map(|g| g.5 / g.6 as f64).fold(f64::INFINITY, f64::min)
+    groups.values().map(|&(sum, n)| sum / n as f64).fold(f64::INFINITY, f64::min)
 }
 
 pub fn summary(

@@ -123,9 +123,18 @@ impl DenoiseCommand {
 
     /// Runs the command once on a `PROBE_SIDE`² generated frame in `dir` and checks what it
     /// writes, so that a broken command is refused before any rendering.
+    /// Its files are removed whatever the outcome (a failed probe once left a folder with 20 MB of
+    /// stderr in the temporary directory): the message keeps the end of the stderr.
     pub fn probe(&self, dir: &Path) -> Result<()> {
         let (frame, gbuffer) = probe_frame();
-        self.denoise(dir, &frame, &gbuffer, "on a tiny test image, before any rendering").map(|_| ())
+        let tried = self.denoise(dir, &frame, &gbuffer, "on a tiny test image, before any rendering");
+        if tried.is_err() {
+            let files = Files::in_dir(dir);
+            for f in [&files.input, &files.output, &files.stdout, &files.stderr] {
+                io::remove_file_if_exists(f)?;
+            }
+        }
+        tried.map(|_| ())
     }
 
     /// Denoises `frame` (AO per pixel) guided by `gbuffer` (the same frame's): writes the input
@@ -153,11 +162,16 @@ impl DenoiseCommand {
         let line = self.command_line(&files);
         let fail = |what: String| {
             let tail = stderr_tail(&files.stderr);
+            // A probe's test frame is removed (`probe`); a frame of the run is kept to try by hand.
+            let kept = if when.is_empty() {
+                format!(" (input kept at {})", files.input.display())
+            } else {
+                String::new()
+            };
             Error::Refused(format!(
-                "denoise_command `{line}`{}{}: {what} (input kept at {}){tail}",
+                "denoise_command `{line}`{}{}: {what}{kept}{tail}",
                 if when.is_empty() { "" } else { " " },
                 when,
-                files.input.display()
             ))
         };
         let elapsed = self.spawn_and_wait(&files).map_err(&fail)?;
@@ -191,27 +205,78 @@ impl DenoiseCommand {
 
     /// Spawns the command (stdin closed, stdout and stderr to files) and waits for it, at most
     /// `timeout_s`; its wall time, or why it failed.
+    ///
+    /// The command runs in a process group of its own, and the whole group is killed when it is
+    /// done or stopped: a command past its timeout once was killed while its own children (a
+    /// shell's, a Python pool's) kept running and holding cores the next timed renders needed.
     fn spawn_and_wait(&self, files: &Files) -> std::result::Result<Duration, String> {
+        use std::os::unix::process::CommandExt;
         let out = io::create_file(&files.stdout).map_err(|e| e.to_string())?;
         let err = io::create_file(&files.stderr).map_err(|e| e.to_string())?;
         let mut command = Command::new(&self.program);
-        command.args(self.args(files)).stdin(Stdio::null()).stdout(out).stderr(err);
+        command.args(self.args(files)).stdin(Stdio::null()).stdout(out).stderr(err).process_group(0);
         let start = Instant::now();
         let mut child = command.spawn().map_err(|e| format!("cannot start {}: {e}", self.program))?;
+        let group = Group::of(&child);
         let status =
             child.wait_timeout(Duration::from_secs_f64(self.timeout_s)).map_err(|e| e.to_string())?;
         let elapsed = start.elapsed();
         let Some(status) = status else {
-            // Our own child, by its handle: killed and reaped, so nothing is left running.
+            // The group first (the command and whatever it started), then our own child, reaped.
+            drop(group);
             let _ = child.kill();
             let _ = child.wait();
-            return Err(format!("it did not finish within timeout_s = {} s and was stopped", self.timeout_s));
+            return Err(format!(
+                "it did not finish within timeout_s = {} s and was stopped (with every process it started)",
+                self.timeout_s
+            ));
         };
+        drop(group);
         if !status.success() {
             return Err(format!("it failed ({status})"));
         }
         Ok(elapsed)
     }
+}
+
+/// The process group of a running command (its id is the command's process id), killed whole
+/// when dropped: after the command exits, is stopped, or the run ends by a second signal
+/// (`kill_running`), no process it started outlives it.
+struct Group(i32);
+
+/// The groups of the commands running now, for `kill_running`.
+static RUNNING: std::sync::Mutex<Vec<i32>> = std::sync::Mutex::new(Vec::new());
+
+impl Group {
+    fn of(child: &std::process::Child) -> Self {
+        let id = child.id() as i32;
+        RUNNING.lock().unwrap_or_else(|e| e.into_inner()).push(id);
+        Group(id)
+    }
+}
+
+impl Drop for Group {
+    fn drop(&mut self) {
+        RUNNING.lock().unwrap_or_else(|e| e.into_inner()).retain(|&g| g != self.0);
+        kill_group(self.0);
+    }
+}
+
+fn kill_group(id: i32) {
+    if id > 1 {
+        // SAFETY: a plain signal to a process group this module created. While any process of it
+        // lives the id stays its own; once all are gone the call is ESRCH (ignored), and only a new
+        // group taking the same id in between (pids are handed out in turn up to pid_max) could
+        // be hit.
+        unsafe { libc::kill(-id, libc::SIGKILL) };
+    }
+}
+
+/// Kills every user's command running now with all it started: the way out of a command that
+/// exits at once (`interrupt`'s second signal), where no `Drop` runs.
+pub fn kill_running() {
+    let ids = RUNNING.lock().map(|v| v.clone()).unwrap_or_default();
+    ids.into_iter().for_each(kill_group);
 }
 
 /// `arg` as a POSIX shell would need it written (single quotes when it holds anything but plain

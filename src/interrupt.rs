@@ -70,6 +70,8 @@ pub fn install() {
             eprintln!("\n{}", message_now(sig));
             // No `Drop` runs on this exit: the lock files go here (the locks go with the process).
             crate::io::remove_held_locks();
+            // Nor would a user's denoiser and what it started stop with us (their own group).
+            crate::denoise_command::kill_running();
             std::process::exit(128 + sig);
         }
     });

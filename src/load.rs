@@ -14,6 +14,7 @@ use glam::DVec3;
 use std::path::Path;
 use std::sync::Arc;
 
+mod open;
 pub mod points;
 mod realtime;
 pub mod texture;
@@ -266,6 +267,8 @@ fn load_scene_with(path: &Path, rays: &dyn Fn((u32, u32)) -> Option<u64>) -> Res
         (Some(_), Camera::Orthographic { .. }) => "key `camera.orthographic.eye`".to_string(),
     };
     if let Some(w) = facing_warning(path, &scene, &sight, &camera) {
+        eprintln!("{w}");
+    } else if let Some(w) = open::all_open_warning(path, &scene, &camera) {
         eprintln!("{w}");
     }
     Ok(scene)

@@ -182,6 +182,17 @@ pub fn read_results(dir: &Path, explain: &dyn Fn(String) -> String) -> Result<Ve
     Ok(list)
 }
 
+/// Folds the journal into `results.json` and `results.csv` (written whole, the journal then
+/// removed): before a message says the finished jobs are saved, so that the files a person opens
+/// hold every one of them, not only those of the last periodic write.
+pub fn fold_journal(out: &Path) -> Result<()> {
+    if !io::exists(&out.join(RESULTS_JOURNAL)) {
+        return Ok(());
+    }
+    let list = read_results(out, &|e| e)?;
+    write_results(out, &list)
+}
+
 /// Finished records of an earlier run, by key.
 pub fn previous_results(out: &Path) -> Result<HashMap<String, JobResult>> {
     let list = read_results(out, &|e| format!("cannot resume from it ({e}); move it away or pass --force"))?;

@@ -74,6 +74,12 @@ pub fn run(args: MergeArgs) -> Result<()> {
         return Err(Error::Refused(missing_message(&loaded, &plan, &shards, &missing)));
     }
 
+    // Every shard's image is read whole where it is, so a truncated one is named in its shard's
+    // directory (not as the merged copy, after the results were written).
+    for (si, r) in found.iter().flatten() {
+        outdir::record_image(&shards[*si].dir, r)?;
+    }
+
     // Checked: now write.
     outdir::prepare(&out, true)?;
     let mut merged: Vec<JobResult> = Vec::with_capacity(plan.jobs.len());

@@ -26,6 +26,11 @@ pub fn run(args: RunArgs) -> Result<()> {
     let full = plan::plan(&loaded.spec);
     let plan = shard.map_or_else(|| full.clone(), |s| shard::select(&loaded, &full, s));
     let previous = if args.force { HashMap::new() } else { outdir::previous_results(&out)? };
+    if let Some(s) = shard {
+        // Never a dropped record: another shard's directory, or a whole run's, is refused.
+        let images: Vec<&str> = previous.values().map(|r| r.image.as_str()).collect();
+        shard::check_out(&out, &loaded.spec.name, &full, &plan, s, &images)?;
+    }
     // A resumed run says so first (its closing line counts what it did reuse).
     let kept = plan.jobs.len() - crate::jobs::forecast::left(&plan, previous.values()).jobs.len();
     if kept > 0 && !args.common.quiet {
@@ -66,6 +71,13 @@ pub fn run(args: RunArgs) -> Result<()> {
     let write = |s: &executor::Saved| saver.save(s.new, s.so_far);
     // After a signal the message says the finished jobs are here, for a rerun to resume.
     crate::interrupt::saves_to(&out);
+    // A signal's message says the finished jobs are saved: results.csv then holds every one.
+    let saved = |e: Error| {
+        if matches!(e, Error::Interrupted(_)) {
+            let _ = outdir::fold_journal(&out);
+        }
+        e
+    };
     let (results, mut session) = executor::run_jobs(&executor::Jobs {
         loaded: &loaded,
         plan: &plan,
@@ -77,7 +89,8 @@ pub fn run(args: RunArgs) -> Result<()> {
         bar: &runner.bar,
         label: "jobs",
         write: &write,
-    })?;
+    })
+    .map_err(saved)?;
     runner.bar.finish_and_clear();
     outdir::write_results(&out, &results)?;
     if session.renders == 0 {

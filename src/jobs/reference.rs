@@ -155,7 +155,6 @@ pub fn obtain_view(
 ) -> Result<Reference> {
     let geometry = Geometry::of(spec.resolution, spec.ao_distance, scene);
     let wanted = store::wanted_view(spec, si, scene, geometry, view);
-    let (exr, json) = store::paths(dir, &wanted);
     let lock_path = dir.join(format!("{}.lock", wanted.file_stem()));
     if policy != Policy::ReuseOnly && !io::exists(dir) {
         // Nothing to reuse: it will be built here, and the lock file needs the directory.
@@ -171,7 +170,7 @@ pub fn obtain_view(
         None => (None, None),
     };
     if policy != Policy::Rebuild {
-        match store::load_if_matching(spec, &wanted, &exr, &json)? {
+        match store::find(spec, &wanted, dir)? {
             Ok(r) => return Ok(r),
             Err((file, why)) if policy == Policy::ReuseOnly => {
                 let flag = if dir == spec.reference_dir {

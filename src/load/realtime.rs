@@ -8,12 +8,19 @@ use crate::spec::Spec;
 use std::sync::Arc;
 
 /// Every camera path a group names, over each of its scenes' cameras and for its frames: a path
-/// that would take a frame's camera somewhere no image can be made from is the spec's error.
+/// that would take a frame's camera somewhere no image can be made from is the spec's error, and so
+/// is a frame that sees no triangle of the mesh (a dolly through a wall, a 180° pan, keyframes
+/// looking away), as the scene's own camera is (`load::check_view`): its image and its reference
+/// would be all background, and a run would find out only after building references and rendering,
+/// naming a job instead of the camera. The frames' primary rays are traced once here (without
+/// jitter), milliseconds per frame.
 pub(super) fn check_cameras(spec: &Spec, scenes: &[Arc<Scene>]) -> Result<()> {
+    let mut seen: Vec<(String, usize, u32)> = Vec::new();
     for g in &spec.groups {
         for run in g.cameras.iter().filter_map(|c| c.run()) {
             for &si in &g.scenes {
-                run.path.validate(&scenes[si].view, run.frames.max(1)).map_err(|e| {
+                let frames = run.frames.max(1);
+                let at = |e: String| {
                     Error::input(
                         &spec.path,
                         format!(
@@ -21,7 +28,28 @@ pub(super) fn check_cameras(spec: &Spec, scenes: &[Arc<Scene>]) -> Result<()> {
                             run.name, spec.scenes[si].name
                         ),
                     )
-                })?;
+                };
+                run.path.validate(&scenes[si].view, frames).map_err(at)?;
+                if seen.contains(&(run.name.clone(), si, frames)) {
+                    continue;
+                }
+                seen.push((run.name.clone(), si, frames));
+                let scene = &scenes[si];
+                let g = crate::plan::Geometry::of(spec.resolution, spec.ao_distance, scene);
+                for f in 0..frames {
+                    let camera = run.path.camera(&scene.view, f, frames);
+                    let view = crate::render::View::new(camera, glam::Vec2::ZERO);
+                    if crate::render::primary_hits(scene, &view, g.width, g.height) == 0 {
+                        return Err(at(format!(
+                            "the camera of frame {f} (of 0 to {}) sees no triangle of the mesh (none of the \
+                             {}x{} primary rays hits it): its image would be all background, with nothing \
+                             to measure; keep every frame's camera looking at the scene",
+                            frames - 1,
+                            g.width,
+                            g.height
+                        )));
+                    }
+                }
             }
         }
     }
@@ -45,9 +73,8 @@ pub(super) fn probe_denoisers(spec: &Spec) -> Result<()> {
                 format!("key `denoisers.{}`: the command failed on a test frame: {e}", d.name),
             )
         });
-        if tried.is_ok() {
-            io::remove_dir_all_if_exists(&dir)?;
-        }
+        // Removed whatever the outcome: the message keeps what the command said.
+        io::remove_dir_all_if_exists(&dir)?;
         tried?;
     }
     Ok(())

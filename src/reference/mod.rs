@@ -6,9 +6,11 @@
 //! reference means anything below it.
 
 mod camera;
+mod pixels;
 pub mod store;
 
 pub use camera::{CameraJson, CameraRecord};
+pub use pixels::{first_non_finite, pixel_hash};
 
 use crate::image::Image;
 use crate::metrics::covered;
@@ -60,6 +62,12 @@ pub struct Manifest {
     /// text it was.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub jitter_average: bool,
+    /// The content address of the reference's pixels (`pixel_hash` of its mean, standard error and
+    /// coverage), checked whenever the reference is read: an image edited after it was made (a
+    /// pixel nudged, a NaN) is refused naming the file instead of being measured against. Not part
+    /// of what determines the image (`matches`, run keys), only of what the file must hold.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pixels: Option<String>,
 }
 
 fn ao() -> String {
@@ -179,6 +187,7 @@ impl Manifest {
             adaptive: None,
             integrand: scene.integrand.to_string(),
             jitter_average: false,
+            pixels: None,
         }
     }
 
@@ -246,8 +255,31 @@ impl Manifest {
         if d.is_empty() { Ok(()) } else { Err(d) }
     }
 
-    /// File stem under `reference/`: readable, and the same for every ray count, so a rebuilt
-    /// reference replaces the old one instead of piling up beside it.
+    /// What determines the image, as text: the manifest without what was measured (noise floor,
+    /// time, pixel hash, an adaptive reference's totals) and with the camera in its older form.
+    fn settings(&self) -> String {
+        let adaptive = self.adaptive.clone().map(|a| Adaptive { total_rays: None, max_rays: None, ..a });
+        let m = Manifest {
+            noise_floor: None,
+            time_s: None,
+            pixels: None,
+            adaptive,
+            camera: CameraRecord::Legacy(self.camera.legacy()),
+            ..self.clone()
+        };
+        m.to_json()
+    }
+
+    /// File stem of a reference whose view has a reference of other settings already
+    /// (`file_stem` taken): the view's stem and a hash of everything that determines the image,
+    /// so another estimator, ray count or allocation gets a name of its own and never overwrites
+    /// the one there (a 20-ray adaptive reference once replaced a committed one of the same view).
+    pub fn settings_stem(&self) -> String {
+        format!("{}-{:08x}", self.file_stem(), crate::plan::fnv1a64(self.settings().as_bytes()) as u32)
+    }
+
+    /// File stem under `reference/`: readable, and the same for every ray count and estimator: the
+    /// first reference of a view takes it; one of other settings takes `settings_stem`.
     pub fn file_stem(&self) -> String {
         let name = std::path::Path::new(&self.scene)
             .file_stem()
@@ -412,89 +444,4 @@ mod tests {
 }
 
 #[cfg(test)]
-mod manifest_tests {
-    use super::*;
-    use crate::sampling::{Distribution, SeedMode, Sequence};
-
-    fn wanted() -> Manifest {
-        let scene = SceneRef {
-            path: "experiments/../scenes/kitchen.toml".into(),
-            id: "../scenes/kitchen.toml".into(),
-            name: "kitchen".into(),
-            line: 1,
-            integrand: crate::sampling::Integrand::Ao,
-        };
-        let est = Row::new(Distribution::SineCosine, Sequence::Fibonacci, SeedMode::Shift);
-        Manifest::wanted(
-            &scene,
-            "fnv:0123",
-            CameraRecord::Legacy("eye 0 1 2; at 0 0 0; fov 60".into()),
-            [160, 120],
-            AoDistance::Finite(1.0),
-            est,
-            4096,
-            4,
-            1,
-        )
-    }
-
-    #[test]
-    fn json_round_trip() {
-        let mut m = wanted();
-        m.noise_floor = Some(1.25e-3);
-        m.time_s = Some(12.5);
-        let text = m.to_json();
-        assert_eq!(Manifest::from_json(&text).unwrap(), m);
-        assert!(text.contains(&format!("\"hemilab_version\": \"{}\"", env!("CARGO_PKG_VERSION"))));
-        assert!(Manifest::from_json("{\"scene\": \"x\"}").is_err());
-    }
-
-    #[test]
-    fn identical_manifest_matches() {
-        let mut stored = wanted();
-        stored.noise_floor = Some(1e-3);
-        assert_eq!(stored.matches(&wanted()), Ok(()));
-    }
-
-    #[test]
-    fn every_mismatch_is_listed() {
-        let mut stored = wanted();
-        stored.scene_hash = "fnv:9999".into();
-        stored.resolution = [320, 240];
-        stored.ao_distance = AoDistance::Infinite.canonical();
-        stored.rays = 1024;
-        stored.hemilab_version = "0.0.1".into();
-        let diffs = stored.matches(&wanted()).unwrap_err();
-        let all = diffs.join("\n");
-        for key in ["scene_hash", "resolution", "ao_distance", "rays", "hemilab_version"] {
-            assert!(all.contains(key), "{key} missing from:\n{all}");
-        }
-        assert_eq!(diffs.len(), 5, "{all}");
-        assert!(all.contains("rays: stored 1024, wanted 4096"), "{all}");
-    }
-
-    #[test]
-    fn auto_rays_accept_any_count_below_the_floor() {
-        let mut stored = wanted();
-        stored.rays = 16384;
-        stored.replicates = 8;
-        assert!(stored.matches_auto(&wanted(), 1e-3).is_err(), "no floor recorded");
-        stored.noise_floor = Some(5e-4);
-        assert_eq!(stored.matches_auto(&wanted(), 1e-3), Ok(()));
-        let e = stored.matches_auto(&wanted(), 1e-4).unwrap_err();
-        assert!(e[0].starts_with("noise_floor"), "{e:?}");
-        stored.seed = 2;
-        assert!(stored.matches_auto(&wanted(), 1e-3).unwrap_err()[0].starts_with("seed"));
-    }
-
-    #[test]
-    fn file_stem_ignores_rays() {
-        let mut a = wanted();
-        let b = a.clone();
-        a.rays = 99;
-        assert_eq!(a.file_stem(), b.file_stem());
-        assert!(a.file_stem().starts_with("kitchen-160x120-"));
-        a.resolution = [80, 60];
-        assert_ne!(a.file_stem(), b.file_stem());
-    }
-}
+mod manifest_tests;

@@ -173,16 +173,56 @@ pub fn wanted_view(
     m
 }
 
+/// The image and manifest of the view's first reference (`Manifest::file_stem`).
 pub fn paths(dir: &Path, manifest: &Manifest) -> (PathBuf, PathBuf) {
-    let stem = manifest.file_stem();
+    paths_of(dir, &manifest.file_stem())
+}
+
+fn paths_of(dir: &Path, stem: &str) -> (PathBuf, PathBuf) {
     (dir.join(format!("{stem}.exr")), dir.join(format!("{stem}.json")))
+}
+
+/// Where a reference of `wanted`'s settings is, or goes: the view's own name, or, once that holds
+/// a reference of other settings, a name of the settings' own (`Manifest::settings_stem`), in the
+/// order to look.
+pub fn candidates(dir: &Path, wanted: &Manifest) -> [(PathBuf, PathBuf); 2] {
+    [paths(dir, wanted), paths_of(dir, &wanted.settings_stem())]
+}
+
+/// Where a newly built reference of `wanted` is stored: the view's own name if nothing is there or
+/// what is there has the same settings (a rebuild of it, `hemilab reference --force`), else the
+/// settings' own name. A reference is never overwritten by a different one, so a committed
+/// reference other specs rely on is never replaced by a run with other reference settings.
+pub fn target(dir: &Path, wanted: &Manifest) -> (PathBuf, PathBuf) {
+    let [first, own] = candidates(dir, wanted);
+    let same = |json: &Path| {
+        io::read_string(json)
+            .ok()
+            .and_then(|t| Manifest::from_json(&t).ok())
+            .is_some_and(|m| m.matches(wanted).is_ok())
+    };
+    if !io::exists(&first.1) && !io::exists(&first.0) || same(&first.1) { first } else { own }
 }
 
 /// The reference scene `si` needs, if `dir` holds no usable one (what `obtain` would build).
 pub fn missing(spec: &Spec, si: usize, scene: &Scene, dir: &Path) -> Result<Option<Manifest>> {
     let wanted = wanted_manifest(spec, si, scene, Geometry::of(spec.resolution, spec.ao_distance, scene));
-    let (exr, json) = paths(dir, &wanted);
-    Ok(load_if_matching(spec, &wanted, &exr, &json)?.err().map(|_| wanted))
+    Ok(find(spec, &wanted, dir)?.err().map(|_| wanted))
+}
+
+/// A stored reference of `wanted` in `dir`, under either of its names (`candidates`): `Ok(Err)`
+/// with the first name's reason when there is none (see `load_if_matching`).
+pub fn find(
+    spec: &Spec,
+    wanted: &Manifest,
+    dir: &Path,
+) -> Result<std::result::Result<Reference, (PathBuf, String)>> {
+    let [(exr, json), (exr2, json2)] = candidates(dir, wanted);
+    let first = load_if_matching(spec, wanted, &exr, &json)?;
+    if first.is_ok() || !io::exists(&json2) {
+        return Ok(first);
+    }
+    Ok(load_if_matching(spec, wanted, &exr2, &json2)?.or(first))
 }
 
 /// The reference of `view` of scene `si` (a camera path's frame), if `dir` holds no usable one.
@@ -234,6 +274,16 @@ pub fn load_if_matching(
     if let Err(diffs) = check {
         return Ok(Err((json.to_path_buf(), format!("does not match ({})", diffs.join("; ")))));
     }
+    let (mean, stderr, coverage) = read_channels(exr)?;
+    if mean.width != wanted.resolution[0] || mean.height != wanted.resolution[1] {
+        return Ok(Err((exr.to_path_buf(), "has the wrong size".into())));
+    }
+    check_pixels(&stored, &mean, &stderr, &coverage, exr, json)?;
+    Ok(Ok(Reference { mean, stderr, coverage, manifest: stored, exr: exr.to_path_buf() }))
+}
+
+/// A reference image's mean (`Y`), standard error (`stderr`) and coverage (`A`).
+fn read_channels(exr: &Path) -> Result<(Image, Image, Image)> {
     let channels = io::read_exr(exr)?;
     let take = |name: &str| {
         channels
@@ -242,11 +292,78 @@ pub fn load_if_matching(
             .map(|(_, img)| img.clone())
             .ok_or_else(|| Error::input(exr, format!("reference lacks channel '{name}'")))
     };
-    let (mean, stderr, coverage) = (take("Y")?, take("stderr")?, take("A")?);
-    if mean.width != wanted.resolution[0] || mean.height != wanted.resolution[1] {
-        return Ok(Err((exr.to_path_buf(), "has the wrong size".into())));
+    Ok((take("Y")?, take("stderr")?, take("A")?))
+}
+
+/// The text of manifest `json` with the `pixels` hash of its image (the `.exr` beside it) added
+/// as its last key, every other byte as it was; the text itself if it has the hash already and the
+/// hash is right. The one-off migration of manifests written before pixel hashes
+/// (`examples/reference_hashes.rs`), and what a test checks every committed manifest against.
+pub fn with_pixel_hash(json: &Path) -> Result<String> {
+    let text = io::read_string(json)?;
+    let bad = |e: String| Error::input(json, format!("not a reference manifest: {e}"));
+    let m = Manifest::from_json(&text).map_err(bad)?;
+    let exr = json.with_extension("exr");
+    let (mean, stderr, coverage) = read_channels(&exr)?;
+    if let Some(what) = reference::first_non_finite(&mean, &stderr, &coverage) {
+        return Err(Error::input(&exr, format!("not a usable reference: {what}")));
     }
-    Ok(Ok(Reference { mean, stderr, coverage, manifest: stored, exr: exr.to_path_buf() }))
+    let hash = reference::pixel_hash(&mean, &stderr, &coverage);
+    let new = match &m.pixels {
+        Some(_) => text,
+        None => {
+            let body = text.trim_end().strip_suffix('}').ok_or_else(|| bad("no closing brace".into()))?;
+            format!("{},\n  \"pixels\": \"{hash}\"\n}}\n", body.trim_end())
+        }
+    };
+    let check = Manifest::from_json(&new).map_err(bad)?;
+    if check.pixels.as_deref() != Some(hash.as_str()) {
+        return Err(Error::input(
+            json,
+            format!("its `pixels` is not the hash of {} ({hash})", exr.display()),
+        ));
+    }
+    Ok(new)
+}
+
+/// The image read is the one its manifest was written for: every value finite and the pixels'
+/// hash the manifest's `pixels` (`reference::pixel_hash`). Either failing is one error naming the
+/// image: a reference edited after it was made is never measured against (with one NaN pixel every
+/// RMSE came out empty), and never silently rebuilt over, since other specs may rely on it.
+fn check_pixels(
+    stored: &Manifest,
+    mean: &Image,
+    stderr: &Image,
+    coverage: &Image,
+    exr: &Path,
+    json: &Path,
+) -> Result<()> {
+    let redo = format!(
+        "restore it, or remove it and {} to build it again",
+        json.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned())
+    );
+    if let Some(bad) = reference::first_non_finite(mean, stderr, coverage) {
+        return Err(Error::input(exr, format!("not a usable reference: {bad}; {redo}")));
+    }
+    let have = reference::pixel_hash(mean, stderr, coverage);
+    match &stored.pixels {
+        Some(want) if *want == have => Ok(()),
+        Some(want) => Err(Error::input(
+            exr,
+            format!(
+                "its pixels are not the ones {} was written for (hash {have}, the manifest says {want}): the \
+                 image was changed after it was made; {redo}",
+                json.display()
+            ),
+        )),
+        None => Err(Error::input(
+            exr,
+            format!(
+                "{} has no `pixels` hash (written by an older hemilab), so this image cannot be checked; {redo}",
+                json.display()
+            ),
+        )),
+    }
 }
 
 /// A reference image's provenance: its manifest (what determines it, and its noise floor), without
@@ -257,6 +374,8 @@ fn provenance(m: &Manifest) -> Provenance {
     let mut json: serde_json::Value = serde_json::from_str(&m.to_json()).unwrap_or_default();
     if let Some(o) = json.as_object_mut() {
         o.remove("time_s");
+        // The hash of the pixels is the manifest's to hold: the image's bytes stay as they were.
+        o.remove("pixels");
         o.insert("image".into(), "reference".into());
     }
     let summary = format!(
@@ -280,8 +399,7 @@ fn provenance(m: &Manifest) -> Provenance {
 
 /// The stems of the other references of `m`'s scene file in `dir` (older views, other sizes): a
 /// camera edit builds a new reference beside the old one, which is kept, so say what piles up.
-fn others_of_scene(dir: &Path, m: &Manifest) -> Result<Vec<String>> {
-    let mine = m.file_stem();
+fn others_of_scene(dir: &Path, m: &Manifest, mine: &str) -> Result<Vec<String>> {
     let mut out = Vec::new();
     for p in io::list_dir(dir)? {
         let stem = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
@@ -307,10 +425,16 @@ pub fn save(
     scene_name: &str,
     started: Instant,
 ) -> Result<Reference> {
-    let (exr, json) = paths(dir, &manifest);
+    let (exr, json) = target(dir, &manifest);
     let (exr, json) = (exr.as_path(), json.as_path());
     manifest.noise_floor = Some(reference::noise_floor(&stderr, &coverage));
     manifest.time_s = Some(started.elapsed().as_secs_f64());
+    if let Some(bad) = reference::first_non_finite(&mean, &stderr, &coverage) {
+        return Err(Error::Refused(format!(
+            "the reference rendered for '{scene_name}' is not finite: {bad}"
+        )));
+    }
+    manifest.pixels = Some(reference::pixel_hash(&mean, &stderr, &coverage));
     // Image first, manifest last: a crash in between leaves no manifest, so nothing stale is reused.
     io::write_exr_with(
         exr,
@@ -347,11 +471,12 @@ pub fn save(
 /// where they come from. Not said of a camera path's frames, which are many views by design.
 pub fn others_note(r: &Reference) -> Result<Option<String>> {
     let dir = r.exr.parent().unwrap_or(Path::new("."));
-    let others = others_of_scene(dir, &r.manifest)?;
+    let mine = r.exr.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let others = others_of_scene(dir, &r.manifest, &mine)?;
     Ok((!others.is_empty()).then(|| {
         format!(
-            "note: {} also holds {} other reference(s) of '{}' (another view, size or AO distance; never \
-             deleted, another spec may use them): {}",
+            "note: {} also holds {} other reference(s) of '{}' (another view, size, AO distance or estimator; \
+             never deleted, another spec may use them): {}",
             dir.display(),
             others.len(),
             r.manifest.scene,

@@ -14,7 +14,7 @@ mod view;
 
 pub use gbuffer::{FrameGBuffer, GBuffer, frame_gbuffer, gbuffer};
 pub use reproject::{ReprojectParams, reproject};
-pub use sight::{Sight, sight};
+pub use sight::{Sight, primary_hits, sight};
 pub use view::View;
 
 pub use offset::{Plane, ao_origin};

@@ -42,18 +42,7 @@ const AROUND: u32 = 512;
 /// rays as `render`'s, `tile_primaries`), and `AROUND` rays from the eye; deterministic for any
 /// thread count.
 pub fn sight(scene: &Scene, width: u32, height: u32) -> Sight {
-    let raster = View::SCENE.raster(scene, width, height);
-    let hits: u64 = (0..tile_count(width, height))
-        .into_par_iter()
-        .with_max_len(1)
-        .map_init(
-            || Vec::<Primary>::with_capacity((TILE * TILE) as usize),
-            |primaries, t| {
-                tile_primaries(scene, &raster, t, primaries);
-                primaries.iter().filter(|p| p.hit.is_some()).count() as u64
-            },
-        )
-        .sum();
+    let hits = primary_hits(scene, &View::SCENE, width, height);
     let (eye, up) = match scene.camera {
         crate::scene::Camera::Perspective { eye, up, .. }
         | crate::scene::Camera::Orthographic { eye, up, .. } => (eye, up.normalize_or_zero()),
@@ -82,4 +71,21 @@ pub fn sight(scene: &Scene, width: u32, height: u32) -> Sight {
         below_open: frac(below_open, below),
         above_closed: frac(above_closed, above),
     }
+}
+
+/// How many of the primary rays of `view` at `width` × `height` hit the mesh (the same rays as
+/// `render`'s): 0 for a camera path's frame that sees nothing.
+pub fn primary_hits(scene: &Scene, view: &View, width: u32, height: u32) -> u64 {
+    let raster = view.raster(scene, width, height);
+    (0..tile_count(width, height))
+        .into_par_iter()
+        .with_max_len(1)
+        .map_init(
+            || Vec::<Primary>::with_capacity((TILE * TILE) as usize),
+            |primaries, t| {
+                tile_primaries(scene, &raster, t, primaries);
+                primaries.iter().filter(|p| p.hit.is_some()).count() as u64
+            },
+        )
+        .sum()
 }

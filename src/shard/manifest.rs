@@ -115,6 +115,53 @@ fn resolution_of(loaded: &Loaded, job: &plan::Job) -> [u32; 2] {
     [scene.resolution.0, scene.resolution.1]
 }
 
+/// Refuses, before any work, to run shard `s` (`mine`: its jobs of the whole plan `full`) into an
+/// output directory whose records it would drop: one holding another shard's `shard.json`, or
+/// records of jobs of the plan that are not this shard's (a whole run's, another shard's). A run
+/// keeps only its own plan's records, so a second shard into one `--out` once kept only its own,
+/// the first shard's gone. Each shard has its own directory (`Shard::dir_name`); `merge` puts them
+/// together. A rerun of the same shard resumes as any run does.
+pub fn check_out(
+    out: &Path,
+    spec: &str,
+    full: &Plan,
+    mine: &Plan,
+    s: Shard,
+    previous: &[&str],
+) -> Result<()> {
+    let what = "give each shard its own --out (by default out/NAME/shard-K-of-N) and put them together \
+                with `hemilab merge`";
+    if io::exists(&out.join(MANIFEST))
+        && let Ok(m) = Manifest::read(out)
+        && (m.spec != spec || m.shard != s.index || m.shards != s.count)
+    {
+        return Err(Error::input(
+            out,
+            format!(
+                "holds shard {}/{} of spec '{}' ({MANIFEST}); shard {s} of spec '{spec}' would keep only its \
+                 own records there and drop the others: {what}",
+                m.shard, m.shards, m.spec
+            ),
+        ));
+    }
+    let image = |j: &plan::Job| crate::outdir::image_rel(j);
+    let own: std::collections::HashSet<String> = mine.jobs.iter().map(image).collect();
+    let others: std::collections::HashSet<String> =
+        full.jobs.iter().map(image).filter(|i| !own.contains(i)).collect();
+    let foreign: Vec<&str> = previous.iter().copied().filter(|i| others.contains(*i)).collect();
+    if let Some(first) = foreign.first() {
+        return Err(Error::input(
+            out,
+            format!(
+                "holds records of jobs of other shards ({} of them, e.g. {first}: a whole run's or another \
+                 shard's); shard {s} would keep only its own and drop them: {what}",
+                foreign.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// How a shard's renders were timed, as the report needs it back.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct TimingOf {

@@ -297,6 +297,20 @@ pub struct Group {
     pub denoisers: Vec<crate::plan::DenoiserId>,
 }
 
+impl Group {
+    /// Whether the plan gives this group paper-table images: a job whose measurement is one raw
+    /// frame (`plan::Measurement::is_single_frame`) for every row and ray count. Each axis must
+    /// hold that measurement's value: the raw pipeline, the independent schedule, the scene's own
+    /// camera and no denoiser (a group with `denoisers = ["box"]` alone once rendered every job and
+    /// then stopped for want of a raw image for its table figures).
+    pub fn has_single_frames(&self) -> bool {
+        self.pipelines.contains(&Pipeline::RAW)
+            && self.schedules.contains(&Schedule::Independent)
+            && self.cameras.contains(&crate::plan::CameraId::STATIC)
+            && self.denoisers.contains(&crate::plan::DenoiserId::NONE)
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ReferenceRays {
     Fixed(u32),

@@ -108,6 +108,13 @@ fn a_signal_stops_a_run_that_says_what_is_saved_and_resumes() {
     let first = saved_in_message(last);
     assert_eq!(first, saved(&t), "the message counts the saved records: {text}");
     assert!(first < 200, "{text}");
+    // The files a person opens hold every saved job, not only the journal (once results.csv held 1
+    // row while the message said 16 of 16 jobs were saved).
+    let csv = std::fs::read_to_string(t.path("out/results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), first + 1, "a header and one row per saved job:\n{csv}");
+    let json = hemilab::results::from_json(&std::fs::read_to_string(t.path("out/results.json")).unwrap());
+    assert_eq!(json.unwrap().len(), first, "results.json alone holds every saved job");
+    assert!(!t.path("out/results.journal.jsonl").exists(), "the journal is folded in");
     assert!(temporary_files(&t.path("out")).is_empty() && temporary_files(&t.path("out/images")).is_empty());
 
     // Each saved image says where it came from.

@@ -17,6 +17,7 @@ mod no_surprises;
 mod plan_estimate;
 mod points;
 mod reference_adaptive;
+mod reference_content;
 mod reference_dir;
 mod render;
 mod render_gltf;

@@ -78,7 +78,8 @@ fn reference_dir_key_and_flag() {
 
 /// `hemilab reference` keeps a stored reference that serves the spec: a smaller spec sharing a
 /// larger spec's `rays = "auto"` reference (as experiments/blue_noise.toml shares the paper's) does
-/// not replace it with a coarser one. `--force` rebuilds.
+/// not replace it with a coarser one. `--force` builds the smaller spec's own, under a name of its
+/// own: the richer one is never overwritten by a different one.
 #[test]
 fn reference_keeps_a_richer_auto_reference() {
     let t = Tmp::new("refdir-keep");
@@ -97,5 +98,7 @@ fn reference_keeps_a_richer_auto_reference() {
 
     let o = t.hemilab(&["reference", small.to_str().unwrap(), "--quiet", "--force"]);
     assert!(o.status.success() && !stdout(&o).contains("kept"), "{}", stdout(&o));
-    assert_ne!(std::fs::read(t.path("refs").join(&exr)).unwrap(), stored, "--force rebuilds");
+    assert_eq!(std::fs::read(t.path("refs").join(&exr)).unwrap(), stored, "the richer one is kept");
+    let images: Vec<String> = files(&t.path("refs")).into_iter().filter(|f| f.ends_with(".exr")).collect();
+    assert_eq!(images.len(), 2, "--force built the smaller spec's own: {images:?}");
 }

@@ -90,6 +90,43 @@ fn a_camera_that_sees_nothing_stops_every_command_before_any_work() {
     assert!(spec.exists());
 }
 
+/// A camera behind the box's back wall, looking at its outside: it sees triangles, but every one
+/// open all round, so every image would be all white (AO 1) and every error zero. Said at load, as
+/// a warning naming the scene file and its camera key (the camera under the floor is one too); the
+/// committed scenes never say it.
+#[test]
+fn a_camera_outside_the_room_is_told_its_images_would_be_all_white() {
+    let t = Tmp::new("all-white");
+    let box_scene = std::fs::read_to_string(scene("cornell-box.toml")).unwrap();
+    let outside = box_scene
+        .replace("eye = [278.0, 273.0, -800.0]", "eye = [278.0, 273.0, 1800.0]")
+        .replace("cornell-box.obj", &scene("cornell-box.obj"));
+    let scene_file = t.spec("outside.toml", &outside);
+    let name = scene_file.display().to_string();
+    let o =
+        t.hemilab(&["render", &name, "--rays", "4", "--resolution", "32x32", "--output", "x.exr", "--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains(&format!(
+            "warning: {name}: key `camera.perspective.eye`: every surface the camera sees is open"
+        )) && e.contains("all white"),
+        "{e}"
+    );
+    let o = t.hemilab(&[
+        "render",
+        &scene("cornell-box.toml"),
+        "--rays",
+        "4",
+        "--resolution",
+        "32x32",
+        "--output",
+        "y.exr",
+        "--quiet",
+    ]);
+    assert!(o.status.success() && !stderr(&o).contains("all white"), "{}", stderr(&o));
+}
+
 #[test]
 fn advise_checks_the_view_at_the_resolution_it_renders() {
     // A small triangle off the image centre: seen by the scene's own 64x48 pixel centres, missed by
@@ -169,11 +206,19 @@ fn manifest_mismatch_is_refused_with_no_build_reference() {
     assert!(e.contains("seed: stored 4, wanted 3"), "{e}");
     assert!(!t.path("out").exists());
 
-    // Without the flag the reference is rebuilt, and the numbers are those of the clean run: the
-    // stale image was never compared.
+    // Without the flag a reference of the spec's settings is built under a name of its own beside
+    // the stale one, which is kept as it is (a reference is never overwritten by a different one),
+    // and the numbers are those of the clean run: the stale image was never compared.
     t.run_ok(&spec, "out", "ref", &[]);
-    assert_ne!(std::fs::read(manifest.with_extension("exr")).unwrap(), stale_exr);
-    assert!(std::fs::read_to_string(manifest).unwrap().contains("\"rays\": 64"));
+    assert_eq!(std::fs::read(manifest.with_extension("exr")).unwrap(), stale_exr, "the stale one is kept");
+    let built: Vec<_> = std::fs::read_dir(t.path("ref"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json") && p != manifest)
+        .collect();
+    assert_eq!(built.len(), 1, "{built:?}");
+    let text = std::fs::read_to_string(&built[0]).unwrap();
+    assert!(text.contains("\"rays\": 64") && text.contains("\"seed\": 3"), "{text}");
     let rebuilt = records(&t.path("out"));
     assert_eq!(
         rebuilt.iter().map(timeless).collect::<Vec<_>>(),

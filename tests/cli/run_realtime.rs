@@ -82,9 +82,16 @@ fn a_moving_camera_and_a_users_denoiser_run_end_to_end() {
 fn every_camera_is_split_from_its_replicates_and_the_parts_add_up_to_the_mean_mse() {
     let t = Tmp::new("rt-split");
     let s = t.spec("rt.toml", &spec("", ""));
-    t.run_ok(&s, "out", "refs", &[]);
+    let o = t.run_ok(&s, "out", "refs", &[]);
     let rs = records(&t.path("out"));
     assert_eq!(rs.len(), 24);
+    // Every row is denoised: the smallest RMSE the reference must resolve is still a number (it
+    // read "inf", so the noise-floor warning could never fire), the least of the static camera's.
+    let out = String::from_utf8_lossy(&o.stdout);
+    let line = out.lines().find(|l| l.starts_with("reference 'kitchen': ")).expect("the reference line");
+    let smallest: f64 = line.rsplit(' ').next().unwrap().parse().unwrap();
+    let least = rs.iter().filter(|r| r.camera == "static").map(|r| r.rmse).fold(f64::INFINITY, f64::min);
+    assert!(smallest.is_finite() && smallest >= least * 0.999, "{line} (least record {least})");
     for r in &rs {
         assert!(r.noise_rmse.is_finite() && r.bias_rmse.is_finite(), "{} {r:?}", r.camera);
         assert!(r.denoise_s == 0.0 && r.denoiser.is_empty());
@@ -128,5 +135,104 @@ fn a_missing_or_failing_denoiser_is_refused_before_any_rendering() {
         assert!(e.contains("key `denoisers.box`") && e.contains(says), "{e}");
         assert!(!e.contains("reference for"), "refused before any reference: {e}");
         assert_eq!(t.listing(), before, "nothing written");
+    }
+}
+
+/// A valid spec whose table has a user's denoiser and the `raw` pipeline (no `pipelines` key), or
+/// only a moving camera, renders and reports: once it rendered every job, then stopped with exit 2,
+/// "no result for …", and no report, looking for a raw frame of the scene's camera no job made.
+#[test]
+fn a_table_of_denoised_or_moving_frames_alone_renders_and_reports() {
+    let t = Tmp::new("rt-no-raw");
+    let exe = example("denoise_box");
+    let text = format!(
+        r#"name = "rt"
+scenes = ["{}"]
+resolution = [24, 18]
+replicates = 2
+
+[reference]
+rays = 32
+replicates = 2
+
+[denoisers.box]
+program = "{}"
+args = ["{{input}}", "{{output}}"]
+
+[cameras.orbit]
+path = {{ orbit = {{ degrees = 4.0 }} }}
+
+[[table]]
+name = "denoised"
+rays = [1]
+rows = [{{ distribution = "sine-cosine", sequence = "fibonacci" }}]
+denoisers = ["box"]
+
+[[table]]
+name = "moving"
+rays = [1]
+rows = [{{ distribution = "sine-cosine", sequence = "fibonacci" }}]
+cameras = ["orbit"]
+frames = 2
+"#,
+        scene("cornell-box.toml"),
+        exe.display().to_string().replace('\\', "/")
+    );
+    let s = t.spec("rt.toml", &text);
+    let o = t.run_ok(&s, "out", "refs", &[]);
+    assert!(t.path("out/index.html").exists(), "{}", String::from_utf8_lossy(&o.stdout));
+    let rs = records(&t.path("out"));
+    assert!(rs.iter().any(|r| r.denoiser == "box") && rs.iter().any(|r| r.camera == "orbit"));
+    assert!(rs.iter().all(|r| !r.is_single_frame()), "no paper-table record was asked for");
+}
+
+/// A camera path whose frames see nothing — a 180° pan, a dolly through the back wall, keyframes
+/// looking away — is refused at load (`plan` and `run`, exit 2, nothing written), naming
+/// `cameras.NAME` and the frame: once `plan` passed it and `run` built an all-background reference,
+/// then failed naming a job.
+#[test]
+fn a_camera_path_whose_frames_see_nothing_is_refused_naming_the_camera_and_frame() {
+    let t = Tmp::new("rt-blind-path");
+    let cases = [
+        ("pan", "{ pan = { degrees = 180.0 } }", "frame 1 (of 0 to 1)"),
+        ("dolly", "{ dolly = { distance = 2000.0 } }", "frame 1 (of 0 to 1)"),
+        (
+            "keys",
+            "{ keyframes = [{ frame = 0, eye = [278.0, 273.0, -800.0], target = [278.0, 273.0, -1600.0] }] }",
+            "frame 0 (of 0 to 1)",
+        ),
+    ];
+    for (name, path, frame) in cases {
+        let text = format!(
+            r#"name = "blind"
+scenes = ["{}"]
+resolution = [24, 18]
+replicates = 2
+[reference]
+rays = 32
+replicates = 2
+[cameras.{name}]
+path = {path}
+[[table]]
+name = "t"
+rays = [1]
+rows = [{{ distribution = "sine-cosine", sequence = "fibonacci" }}]
+cameras = ["{name}"]
+frames = 2
+"#,
+            scene("cornell-box.toml")
+        );
+        let s = t.spec("blind.toml", &text);
+        for command in ["plan", "run"] {
+            let mut args = vec![command, s.to_str().unwrap(), "--reference-dir", "refs"];
+            if command == "run" {
+                args.push("--quiet");
+            }
+            let o = t.hemilab(&args);
+            let e = assert_error(&o, &s.display().to_string());
+            assert!(e.contains(&format!("key `cameras.{name}.path`")) && e.contains(frame), "{name}: {e}");
+            assert!(e.contains("sees no triangle"), "{e}");
+            assert!(!t.path("refs").exists() && !t.path("out").exists(), "{command} {name}: nothing written");
+        }
     }
 }

@@ -373,3 +373,81 @@ fn a_killed_shard_resumes() {
         assert_eq!(again.times.first(), r.times.first(), "{}: not rendered again", r.image);
     }
 }
+
+/// One shard's image cut short: `merge` checks the shards' files before it writes, names the
+/// shard's own file (once it named the merged copy, after writing the results and images) and
+/// writes nothing.
+#[test]
+fn a_truncated_shard_image_is_named_and_nothing_is_written() {
+    let t = Tmp::new("merge-truncated");
+    t.spec("tiny.toml", &tiny_spec(64, ""));
+    for k in 0..2 {
+        let shard = format!("{k}/2");
+        let o = output(hemilab(
+            &t,
+            &["run", "tiny.toml", "--shard", &shard, "--reference-dir", "ref", "--quiet"],
+            &[],
+        ));
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let d1 = t.path("out/tiny/shard-1-of-2");
+    let image = records(&d1)[0].image.clone();
+    let bytes = std::fs::read(d1.join(&image)).unwrap();
+    std::fs::write(d1.join(&image), &bytes[..bytes.len() / 2]).unwrap();
+    let before = t.listing();
+    let args = ["merge", "tiny.toml", "out/tiny/shard-0-of-2", "out/tiny/shard-1-of-2"];
+    let o =
+        output(hemilab(&t, &[&args[..], &["--reference-dir", "ref", "--out", "m", "--quiet"]].concat(), &[]));
+    let e = assert_error(&o, &format!("out/tiny/shard-1-of-2/{image}"));
+    assert!(e.contains("not a readable EXR"), "{e}");
+    assert!(!t.path("m").exists(), "nothing written");
+    assert_eq!(t.listing(), before);
+}
+
+/// Shards run one after another into one `--out` (once only the last shard's records were kept,
+/// the others' dropped): a second shard is refused there, before any work, naming the directory,
+/// the shard it holds and what to do; the first shard's records are all still there, and a rerun of
+/// the same shard resumes as before. A whole run into a shard's directory keeps its records too.
+#[test]
+fn a_second_shard_into_one_out_is_refused_and_no_record_is_dropped() {
+    let t = Tmp::new("shard-one-out");
+    t.spec("tiny.toml", &tiny_spec(64, ""));
+    let shard = |k: u32| {
+        let shard = format!("{k}/3");
+        output(hemilab(
+            &t,
+            &["run", "tiny.toml", "--shard", &shard, "--out", "one", "--reference-dir", "ref", "--quiet"],
+            &[],
+        ))
+    };
+    let o = shard(0);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let first = records(&t.path("one"));
+    assert!(!first.is_empty());
+    let before = t.listing();
+    let e = assert_error(&shard(1), "one");
+    assert!(e.contains("holds shard 0/3 of spec 'tiny'") && e.contains("hemilab merge"), "{e}");
+    assert_eq!(t.listing(), before, "nothing written");
+    assert_eq!(without_times(&records(&t.path("one"))), without_times(&first));
+    // The same shard again resumes.
+    let o = shard(0);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(without_times(&records(&t.path("one"))), without_times(&first));
+
+    // A shard into a whole run's directory would keep only its own part of the records: refused.
+    let o = output(hemilab(
+        &t,
+        &["run", "tiny.toml", "--out", "whole", "--reference-dir", "ref", "--quiet"],
+        &[],
+    ));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let whole = records(&t.path("whole"));
+    let o = output(hemilab(
+        &t,
+        &["run", "tiny.toml", "--shard", "1/3", "--out", "whole", "--reference-dir", "ref", "--quiet"],
+        &[],
+    ));
+    let e = assert_error(&o, "whole");
+    assert!(e.contains("records of jobs of other shards"), "{e}");
+    assert_eq!(records(&t.path("whole")).len(), whole.len());
+}

@@ -125,7 +125,11 @@ fn a_command_that_fails_writes_nothing_or_writes_the_wrong_image_is_one_clear_er
         for w in wanted {
             assert!(msg.contains(w), "{w:?} not in: {msg}");
         }
-        assert!(msg.contains("input kept at"), "{msg}");
+        // A probe's files are removed, failed or not (once a failed probe left 20 MB of stderr
+        // behind); the message keeps the end of the stderr.
+        assert!(!msg.contains("input kept at"), "{msg}");
+        let left: Vec<_> = std::fs::read_dir(&work).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert!(left.is_empty(), "a failed probe leaves nothing: {left:?} after {msg}");
     }
     // A command that copies a good image into place passes, whatever it was sent.
     copy(&good).probe(&work).unwrap();
@@ -154,4 +158,29 @@ fn the_input_exr_has_the_documented_channels() {
         (get("N.X").data[i].powi(2) + get("N.Y").data[i].powi(2) + get("N.Z").data[i].powi(2)).sqrt()
     };
     assert!((1..64).all(|i| (len(i) - 1.0).abs() < 1e-6), "unit normals on covered pixels");
+}
+
+/// A command past its `timeout_s` is stopped with everything it started: once only the command was
+/// killed, and its own children (here two `sleep`s a shell started) kept running.
+#[test]
+fn a_command_past_its_timeout_is_stopped_with_its_children() {
+    let dir = Tmp::new("denoise-group");
+    let pids = dir.path("pids");
+    let script = format!("sleep 30 & echo $! >> '{0}'; sleep 30 & echo $! >> '{0}'; wait", pids.display());
+    let cmd = command("sh", &["-c", &script, "sh", "{input}", "{output}"], 0.5);
+    let e = cmd.probe(&dir.path("work")).unwrap_err().to_string();
+    assert!(e.contains("did not finish within timeout_s = 0.5 s"), "{e}");
+    let started: Vec<i32> =
+        std::fs::read_to_string(&pids).unwrap().lines().map(|l| l.trim().parse().unwrap()).collect();
+    assert_eq!(started.len(), 2, "{started:?}");
+    // Gone (or a zombie waiting for init to reap it) within a few seconds.
+    let alive = |pid: i32| {
+        std::fs::read_to_string(format!("/proc/{pid}/stat"))
+            .is_ok_and(|s| s.rsplit(')').next().is_some_and(|rest| !rest.trim_start().starts_with('Z')))
+    };
+    let start = std::time::Instant::now();
+    while started.iter().any(|&p| alive(p)) && start.elapsed().as_secs() < 5 {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    assert!(started.iter().all(|&p| !alive(p)), "still running: {started:?}");
 }

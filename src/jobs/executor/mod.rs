@@ -67,8 +67,13 @@ const WARMUP_RAYS: u32 = 16;
 pub fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
     // The camera in the form manifests had before it was JSON, so keys do not depend on the form.
     let camera = refmath::CameraRecord::Legacy(reference.manifest.camera.legacy());
-    let manifest =
-        refmath::Manifest { noise_floor: None, time_s: None, camera, ..reference.manifest.clone() };
+    let manifest = refmath::Manifest {
+        noise_floor: None,
+        time_s: None,
+        pixels: None,
+        camera,
+        ..reference.manifest.clone()
+    };
     let what = format!(
         "{};{};{};{}",
         job.canonical(),

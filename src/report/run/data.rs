@@ -84,11 +84,10 @@ impl<'a> ReportInput<'a> {
     }
 }
 
-/// Whether a group has paper-table images (one raw frame, independent schedule): a real-time group
-/// without the `raw` pipeline or the independent schedule has none, only its own figures.
+/// Whether a group has paper-table images (`Group::has_single_frames`): a real-time group without
+/// one raw frame of the scene's camera has none, only its own figures.
 pub fn has_single_frames(g: &Group) -> bool {
-    g.pipelines.contains(&crate::denoise::Pipeline::RAW)
-        && g.schedules.contains(&crate::sampling::Schedule::Independent)
+    g.has_single_frames()
 }
 
 /// A readable name of a row, as the paper says it (`Row::name`: one vocabulary everywhere).

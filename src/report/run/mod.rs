@@ -59,7 +59,7 @@ pub fn report(run: Run) -> Result<Report> {
     files.push(File::new(outdir::AGGREGATES_CSV, results::aggregates_to_csv(&aggs)));
     let slopes = serde_json::to_string_pretty(&results::sweep_slopes(spec, &aggs)).unwrap_or_default();
     files.push(File::new(outdir::SLOPES_JSON, slopes));
-    let summary = summary::summary(spec, run.references, &aggs, run.session);
+    let summary = summary::summary(spec, run.references, run.results, &aggs, run.session);
     let data = data::ReportInput {
         loaded: run.loaded,
         references: run.references,

@@ -5,7 +5,7 @@ use super::data::agg_label;
 use crate::jobs::executor::Session;
 use crate::reference as refmath;
 use crate::reference::store::Reference;
-use crate::results::Aggregate;
+use crate::results::{Aggregate, JobResult};
 use crate::spec::Spec;
 use std::fmt::Write;
 
@@ -18,7 +18,28 @@ pub struct Summary {
     pub warnings: Vec<String>,
 }
 
-pub fn summary(spec: &Spec, references: &[Reference], aggs: &[Aggregate], session: &Session) -> Summary {
+/// The smallest mean RMSE over replicates that scene `name`'s own reference must resolve: of every
+/// measurement of the scene's static camera (raw or denoised, any frame), so that a spec whose rows
+/// are all denoised still has one (it once read "smallest RMSE inf", and the noise-floor warning
+/// could never fire). A camera path's frames are measured against references of their own.
+fn smallest_rmse(results: &[JobResult], name: &str) -> f64 {
+    // (configuration, pipeline, frame, schedule, denoiser) → (sum of RMSE, replicates).
+    let mut groups: std::collections::HashMap<String, (f64, usize)> = std::collections::HashMap::new();
+    for r in results.iter().filter(|r| r.scene == name && r.camera == "static" && r.rmse.is_finite()) {
+        let key = format!("{:?};{};{};{};{}", r.config(), r.pipeline, r.frame, r.schedule, r.denoiser);
+        let g = groups.entry(key).or_default();
+        (g.0, g.1) = (g.0 + r.rmse, g.1 + 1);
+    }
+    groups.values().map(|&(sum, n)| sum / n as f64).fold(f64::INFINITY, f64::min)
+}
+
+pub fn summary(
+    spec: &Spec,
+    references: &[Reference],
+    results: &[JobResult],
+    aggs: &[Aggregate],
+    session: &Session,
+) -> Summary {
     let mut s = String::new();
     let mut warnings = Vec::new();
     let _ = writeln!(
@@ -30,8 +51,7 @@ pub fn summary(spec: &Spec, references: &[Reference], aggs: &[Aggregate], sessio
         // The spec's scene name (the file stem) is the results' `scene` column; the scene file's own
         // `name` may differ.
         let name = &spec.scenes[si].name;
-        let smallest =
-            aggs.iter().filter(|a| &a.scene == name).map(|a| a.rmse.mean).fold(f64::INFINITY, f64::min);
+        let smallest = smallest_rmse(results, name);
         let floor = r.noise_floor();
         let target = refmath::target_floor(smallest);
         let _ = writeln!(s, "reference '{name}': noise floor {floor:.2e}, smallest RMSE {smallest:.2e}");

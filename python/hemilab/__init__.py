@@ -186,8 +186,9 @@ def metrics(image: Any, reference: Any, coverage: Any) -> Dict[str, float]:
     pixels where `coverage` > 0: `rmse`, `bias` (mean of image − reference), `lowpass_rmse`
     (RMSE of the error after a σ = 1.5 px Gaussian), `lowfreq_ratio` (its low-pass energy over
     white noise's: 1 white, < 1 blue, > 1 clumped or banded — the structure verdict),
-    `autocorr_x`, `autocorr_y` (lag-1 autocorrelation of the error), `whiteness_z` and
-    `covered` (pixels measured). The three arrays must have one size."""
+    `autocorr_x`, `autocorr_y` (lag-1 autocorrelation of the error), `whiteness_z`,
+    `covered` (pixels measured) and `flip` (mean LDR-FLIP, Andersson et al. 2020, at 67 pixels
+    per degree, AO as linear grey: the run's `flip` column). The three arrays must have one size."""
     return dict(
         _hemilab.metrics(_image(image, "image"), _image(reference, "reference"), _image(coverage, "coverage"))
     )

@@ -9,7 +9,8 @@ use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// Every error statistic `hemilab run` records for an image (`metrics::measure`), as a dict.
+/// Every error statistic `hemilab run` records for an image (`metrics::measure`, and the mean
+/// LDR-FLIP at 67 pixels per degree, `metrics::flip`), as a dict.
 #[pyfunction]
 pub fn metrics<'py>(
     py: Python<'py>,
@@ -19,7 +20,13 @@ pub fn metrics<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let (img, reference, coverage) =
         (to_image(&image, "image")?, to_image(&reference, "reference")?, to_image(&coverage, "coverage")?);
-    let s = py.detach(|| hemilab::metrics::measure(&img, &reference, &coverage)).map_err(error)?;
+    let (s, flip) = py
+        .detach(|| {
+            let s = hemilab::metrics::measure(&img, &reference, &coverage)?;
+            let map = hemilab::metrics::flip::ldr_flip_map(&reference, &img, hemilab::metrics::flip::DEFAULT_PPD);
+            Ok::<_, hemilab::metrics::MetricsError>((s, hemilab::metrics::flip::mean_flip(&map, &coverage)))
+        })
+        .map_err(error)?;
     let d = PyDict::new(py);
     d.set_item("covered", s.covered)?;
     d.set_item("rmse", s.rmse)?;
@@ -29,6 +36,7 @@ pub fn metrics<'py>(
     d.set_item("lowpass_rmse", s.lowpass_rmse)?;
     d.set_item("whiteness_z", s.whiteness_z)?;
     d.set_item("lowfreq_ratio", s.lowfreq_ratio)?;
+    d.set_item("flip", flip)?;
     Ok(d)
 }
 

@@ -9,7 +9,7 @@ import pytest
 
 import hemilab
 
-MEASURED = ["rmse", "bias", "autocorr_x", "autocorr_y", "lowpass_rmse", "whiteness_z", "lowfreq_ratio"]
+MEASURED = ["rmse", "bias", "autocorr_x", "autocorr_y", "lowpass_rmse", "whiteness_z", "lowfreq_ratio", "flip"]
 
 
 def _records(value):

@@ -74,7 +74,7 @@ impl Reprojected {
         let mut start = Vec::with_capacity(n + 1);
         let mut taps = Vec::with_capacity(n);
         let mut length = vec![0u32; n];
-        for i in 0..n {
+        for (i, len) in length.iter_mut().enumerate() {
             start.push(taps.len() as u32);
             if !covered(coverage, i) {
                 continue;
@@ -108,7 +108,7 @@ impl Reprojected {
             for t in &mut taps[first..] {
                 t.1 /= sum;
             }
-            length[i] = if taps.len() == first { 1 } else { best.1.saturating_add(1) };
+            *len = if taps.len() == first { 1 } else { best.1.saturating_add(1) };
         }
         start.push(taps.len() as u32);
         Self { start, taps, length }

@@ -54,6 +54,9 @@ pub struct FrameGBuffer {
     pub position: Vec<Vec3>,
 }
 
+/// One pixel's primary hit as a tile reports it: (pixel, depth, normal, position, primitive).
+type Hit = (u32, f32, Vec3, Vec3, u32);
+
 /// The G-buffer of `scene` at `width` × `height` (a `RenderJob`'s size): one primary ray per pixel
 /// centre, traced in parallel by tiles; deterministic for any thread count.
 pub fn gbuffer(scene: &Scene, width: u32, height: u32) -> GBuffer {
@@ -69,7 +72,7 @@ pub fn frame_gbuffer(scene: &Scene, width: u32, height: u32, view: &View) -> Fra
     let (mut depth, mut normal, mut coverage) = (vec![0.0f32; n], vec![Vec3::ZERO; n], vec![0.0f32; n]);
     let mut position = vec![Vec3::ZERO; n];
     let mut primitive = vec![NO_PRIMITIVE; n];
-    let tiles: Vec<Vec<(u32, f32, Vec3, Vec3, u32)>> = (0..tile_count(width, height))
+    let tiles: Vec<Vec<Hit>> = (0..tile_count(width, height))
         .into_par_iter()
         .with_max_len(1)
         .map_init(

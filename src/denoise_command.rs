@@ -421,6 +421,7 @@ fn probe_frame() -> (Image, GBuffer) {
         depth: Image::from_vec(s, s, depth),
         normal,
         coverage: Image::from_vec(s, s, coverage),
+        primitive: Vec::new(),
     };
     (frame, gbuffer)
 }

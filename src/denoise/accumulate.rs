@@ -9,6 +9,7 @@
 
 use super::history::{Reprojected, alpha_eff};
 use super::motion::Motion;
+use super::svgf::SvgfOptions;
 use crate::image::Image;
 
 /// How frames are combined.
@@ -22,9 +23,9 @@ pub enum Temporal {
     /// `Ema` with the reprojected history clipped to the current frame's neighbourhood (`taa`).
     Taa(f32),
     /// SVGF's own temporal accumulation and à-trous filter, with its iteration count (None: the
-    /// share-of-image default; `svgf`). Its history is its first à-trous pass, so it is no
-    /// accumulation of frames alone.
-    Svgf(Option<u32>),
+    /// share-of-image default) and options (`svgf`). Its history is its first à-trous pass, so it
+    /// is no accumulation of frames alone.
+    Svgf(SvgfOptions),
 }
 
 impl Temporal {

@@ -76,8 +76,8 @@ impl Run {
             None => State::None,
             Some(t @ (Temporal::Mean | Temporal::Ema(_))) => State::Accumulate(Accumulator::new(t), None),
             Some(Temporal::Taa(a)) => State::Taa(Taa::new(a as f64, TAA_GAMMA)),
-            Some(Temporal::Svgf(k)) => {
-                let params = SvgfParams { iterations: k, ..SvgfParams::default() };
+            Some(Temporal::Svgf(options)) => {
+                let params = SvgfParams::of(options);
                 let iterations =
                     params.iterations.unwrap_or_else(|| super::edges::default_iterations(width, height));
                 State::Svgf(Svgf::new(SvgfParams { iterations: Some(iterations), ..params }))

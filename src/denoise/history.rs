@@ -18,12 +18,25 @@ pub fn alpha_eff(alpha: f64, n: u32) -> f64 {
     alpha.max(1.0 / n.max(1) as f64)
 }
 
+/// What SVGF's reprojection may do beyond the bilinear taps every temporal filter reads (both off
+/// for the others, and by default).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Extra<'a> {
+    /// A pixel with no valid bilinear tap reads its `Motion::fallback` neighbours, each with the
+    /// same weight (Falcor's 3 × 3 cross-bilateral fallback), before it restarts.
+    pub fallback: bool,
+    /// (previous frame's ids, this frame's ids), `GBuffer::primitive`: a tap onto another
+    /// primitive than the pixel's is not kept (Schied et al. 2017 §4.1's mesh-ID test).
+    pub ids: Option<(&'a [u32], &'a [u32])>,
+}
+
 /// One frame's reprojection of the history: per pixel its valid taps into the previous frame and
 /// its new history length.
 #[derive(Debug, Clone)]
 pub struct Reprojected {
-    taps: Vec<[(u32, f64); 4]>,
-    count: Vec<u8>,
+    /// Pixel i's taps are `taps[start[i] as usize..start[i + 1] as usize]`.
+    start: Vec<u32>,
+    taps: Vec<(u32, f64)>,
     /// Per pixel the history length after this frame: 0 on background, 1 for a restart.
     pub length: Vec<u32>,
 }
@@ -32,6 +45,11 @@ impl Reprojected {
     /// The frame's pixels (`coverage`) through `motion` onto a previous frame whose history
     /// lengths were `prev` (empty: there was no previous frame, every pixel starts).
     pub fn new(prev: &[u32], coverage: &Image, motion: &Motion) -> Self {
+        Self::with(prev, coverage, motion, Extra::default())
+    }
+
+    /// `new`, with SVGF's `extra` tests and fallback.
+    pub fn with(prev: &[u32], coverage: &Image, motion: &Motion, extra: Extra) -> Self {
         let n = coverage.len();
         assert!(
             motion.width == coverage.width && motion.height == coverage.height,
@@ -46,35 +64,54 @@ impl Reprojected {
             "temporal filter: a {}-pixel history for a {n}-pixel frame",
             prev.len()
         );
-        let mut taps = vec![[(0u32, 0.0f64); 4]; n];
-        let mut count = vec![0u8; n];
+        if let Some((a, b)) = extra.ids {
+            assert!(
+                (prev.is_empty() || a.len() == n) && b.len() == n,
+                "svgf: the primitive-ID test needs ids in both frames' G-buffers"
+            );
+        }
+        let same = |i: usize, q: u32| extra.ids.is_none_or(|(a, b)| a[q as usize] == b[i]);
+        let mut start = Vec::with_capacity(n + 1);
+        let mut taps = Vec::with_capacity(n);
         let mut length = vec![0u32; n];
-        for i in 0..n {
+        for (i, len) in length.iter_mut().enumerate() {
+            start.push(taps.len() as u32);
             if !covered(coverage, i) {
                 continue;
             }
-            let (mut k, mut sum, mut best) = (0usize, 0.0f64, (0.0f32, 0u32));
+            let first = taps.len();
+            let (mut sum, mut best) = (0.0f64, (0.0f32, 0u32));
             if !prev.is_empty() {
                 for t in motion.taps(i) {
                     let had = prev[t.index as usize];
-                    if had == 0 {
+                    if had == 0 || !same(i, t.index) {
                         continue;
                     }
-                    taps[i][k] = (t.index, t.weight as f64);
+                    taps.push((t.index, t.weight as f64));
                     sum += t.weight as f64;
                     if t.weight > best.0 {
                         best = (t.weight, had);
                     }
-                    k += 1;
+                }
+                if taps.len() == first && extra.fallback {
+                    for &q in motion.fallback(i) {
+                        let had = prev[q as usize];
+                        if had == 0 || !same(i, q) {
+                            continue;
+                        }
+                        taps.push((q, 1.0));
+                        sum += 1.0;
+                        best.1 = best.1.max(had);
+                    }
                 }
             }
-            for t in &mut taps[i][..k] {
+            for t in &mut taps[first..] {
                 t.1 /= sum;
             }
-            count[i] = k as u8;
-            length[i] = if k == 0 { 1 } else { best.1.saturating_add(1) };
+            *len = if taps.len() == first { 1 } else { best.1.saturating_add(1) };
         }
-        Self { taps, count, length }
+        start.push(taps.len() as u32);
+        Self { start, taps, length }
     }
 
     /// Every covered pixel starts (the first frame of a run).
@@ -84,7 +121,7 @@ impl Reprojected {
 
     /// The valid taps of pixel `i` (empty: its history restarts), weights summing to 1.
     pub fn taps(&self, i: usize) -> &[(u32, f64)] {
-        &self.taps[i][..self.count[i] as usize]
+        &self.taps[self.start[i] as usize..self.start[i + 1] as usize]
     }
 
     /// The previous frame's values `prev` resampled at pixel `i` (None: no history), in tap order.

@@ -26,5 +26,5 @@ pub use filter::{FrameFilter, Run};
 pub use gaussian::{GAUSS_SIGMA, gaussian};
 pub use motion::{Motion, Tap};
 pub use pipeline::{Pipeline, PipelineError, Spatial};
-pub use svgf::{Svgf, SvgfParams};
+pub use svgf::{Svgf, SvgfOptions, SvgfParams};
 pub use taa::{TAA_GAMMA, Taa};

@@ -3,7 +3,10 @@
 //! `svgf` is a whole pipeline on its own (its temporal part and à-trous filter are one: its
 //! history is its first à-trous pass); `raw` is nothing. `atrous` and `svgf` take an optional
 //! iteration count, `atrous:3`, `svgf:5` (default: `edges::default_iterations`, a share of the
-//! image). Names round-trip: `"ema0.1+atrous".parse::<Pipeline>()?.to_string() == "ema0.1+atrous"`.
+//! image). `svgf` then takes the options of `SVGF_OPTIONS` (`svgf:5:fallback:id:releps`: the
+//! paper's and Falcor's SVGF, `SvgfOptions`), in that order, each at most once; without them it
+//! is the filter every committed run measured, bit for bit. Names round-trip:
+//! `"ema0.1+atrous".parse::<Pipeline>()?.to_string() == "ema0.1+atrous"`.
 //!
 //! `Pipeline::start` gives the stateful per-run filter (`FrameFilter`) that runs any pipeline
 //! frame by frame; `accumulator` and `apply_spatial` are the older two-step path (accumulate all
@@ -13,6 +16,7 @@ use super::accumulate::Temporal;
 use super::atrous::{AtrousParams, atrous};
 use super::filter::{FrameFilter, Run};
 use super::gaussian::{GAUSS_SIGMA, gaussian};
+use super::svgf::SvgfOptions;
 use crate::image::Image;
 use crate::render::GBuffer;
 use std::fmt;
@@ -37,11 +41,23 @@ pub struct Pipeline {
 /// The most à-trous passes a name may ask for (a 16381 px footprint).
 pub const MAX_ITERATIONS: u32 = 12;
 
-/// What a pipeline name may be, for errors.
+/// SVGF's options after `svgf` or `svgf:K`, in the order a name gives them: (name, what it turns on).
+/// The default of each is off. `ALLOWED` names every one (a unit test checks).
+pub const SVGF_OPTIONS: [(&str, &str); 3] = [
+    ("fallback", "Falcor's 3x3 cross-bilateral reprojection fallback"),
+    ("id", "the paper's primitive-ID test in reprojection"),
+    ("releps", "the luminance weight's epsilon relative to the frame's level"),
+];
+
+/// What a pipeline name may be, for errors and `--help`.
 pub const ALLOWED: &str = "raw, gauss, atrous, mean, emaA, taaA (0 < A <= 1, e.g. ema0.1, taa0.1), svgf, \
                            or a temporal part (mean, emaA, taaA) then a spatial one (gauss, atrous) joined \
                            by '+', e.g. ema0.1+atrous, taa0.1+atrous, mean+gauss; atrous and svgf take an \
-                           iteration count 1..=12 after ':', e.g. atrous:3, svgf:5";
+                           iteration count 1..=12 after ':', e.g. atrous:3, svgf:5; svgf then takes, in \
+                           this order and each at most once, ':fallback' (Falcor's 3x3 cross-bilateral \
+                           reprojection fallback), ':id' (the paper's primitive-ID test in reprojection), \
+                           ':releps' (the luminance weight's epsilon relative to the frame's level), all \
+                           off by default, e.g. svgf:5:fallback:id:releps, svgf:id";
 
 impl Pipeline {
     pub const RAW: Pipeline = Pipeline { temporal: None, spatial: None };
@@ -108,14 +124,57 @@ fn weight(part: &str, prefix: &str) -> Option<Result<f32, String>> {
     })
 }
 
+/// `svgf[:K][:fallback][:id][:releps]`: its options (`SVGF_OPTIONS`).
+fn svgf(part: &str) -> Result<SvgfOptions, String> {
+    let mut o = SvgfOptions::default();
+    // The position in (K, fallback, id, releps) the next word may take at the earliest.
+    let mut next = 0;
+    for word in part.split(':').skip(1) {
+        let at = match SVGF_OPTIONS.iter().position(|&(name, _)| name == word) {
+            Some(i) => i + 1,
+            None if !word.is_empty() && word.bytes().all(|b| b.is_ascii_digit()) => 0,
+            None => {
+                let names: Vec<&str> = SVGF_OPTIONS.iter().map(|&(name, _)| name).collect();
+                return Err(format!(
+                    "'{word}' in '{part}' is no svgf option (an iteration count 1..={MAX_ITERATIONS}, {})",
+                    names.join(", ")
+                ));
+            }
+        };
+        if at < next {
+            return Err(format!(
+                "'{part}': svgf's options come at most once each, in the order K, fallback, id, releps"
+            ));
+        }
+        next = at + 1;
+        match at {
+            0 => match word.parse::<u32>() {
+                Ok(k) if (1..=MAX_ITERATIONS).contains(&k) => o.iterations = Some(k),
+                _ => {
+                    return Err(format!(
+                        "the iteration count in '{part}' must be a whole number in 1..={MAX_ITERATIONS}"
+                    ));
+                }
+            },
+            1 => o.fallback = true,
+            2 => o.id_test = true,
+            _ => o.relative_eps = true,
+        }
+    }
+    Ok(o)
+}
+
 fn temporal(part: &str) -> Option<Result<Temporal, String>> {
+    if part == "svgf" || part.starts_with("svgf:") {
+        return Some(svgf(part).map(Temporal::Svgf));
+    }
     let (name, k) = match iterations(part) {
         Ok(v) => v,
-        Err(e) => return part.starts_with("svgf").then_some(Err(e)),
+        Err(_) => return None,
     };
-    match name {
-        "mean" => Some(Ok(Temporal::Mean)),
-        "svgf" => Some(Ok(Temporal::Svgf(k))),
+    match (name, k) {
+        (_, Some(_)) => None,
+        ("mean", None) => Some(Ok(Temporal::Mean)),
         _ => weight(name, "ema")
             .map(|r| r.map(Temporal::Ema))
             .or_else(|| weight(name, "taa").map(|r| r.map(Temporal::Taa))),
@@ -190,7 +249,15 @@ impl fmt::Display for Pipeline {
             Temporal::Mean => "mean".to_string(),
             Temporal::Ema(a) => format!("ema{a}"),
             Temporal::Taa(a) => format!("taa{a}"),
-            Temporal::Svgf(k) => with_iterations("svgf", k),
+            Temporal::Svgf(o) => {
+                let mut name = with_iterations("svgf", o.iterations);
+                for (on, (word, _)) in [o.fallback, o.id_test, o.relative_eps].into_iter().zip(SVGF_OPTIONS) {
+                    if on {
+                        name = name + ":" + word;
+                    }
+                }
+                name
+            }
         });
         let s = self.spatial.map(|s| match s {
             Spatial::Gauss => "gauss".to_string(),
@@ -228,6 +295,11 @@ mod tests {
             "svgf",
             "svgf:4",
             "svgf:12",
+            "svgf:fallback",
+            "svgf:id",
+            "svgf:releps",
+            "svgf:5:fallback:id:releps",
+            "svgf:4:fallback:releps",
         ] {
             let p: Pipeline = name.parse().unwrap();
             assert_eq!(p.to_string(), name);
@@ -239,7 +311,10 @@ mod tests {
         );
         assert_eq!(
             "svgf:4".parse::<Pipeline>().unwrap(),
-            Pipeline { temporal: Some(Temporal::Svgf(Some(4))), spatial: None }
+            Pipeline {
+                temporal: Some(Temporal::Svgf(SvgfOptions { iterations: Some(4), ..SvgfOptions::default() })),
+                spatial: None
+            }
         );
         assert!("svgf".parse::<Pipeline>().unwrap().is_temporal());
         for bad in [
@@ -265,9 +340,33 @@ mod tests {
             "gauss:2",
             "ema0.1:3",
             "mean+atrous:0",
+            "svgf:",
+            "svgf:id:5",
+            "svgf:releps:id",
+            "svgf:id:id",
+            "svgf:5:5",
+            "svgf:13:id",
+            "svgf:fast",
+            "svgf:5:fallback+atrous",
+            "atrous:fallback",
         ] {
             let e = bad.parse::<Pipeline>().unwrap_err().to_string();
             assert!(e.contains(&format!("'{bad}'")) && e.contains(ALLOWED), "{bad}: {e}");
+        }
+        assert_eq!(
+            "svgf:5:id".parse::<Pipeline>().unwrap().temporal,
+            Some(Temporal::Svgf(SvgfOptions {
+                iterations: Some(5),
+                id_test: true,
+                ..SvgfOptions::default()
+            }))
+        );
+        assert_eq!(
+            "svgf".parse::<Pipeline>().unwrap().temporal,
+            Some(Temporal::Svgf(SvgfOptions::default()))
+        );
+        for (name, what) in SVGF_OPTIONS {
+            assert!(ALLOWED.contains(&format!("':{name}' ({what})")), "{name}");
         }
     }
 }

@@ -27,7 +27,7 @@
 //! Background pixels (coverage 0) keep the frame's value, have no history and are never read.
 
 use super::edges::{Guide, Taps, default_iterations};
-use super::history::{Reprojected, alpha_eff};
+use super::history::{Extra, Reprojected, alpha_eff};
 use super::motion::Motion;
 use super::taps::Pass as TapPass;
 use crate::image::Image;
@@ -43,6 +43,28 @@ const SPATIAL_RADIUS: i64 = 3;
 /// ε of the luminance weight: keeps a zero variance from dividing by zero.
 pub const LUMINANCE_EPS: f64 = 1e-10;
 
+/// With `SvgfOptions::relative_eps`, the variance floor of the luminance weight as a share of the
+/// frame's mean level squared: σ_l √(g₃ₓ₃(Var) + `RELATIVE_EPS` · l̄²) + `LUMINANCE_EPS`, l̄ the
+/// mean of the temporally accumulated colour over covered pixels. 1e-4 is a standard deviation of
+/// 1 % of the mean level: where the variance is 0 (a converged or noise-free input) neighbours
+/// differing by a few percent of the level are still averaged, instead of none at all.
+pub const RELATIVE_EPS: f64 = 1e-4;
+
+/// What a pipeline name (`svgf:5:fallback:id:releps`) chooses of SVGF beyond the paper's α and σ.
+/// `Default` is `svgf`: the share-of-image iteration count, and none of the three options, which
+/// is bit for bit the filter every committed run measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct SvgfOptions {
+    /// À-trous passes (None: `edges::default_iterations`); the paper's 5, Falcor's 4.
+    pub iterations: Option<u32>,
+    /// Falcor's 3 × 3 cross-bilateral fallback (`Motion::fallback`) before a pixel restarts.
+    pub fallback: bool,
+    /// The paper's ID test in reprojection, on the G-buffer's primitive (triangle) ids.
+    pub id_test: bool,
+    /// The luminance weight's ε relative to the frame's level (`RELATIVE_EPS`), not a fixed 1e-10.
+    pub relative_eps: bool,
+}
+
 /// SVGF's parameters; `Default` is the paper's (α = 0.2, σ_l = 4, σ_z = 1, σ_n = 128) with the
 /// share-of-image iteration count.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,6 +78,25 @@ pub struct SvgfParams {
     pub sigma_luminance: f64,
     pub sigma_depth: f32,
     pub sigma_normal: f32,
+    /// Falcor's 3 × 3 fallback in reprojection (`SvgfOptions::fallback`).
+    pub fallback: bool,
+    /// The primitive-ID test in reprojection (`SvgfOptions::id_test`).
+    pub id_test: bool,
+    /// ε relative to the level (`SvgfOptions::relative_eps`).
+    pub relative_eps: bool,
+}
+
+impl SvgfParams {
+    /// The paper's parameters with a pipeline name's `options`.
+    pub fn of(options: SvgfOptions) -> Self {
+        Self {
+            iterations: options.iterations,
+            fallback: options.fallback,
+            id_test: options.id_test,
+            relative_eps: options.relative_eps,
+            ..Self::default()
+        }
+    }
 }
 
 impl Default for SvgfParams {
@@ -67,6 +108,9 @@ impl Default for SvgfParams {
             sigma_luminance: 4.0,
             sigma_depth: 1.0,
             sigma_normal: 128.0,
+            fallback: false,
+            id_test: false,
+            relative_eps: false,
         }
     }
 }
@@ -87,6 +131,8 @@ pub struct Svgf {
     integrated: Vec<f64>,
     /// The last frame's variance estimate, before the à-trous passes.
     variance: Vec<f64>,
+    /// The last frame's primitive ids, for the ID test.
+    ids: Vec<u32>,
     width: u32,
     height: u32,
 }
@@ -102,6 +148,7 @@ impl Svgf {
             color_ref: None,
             integrated: Vec::new(),
             variance: Vec::new(),
+            ids: Vec::new(),
             width: 0,
             height: 0,
         }
@@ -199,7 +246,8 @@ impl Svgf {
         }
         let p = self.params;
         let n = frame.len();
-        let r = Reprojected::new(&self.length, &gbuf.coverage, motion);
+        let ids = p.id_test.then_some((self.ids.as_slice(), gbuf.primitive.as_slice()));
+        let r = Reprojected::with(&self.length, &gbuf.coverage, motion, Extra { fallback: p.fallback, ids });
         // 1. Temporal accumulation of the colour, its moments (and the reference's colour).
         let mut color = vec![0.0f64; n];
         let mut moments = vec![[0.0f64; 2]; n];
@@ -239,13 +287,15 @@ impl Svgf {
         // 3. The à-trous passes; 4. the first one's output is the colour history.
         let iterations = p.iterations.unwrap_or_else(|| default_iterations(frame.width, frame.height));
         let run = if shown { iterations } else { iterations.min(1) };
+        let floor = if p.relative_eps { RELATIVE_EPS * level(&guide, &color).powi(2) } else { 0.0 };
+        let eps = Eps { relative: p.relative_eps, floor };
         let (mut c, mut var, mut cr) = (color, variance, color_ref);
         if iterations == 0 {
             self.color = c.clone();
             self.color_ref = cr.clone();
         }
         for it in 0..run {
-            let (c2, var2, cr2) = pass(&guide, &c, &var, cr.as_deref(), it, p.sigma_luminance);
+            let (c2, var2, cr2) = pass(&guide, &c, &var, cr.as_deref(), it, p.sigma_luminance, eps);
             if it == 0 {
                 self.color = c2.clone();
                 self.color_ref = cr2.clone();
@@ -255,6 +305,9 @@ impl Svgf {
         // Background: the frame as it is (the passes copied it through already).
         self.moments = moments;
         self.length = r.length;
+        if p.id_test {
+            self.ids = gbuf.primitive.clone();
+        }
         (self.width, self.height) = (frame.width, frame.height);
         self.frames += 1;
         let out = self.image(&c);
@@ -348,9 +401,34 @@ fn prefilter(guide: &Guide, var: &[f64]) -> Vec<f64> {
 
 type Pass = (Vec<f64>, Vec<f64>, Option<Vec<f64>>);
 
+/// The luminance weight's ε: the fixed `LUMINANCE_EPS`, or that plus a variance `floor`.
+#[derive(Debug, Clone, Copy)]
+struct Eps {
+    relative: bool,
+    floor: f64,
+}
+
+impl Eps {
+    /// σ_l √(g₃ₓ₃(Var)) + ε, or σ_l √(g₃ₓ₃(Var) + floor) + ε.
+    fn scale(self, sigma_l: f64, gvar: f64) -> f64 {
+        if self.relative {
+            sigma_l * (gvar + self.floor).sqrt() + LUMINANCE_EPS
+        } else {
+            sigma_l * gvar.sqrt() + LUMINANCE_EPS
+        }
+    }
+}
+
+/// The mean of `c` over covered pixels (0 with none): the level `RELATIVE_EPS` is relative to.
+fn level(guide: &Guide, c: &[f64]) -> f64 {
+    let (s, k) =
+        (0..c.len()).filter(|&p| guide.is_covered(p)).fold((0.0, 0usize), |(s, k), p| (s + c[p], k + 1));
+    if k == 0 { 0.0 } else { s / k as f64 }
+}
+
 /// À-trous pass `it` of the colour `c` with variance `var` (and the reference's colour `cr` under
 /// the same weights): the new colour, variance and reference colour.
-fn pass(guide: &Guide, c: &[f64], var: &[f64], cr: Option<&[f64]>, it: u32, sigma_l: f64) -> Pass {
+fn pass(guide: &Guide, c: &[f64], var: &[f64], cr: Option<&[f64]>, it: u32, sigma_l: f64, eps: Eps) -> Pass {
     let w = guide.width() as usize;
     let gvar = prefilter(guide, var);
     let taps_of = TapPass::new(guide, it);
@@ -370,7 +448,7 @@ fn pass(guide: &Guide, c: &[f64], var: &[f64], cr: Option<&[f64]>, it: u32, sigm
                     continue;
                 }
                 let k = taps_of.taps(x as i64, y as i64, &mut taps);
-                let scale = sigma_l * gvar[p].sqrt() + LUMINANCE_EPS;
+                let scale = eps.scale(sigma_l, gvar[p]);
                 let (mut s, mut sv, mut sr, mut ws) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
                 for &(q, g) in &taps[..k] {
                     let wl = (-(c[p] - c[q]).abs() / scale).exp();

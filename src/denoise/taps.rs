@@ -132,6 +132,7 @@ mod tests {
             depth: Image::from_vec(w, h, depth),
             normal,
             coverage: Image::from_vec(w, h, coverage),
+            primitive: Vec::new(),
         }
     }
 

@@ -22,7 +22,15 @@ pub struct GBuffer {
     pub normal: Vec<Vec3>,
     /// 1.0 where the primary ray hit the scene, 0.0 for background: `render`'s coverage, bit for bit.
     pub coverage: Image,
+    /// The hit triangle's index in the scene's acceleration structure (`NO_PRIMITIVE` on
+    /// background), for SVGF's primitive-ID test in reprojection (Schied et al. 2017 §4.1 test a
+    /// mesh ID; a triangle is the finest such id). Empty: the G-buffer carries no ids (a synthetic
+    /// one), and no id test can be made.
+    pub primitive: Vec<u32>,
 }
+
+/// `GBuffer::primitive` of a background pixel.
+pub const NO_PRIMITIVE: u32 = u32::MAX;
 
 impl GBuffer {
     pub fn is_covered(&self, i: usize) -> bool {
@@ -46,6 +54,9 @@ pub struct FrameGBuffer {
     pub position: Vec<Vec3>,
 }
 
+/// One pixel's primary hit as a tile reports it: (pixel, depth, normal, position, primitive).
+type Hit = (u32, f32, Vec3, Vec3, u32);
+
 /// The G-buffer of `scene` at `width` × `height` (a `RenderJob`'s size): one primary ray per pixel
 /// centre, traced in parallel by tiles; deterministic for any thread count.
 pub fn gbuffer(scene: &Scene, width: u32, height: u32) -> GBuffer {
@@ -60,7 +71,8 @@ pub fn frame_gbuffer(scene: &Scene, width: u32, height: u32, view: &View) -> Fra
     let n = width as usize * height as usize;
     let (mut depth, mut normal, mut coverage) = (vec![0.0f32; n], vec![Vec3::ZERO; n], vec![0.0f32; n]);
     let mut position = vec![Vec3::ZERO; n];
-    let tiles: Vec<Vec<(u32, f32, Vec3, Vec3)>> = (0..tile_count(width, height))
+    let mut primitive = vec![NO_PRIMITIVE; n];
+    let tiles: Vec<Vec<Hit>> = (0..tile_count(width, height))
         .into_par_iter()
         .with_max_len(1)
         .map_init(
@@ -74,18 +86,19 @@ pub fn frame_gbuffer(scene: &Scene, width: u32, height: u32, view: &View) -> Fra
                         let plane = Plane::of(scene.accel.triangle(hit.prim));
                         let (_, nrm) = plane.ao_origin(hit.bary_b, hit.bary_c, p.dir);
                         let at = raster.origin(p.x, p.y) + p.dir * hit.t;
-                        Some((p.y * width + p.x, hit.t, nrm, at))
+                        Some((p.y * width + p.x, hit.t, nrm, at, hit.prim))
                     })
                     .collect()
             },
         )
         .collect();
-    for (i, t, nrm, at) in tiles.into_iter().flatten() {
+    for (i, t, nrm, at, prim) in tiles.into_iter().flatten() {
         let i = i as usize;
         depth[i] = t;
         normal[i] = nrm;
         coverage[i] = 1.0;
         position[i] = at;
+        primitive[i] = prim;
     }
     let gbuffer = GBuffer {
         width,
@@ -93,6 +106,7 @@ pub fn frame_gbuffer(scene: &Scene, width: u32, height: u32, view: &View) -> Fra
         depth: Image::from_vec(width, height, depth),
         normal,
         coverage: Image::from_vec(width, height, coverage),
+        primitive,
     };
     FrameGBuffer { gbuffer, camera: view.camera(scene), jitter: view.jitter, position }
 }

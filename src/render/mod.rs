@@ -12,7 +12,7 @@ pub mod reproject;
 mod sight;
 mod view;
 
-pub use gbuffer::{FrameGBuffer, GBuffer, frame_gbuffer, gbuffer};
+pub use gbuffer::{FrameGBuffer, GBuffer, NO_PRIMITIVE, frame_gbuffer, gbuffer};
 pub use reproject::{ReprojectParams, reproject};
 pub use sight::{Sight, primary_hits, sight};
 pub use view::View;

@@ -68,7 +68,56 @@ pub fn reproject(prev: &FrameGBuffer, cur: &FrameGBuffer, params: &ReprojectPara
         .into_par_iter()
         .map(|i| pixel_taps(prev, &raster, cur, i, params))
         .collect();
-    Motion::from_taps(w, h, taps)
+    let fallback: Vec<(u32, Vec<u32>)> = (0..w as usize * h as usize)
+        .into_par_iter()
+        .filter(|&i| cur.gbuffer.is_covered(i) && taps[i].is_empty())
+        .filter_map(|i| {
+            let list = fallback_taps(prev, &raster, cur, i, params);
+            (!list.is_empty()).then_some((i as u32, list))
+        })
+        .collect();
+    Motion::from_taps(w, h, taps).with_fallback(fallback)
+}
+
+/// Pixel `i`'s consistent previous pixels in the 3 × 3 neighbourhood of the pixel nearest to where
+/// it projects (the fallback of Falcor's SVGFPass for a pixel none of whose bilinear taps is
+/// consistent; the same tests decide).
+fn fallback_taps(
+    prev: &FrameGBuffer,
+    raster: &Raster,
+    cur: &FrameGBuffer,
+    i: usize,
+    params: &ReprojectParams,
+) -> Vec<u32> {
+    let (p, n) = (cur.position[i], cur.gbuffer.normal[i]);
+    let (w, h) = (prev.gbuffer.width as i64, prev.gbuffer.height as i64);
+    let Some(at) = raster.pixel_of(p) else { return Vec::new() };
+    let (cx, cy) = (at.x.round() as i64, at.y.round() as i64);
+    let mut kept = Vec::new();
+    for dy in -1..=1 {
+        for dx in -1..=1 {
+            let (x, y) = (cx + dx, cy + dy);
+            if x < 0 || y < 0 || x >= w || y >= h {
+                continue;
+            }
+            let q = (y * w + x) as usize;
+            if !prev.gbuffer.is_covered(q) {
+                continue;
+            }
+            let ray = raster.ray(x as u32, y as u32);
+            if consistent(
+                p,
+                n,
+                (ray.origin, ray.dir),
+                prev.gbuffer.depth.data[q],
+                prev.gbuffer.normal[q],
+                params,
+            ) {
+                kept.push(q as u32);
+            }
+        }
+    }
+    kept
 }
 
 /// Pixel `i`'s kept taps into `prev` (index, bilinear weight before renormalization).

@@ -4,8 +4,9 @@
 //! history, background pixels are left as they are and never read.
 
 use crate::support::images::{cornell, image, noise, plane, with_background};
-use hemilab::denoise::{Motion, Svgf, SvgfParams};
+use hemilab::denoise::{Motion, Pipeline, Svgf, SvgfOptions, SvgfParams, Temporal};
 use hemilab::image::Image;
+use hemilab::render::GBuffer;
 
 /// The mean and standard error of `v` (independent values).
 fn mean_se(v: &[f64]) -> (f64, f64) {
@@ -135,4 +136,170 @@ fn a_disoccluded_pixel_restarts_its_svgf_history() {
     assert_eq!(s.lengths()[17], 1);
     assert_eq!(s.lengths()[18], 6);
     assert_eq!(s.integrated().data[17], f.data[17]);
+}
+
+/// FNV-1a over the bits of every output of `frames` frames of a default two-pass SVGF on the
+/// Cornell box, through a motion that shifts half of each pixel's history one pixel over and
+/// disoccludes every 13th pixel (with `fallback` neighbours offered for those, which the default
+/// must not read).
+fn default_run_hash(with_fallback: bool) -> u64 {
+    let (w, h) = (48u32, 36u32);
+    let g = cornell(w, h);
+    let n = w * h;
+    let taps = (0..n)
+        .map(|i| match i {
+            _ if i % 13 == 5 => vec![],
+            0 => vec![(0, 1.0)],
+            _ => vec![(i - 1, 0.6), (i, 0.4)],
+        })
+        .collect();
+    let mut moving = Motion::from_taps(w, h, taps);
+    if with_fallback {
+        moving =
+            moving.with_fallback((0..n).filter(|i| i % 13 == 5).map(|i| (i, vec![i, (i + 1) % n])).collect());
+    }
+    let mut s = Svgf::new(SvgfParams { iterations: Some(2), ..SvgfParams::default() });
+    let mut hash = 0xcbf2_9ce4_8422_2325u64;
+    for k in 0..7u64 {
+        let m = if k == 0 { Motion::identity(w, h) } else { moving.clone() };
+        let out = s.push(&with_background(&noise(w, h, 0.4, 0.2, 900 + k), &g, 0.0), &g, &m);
+        for v in &out.data {
+            for b in v.to_bits().to_le_bytes() {
+                hash = (hash ^ b as u64).wrapping_mul(0x100_0000_01b3);
+            }
+        }
+    }
+    hash
+}
+
+/// `svgf` and `svgf:K` are what they were before the options existed, bit for bit: the hash was
+/// computed by this function on main at 60bde7d (before the options), without the fallback
+/// neighbours, which that code's `Motion` did not have.
+#[test]
+fn the_default_svgf_is_bit_for_bit_what_it_was() {
+    const BEFORE: u64 = 0x2b35_1c65_0574_5803;
+    assert_eq!(default_run_hash(false), BEFORE);
+    assert_eq!(default_run_hash(true), BEFORE, "the default reads no fallback neighbours");
+    assert_eq!("svgf:2".parse::<Pipeline>().unwrap().to_string(), "svgf:2");
+}
+
+/// Five frames of a still plane, then a frame whose motion gives pixel 17 no tap: its history
+/// lengths are then 5 and the colour history is `history`.
+fn five_still_frames(s: &mut Svgf, g: &GBuffer) -> Image {
+    let (w, h) = (g.width, g.height);
+    let still = Motion::identity(w, h);
+    for k in 0..5 {
+        s.push(&noise(w, h, 0.5, 0.2, 300 + k), g, &still);
+    }
+    s.history()
+}
+
+#[test]
+fn the_fallback_keeps_the_history_of_a_disoccluded_pixel_with_valid_neighbours() {
+    let (w, h) = (16u32, 12u32);
+    let g = plane(w, h);
+    let taps = (0..w * h).map(|i| if i == 17 { vec![] } else { vec![(i, 1.0)] }).collect();
+    let motion = Motion::from_taps(w, h, taps).with_fallback(vec![(17, vec![1, 16, 18, 33])]);
+    let f = noise(w, h, 0.5, 0.2, 400);
+    for fallback in [false, true] {
+        let mut s = Svgf::new(SvgfParams { iterations: Some(2), fallback, ..SvgfParams::default() });
+        let hist = five_still_frames(&mut s, &g);
+        s.push(&f, &g, &motion);
+        let x = f.data[17] as f64;
+        if fallback {
+            // The four neighbours with equal weights; n = 5 + 1, α_eff = max(0.2, 1/6) = 0.2.
+            let hv = [1usize, 16, 18, 33].iter().map(|&q| hist.data[q] as f64).sum::<f64>() / 4.0;
+            assert_eq!(s.lengths()[17], 6);
+            assert!((s.integrated().data[17] as f64 - (hv + 0.2 * (x - hv))).abs() < 1e-6);
+        } else {
+            assert_eq!(s.lengths()[17], 1, "without the option the pixel restarts");
+            assert_eq!(s.integrated().data[17], f.data[17]);
+        }
+    }
+    // The pipeline name that turns it on.
+    let path = "svgf:fallback".parse::<Pipeline>().unwrap();
+    assert_eq!(path.temporal, Some(Temporal::Svgf(SvgfOptions { fallback: true, ..SvgfOptions::default() })));
+}
+
+#[test]
+fn the_id_test_rejects_a_tap_on_another_primitive() {
+    let (w, h) = (16u32, 12u32);
+    let before = GBuffer {
+        primitive: (0..w * h).map(|i| if i == 31 || i == 17 { 7 } else { 0 }).collect(),
+        ..plane(w, h)
+    };
+    let now = plane(w, h); // every pixel on primitive 0
+    // Pixel 30 reads itself and pixel 31 half and half; every other pixel itself.
+    let taps =
+        (0..w * h).map(|i| if i == 30 { vec![(30, 0.5), (31, 0.5)] } else { vec![(i, 1.0)] }).collect();
+    let motion = Motion::from_taps(w, h, taps);
+    let f = noise(w, h, 0.5, 0.2, 500);
+    for id_test in [false, true] {
+        let mut s = Svgf::new(SvgfParams { iterations: Some(2), id_test, ..SvgfParams::default() });
+        let hist = five_still_frames(&mut s, &before);
+        s.push(&f, &now, &motion);
+        let c = s.integrated();
+        let (x30, x17) = (f.data[30] as f64, f.data[17] as f64);
+        let h30 =
+            if id_test { hist.data[30] as f64 } else { 0.5 * (hist.data[30] as f64 + hist.data[31] as f64) };
+        assert!((c.data[30] as f64 - (h30 + 0.2 * (x30 - h30))).abs() < 1e-6, "id test {id_test}");
+        if id_test {
+            // Pixel 17's only tap was on primitive 7: rejected, the pixel restarts.
+            assert_eq!(s.lengths()[17], 1);
+            assert_eq!(c.data[17], f.data[17]);
+        } else {
+            let h17 = hist.data[17] as f64;
+            assert_eq!(s.lengths()[17], 6);
+            assert!((c.data[17] as f64 - (h17 + 0.2 * (x17 - h17))).abs() < 1e-6);
+        }
+    }
+}
+
+/// A noise-free input pushed until its temporal variance is exactly 0: the fixed ε passes it
+/// through; the relative one filters it by the closed form of one à-trous pass with
+/// w_l = exp(−|c_p − c_q| / (σ_l √(1e-4 · l̄²) + 1e-10)), l̄ the mean level.
+#[test]
+fn the_relative_epsilon_filters_a_noise_free_input_by_its_closed_form() {
+    let (w, h) = (20u32, 20u32);
+    let g = plane(w, h);
+    let still = Motion::identity(w, h);
+    let img = image(w, h, |x, y| 0.3 + 0.02 * ((x * x + 3 * y) % 7) as f32);
+    for relative_eps in [false, true] {
+        let mut s = Svgf::new(SvgfParams { iterations: Some(1), relative_eps, ..SvgfParams::default() });
+        let mut out = img.clone();
+        for _ in 0..8 {
+            out = s.push(&img, &g, &still);
+        }
+        assert!(s.variance().iter().all(|&v| v == 0.0), "a converged input has no variance");
+        let c: Vec<f64> = s.integrated().data.iter().map(|&v| v as f64).collect();
+        if !relative_eps {
+            let most = (0..c.len()).map(|i| (out.data[i] as f64 - c[i]).abs()).fold(0.0, f64::max);
+            assert!(most < 1e-6, "the fixed epsilon returns its input: {most}");
+            continue;
+        }
+        let level = c.iter().sum::<f64>() / c.len() as f64;
+        let scale = 4.0 * (1e-4 * level * level).sqrt() + 1e-10;
+        let b3 = [1.0 / 16.0, 4.0 / 16.0, 6.0 / 16.0, 4.0 / 16.0, 1.0 / 16.0];
+        let mut changed = 0;
+        for y in 2..h as i64 - 2 {
+            for x in 2..w as i64 - 2 {
+                let p = (y * w as i64 + x) as usize;
+                let (mut s, mut ws) = (0.0, 0.0);
+                for dy in -2..=2i64 {
+                    for dx in -2..=2i64 {
+                        let q = ((y + dy) * w as i64 + x + dx) as usize;
+                        let wt = b3[(dx + 2) as usize]
+                            * b3[(dy + 2) as usize]
+                            * (-(c[p] - c[q]).abs() / scale).exp();
+                        s += wt * c[q];
+                        ws += wt;
+                    }
+                }
+                let want = s / ws;
+                assert!((out.data[p] as f64 - want).abs() < 1e-5, "pixel {p}: {} vs {want}", out.data[p]);
+                changed += usize::from((out.data[p] as f64 - c[p]).abs() > 1e-3);
+            }
+        }
+        assert!(changed > 100, "the relative epsilon filters: {changed} pixels changed");
+    }
 }

@@ -382,3 +382,27 @@ fn render_view_traces_the_frames_camera_and_jitter() {
     }
     assert!(rect > 100 && shadowed > 20, "{rect} rectangle pixels, {shadowed} shadowed floor pixels");
 }
+
+/// Falcor's 3 × 3 fallback (`Motion::fallback`) is offered only for covered pixels without taps,
+/// and each neighbour it offers is a covered previous pixel; with a static camera there is none.
+#[test]
+fn the_fallback_neighbours_are_covered_and_only_for_pixels_without_taps() {
+    let scene = parallax::scene(RES);
+    let fs = frames(&scene, &CameraPath::Orbit { degrees: 24.0 }, 5, true);
+    let mut offered = 0;
+    for pair in fs.windows(2) {
+        let motion = reproject(&pair[0].gb, &pair[1].gb, &ReprojectParams::default());
+        for i in 0..(RES.0 * RES.1) as usize {
+            let fb = motion.fallback(i);
+            if !fb.is_empty() {
+                offered += 1;
+                assert!(!motion.has_history(i) && pair[1].gb.gbuffer.is_covered(i), "pixel {i}");
+                assert!(fb.len() <= 9 && fb.iter().all(|&q| pair[0].gb.gbuffer.is_covered(q as usize)));
+            }
+        }
+    }
+    eprintln!("{offered} fallbacks offered over 4 orbit steps");
+    let still = frames(&scene, &CameraPath::Static, 2, false);
+    let m = reproject(&still[0].gb, &still[1].gb, &ReprojectParams::default());
+    assert!((0..(RES.0 * RES.1) as usize).all(|i| m.fallback(i).is_empty()));
+}

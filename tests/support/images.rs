@@ -35,6 +35,7 @@ pub fn synthetic(
         depth: image(w, h, &depth),
         normal: (0..w * h).map(|i| normal(i % w, i / w)).collect(),
         coverage: image(w, h, |_, _| 1.0),
+        primitive: vec![0; (w * h) as usize],
     }
 }
 

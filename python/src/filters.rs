@@ -23,7 +23,8 @@ pub fn metrics<'py>(
     let (s, flip) = py
         .detach(|| {
             let s = hemilab::metrics::measure(&img, &reference, &coverage)?;
-            let map = hemilab::metrics::flip::ldr_flip_map(&reference, &img, hemilab::metrics::flip::DEFAULT_PPD);
+            let map =
+                hemilab::metrics::flip::ldr_flip_map(&reference, &img, hemilab::metrics::flip::DEFAULT_PPD);
             Ok::<_, hemilab::metrics::MetricsError>((s, hemilab::metrics::flip::mean_flip(&map, &coverage)))
         })
         .map_err(error)?;

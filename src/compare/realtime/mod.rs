@@ -7,7 +7,9 @@
 //! blue-noise mask drawn afresh each frame (the same sequence, the independent schedule), as its
 //! paper reports for AO? And, at the fewest rays per frame, the noise each seed mode leaves.
 //!
-//! Both are read on the RMSE against the reference (what the user sees) and on its noise part,
+//! Both are read on the RMSE against the reference (what the user sees), on mean LDR-FLIP (what the
+//! field reports; it can rank two configurations the other way, so a cell says where the two
+//! disagree and records without `flip` give no FLIP verdict) and on its noise part,
 //! measured from the replicates (`JobResult::noise_rmse`, `metrics::replicates`): per replicate
 //! √max(RMSE² − bias², 0), whose mean square over the replicates is exactly the configuration's
 //! noise² (bias² + noise² is the mean MSE), so the same paired margin applies. A margin is the
@@ -112,6 +114,8 @@ struct Measured {
     bias_se: f64,
     noise_rmse: f64,
     floor: f64,
+    /// Mean LDR-FLIP (`JobResult::flip`); NaN in records made before the column.
+    flip: f64,
 }
 
 /// Where a cell is: scene, rays per frame, camera path, the user's denoiser (empty: none),
@@ -205,6 +209,7 @@ fn cells(results: &[JobResult]) -> Cells<'_> {
             bias_se: r.bias_se,
             noise_rmse: r.noise_rmse,
             floor: r.floor.unwrap_or(f64::NAN),
+            flip: r.flip,
         });
     }
     for configs in out.values_mut() {
@@ -223,10 +228,18 @@ pub fn any(results: &[JobResult]) -> bool {
 enum Of {
     Rmse,
     Noise,
+    /// Mean LDR-FLIP: the perceptual error engine developers report, which can rank two
+    /// configurations the other way from RMSE (issue 45).
+    Flip,
 }
 
 fn keyed(v: &[Measured], of: Of) -> Vec<(u32, f64)> {
-    v.iter().map(|m| (m.replicate, if of == Of::Rmse { m.rmse } else { m.noise })).collect()
+    let value = |m: &Measured| match of {
+        Of::Rmse => m.rmse,
+        Of::Noise => m.noise,
+        Of::Flip => m.flip,
+    };
+    v.iter().map(|m| (m.replicate, value(m))).collect()
 }
 
 /// A configuration's mean error over its replicates and that mean's standard error (∞ for one).
@@ -287,6 +300,22 @@ impl Versus {
         let margin = margin::paired(&keyed(a, of), &keyed(b, of));
         Self { margin, sign: margin.sign(ALPHA) }
     }
+}
+
+impl Versus {
+    /// Whether the margin was measured (two or more replicates with the metric): records without
+    /// `flip` give no FLIP verdict ("—"), never a tie.
+    pub fn measured(&self) -> bool {
+        self.margin.n >= 2 && self.margin.relative().is_finite()
+    }
+}
+
+/// Whether RMSE and FLIP disagree in a cell: FLIP was measured and the two verdicts differ, one of
+/// them a win (the other a tie, the other side's win, or an RMSE verdict withheld as below floor or
+/// a bias interaction).
+fn disagree(rmse: &Versus, withheld: bool, flip: &Versus) -> bool {
+    let rmse_sign = if withheld { 0 } else { rmse.sign };
+    flip.measured() && rmse_sign != flip.sign
 }
 
 /// Whether `rmse` (b against a) is a bias interaction (module doc): a verdict whose margin is

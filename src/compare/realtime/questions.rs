@@ -25,6 +25,16 @@ pub struct PaperCell {
     /// on the noise part.
     pub rmse: Versus,
     pub noise: Versus,
+    /// The same on mean LDR-FLIP ("—" in records without it).
+    pub flip: Versus,
+}
+
+impl PaperCell {
+    /// Whether RMSE and FLIP disagree here (one says a side wins, the other a tie or the other
+    /// side; the RMSE verdict withheld counts as none).
+    pub fn rmse_flip_disagree(&self) -> bool {
+        disagree(&self.rmse, self.below_floor || self.bias_interaction, &self.flip)
+    }
 }
 
 /// Question (1): one cell per (scene, rays, pipeline at its last frame) where the paper's
@@ -61,6 +71,7 @@ pub fn paper_cells(results: &[JobResult]) -> Option<Vec<PaperCell>> {
             best_parts: Parts::of(b),
             rmse,
             noise: Versus::of(paper, b, Of::Noise),
+            flip: Versus::of(paper, b, Of::Flip),
         });
     }
     Some(out)
@@ -82,6 +93,16 @@ pub struct StbnCell {
     /// stbn against blue noise (negative: stbn has less error).
     pub rmse: Versus,
     pub noise: Versus,
+    /// The same on mean LDR-FLIP ("—" in records without it).
+    pub flip: Versus,
+}
+
+impl StbnCell {
+    /// Whether RMSE and FLIP disagree here (one says a side wins, the other a tie or the other
+    /// side; the RMSE verdict withheld counts as none).
+    pub fn rmse_flip_disagree(&self) -> bool {
+        disagree(&self.rmse, self.below_floor || self.bias_interaction, &self.flip)
+    }
 }
 
 /// Question (2): every accumulating pipeline at its last frame, per (scene, rays, distribution and
@@ -112,6 +133,7 @@ pub fn stbn_cells(results: &[JobResult]) -> Vec<StbnCell> {
                 stbn: estimate(st, Of::Rmse),
                 rmse,
                 noise: Versus::of(bn, st, Of::Noise),
+                flip: Versus::of(bn, st, Of::Flip),
             });
         }
     }
@@ -131,6 +153,8 @@ pub struct SeedsCell {
     pub bias: [Estimate; 3],
     /// Blue noise against rotation, on the noise part.
     pub blue_noise_vs_rotation: Margin,
+    /// Blue noise against rotation on mean LDR-FLIP (n = 0 in records without it).
+    pub blue_noise_vs_rotation_flip: Margin,
 }
 
 /// At the fewest rays per frame (returned with the cells), under every accumulating pipeline at
@@ -168,6 +192,7 @@ pub fn seeds_cells(results: &[JobResult]) -> Option<(u32, Vec<SeedsCell>)> {
                 stbn: estimate(st, Of::Noise),
                 bias: [rot, bn, st].map(|v| Parts::of(v).bias),
                 blue_noise_vs_rotation: Versus::of(rot, bn, Of::Noise).margin,
+                blue_noise_vs_rotation_flip: Versus::of(rot, bn, Of::Flip).margin,
             });
         }
     }
@@ -193,6 +218,16 @@ pub struct EngineCell {
     /// The best other against the best engine pattern (positive: the engine's has less error).
     pub rmse: Versus,
     pub noise: Versus,
+    /// The same on mean LDR-FLIP ("—" in records without it).
+    pub flip: Versus,
+}
+
+impl EngineCell {
+    /// Whether RMSE and FLIP disagree here (one says a side wins, the other a tie or the other
+    /// side; the RMSE verdict withheld counts as none).
+    pub fn rmse_flip_disagree(&self) -> bool {
+        disagree(&self.rmse, self.below_floor || self.bias_interaction, &self.flip)
+    }
 }
 
 /// Whether a configuration's seed mode is an engine pattern.
@@ -228,6 +263,7 @@ pub fn engine_cells(results: &[JobResult]) -> Vec<EngineCell> {
             other_rmse: estimate(&o, Of::Rmse),
             rmse,
             noise: Versus::of(&e, &o, Of::Noise),
+            flip: Versus::of(&e, &o, Of::Flip),
         });
     }
     out

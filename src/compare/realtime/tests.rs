@@ -104,3 +104,31 @@ fn a_margin_within_the_biases_with_the_noise_ranked_the_other_way_is_a_bias_inte
     let c = &paper_cells(&[paper, other].concat()).unwrap()[0];
     assert!(c.rmse.sign == -1 && !c.bias_interaction, "{c:?}");
 }
+
+#[test]
+fn flip_is_a_third_verdict_that_can_disagree_with_rmse_and_is_unmeasured_without_the_column() {
+    // STBN has 20 % less RMSE than the 2-D mask in both replicates, but 10 % more FLIP.
+    let flip = |v: &mut Vec<JobResult>, f: f64| {
+        v.iter_mut().enumerate().for_each(|(i, r)| r.flip = f + 0.001 * i as f64)
+    };
+    let mut bn = recs(S::Fibonacci, M::BlueNoise, "ema0.1+atrous", 16, 0.050, 0.001);
+    let mut st = recs(S::Fibonacci, M::Stbn, "ema0.1+atrous", 16, 0.040, 0.001);
+    flip(&mut bn, 0.10);
+    flip(&mut st, 0.11);
+    let c = &stbn_cells(&[bn.clone(), st.clone()].concat())[0];
+    assert_eq!((c.rmse.sign, c.flip.sign), (-1, 1), "{c:?}");
+    assert!((c.flip.margin.relative() - 0.01 / 0.1005).abs() < 1e-9, "{:?}", c.flip.margin);
+    assert!(c.flip.measured() && c.rmse_flip_disagree());
+    // The same FLIP on both sides: a tie, still a disagreement with RMSE's win.
+    flip(&mut st, 0.10);
+    let c = &stbn_cells(&[bn.clone(), st.clone()].concat())[0];
+    assert_eq!(c.flip.sign, 0);
+    assert!(c.rmse_flip_disagree());
+    // FLIP agreeing: no disagreement.
+    flip(&mut st, 0.08);
+    assert!(!stbn_cells(&[bn.clone(), st.clone()].concat())[0].rmse_flip_disagree());
+    // Records made before the column (NaN): no FLIP verdict, never a disagreement.
+    st.iter_mut().for_each(|r| r.flip = f64::NAN);
+    let c = &stbn_cells(&[bn, st].concat())[0];
+    assert!(!c.flip.measured() && c.flip.sign == 0 && !c.rmse_flip_disagree(), "{c:?}");
+}

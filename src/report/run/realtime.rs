@@ -6,11 +6,12 @@
 //! file words and formats them. Every cell shows each side's error split from its replicates: bias
 //! (± its jackknife standard error) and noise; "—" where a configuration has one replicate (the
 //! split is undefined there). An RMSE verdict that is the two sides' biases at work is printed as
-//! a "bias interaction", never a win.
+//! a "bias interaction", never a win. Every verdict is also read on mean LDR-FLIP ("—" in records
+//! made before the column), and the sentences say, per conclusion, where RMSE and FLIP disagree.
 
 use crate::compare::margin::Margin;
 use crate::compare::model::Estimate;
-use crate::compare::realtime::{Parts, engine_cells, paper_cells, seeds_cells, stbn_cells};
+use crate::compare::realtime::{Parts, Place, Versus, engine_cells, paper_cells, seeds_cells, stbn_cells};
 use crate::report::Table;
 use crate::results::JobResult;
 use std::collections::BTreeMap;
@@ -43,6 +44,53 @@ fn verdict_of(sign: i32, measured: bool, a: &str, b: &str) -> String {
         -1 => format!("{b} wins"),
         _ => "tie".into(),
     }
+}
+
+/// The FLIP verdict's words: "—" where a side's records have no `flip` (made before the column).
+fn flip_verdict(v: &Versus, a: &str, b: &str) -> String {
+    verdict_of(v.sign, v.measured(), a, b)
+}
+
+/// The RMSE verdict as the tables word it, for a cell's `Versus`.
+fn rmse_words(v: &Versus, below_floor: bool, bias_interaction: bool, a: &str, b: &str) -> String {
+    rmse_verdict(v.sign, below_floor, bias_interaction, a, b)
+}
+
+/// One conclusion's sentence on where RMSE and FLIP disagree (`rmse_flip_disagree` of its cells):
+/// each such cell's place with both verdicts, or that FLIP was not measured; nothing without cells.
+fn disagreement(what: &str, cells: &[(Place, bool, String, String)]) -> Option<String> {
+    if cells.is_empty() {
+        return None;
+    }
+    let with_flip = cells.iter().filter(|c| c.3 != "—").count();
+    if with_flip == 0 {
+        return Some(format!(
+            "{what}: FLIP was not measured in these records (made before the column), so no cell has a FLIP verdict."
+        ));
+    }
+    let said: Vec<String> = cells
+        .iter()
+        .filter(|c| c.1)
+        .map(|(p, _, r, f)| {
+            let per = if p.rays == 1 { "ray" } else { "rays" };
+            format!(
+                "{}, {} {per}, {} camera, {}: RMSE {r}, FLIP {f}",
+                p.scene,
+                p.rays,
+                p.camera,
+                p.pipeline_text()
+            )
+        })
+        .collect();
+    Some(if said.is_empty() {
+        format!("{what}: RMSE and FLIP agree in all {with_flip} cells with FLIP.")
+    } else {
+        format!(
+            "{what}: RMSE and FLIP disagree in {} of {with_flip} cells with FLIP ({}).",
+            said.len(),
+            said.join("; ")
+        )
+    })
 }
 
 /// The floor as a cell prints it ("0.0123", "—" where none was measured).
@@ -83,6 +131,8 @@ const P_MARGIN: usize = 10;
 const P_NOISE_MARGIN: usize = 11;
 const P_VERDICT: usize = 12;
 const P_NOISE_VERDICT: usize = 13;
+const P_FLIP_MARGIN: usize = 14;
+const P_FLIP_VERDICT: usize = 15;
 
 /// Question (1): one row per (scene, rays, camera, pipeline at its last frame): the floor, the
 /// paper's RMSE, the best other estimator and its RMSE, both margins (best other against the paper:
@@ -107,6 +157,8 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
                 margin_text(&c.noise.margin),
                 rmse_verdict(c.rmse.sign, c.below_floor, c.bias_interaction, "paper", "best other"),
                 verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "paper", "best other"),
+                margin_text(&c.flip.margin),
+                flip_verdict(&c.flip, "paper", "best other"),
                 if c.degenerate { "1 ray: sequence axis degenerate".into() } else { String::new() },
             ]
         })
@@ -129,6 +181,8 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
             "margin (noise RMSE)",
             "verdict (RMSE, 5 %)",
             "verdict (noise RMSE)",
+            "margin (FLIP)",
+            "verdict (FLIP, 5 %)",
             "note",
         ]
         .map(String::from)
@@ -140,6 +194,7 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
 /// Column indices of `stbn_table` the sentences read.
 const S_VERDICT: usize = 10;
 const S_NOISE_VERDICT: usize = 11;
+const S_FLIP_VERDICT: usize = 13;
 
 /// Question (2): under every accumulating pipeline at its last frame, per (scene, rays, camera,
 /// sequence, distribution): RMSE with `stbn` against RMSE with per-frame-independent `blue-noise`.
@@ -160,6 +215,8 @@ pub fn stbn_table(results: &[JobResult]) -> Option<Table> {
                 margin_text(&c.noise.margin),
                 rmse_verdict(c.rmse.sign, c.below_floor, c.bias_interaction, "blue noise", "stbn"),
                 verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "blue noise", "stbn"),
+                margin_text(&c.flip.margin),
+                flip_verdict(&c.flip, "blue noise", "stbn"),
             ]
         })
         .collect();
@@ -180,6 +237,8 @@ pub fn stbn_table(results: &[JobResult]) -> Option<Table> {
             "(noise RMSE)",
             "verdict (RMSE, 5 %)",
             "verdict (noise RMSE)",
+            "stbn against blue noise (FLIP)",
+            "verdict (FLIP, 5 %)",
         ]
         .map(String::from)
         .to_vec(),
@@ -206,6 +265,7 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
                 c.bias
                     .map(|b| if b.value.is_finite() { format!("{:.4}", b.value) } else { "—".into() })
                     .join(" / "),
+                margin_text(&c.blue_noise_vs_rotation_flip),
             ]
         })
         .collect();
@@ -224,6 +284,7 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
             "stbn",
             "blue-noise against rotation",
             "bias (rotation / blue-noise / stbn)",
+            "blue-noise against rotation (FLIP)",
         ]
         .map(String::from)
         .to_vec(),
@@ -233,6 +294,7 @@ pub fn seeds_table(results: &[JobResult]) -> Option<Table> {
 
 /// Column of `engine_table`'s RMSE verdict (the noise verdict follows it).
 const E_VERDICT: usize = 11;
+const E_FLIP_VERDICT: usize = 14;
 
 /// Question (3): per (scene, rays, pipeline at its last frame), the best engine pattern's
 /// configuration against the best of every other seed mode (`compare::realtime::engine_cells`).
@@ -254,6 +316,8 @@ pub fn engine_table(results: &[JobResult]) -> Option<Table> {
                 margin_text(&c.noise.margin),
                 rmse_verdict(c.rmse.sign, c.below_floor, c.bias_interaction, "engine", "other"),
                 verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "engine", "other"),
+                margin_text(&c.flip.margin),
+                flip_verdict(&c.flip, "engine", "other"),
             ]
         })
         .collect();
@@ -274,6 +338,8 @@ pub fn engine_table(results: &[JobResult]) -> Option<Table> {
             "(noise RMSE)",
             "verdict (RMSE, 5 %)",
             "verdict (noise RMSE)",
+            "other against engine (FLIP)",
+            "verdict (FLIP, 5 %)",
         ]
         .map(String::from)
         .to_vec(),
@@ -314,6 +380,8 @@ pub fn summary_table(results: &[JobResult]) -> Option<Table> {
         .map(|((pipeline, rays, camera), rs)| {
             let (w, t, l, b, x) = tally(&rs, P_VERDICT, "paper");
             let (nw, nt, nl, _, _) = tally(&rs, P_NOISE_VERDICT, "paper");
+            let (fw, ft, fl, _, _) = tally(&rs, P_FLIP_VERDICT, "paper");
+            let mut f: Vec<f64> = rs.iter().map(|r| pct(&r[P_FLIP_MARGIN])).collect();
             let mut m: Vec<f64> = rs.iter().map(|r| pct(&r[P_MARGIN])).collect();
             let mut n: Vec<f64> = rs.iter().map(|r| pct(&r[P_NOISE_MARGIN])).collect();
             let mut floors: Vec<&str> = rs.iter().map(|r| r[P_FLOOR].as_str()).collect();
@@ -335,6 +403,8 @@ pub fn summary_table(results: &[JobResult]) -> Option<Table> {
                 pct_text(median(&mut m)),
                 format!("{nw} / {nt} / {nl}"),
                 pct_text(median(&mut n)),
+                format!("{fw} / {ft} / {fl}"),
+                pct_text(median(&mut f)),
             ]
         })
         .collect();
@@ -352,6 +422,8 @@ pub fn summary_table(results: &[JobResult]) -> Option<Table> {
             "median margin",
             "noise RMSE: paper wins / tie / best other wins",
             "median margin",
+            "FLIP: paper wins / tie / best other wins",
+            "median margin",
         ]
         .map(String::from)
         .to_vec(),
@@ -359,45 +431,81 @@ pub fn summary_table(results: &[JobResult]) -> Option<Table> {
     })
 }
 
-/// One sentence per question: in how many cells each verdict was reached, on the RMSE and on the
-/// noise RMSE.
+/// Per question: one sentence with the counts of each verdict on the RMSE, the noise RMSE and
+/// FLIP, and one saying in which cells RMSE and FLIP disagree.
 pub fn text(results: &[JobResult]) -> Vec<String> {
     let mut out = Vec::new();
     if let Some(t) = paper_table(results) {
         let rows: Vec<&Vec<String>> = t.rows.iter().collect();
-        let ((w, tie, l, b, x), (nw, ntie, nl, _, _)) =
-            (tally(&rows, P_VERDICT, "paper"), tally(&rows, P_NOISE_VERDICT, "paper"));
+        let ((w, tie, l, b, x), (nw, ntie, nl, _, _), (fw, ftie, fl, _, _)) = (
+            tally(&rows, P_VERDICT, "paper"),
+            tally(&rows, P_NOISE_VERDICT, "paper"),
+            tally(&rows, P_FLIP_VERDICT, "paper"),
+        );
         out.push(format!(
             "Real-time: after the pipeline, sine-cosine × Fibonacci × per-pixel seed has significantly less RMSE \
              than every other configuration in {w} of {} cells, ties the best other in {tie}, loses in {l}, \
              is below the filter's floor in {b} and a bias interaction in {x} (no verdict there); on the noise \
-             part (from the replicates) it wins {nw}, ties {ntie} and loses {nl} (scene × rays per frame × \
-             camera × pipeline at its last frame; 5 % two-sided, paired over replicates).",
+             part (from the replicates) it wins {nw}, ties {ntie} and loses {nl}; on FLIP it wins {fw}, ties \
+             {ftie} and loses {fl} (scene × rays per frame × camera × pipeline at its last frame; 5 % \
+             two-sided, paired over replicates).",
             rows.len()
         ));
+        let cells: Vec<_> = paper_cells(results)
+            .unwrap_or_default()
+            .into_iter()
+            .map(|c| {
+                let r = rmse_words(&c.rmse, c.below_floor, c.bias_interaction, "paper", "best other");
+                (c.place.clone(), c.rmse_flip_disagree(), r, flip_verdict(&c.flip, "paper", "best other"))
+            })
+            .collect();
+        out.extend(disagreement("The paper's configuration against the best other", &cells));
     }
     if let Some(t) = stbn_table(results) {
         let rows: Vec<&Vec<String>> = t.rows.iter().collect();
-        let ((bn, tie, st, b, x), (nbn, ntie, nst, _, _)) =
-            (tally(&rows, S_VERDICT, "blue noise"), tally(&rows, S_NOISE_VERDICT, "blue noise"));
+        let ((bn, tie, st, b, x), (nbn, ntie, nst, _, _), (fbn, ftie, fst, _, _)) = (
+            tally(&rows, S_VERDICT, "blue noise"),
+            tally(&rows, S_NOISE_VERDICT, "blue noise"),
+            tally(&rows, S_FLIP_VERDICT, "blue noise"),
+        );
         out.push(format!(
             "Under temporal accumulation, spatiotemporal blue noise has significantly less RMSE than \
              per-frame-independent blue noise in {st} of {} cells, ties in {tie}, has more in {bn}, is below \
              the floor in {b} and a bias interaction in {x}; on the noise part it has less in {nst}, ties in \
-             {ntie} and has more in {nbn}.",
+             {ntie} and has more in {nbn}; on FLIP it has less in {fst}, ties in {ftie} and has more in {fbn}.",
             rows.len()
         ));
+        let cells: Vec<_> = stbn_cells(results)
+            .into_iter()
+            .map(|c| {
+                let r = rmse_words(&c.rmse, c.below_floor, c.bias_interaction, "blue noise", "stbn");
+                (c.place.clone(), c.rmse_flip_disagree(), r, flip_verdict(&c.flip, "blue noise", "stbn"))
+            })
+            .collect();
+        out.extend(disagreement("Spatiotemporal blue noise against the 2-D mask", &cells));
     }
     if let Some(t) = engine_table(results) {
         let rows: Vec<&Vec<String>> = t.rows.iter().collect();
-        let ((e, tie, o, b, x), (ne, ntie, no, _, _)) =
-            (tally(&rows, E_VERDICT, "engine"), tally(&rows, E_VERDICT + 1, "engine"));
+        let ((e, tie, o, b, x), (ne, ntie, no, _, _), (fe, ftie, fo, _, _)) = (
+            tally(&rows, E_VERDICT, "engine"),
+            tally(&rows, E_VERDICT + 1, "engine"),
+            tally(&rows, E_FLIP_VERDICT, "engine"),
+        );
         out.push(format!(
             "The engines' rotation patterns: the best of them has significantly less RMSE than the best other \
              seed mode in {e} of {} cells, ties in {tie}, has more in {o}, is below the floor in {b} and a bias \
-             interaction in {x}; on the noise part less in {ne}, ties in {ntie} and more in {no}.",
+             interaction in {x}; on the noise part less in {ne}, ties in {ntie} and more in {no}; on FLIP less \
+             in {fe}, ties in {ftie} and more in {fo}.",
             rows.len()
         ));
+        let cells: Vec<_> = engine_cells(results)
+            .into_iter()
+            .map(|c| {
+                let r = rmse_words(&c.rmse, c.below_floor, c.bias_interaction, "engine", "other");
+                (c.place.clone(), c.rmse_flip_disagree(), r, flip_verdict(&c.flip, "engine", "other"))
+            })
+            .collect();
+        out.extend(disagreement("The best engine pattern against the best other seed mode", &cells));
     }
     out
 }
@@ -470,5 +578,36 @@ mod tests {
         let seeds = seeds_table(&rs);
         assert!(seeds.is_none(), "no rotation/blue-noise/stbn triple at the fewest rays");
         assert!(paper_table(&rs[..4]).is_none(), "single frames only: no section");
+    }
+
+    #[test]
+    fn flip_verdicts_are_dashes_without_the_column_and_disagreements_are_named() {
+        let mut rs: Vec<JobResult> = [
+            recs(S::Fibonacci, M::BlueNoise, "ema0.1+atrous", 16, 0.050, 0.001),
+            recs(S::Fibonacci, M::Stbn, "ema0.1+atrous", 16, 0.040, 0.001),
+        ]
+        .concat();
+        let s = stbn_table(&rs).unwrap();
+        assert_eq!((s.rows[0][S_VERDICT].as_str(), s.rows[0][S_FLIP_VERDICT].as_str()), ("stbn wins", "—"));
+        assert_eq!(s.rows[0][12], "—");
+        let said = text(&rs);
+        assert!(said[1].contains("on FLIP it has less in 0, ties in 0 and has more in 0"), "{}", said[1]);
+        assert!(said[2].contains("FLIP was not measured"), "{}", said[2]);
+        // RMSE says stbn wins; FLIP (mask 0.10, stbn 0.11 in both replicates) says the mask wins.
+        for r in &mut rs {
+            r.flip = if r.seed_mode == "stbn" { 0.11 } else { 0.10 } + 0.001 * r.replicate as f64;
+        }
+        let s = stbn_table(&rs).unwrap();
+        assert_eq!(
+            (s.rows[0][12].as_str(), s.rows[0][S_FLIP_VERDICT].as_str()),
+            ("+10.0 ± 0.0 %", "blue noise wins")
+        );
+        let said = text(&rs);
+        assert!(said[1].contains("on FLIP it has less in 0, ties in 0 and has more in 1"), "{}", said[1]);
+        assert_eq!(
+            said[2],
+            "Spatiotemporal blue noise against the 2-D mask: RMSE and FLIP disagree in 1 of 1 cells with FLIP \
+             (k, 2 rays, static camera, ema0.1+atrous (frame 16): RMSE stbn wins, FLIP blue noise wins)."
+        );
     }
 }

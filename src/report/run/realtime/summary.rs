@@ -3,9 +3,15 @@
 
 use super::*;
 
+/// "kitchen, 1 ray, static camera, svgf (frame 64)": where a cell is, as the sentences name it.
+fn place_text(p: &Place) -> String {
+    let per = if p.rays == 1 { "ray" } else { "rays" };
+    format!("{}, {} {per}, {} camera, {}", p.scene, p.rays, p.camera, p.pipeline_text())
+}
+
 /// One conclusion's sentence on where RMSE and FLIP disagree (`rmse_flip_disagree` of its cells):
 /// each such cell's place with both verdicts, or that FLIP was not measured; nothing without cells.
-fn disagreement(what: &str, cells: &[(Place, bool, String, String)]) -> Option<String> {
+fn disagreement(what: &str, cells: &[(String, bool, String, String)]) -> Option<String> {
     if cells.is_empty() {
         return None;
     }
@@ -15,20 +21,8 @@ fn disagreement(what: &str, cells: &[(Place, bool, String, String)]) -> Option<S
             "{what}: FLIP was not measured in these records (made before the column), so no cell has a FLIP verdict."
         ));
     }
-    let said: Vec<String> = cells
-        .iter()
-        .filter(|c| c.1)
-        .map(|(p, _, r, f)| {
-            let per = if p.rays == 1 { "ray" } else { "rays" };
-            format!(
-                "{}, {} {per}, {} camera, {}: RMSE {r}, FLIP {f}",
-                p.scene,
-                p.rays,
-                p.camera,
-                p.pipeline_text()
-            )
-        })
-        .collect();
+    let said: Vec<String> =
+        cells.iter().filter(|c| c.1).map(|(at, _, r, f)| format!("{at}: RMSE {r}, FLIP {f}")).collect();
     Some(if said.is_empty() {
         format!("{what}: RMSE and FLIP agree in all {with_flip} cells with FLIP.")
     } else {
@@ -149,7 +143,12 @@ pub fn text(results: &[JobResult]) -> Vec<String> {
             .into_iter()
             .map(|c| {
                 let r = rmse_words(&c.rmse, c.below_floor, c.bias_interaction, "paper", "best other");
-                (c.place.clone(), c.rmse_flip_disagree(), r, flip_verdict(&c.flip, "paper", "best other"))
+                (
+                    place_text(&c.place),
+                    c.rmse_flip_disagree(),
+                    r,
+                    flip_verdict(&c.flip, "paper", "best other"),
+                )
             })
             .collect();
         out.extend(disagreement("The paper's configuration against the best other", &cells));
@@ -172,7 +171,12 @@ pub fn text(results: &[JobResult]) -> Vec<String> {
             .into_iter()
             .map(|c| {
                 let r = rmse_words(&c.rmse, c.below_floor, c.bias_interaction, "blue noise", "stbn");
-                (c.place.clone(), c.rmse_flip_disagree(), r, flip_verdict(&c.flip, "blue noise", "stbn"))
+                (
+                    format!("{}, {}", place_text(&c.place), c.prefix),
+                    c.rmse_flip_disagree(),
+                    r,
+                    flip_verdict(&c.flip, "blue noise", "stbn"),
+                )
             })
             .collect();
         out.extend(disagreement("Spatiotemporal blue noise against the 2-D mask", &cells));
@@ -195,7 +199,7 @@ pub fn text(results: &[JobResult]) -> Vec<String> {
             .into_iter()
             .map(|c| {
                 let r = rmse_words(&c.rmse, c.below_floor, c.bias_interaction, "engine", "other");
-                (c.place.clone(), c.rmse_flip_disagree(), r, flip_verdict(&c.flip, "engine", "other"))
+                (place_text(&c.place), c.rmse_flip_disagree(), r, flip_verdict(&c.flip, "engine", "other"))
             })
             .collect();
         out.extend(disagreement("The best engine pattern against the best other seed mode", &cells));

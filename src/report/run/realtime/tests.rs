@@ -95,6 +95,6 @@ fn flip_verdicts_are_dashes_without_the_column_and_disagreements_are_named() {
     assert_eq!(
         said[2],
         "Spatiotemporal blue noise against the 2-D mask: RMSE and FLIP disagree in 1 of 1 cells with FLIP \
-         (k, 2 rays, static camera, ema0.1+atrous (frame 16): RMSE stbn wins, FLIP blue noise wins)."
+         (k, 2 rays, static camera, ema0.1+atrous (frame 16), sine-cosine/fibonacci: RMSE stbn wins, FLIP blue noise wins)."
     );
 }

@@ -58,6 +58,31 @@ fn index(j: &Value, x: &Value, target: &str, at: &dyn Fn() -> String) -> Result<
     }
 }
 
+/// Checks a GLB file's 12-byte header before `gltf::Glb::from_slice` reads it: the crate subtracts
+/// the header's size from the declared length unchecked (a length under 12 overflows), so the
+/// version must be 2 and the declared length hold the header and a chunk header, within the file
+/// (glTF 2.0 §4.4.2). Found by the cargo-fuzz `gltf` target.
+pub fn glb_header(bytes: &[u8]) -> Result<(), String> {
+    let word = |at: usize| bytes.get(at..at + 4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+    let (Some(version), Some(length)) = (word(4), word(8)) else {
+        return Err(format!(
+            "not a readable glTF 2.0 file: a GLB header is 12 bytes, the file has {}",
+            bytes.len()
+        ));
+    };
+    if version != 2 {
+        return Err(format!("not a readable glTF 2.0 file: GLB version {version}; allowed: 2"));
+    }
+    if !(20..=bytes.len() as u64).contains(&u64::from(length)) {
+        return Err(format!(
+            "not a readable glTF 2.0 file: the GLB header declares {length} bytes; allowed: 20 (a header and \
+             a chunk header) up to the file's {} bytes",
+            bytes.len()
+        ));
+    }
+    Ok(())
+}
+
 /// Checks the document's JSON before the `gltf` crate validates it (see the module doc).
 pub fn document(j: &Value) -> Result<(), String> {
     if !j.is_object() {

@@ -37,6 +37,7 @@ pub struct Prepared {
 pub fn prepare(bytes: &[u8]) -> Result<Prepared, String> {
     let unreadable = |e: &dyn std::fmt::Display| format!("not a readable glTF 2.0 file: {e}");
     let (text, blob) = if bytes.starts_with(b"glTF") {
+        super::gltf_check::glb_header(bytes)?;
         let glb = ::gltf::Glb::from_slice(bytes).map_err(|e| unreadable(&e))?;
         (glb.json.into_owned(), glb.bin.map(|b| b.into_owned()))
     } else {

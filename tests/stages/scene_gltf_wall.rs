@@ -153,3 +153,34 @@ fn a_buffer_uri_naming_a_device_is_refused() {
     let e = load_scene(&t.path("s.toml")).err().unwrap().to_string();
     assert!(e.contains("/dev/zero") && e.contains("not a regular file"), "{e}");
 }
+
+/// A GLB header whose declared length is under its own 12 bytes (the cargo-fuzz `gltf` target's find:
+/// the crate subtracts unchecked), or longer than the file, or of another version: one error each.
+#[test]
+fn a_glb_header_that_does_not_hold_is_refused() {
+    let mut fetch = |uri: &str| Err(format!("no file '{uri}' here"));
+    let (doc, bin) = masked_square().encode(None);
+    let good = glb(&doc, &bin);
+    let with = |version: u32, length: u32| {
+        let mut b = good.clone();
+        b[4..8].copy_from_slice(&version.to_le_bytes());
+        b[8..12].copy_from_slice(&length.to_le_bytes());
+        b
+    };
+    let fuzzed = b"glTF\n\0\0\0\0\0\0\0{".to_vec();
+    let n = good.len() as u32;
+    for (bytes, phrase) in [
+        (fuzzed, "GLB version 10"),
+        (with(2, 0), "declares 0 bytes"),
+        (with(2, 11), "declares 11 bytes"),
+        (with(2, n + 1), &format!("declares {} bytes", n + 1) as &str),
+        (with(1, n), "GLB version 1"),
+        (b"glTF\x02\0".to_vec(), "a GLB header is 12 bytes"),
+    ] {
+        let e = parse_gltf(&bytes, &mut fetch).err().expect("refused");
+        assert!(!e.contains("reader failed"), "caught as a panic, not checked: {e}");
+        assert_eq!(e.lines().count(), 1, "{e}");
+        expect(&e, phrase);
+    }
+    assert!(parse_gltf(&with(2, n), &mut fetch).is_ok(), "the file as written still reads");
+}

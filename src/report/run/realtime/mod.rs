@@ -111,12 +111,8 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
     let rows = paper_cells(results)?
         .into_iter()
         .map(|c| {
-            vec![
-                c.place.scene.clone(),
-                c.place.rays.to_string(),
-                c.place.camera.clone(),
-                c.place.pipeline_text(),
-                floor_text(c.place.floor),
+            let mut row = place_columns(&c.place);
+            row.extend([
                 pm(c.paper),
                 c.best.to_string(),
                 pm(c.best_rmse),
@@ -129,7 +125,8 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
                 margin_text(&c.flip.margin),
                 flip_verdict(&c.flip, "paper", "best other"),
                 if c.degenerate { "1 ray: sequence axis degenerate".into() } else { String::new() },
-            ]
+            ]);
+            row
         })
         .collect();
     Some(Table {
@@ -160,6 +157,11 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
     })
 }
 
+/// The columns every real-time table opens with: where the cell is, and that place's floor.
+fn place_columns(p: &Place) -> Vec<String> {
+    vec![p.scene.clone(), p.rays.to_string(), p.camera.clone(), p.pipeline_text(), floor_text(p.floor)]
+}
+
 /// Column indices of `stbn_table` the sentences read.
 const S_VERDICT: usize = 10;
 const S_NOISE_VERDICT: usize = 11;
@@ -171,12 +173,8 @@ pub fn stbn_table(results: &[JobResult]) -> Option<Table> {
     let rows: Vec<Vec<String>> = stbn_cells(results)
         .into_iter()
         .map(|c| {
-            vec![
-                c.place.scene.clone(),
-                c.place.rays.to_string(),
-                c.place.camera.clone(),
-                c.place.pipeline_text(),
-                floor_text(c.place.floor),
+            let mut row = place_columns(&c.place);
+            row.extend([
                 c.prefix,
                 pm(c.blue_noise),
                 pm(c.stbn),
@@ -186,7 +184,8 @@ pub fn stbn_table(results: &[JobResult]) -> Option<Table> {
                 verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "blue noise", "stbn"),
                 margin_text(&c.flip.margin),
                 flip_verdict(&c.flip, "blue noise", "stbn"),
-            ]
+            ]);
+            row
         })
         .collect();
     (!rows.is_empty()).then(|| Table {
@@ -271,12 +270,8 @@ pub fn engine_table(results: &[JobResult]) -> Option<Table> {
     let rows: Vec<Vec<String>> = engine_cells(results)
         .into_iter()
         .map(|c| {
-            vec![
-                c.place.scene.clone(),
-                c.place.rays.to_string(),
-                c.place.camera.clone(),
-                c.place.pipeline_text(),
-                floor_text(c.place.floor),
+            let mut row = place_columns(&c.place);
+            row.extend([
                 c.engine.to_string(),
                 pm(c.engine_rmse),
                 c.other.to_string(),
@@ -287,7 +282,8 @@ pub fn engine_table(results: &[JobResult]) -> Option<Table> {
                 verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "engine", "other"),
                 margin_text(&c.flip.margin),
                 flip_verdict(&c.flip, "engine", "other"),
-            ]
+            ]);
+            row
         })
         .collect();
     (!rows.is_empty()).then(|| Table {

@@ -376,6 +376,7 @@ impl AdviseSpec<'_> {
             }],
             resolution: Some(resolution),
             ao_distance: None,
+            flip_ppd: crate::metrics::DEFAULT_PPD,
             replicates: self.replicates,
             seed: 1,
             point_figures: false,

@@ -65,7 +65,7 @@ pub fn run(args: MergeArgs) -> Result<()> {
         .iter()
         .map(|j| {
             let (si, scene) = loaded.scene_of(j);
-            run_key(j, scene, &references[si])
+            run_key(j, scene, &references[si], loaded.spec.flip_ppd)
         })
         .collect();
     let found = match_records(&shards, &keys, &plan, &args.spec, &ref_dir)?;

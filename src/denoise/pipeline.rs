@@ -62,6 +62,15 @@ pub const ALLOWED: &str = "raw, gauss, atrous, mean, emaA, taaA (0 < A <= 1, e.g
 impl Pipeline {
     pub const RAW: Pipeline = Pipeline { temporal: None, spatial: None };
 
+    /// SVGF's options (its iteration count among them) if this is `svgf`, else None: what lets a
+    /// verdict pair `svgf` with `svgf:5` by type (`compare::realtime::iterations_pairs`).
+    pub fn svgf_options(&self) -> Option<SvgfOptions> {
+        match self.temporal {
+            Some(Temporal::Svgf(o)) => Some(o),
+            _ => None,
+        }
+    }
+
     /// True if more than one frame is combined.
     pub fn is_temporal(&self) -> bool {
         self.temporal.is_some()

@@ -80,11 +80,11 @@ pub fn errors(image: &FrameImage, against: &Against) -> Result<ErrorStats, Metri
 }
 
 /// A reported frame's mean LDR-FLIP against its reference over covered pixels
-/// (`metrics::flip`), at FLIP's default viewing condition (`DEFAULT_PPD`; not a spec setting yet).
-/// Sizes are those `errors` has checked.
-pub fn flip(image: &FrameImage, against: &Against) -> f64 {
+/// (`metrics::flip`), at `ppd` pixels per degree (`Spec::flip_ppd`). Sizes are those `errors` has
+/// checked.
+pub fn flip(image: &FrameImage, against: &Against, ppd: f64) -> f64 {
     let (reference, coverage) = against.at(image.frame);
-    let map = metrics::flip::ldr_flip_map(reference, &image.output.ao, metrics::flip::DEFAULT_PPD);
+    let map = metrics::flip::ldr_flip_map(reference, &image.output.ao, ppd);
     metrics::flip::mean_flip(&map, coverage)
 }
 

@@ -54,7 +54,10 @@ pub fn present(
     let scene = &loaded.scenes[0];
     plan.jobs
         .iter()
-        .map(|j| executor::resumed(previous, &executor::run_key(j, scene, reference), stage).cloned())
+        .map(|j| {
+            executor::resumed(previous, &executor::run_key(j, scene, reference, loaded.spec.flip_ppd), stage)
+                .cloned()
+        })
         .collect()
 }
 

@@ -189,7 +189,7 @@ pub struct JobResult {
     #[serde(default)]
     pub denoise_s: f64,
     /// Mean LDR-FLIP (`metrics::flip`, Andersson et al. 2020) of the image against its reference
-    /// over covered pixels, at `metrics::flip::DEFAULT_PPD` pixels per degree: the perceptual error
+    /// over covered pixels, at the spec's `flip_ppd` pixels per degree (default 67): the perceptual error
     /// the real-time field reports beside RMSE (the two can rank images differently). NaN (empty,
     /// null) where it was not measured, as in records written before the column existed.
     #[serde(default = "nan", deserialize_with = "split::nan_null")]

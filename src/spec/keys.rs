@@ -17,6 +17,7 @@ pub(super) const TOP: &[&str] = &[
     "replicates",
     "seed",
     "point_figures",
+    "flip_ppd",
     "reference",
     "timing",
     "cameras",

@@ -9,6 +9,7 @@
 //! replicates = 4                        # independent seeds per (row, rays); 1..=1000; default 4
 //! seed = 1                              # base seed, 0..=4294967295; default 1
 //! point_figures = true                  # optional: also draw Table 1 and Figures 2-4; default false
+//! flip_ppd = 67                         # optional: LDR-FLIP's pixels per degree, (0, 1000]; default 67
 //!
 //! [reference]                           # optional section; defaults shown
 //! dir = "reference"                     # where reference images live, relative to this file
@@ -353,6 +354,11 @@ pub struct Spec {
     /// Draw the paper's point figures (Table 1, Figures 2-4): they depend on no rendering, so
     /// only the spec that reproduces the paper asks for them.
     pub point_figures: bool,
+    /// LDR-FLIP's viewing condition in pixels per degree (`flip_ppd`, default FLIP's 67,
+    /// `metrics::DEFAULT_PPD`): how large a pixel looks decides which errors the eye resolves, so
+    /// the records' `flip` is at this setting (a setting other than the default is part of the
+    /// run key, so a run at another never reuses them).
+    pub flip_ppd: f64,
     pub reference: ReferenceSpec,
     /// Where the references live: `[reference] dir`, relative to the spec file, by default
     /// `reference/` beside it. Relative to the spec and not to the current directory, so a committed

@@ -17,6 +17,7 @@ pub(super) struct RawSpec {
     pub(super) replicates: Option<S<i64>>,
     pub(super) seed: Option<S<i64>>,
     pub(super) point_figures: Option<S<bool>>,
+    pub(super) flip_ppd: Option<S<toml::Value>>,
     pub(super) reference: Option<RawReference>,
     pub(super) timing: Option<RawTiming>,
     /// Named camera paths for the real-time groups' `cameras` (`[cameras.NAME]`).

@@ -258,6 +258,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         Some([w, h])
     });
     let ao_distance = raw.ao_distance.as_ref().and_then(|v| distance(v, p));
+    let flip_ppd = raw.flip_ppd.as_ref().map_or(crate::metrics::DEFAULT_PPD, |v| ppd(v, p));
     let replicates = raw
         .replicates
         .as_ref()
@@ -373,6 +374,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         scenes,
         resolution,
         ao_distance,
+        flip_ppd,
         replicates: replicates.unwrap_or(DEFAULT_REPLICATES),
         seed,
         point_figures,
@@ -388,6 +390,30 @@ pub(super) fn kind_key(kind: GroupKind) -> &'static str {
         GroupKind::Table => "table",
         GroupKind::Convergence => "convergence",
     }
+}
+
+/// The most pixels per degree `flip_ppd` may say: a pixel of 1/1000 of a degree is finer than any
+/// display a person looks at (FLIP's own default is 67).
+pub const MAX_FLIP_PPD: f64 = 1000.0;
+
+fn ppd(v: &S<toml::Value>, p: &mut Problems) -> f64 {
+    let d = match v.get_ref() {
+        toml::Value::Float(f) => *f,
+        toml::Value::Integer(i) => *i as f64,
+        _ => f64::NAN,
+    };
+    if d.is_finite() && d > 0.0 && d <= MAX_FLIP_PPD {
+        return d;
+    }
+    p.add(
+        v.span(),
+        "flip_ppd",
+        format!(
+            "{} is not allowed; pixels per degree for LDR-FLIP, a number in (0, {MAX_FLIP_PPD}] (FLIP's default 67)",
+            v.get_ref()
+        ),
+    );
+    crate::metrics::DEFAULT_PPD
 }
 
 fn distance(v: &S<toml::Value>, p: &mut Problems) -> Option<AoDistance> {

@@ -10,4 +10,5 @@ mod lowfreq;
 mod paper;
 mod readme;
 mod realtime;
+mod realtime_split;
 mod scenes;

@@ -190,6 +190,15 @@ fn missing_row_field() {
 }
 
 #[test]
+fn bad_flip_ppd() {
+    for bad in ["flip_ppd = 0", "flip_ppd = -67.0", "flip_ppd = 1001", "flip_ppd = \"67\"", "flip_ppd = nan"]
+    {
+        let e = error(&spec(bad, "", ""));
+        assert_has(&e, &["line 3", "key `flip_ppd`", "(0, 1000]"]);
+    }
+}
+
+#[test]
 fn bad_ao_distance() {
     let e = error(&spec("ao_distance = -1.0", "", ""));
     assert_has(&e, &["line 3", "key `ao_distance`", "\"infinite\""]);

@@ -35,10 +35,12 @@ use crate::stats::mean_and_standard_error;
 use std::collections::BTreeMap;
 use std::fmt;
 
+mod iterations;
 mod questions;
 #[cfg(test)]
 mod tests;
 
+pub use iterations::{Call, IterationsPair, Question, iterations_pairs};
 pub use questions::{
     EngineCell, PaperCell, SeedsCell, StbnCell, engine_cells, paper_cells, seeds_cells, stbn_cells,
 };

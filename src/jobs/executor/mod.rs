@@ -63,8 +63,10 @@ const WARMUP_RAYS: u32 = 16;
 
 /// The resume key: the job, and everything outside the job that its numbers depend on (scene
 /// content, reference, hemilab version). The reference's measured fields (its render time, noise
-/// floor) are left out: a rebuilt identical reference must not invalidate finished jobs.
-pub fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
+/// floor) are left out: a rebuilt identical reference must not invalidate finished jobs. FLIP's
+/// viewing condition (`Spec::flip_ppd`) enters only when it is not the default, so the keys of
+/// every run made before it was a setting stay what they were.
+pub fn run_key(job: &Job, scene: &Scene, reference: &Reference, flip_ppd: f64) -> String {
     // The camera in the form manifests had before it was JSON, so keys do not depend on the form.
     let camera = refmath::CameraRecord::Legacy(reference.manifest.camera.legacy());
     let manifest = refmath::Manifest {
@@ -74,13 +76,16 @@ pub fn run_key(job: &Job, scene: &Scene, reference: &Reference) -> String {
         camera,
         ..reference.manifest.clone()
     };
-    let what = format!(
+    let mut what = format!(
         "{};{};{};{}",
         job.canonical(),
         scene.content_hash,
         manifest.to_json(),
         env!("CARGO_PKG_VERSION")
     );
+    if flip_ppd != crate::metrics::DEFAULT_PPD {
+        what.push_str(&format!(";flip_ppd={flip_ppd}"));
+    }
     format!("{:016x}", plan::fnv1a64(what.as_bytes()))
 }
 
@@ -212,7 +217,7 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
         .iter()
         .map(|j| {
             let (si, s) = loaded.scene_of(j);
-            run_key(j, s, &references[si])
+            run_key(j, s, &references[si], loaded.spec.flip_ppd)
         })
         .collect();
     let records: Vec<Option<JobResult>> = keys.iter().map(|k| resumed(previous, k, out).cloned()).collect();
@@ -342,7 +347,7 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             let stats = super::measure::errors(img, &against).map_err(refuse)?;
             let image = keep(i, job, &img.output)?;
             let mut record = JobResult::new(job, &stats, img.output.rays, image);
-            record.flip = super::measure::flip(img, &against);
+            record.flip = super::measure::flip(img, &against, loaded.spec.flip_ppd);
             record.flicker = Some(img.flicker).filter(|f| f.is_finite());
             record.denoise_s = img.denoise_s;
             record.key = keys[i].clone();

@@ -71,7 +71,7 @@ pub fn report(run: Run) -> Result<Report> {
         notes: run.notes,
         images: run.images,
         flip: Some(data::Flip {
-            ppd: crate::metrics::DEFAULT_PPD,
+            ppd: spec.flip_ppd,
             map: &crate::metrics::ldr_flip_map,
             mean: &crate::metrics::mean_flip,
         }),

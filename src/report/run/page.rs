@@ -43,6 +43,7 @@ pub fn page(data: &ReportInput, figures: &Figures, viewer: &str, files: &mut Vec
     tables.extend(answer_tables);
     // The real-time verdicts lead: a real-time spec is run for them.
     lead.extend(super::realtime::summary_table(data.results));
+    lead.extend(super::realtime::stbn_summary_table(data.results));
     lead.extend(super::realtime::paper_table(data.results));
     lead.extend(super::realtime::stbn_table(data.results));
     lead.extend(super::realtime::seeds_table(data.results));

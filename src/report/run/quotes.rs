@@ -75,6 +75,9 @@ pub fn quotes(spec: &Spec, records: &[JobResult], cost: Option<Cost>) -> String 
         ("realtime-summary", super::realtime::summary_table(records)),
         ("realtime-paper", super::realtime::paper_table(records)),
         ("realtime-stbn", super::realtime::stbn_table(records)),
+        ("realtime-stbn-summary", super::realtime::stbn_summary_table(records)),
+        ("realtime-paper-compact", super::realtime::paper_compact_table(records)),
+        ("realtime-stbn-compact", super::realtime::stbn_compact_table(records)),
         ("realtime-seeds", super::realtime::seeds_table(records)),
         ("realtime-engine", super::realtime::engine_table(records)),
     ];

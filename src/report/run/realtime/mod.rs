@@ -16,10 +16,12 @@ use crate::report::Table;
 use crate::results::JobResult;
 use std::collections::BTreeMap;
 
+mod conclusions;
 mod summary;
 #[cfg(test)]
 mod tests;
 
+pub use conclusions::{iterations_text, paper_compact_table, stbn_compact_table, stbn_summary_table};
 pub use summary::{summary_table, text};
 
 /// "+12.3 ± 1.4 %": a margin relative to its base, with its standard error.

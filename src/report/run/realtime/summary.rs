@@ -4,7 +4,7 @@
 use super::*;
 
 /// "kitchen, 1 ray, static camera, svgf (frame 64)": where a cell is, as the sentences name it.
-fn place_text(p: &Place) -> String {
+pub(super) fn place_text(p: &Place) -> String {
     let per = if p.rays == 1 { "ray" } else { "rays" };
     format!("{}, {} {per}, {} camera, {}", p.scene, p.rays, p.camera, p.pipeline_text())
 }
@@ -36,7 +36,7 @@ fn disagreement(what: &str, cells: &[(String, bool, String, String)]) -> Option<
 
 /// How many of `rows` have each verdict in column `col`: (first named wins, tie, the other wins,
 /// below floor, bias interaction); rows whose margin was not measured ("—") are in none.
-fn tally(rows: &[&Vec<String>], col: usize, first: &str) -> (usize, usize, usize, usize, usize) {
+pub(super) fn tally(rows: &[&Vec<String>], col: usize, first: &str) -> (usize, usize, usize, usize, usize) {
     let count = |w: &str| rows.iter().filter(|r| r[col] == w).count();
     let wins = count(&format!("{first} wins"));
     let (ties, below, bias) = (count("tie"), count("below floor"), count("bias interaction"));
@@ -204,5 +204,6 @@ pub fn text(results: &[JobResult]) -> Vec<String> {
             .collect();
         out.extend(disagreement("The best engine pattern against the best other seed mode", &cells));
     }
+    out.extend(super::iterations_text(results));
     out
 }

@@ -98,3 +98,47 @@ fn flip_verdicts_are_dashes_without_the_column_and_disagreements_are_named() {
          (k, 2 rays, static camera, ema0.1+atrous (frame 16), sine-cosine/fibonacci: RMSE stbn wins, FLIP blue noise wins)."
     );
 }
+
+#[test]
+fn svgf_iteration_counts_are_paired_by_type_and_changed_verdicts_named() {
+    // Under `svgf` the paper's loses to stbn; under `svgf:5` it wins. `svgf:5:id` has another
+    // option, so it pairs with neither.
+    let rs: Vec<JobResult> = [
+        recs(S::Fibonacci, M::Rotation, "svgf", 64, 0.020, 0.001),
+        recs(S::Fibonacci, M::BlueNoise, "svgf", 64, 0.030, 0.001),
+        recs(S::Fibonacci, M::Stbn, "svgf", 64, 0.015, 0.001),
+        recs(S::Fibonacci, M::Rotation, "svgf:5", 64, 0.010, 0.001),
+        recs(S::Fibonacci, M::BlueNoise, "svgf:5", 64, 0.030, 0.001),
+        recs(S::Fibonacci, M::Stbn, "svgf:5", 64, 0.015, 0.001),
+        recs(S::Fibonacci, M::Rotation, "svgf:5:id", 64, 0.010, 0.001),
+        recs(S::Fibonacci, M::Stbn, "svgf:5:id", 64, 0.015, 0.001),
+    ]
+    .concat();
+    let pairs = crate::compare::realtime::iterations_pairs(&rs);
+    assert_eq!(pairs.len(), 2, "{pairs:?}");
+    assert_eq!(
+        (pairs[0].places[0].pipeline.as_str(), pairs[0].places[1].pipeline.as_str()),
+        ("svgf", "svgf:5")
+    );
+    let said = iterations_text(&rs);
+    assert_eq!(said.len(), 2, "{said:?}");
+    assert!(said[0].contains("the RMSE verdict changes in 1 of 1 cells (k, 2 rays, static camera, svgf (frame 64): best other wins → paper wins)"), "{}", said[0]);
+    assert!(
+        said[1].contains("STBN against the 2-D mask: the RMSE verdict changes in 0 of 1 cells;"),
+        "{}",
+        said[1]
+    );
+    let sum = stbn_summary_table(&rs).unwrap();
+    assert_eq!(
+        sum.rows[0][..5],
+        ["svgf (frame 64)", "static", "2", "1", "1 / 0 / 0 / 0 / 0"].map(String::from)
+    );
+    // The compact forms: pipeline × camera by rays per frame, RMSE and FLIP (not in these records).
+    let paper = paper_compact_table(&rs).unwrap();
+    assert_eq!(paper.header, ["pipeline", "camera", "2 rays/frame"].map(String::from));
+    assert_eq!(paper.rows.len(), 3, "svgf, svgf:5, svgf:5:id: {:?}", paper.rows);
+    assert_eq!(paper.rows[0], ["svgf (frame 64)", "static", "RMSE 0/0/1 · FLIP —"].map(String::from));
+    assert_eq!(paper.rows[1][2], "RMSE 1/0/0 · FLIP —");
+    let stbn = stbn_compact_table(&rs).unwrap();
+    assert_eq!(stbn.rows[0][2], "RMSE 1/0/0 · FLIP —", "stbn wins under svgf");
+}

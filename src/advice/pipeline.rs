@@ -22,8 +22,9 @@ pub fn as_ranked(records: &[JobResult]) -> Result<Vec<JobResult>, String> {
         .map(|r| {
             let m: Measurement = r.measurement().ok_or_else(|| {
                 format!(
-                    "record {} names a pipeline '{}', schedule '{}' or integrand '{}' this version does not know",
-                    r.key, r.pipeline, r.schedule, r.integrand
+                    "record {} names a pipeline '{}', schedule '{}', integrand '{}', camera '{}' or denoiser '{}' \
+                     this version or this advise does not know",
+                    r.key, r.pipeline, r.schedule, r.integrand, r.camera, r.denoiser
                 )
             })?;
             if m.is_single_frame() {

@@ -82,13 +82,25 @@ fn advise_ranks_each_camera_and_schedule_after_the_pipeline_at_one_frames_time()
         );
     }
     assert_eq!(views("stbn"), [pair("orbit", "independent"), pair("static", "independent")]);
-    // Each stored record renders 4 frames; what advise ranks is the time of one.
+    // Each stored record renders 4 frames; what advise ranks is the time of one. (Reading the
+    // records back needs their camera known here, as advise knew it.)
+    hemilab::plan::CameraId::intern(hemilab::plan::CameraRun {
+        name: "orbit".into(),
+        path: hemilab::advice::setup::default_path(),
+        jitter: true,
+        frames: 4,
+    });
     let ranked = hemilab::advice::pipeline::as_ranked(&records).unwrap();
     for (r, k) in records.iter().zip(&ranked) {
         assert_eq!((k.pipeline.as_str(), k.frame), ("raw", 1));
         assert_eq!((k.rmse, k.rays, &k.camera, &k.schedule), (r.rmse, r.rays, &r.camera, &r.schedule));
         assert!((k.time_s * 4.0 - r.time_s).abs() <= 1e-12 * r.time_s, "{} vs {}", k.time_s, r.time_s);
-        assert_eq!(k.rays_cast * 4, r.rays_cast);
+        assert!(
+            (k.rays_cast * 4).abs_diff(r.rays_cast) <= 2,
+            "rounded to the ray: {} vs {}",
+            k.rays_cast,
+            r.rays_cast
+        );
         assert!(k.lowfreq_ratio.is_nan(), "after a spatial filter the structure measure is not read");
     }
     // An accumulating pipeline sweeps no static seed (its error repeats every frame), and says why.

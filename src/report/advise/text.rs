@@ -109,6 +109,9 @@ pub fn advice_line(a: &Answer, per: &str) -> String {
     s + "."
 }
 
+/// Near-ties a ray budget's sentence names (the closest first); the table and advice.json hold all.
+pub const NEAR_TIES_NAMED: usize = 4;
+
 /// One sentence per ray budget and camera after a real-time pipeline (`after`, e.g. "after svgf
 /// at frame 64"): what to ship at that many rays per pixel per frame by RMSE — and by FLIP, named
 /// when it differs — its RMSE, FLIP, flicker and bias/noise split, its time per frame here and its
@@ -153,8 +156,16 @@ pub fn ray_line(at: &AtRays, a: &Analysis, after: &str) -> String {
     let ties: Vec<String> = at.near_ties().skip(1).map(|e| candidate(a, e)).collect();
     if ties.is_empty() {
         s += "; no other configuration is within its paired margin";
-    } else {
+    } else if ties.len() <= NEAR_TIES_NAMED {
         let _ = write!(s, "; within its paired margin (near-ties): {}", ties.join("; "));
+    } else {
+        let _ = write!(
+            s,
+            "; within its paired margin, {} near-ties: {} and {} more (advice.json lists them all)",
+            ties.len(),
+            ties[..NEAR_TIES_NAMED].join("; "),
+            ties.len() - NEAR_TIES_NAMED
+        );
     }
     let default = at
         .entries

@@ -331,6 +331,16 @@ pub struct AdviseArgs {
     /// with every seed mode it is sensible with; repeatable.
     #[arg(long, value_name = "PATH", conflicts_with = "from")]
     pub points: Vec<String>,
+    /// With an accumulating --pipeline: another camera path to rank with, besides the scene's still
+    /// camera and the default moving one (orbit:10, jittered): orbit:DEG, pan:DEG, dolly:DISTANCE
+    /// (over the frames) or still (the scene's camera, jittered); repeatable.
+    #[arg(long, value_name = "PATH", conflicts_with = "from")]
+    pub camera_path: Vec<String>,
+    /// With --pipeline: the user's own denoiser run on every ranked frame after the pipeline, as
+    /// NAME=PROGRAM ARGS… (split at spaces; {input} and {output} are the EXRs hemilab writes and
+    /// reads back, as a spec's [denoisers.NAME]); relative paths from the current directory.
+    #[arg(long, value_name = "NAME=COMMAND", conflicts_with = "from")]
+    pub denoiser: Option<String>,
     /// Output directory (default: out/advise-<scene>/, or DIR with --from). Rewritten whole: absent,
     /// empty or an earlier advise's; a rerun resumes from its records.
     #[arg(long)]

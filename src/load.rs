@@ -109,6 +109,14 @@ pub fn load(spec_path: &Path) -> Result<Loaded> {
     Ok(Loaded { spec, scenes })
 }
 
+/// The real-time axes of a spec made in memory (advise's cameras and denoiser), checked before any
+/// work as `load` checks a spec file's: every camera path's frames see the scene, and every
+/// denoiser command runs on a test frame.
+pub fn check_realtime(spec: &Spec, scenes: &[Arc<Scene>]) -> Result<()> {
+    realtime::check_cameras(spec, scenes)?;
+    realtime::probe_denoisers(spec)
+}
+
 /// A scene the spec names: a missing file is the spec's mistake, so the message points at its key;
 /// an image too large to hold in memory is refused here rather than by the allocator mid-run.
 /// Its BVH build effort follows the rays the spec's jobs and reference trace in it (`spec_rays`).

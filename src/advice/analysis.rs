@@ -25,6 +25,14 @@ pub struct Measured<'a> {
     pub reference: &'a Reference,
     /// The sweep's records, by plan index.
     pub results: Vec<JobResult>,
+    /// The camera paths' frames' references (empty without a moving or jittered camera).
+    pub views: &'a crate::jobs::reference::ViewReferences,
+    /// A kept record's image and its coverage (the sweep's after a real-time pipeline, the
+    /// finalists'), read from where advise writes them (`outdir::record_image`).
+    pub images: &'a dyn Fn(&JobResult) -> crate::error::Result<(crate::image::Image, crate::image::Image)>,
+    /// The sweep's records as stored (each with its real pipeline, frame and camera), for the
+    /// page's final frames and viewer.
+    pub stored: Vec<JobResult>,
     /// The finalists' records (`setup::verify_jobs`), every budget's.
     pub verified: Vec<JobResult>,
     /// By (configuration, rays, replicate): a finalist's image − reference on covered pixels (0
@@ -82,6 +90,11 @@ pub struct Analysis {
     /// Each configuration's sampler cost per point on this machine at each ray count, ns
     /// (`jobs::sampler_cost`), filled in by the command that measures it.
     pub sampler_ns: Vec<(Row, u32, f64)>,
+    /// After an accumulating pipeline, the configurations measured under one schedule only, since
+    /// both would draw the same points (`advice::schedules_for`); empty otherwise.
+    pub one_schedule: Vec<Row>,
+    /// Whether each candidate is named with its schedule (after an accumulating pipeline).
+    pub temporal: bool,
 }
 
 impl Analysis {
@@ -93,14 +106,23 @@ impl Analysis {
 
 /// Ladders, budgets, rankings and the sweep's (interpolated) answers; no maps yet.
 pub fn analyse(setup: &Setup, results: &[JobResult], budgets_ms: &[f64]) -> Analysis {
-    let curves = curves(setup, results);
+    let curves = curves(setup, &crate::advice::pipeline::still_independent(results));
     let default = curves.iter().find(|c| c.row == PAPER_DEFAULT).expect("the paper default is always run");
     // After a real-time pipeline the budgets an engine has are rays per pixel per frame; a budget
     // in ms of this machine's CPU time only when asked for.
     let per_ray: Vec<AtRays> = if setup.pipeline == crate::denoise::Pipeline::RAW {
         Vec::new()
     } else {
-        setup.rays.iter().map(|&r| per_ray::rank(results, &setup.rows, r)).collect()
+        // Per ray budget and, within it, per camera (the scene's still one first).
+        let candidates = setup.candidates();
+        let cameras = setup.cameras();
+        let mut out = Vec::new();
+        for &r in &setup.rays {
+            for c in &cameras {
+                out.push(per_ray::rank(results, &candidates, r, &c.name()));
+            }
+        }
+        out
     };
     let (budgets_s, defaulted) = if budgets_ms.is_empty() && !per_ray.is_empty() {
         (Vec::new(), false)
@@ -122,6 +144,8 @@ pub fn analyse(setup: &Setup, results: &[JobResult], budgets_ms: &[f64]) -> Anal
         session_ratio: None,
         per_ray,
         sampler_ns: Vec::new(),
+        one_schedule: setup.rows.iter().copied().filter(|&r| setup.schedule_free(r)).collect(),
+        temporal: setup.pipeline.is_temporal(),
     }
 }
 

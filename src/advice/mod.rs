@@ -16,6 +16,7 @@
 pub mod analysis;
 pub mod answer;
 pub mod pipeline;
+pub mod request;
 pub mod setup;
 pub mod winner;
 
@@ -124,6 +125,52 @@ pub fn engine_rows() -> Vec<Row> {
     rows
 }
 
+/// The seed modes a real-time renderer chooses from: a per-pixel rotation (the paper's), a
+/// blue-noise mask's offsets, spatiotemporal blue noise, and the engines' rotation patterns.
+pub const REALTIME_MODES: [SeedMode; 7] = [
+    SeedMode::Rotation,
+    SeedMode::BlueNoise,
+    SeedMode::Stbn,
+    SeedMode::Ign,
+    SeedMode::Bayer,
+    SeedMode::MagicSquare,
+    SeedMode::R2Dither,
+];
+
+/// The sequences engines draw their kernels from: pseudo-random points and the paper's lattice.
+pub const REALTIME_SEQUENCES: [Sequence; 2] = [Sequence::Random, Sequence::Fibonacci];
+
+/// What advise sweeps by default after a real-time pipeline: the cosine-weighted kernel engines
+/// use, through `REALTIME_SEQUENCES`, with every seed mode of `REALTIME_MODES` and of the
+/// textures `modes` (`--texture`) — the choice an engine actually makes — each under both
+/// schedules and every camera, which multiplies the sweep by four, so not every distribution ×
+/// sequence of the paper's raw sweep (`--only` names any of those). The paper's default first.
+pub fn realtime_rows(modes: &[SeedMode]) -> Vec<Row> {
+    let mut rows = vec![PAPER_DEFAULT];
+    for s in REALTIME_SEQUENCES {
+        for &m in REALTIME_MODES.iter().chain(modes) {
+            let r = Row::new(Distribution::SineCosine, s, m).canonical();
+            if r.invalid().is_none() && !rows.contains(&r) {
+                rows.push(r);
+            }
+        }
+    }
+    rows
+}
+
+/// The schedules a configuration is measured under when `frames` frames are accumulated: both
+/// (`independent`, `r1`) where the schedule changes its points, else `independent` alone, since
+/// the other would render the very same images (`SeedMode::schedule_matters`: `stbn` up to 32
+/// frames).
+pub fn schedules_for(row: Row, frames: u32) -> Vec<crate::sampling::Schedule> {
+    use crate::sampling::Schedule;
+    if row.seed_mode.schedule_matters(frames) {
+        vec![Schedule::Independent, Schedule::R1]
+    } else {
+        vec![Schedule::Independent]
+    }
+}
+
 /// Every distribution × sequence × seed mode that `advise` runs by default: canonical (duplicates
 /// such as `random` × `shift` = `random` × `rotation` merged) and sensible (`not_sensible`), in the
 /// order of `Distribution::ALL`, `Sequence::all()`, `SeedMode::ALL`.
@@ -204,9 +251,39 @@ pub fn select(patterns: &[Pattern]) -> Result<Vec<Row>, String> {
 pub fn select_with(patterns: &[Pattern], added: &[Row]) -> Result<Vec<Row>, String> {
     let mut all = sensible_rows();
     all.extend(added.iter().filter(|r| !all.contains(r)).copied().collect::<Vec<_>>());
+    select_in(patterns, all.clone(), all)
+}
+
+/// `select_with` after a real-time pipeline: without patterns, `realtime_rows` with the textures
+/// of `added` and the point files' rows of the kernel engines use (sine-cosine); patterns select
+/// from those, the sensible rows and `added` alike.
+pub fn select_realtime(patterns: &[Pattern], added: &[Row]) -> Result<Vec<Row>, String> {
+    let modes: Vec<SeedMode> =
+        added.iter().map(|r| r.seed_mode).filter(|m| m.texture_use().is_some()).collect();
+    let mut default = realtime_rows(&modes);
+    for r in added {
+        let engine_kernel = r.distribution == Distribution::SineCosine
+            && (REALTIME_SEQUENCES.contains(&r.sequence) || r.sequence.name().starts_with("points:"))
+            && (REALTIME_MODES.contains(&r.seed_mode) || modes.contains(&r.seed_mode));
+        if engine_kernel && !default.contains(r) {
+            default.push(*r);
+        }
+    }
+    let mut all = sensible_rows();
+    for r in default.iter().chain(added) {
+        if !all.contains(r) {
+            all.push(*r);
+        }
+    }
+    select_in(patterns, default, all)
+}
+
+/// The paper's default first, then `default` without patterns, else what the patterns pick of
+/// `all` (a fully named one taken as asked).
+fn select_in(patterns: &[Pattern], default: Vec<Row>, all: Vec<Row>) -> Result<Vec<Row>, String> {
     let mut rows = vec![PAPER_DEFAULT];
     if patterns.is_empty() {
-        rows.extend(all.into_iter().filter(|r| *r != PAPER_DEFAULT));
+        rows.extend(default.into_iter().filter(|r| *r != PAPER_DEFAULT));
         return Ok(rows);
     }
     for p in patterns {

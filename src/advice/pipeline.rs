@@ -11,8 +11,8 @@ use crate::denoise::Pipeline;
 use crate::plan::Measurement;
 use crate::results::{self, JobResult};
 
-/// The records as the paper-table images advise ranks: pipeline `raw`, frame 1, independent
-/// schedule, every time (and the rays cast) divided by the frames rendered, the timing split and
+/// The records as the paper-table images advise ranks: pipeline `raw`, frame 1 (the schedule, the
+/// camera and the denoiser kept: a ranking is per camera, of configurations under a schedule), every time (and the rays cast) divided by the frames rendered, the timing split and
 /// efficiency recomputed from those per-frame times with the record's own overhead. Records that
 /// are already single frames come back unchanged. A record whose pipeline, schedule or integrand
 /// this version cannot read is refused (the message names it), never read as raw.
@@ -22,8 +22,9 @@ pub fn as_ranked(records: &[JobResult]) -> Result<Vec<JobResult>, String> {
         .map(|r| {
             let m: Measurement = r.measurement().ok_or_else(|| {
                 format!(
-                    "record {} names a pipeline '{}', schedule '{}' or integrand '{}' this version does not know",
-                    r.key, r.pipeline, r.schedule, r.integrand
+                    "record {} names a pipeline '{}', schedule '{}', integrand '{}', camera '{}' or denoiser '{}' \
+                     this version or this advise does not know",
+                    r.key, r.pipeline, r.schedule, r.integrand, r.camera, r.denoiser
                 )
             })?;
             if m.is_single_frame() {
@@ -39,7 +40,6 @@ pub fn as_ranked(records: &[JobResult]) -> Result<Vec<JobResult>, String> {
                 lowfreq_ratio,
                 pipeline: Pipeline::RAW.to_string(),
                 frame: 1,
-                schedule: crate::sampling::Schedule::Independent.name().into(),
                 time_s: r.time_s / k,
                 wall_s: r.wall_s / k,
                 times: r.times.iter().map(|t| t / k).collect(),
@@ -56,4 +56,19 @@ pub fn as_ranked(records: &[JobResult]) -> Result<Vec<JobResult>, String> {
         results::fill_timing(&mut out, &overhead);
     }
     Ok(out)
+}
+
+/// The ranked records (`as_ranked`) of the scene's still camera under the independent schedule, as
+/// single frames (the denoiser's name dropped): what a budget in ms ranks at equal time
+/// (`compare::budget`), as it ranks the paper's single frames. The other cameras and the `r1`
+/// schedule are answered per ray budget (`compare::per_ray`).
+pub fn still_independent(ranked: &[JobResult]) -> Vec<JobResult> {
+    ranked
+        .iter()
+        .filter(|r| {
+            r.camera == crate::plan::CameraId::STATIC_NAME
+                && r.schedule == crate::sampling::Schedule::Independent.name()
+        })
+        .map(|r| JobResult { denoiser: String::new(), ..r.clone() })
+        .collect()
 }

@@ -11,6 +11,7 @@ use crate::error::{Error, Result};
 use crate::load::{Loaded, check_pixels, check_view};
 use crate::plan::Geometry;
 use crate::plan::{self, Plan};
+use crate::plan::{CameraId, DenoiserId};
 use crate::reference::Manifest;
 use crate::reference::store as refs;
 use crate::sampling::Integrand;
@@ -19,116 +20,11 @@ use crate::spec::{self, Group, GroupKind, ReferenceRays, ReferenceSpec, Row, Sce
 use crate::timing;
 use std::path::{Path, PathBuf};
 
+pub use super::request::{DEFAULT_PATH_NAME, Request, default_path, parse_camera_path, parse_denoiser};
+
 /// Default image size, at most: every default configuration's ladder, timed by the protocol, in
 /// well under a minute of CPU time, and the kitchen's committed 64×48 reference (docs/advise.md).
 pub const DEFAULT_MAX_PIXELS: u64 = 64 * 48;
-
-/// What the user asked advise for (`hemilab advise`'s flags), less the budgets: the sweep. Stored
-/// in the output directory (`to_json`, outdir's `ADVISE_REQUEST`) so that `advise --from` can set
-/// the same sweep up again without the flags.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Request {
-    pub scene: PathBuf,
-    pub rays: Vec<u32>,
-    pub only: Vec<advice::Pattern>,
-    pub replicates: u32,
-    pub resolution: Option<(u32, u32)>,
-    pub reference_dir: Option<PathBuf>,
-    /// What is done to the frames before the image is ranked (`advice::pipeline`; raw: the paper's).
-    pub pipeline: crate::denoise::Pipeline,
-    /// The frame whose image is ranked (frames accumulated by a temporal pipeline), 1 for raw.
-    pub frames: u32,
-    /// What the rays integrate; `ao` in a request written before integrands existed.
-    pub integrand: Integrand,
-    /// Textures and point files to measure besides the built-ins (`--texture`, `--points`), as
-    /// `texture:PATH[:use]` / `points:PATH`, PATH as given (it names the seed mode or sequence).
-    pub files: Vec<String>,
-    /// Where their relative paths start (the directory advise ran in), so that `--from` elsewhere
-    /// reads the same files under the same names.
-    pub files_dir: Option<PathBuf>,
-}
-
-impl Request {
-    /// As JSON, the paths made absolute (a later `--from` may run from another directory).
-    pub fn to_json(&self) -> String {
-        let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf()).display().to_string();
-        let v = serde_json::json!({
-            "scene": abs(&self.scene),
-            "rays": self.rays,
-            "only": self.only.iter().map(advice::Pattern::to_text).collect::<Vec<_>>(),
-            "replicates": self.replicates,
-            "resolution": self.resolution.map(|(w, h)| [w, h]),
-            "reference_dir": self.reference_dir.as_deref().map(abs),
-            "pipeline": self.pipeline.to_string(),
-            "frames": self.frames,
-            "integrand": self.integrand.to_string(),
-            "files": self.files,
-            "files_dir": self.files_dir.as_deref().map(abs),
-        });
-        let mut text = serde_json::to_string_pretty(&v).unwrap_or_default();
-        text.push('\n');
-        text
-    }
-
-    /// What makes `earlier` another question than this one, if anything: its scene (as an
-    /// absolute path), its pipeline, frame or integrand. Other rays, replicates or budgets are the
-    /// same question asked again (a rerun resumes from the records it shares).
-    pub fn differs_from(&self, earlier: &Request) -> Option<String> {
-        let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
-        if abs(&self.scene) != abs(&earlier.scene) {
-            return Some(format!("the scene {}", earlier.scene.display()));
-        }
-        if (self.pipeline, self.frames) != (earlier.pipeline, earlier.frames) {
-            return Some(format!("pipeline {} at frame {}", earlier.pipeline, earlier.frames));
-        }
-        if self.integrand != earlier.integrand {
-            return Some(format!("integrand {}", earlier.integrand));
-        }
-        None
-    }
-
-    /// Reads `to_json`'s text back; the message says what is missing or wrong.
-    pub fn from_json(text: &str) -> std::result::Result<Self, String> {
-        let v: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
-        let field = |k: &str| v.get(k).ok_or_else(|| format!("no '{k}'"));
-        let de = |k: &str| -> std::result::Result<serde_json::Value, String> { field(k).cloned() };
-        let scene: String = serde_json::from_value(de("scene")?).map_err(|e| format!("scene: {e}"))?;
-        let rays: Vec<u32> = serde_json::from_value(de("rays")?).map_err(|e| format!("rays: {e}"))?;
-        let only: Vec<String> = serde_json::from_value(de("only")?).map_err(|e| format!("only: {e}"))?;
-        let replicates: u32 =
-            serde_json::from_value(de("replicates")?).map_err(|e| format!("replicates: {e}"))?;
-        let resolution: Option<[u32; 2]> =
-            serde_json::from_value(de("resolution")?).map_err(|e| format!("resolution: {e}"))?;
-        let reference_dir: Option<String> =
-            serde_json::from_value(de("reference_dir")?).map_err(|e| format!("reference_dir: {e}"))?;
-        // An earlier advise's request, from before pipelines, ranked raw single frames.
-        let pipeline = match v.get("pipeline").and_then(|p| p.as_str()) {
-            Some(p) => p.parse().map_err(|e| format!("pipeline: {e}"))?,
-            None => crate::denoise::Pipeline::RAW,
-        };
-        let frames = v.get("frames").and_then(|f| f.as_u64()).map_or(1, |f| f as u32);
-        Ok(Self {
-            scene: scene.into(),
-            rays,
-            only: only.iter().map(|p| advice::Pattern::parse(p)).collect::<std::result::Result<_, _>>()?,
-            replicates,
-            resolution: resolution.map(|[w, h]| (w, h)),
-            reference_dir: reference_dir.map(PathBuf::from),
-            pipeline,
-            frames,
-            integrand: match v.get("integrand").and_then(|i| i.as_str()) {
-                Some(i) => Integrand::parse(i).map_err(|e| format!("integrand: {e}"))?,
-                None => Integrand::Ao,
-            },
-            // A request from before files could be named has none.
-            files: match v.get("files") {
-                Some(f) => serde_json::from_value(f.clone()).map_err(|e| format!("files: {e}"))?,
-                None => Vec::new(),
-            },
-            files_dir: v.get("files_dir").and_then(|d| d.as_str()).map(PathBuf::from),
-        })
-    }
-}
 
 /// The ray counts advise sweeps when `--rays` is not given: 1 to 64 for the paper's raw image
 /// (budgets in ms fall between them), 1, 2 and 4 after a real-time pipeline (the rays per pixel
@@ -168,7 +64,40 @@ impl Setup {
         if self.pipeline != crate::denoise::Pipeline::RAW {
             t += &format!(" after {} at frame {}", self.pipeline, self.frames);
         }
+        if self.denoiser() != DenoiserId::NONE {
+            t += &format!(" and the denoiser {}", self.denoiser().name());
+        }
         t
+    }
+
+    /// What is ranked against what: every configuration under each schedule it is measured
+    /// under (`advice::schedules_for`), in sweep order.
+    pub fn candidates(&self) -> Vec<(Row, crate::sampling::Schedule)> {
+        let mut out = Vec::new();
+        for &row in &self.rows {
+            for g in self.loaded.spec.groups.iter().filter(|g| g.rows.contains(&row)) {
+                out.extend(
+                    g.schedules.iter().map(|&s| (row, s)).filter(|c| !out.contains(c)).collect::<Vec<_>>(),
+                );
+            }
+        }
+        out
+    }
+
+    /// Whether `row` is measured under one schedule only because both would draw the same points
+    /// (after an accumulating pipeline; `advice::schedules_for`).
+    pub fn schedule_free(&self, row: Row) -> bool {
+        self.pipeline.is_temporal() && self.candidates().iter().filter(|c| c.0 == row).count() == 1
+    }
+
+    /// The cameras every configuration is seen by, the scene's still one first.
+    pub fn cameras(&self) -> Vec<CameraId> {
+        self.loaded.spec.groups.first().map_or(vec![CameraId::STATIC], |g| g.cameras.clone())
+    }
+
+    /// The user's denoiser (`NONE` without one).
+    pub fn denoiser(&self) -> DenoiserId {
+        self.loaded.spec.groups.first().and_then(|g| g.denoisers.first().copied()).unwrap_or(DenoiserId::NONE)
     }
 }
 
@@ -178,6 +107,11 @@ pub struct Checked {
     pub rays: Vec<u32>,
     /// The configurations to sweep (`advice::select`), the paper's default first.
     pub rows: Vec<Row>,
+    /// The cameras each configuration is seen by: the scene's still one, then (accumulating
+    /// pipelines) the default moving one and `--camera-path`'s.
+    pub cameras: Vec<CameraId>,
+    /// The user's denoiser (`NONE` without `--denoiser`).
+    pub denoiser: DenoiserId,
 }
 
 /// Checks the flags that need no file: at least two ray counts, `--only`, an integrand the paper's
@@ -194,12 +128,15 @@ pub fn check(args: &Request) -> Result<Checked> {
             spec::MAX_RAYS
         )));
     }
-    let mut added = added_rows(args)?;
-    // What renderers ship is measured where it is built for: after a real-time pipeline.
-    if args.pipeline != crate::denoise::Pipeline::RAW {
-        added.extend(advice::engine_rows().into_iter().filter(|r| !added.contains(r)).collect::<Vec<_>>());
+    let added = added_rows(args)?;
+    // What renderers ship is measured where it is built for: after a real-time pipeline, the
+    // seed modes an engine chooses from (`advice::realtime_rows`).
+    let rows = if args.pipeline != crate::denoise::Pipeline::RAW {
+        advice::select_realtime(&args.only, &added)
+    } else {
+        advice::select_with(&args.only, &added)
     }
-    let rows = advice::select_with(&args.only, &added).map_err(|e| Error::Usage(format!("--only: {e}")))?;
+    .map_err(|e| Error::Usage(format!("--only: {e}")))?;
     // An accumulating pipeline never recommends a seed whose error repeats every frame: not swept.
     let rows = advice::candidates_for(rows, args.pipeline);
     // Advise measures every gain against the paper's default, sine-cosine, whose weights are
@@ -220,7 +157,24 @@ pub fn check(args: &Request) -> Result<Checked> {
             args.frames, args.pipeline
         )));
     }
-    Ok(Checked { rays, rows })
+    let cameras = super::request::cameras(args)?;
+    let denoiser = match &args.denoiser {
+        None => DenoiserId::NONE,
+        Some(text) => {
+            let base = args.files_dir.clone().unwrap_or_default();
+            DenoiserId::intern(
+                parse_denoiser(text, &base).map_err(|e| Error::Usage(format!("--denoiser {text}: {e}")))?,
+            )
+        }
+    };
+    if denoiser != DenoiserId::NONE && args.pipeline == crate::denoise::Pipeline::RAW {
+        return Err(Error::Usage(
+            "--denoiser: it runs on the frames a real-time pipeline ranks; give --pipeline too (e.g. --pipeline \
+             ema0.1 for accumulated frames the denoiser then cleans)"
+                .into(),
+        ));
+    }
+    Ok(Checked { rays, rows, cameras, denoiser })
 }
 
 /// What the set-up needs from files, loaded by the command that owns them (`app::advise`): the
@@ -235,7 +189,7 @@ pub struct Inputs {
 /// Decides the resolution and reference settings from the checked flags and the loaded inputs, and
 /// plans the jobs.
 pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> {
-    let Checked { rays, rows } = checked;
+    let Checked { rays, rows, cameras, denoiser } = checked;
     let Inputs { scene, reference_dir, stored } = inputs;
     let name = args.scene.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = name.strip_suffix(".toml").unwrap_or(&name).to_string();
@@ -249,6 +203,8 @@ pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> 
         pipeline: args.pipeline,
         frames: args.frames,
         integrand: args.integrand,
+        cameras: &cameras,
+        denoiser,
     };
     let usable = |m: &Manifest| sketch.reuses(m, &scene);
     let (resolution, how) = match args.resolution {
@@ -289,6 +245,24 @@ pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> 
                 "the filter is not timed; it costs every configuration the same"
             }
         );
+        if cameras.len() > 1 {
+            let names: Vec<String> = cameras
+                .iter()
+                .map(|c| match c.run() {
+                    None => "the scene's still camera".to_string(),
+                    Some(r) => {
+                        format!("'{}' ({} over the {} frames, jittered)", r.name, r.path.key(), r.frames)
+                    }
+                })
+                .collect();
+            choice += &format!(
+                "; seen by {}; under both schedules (independent, r1) where the schedule changes the points",
+                names.join(" and ")
+            );
+        }
+        if denoiser != DenoiserId::NONE {
+            choice += &format!("; each ranked frame then cleaned by the denoiser '{}'", denoiser.name());
+        }
     }
     let plan = last_frame_only(plan::plan(&spec), args.frames);
     Ok(Setup {
@@ -344,26 +318,44 @@ struct AdviseSpec<'a> {
     pipeline: crate::denoise::Pipeline,
     frames: u32,
     integrand: Integrand,
+    cameras: &'a [CameraId],
+    denoiser: DenoiserId,
 }
 
 impl AdviseSpec<'_> {
     /// One convergence sweep over every configuration; `id` names the scene in job keys and
     /// reference manifests.
+    ///
+    /// After a real-time pipeline each configuration is seen by every camera, under both schedules
+    /// where the schedule changes its points (`advice::schedules_for`): one group per set of
+    /// schedules, the paper's default's first.
     fn spec(&self, id: &str, resolution: [u32; 2], reference: ReferenceSpec) -> Spec {
-        let group = Group {
-            kind: GroupKind::Convergence,
-            name: "advise".into(),
-            rows: self.rows.to_vec(),
-            rays: self.rays.to_vec(),
-            replicates: self.replicates,
-            scenes: vec![0],
-            line: 0,
-            frames: self.frames,
-            schedules: vec![crate::sampling::Schedule::Independent],
-            pipelines: vec![self.pipeline],
-            cameras: vec![crate::plan::CameraId::STATIC],
-            denoisers: vec![crate::plan::DenoiserId::NONE],
-        };
+        let mut groups: Vec<Group> = Vec::new();
+        for &row in self.rows {
+            let schedules = if self.pipeline == crate::denoise::Pipeline::RAW {
+                vec![crate::sampling::Schedule::Independent]
+            } else {
+                advice::schedules_for(row, self.frames)
+            };
+            if let Some(g) = groups.iter_mut().find(|g| g.schedules == schedules) {
+                g.rows.push(row);
+                continue;
+            }
+            groups.push(Group {
+                kind: GroupKind::Convergence,
+                name: if groups.is_empty() { "advise".into() } else { format!("advise-{}", schedules.len()) },
+                rows: vec![row],
+                rays: self.rays.to_vec(),
+                replicates: self.replicates,
+                scenes: vec![0],
+                line: 0,
+                frames: self.frames,
+                schedules,
+                pipelines: vec![self.pipeline],
+                cameras: self.cameras.to_vec(),
+                denoisers: vec![self.denoiser],
+            });
+        }
         Spec {
             path: self.path.to_path_buf(),
             name: format!("advise-{}", self.stem),
@@ -384,7 +376,7 @@ impl AdviseSpec<'_> {
             // Unused: advise passes its --reference-dir to every reference lookup.
             reference_dir: Path::new("reference").to_path_buf(),
             timing: TimingSpec { repeats: timing::DEFAULT_REPEATS, seed: 1 },
-            groups: vec![group],
+            groups,
         }
     }
 
@@ -461,6 +453,7 @@ pub fn verify_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Plan {
     let sweep = spec.groups.first();
     let frames = sweep.map_or(1, |g| g.frames);
     let pipelines = sweep.map_or(vec![crate::denoise::Pipeline::RAW], |g| g.pipelines.clone());
+    let denoisers = sweep.map_or(vec![DenoiserId::NONE], |g| g.denoisers.clone());
     let groups = needs
         .iter()
         .enumerate()
@@ -475,8 +468,8 @@ pub fn verify_jobs(spec: &Spec, needs: &[(Row, u32)], replicates: u32) -> Plan {
             frames,
             schedules: vec![crate::sampling::Schedule::Independent],
             pipelines: pipelines.clone(),
-            cameras: vec![crate::plan::CameraId::STATIC],
-            denoisers: vec![crate::plan::DenoiserId::NONE],
+            cameras: vec![CameraId::STATIC],
+            denoisers: denoisers.clone(),
         })
         .collect();
     last_frame_only(plan::plan(&Spec { groups, seed: VERIFY_SEED, replicates, ..spec.clone() }), frames)

@@ -241,17 +241,65 @@ fn a_real_time_pipeline_sweeps_the_engine_patterns_as_engines_ship_them() {
         integrand: crate::sampling::Integrand::Ao,
         files: Vec::new(),
         files_dir: None,
+        cameras: Vec::new(),
+        denoiser: None,
     };
     let rows = |p: &str| setup::check(&request(p)).unwrap().rows;
     assert_eq!(rows("raw"), select(&[]).unwrap(), "raw: the default set alone");
-    let statics = raw.iter().filter(|r| r.seed_mode == SeedMode::Static).count();
-    assert!(statics > 0);
     for p in ["atrous", "ema0.1+atrous", "svgf"] {
+        // After a pipeline: the seed modes an engine chooses from, through the kernels it uses.
         let rs = rows(p);
+        assert_eq!(rs, realtime_rows(&[]), "{p}");
         assert!(engine.iter().all(|r| rs.contains(r)), "{p}: the engines' patterns are swept");
-        // An accumulating pipeline sweeps no static seed: its error repeats every frame.
-        let temporal = p != "atrous";
-        assert_eq!(rs.len(), raw.len() + engine.len() - if temporal { statics } else { 0 }, "{p}");
-        assert_eq!(rs.iter().any(|r| r.seed_mode == SeedMode::Static), !temporal, "{p}");
+        assert_eq!(rs.len(), 2 * REALTIME_MODES.len(), "{p}");
+        assert!(rs.iter().all(|r| r.seed_mode != SeedMode::Static), "{p}");
+        for m in REALTIME_MODES {
+            assert!(rs.iter().any(|r| r.seed_mode == m), "{p}: {m:?}");
+        }
+        // --only picks from the whole sensible set too.
+        let only =
+            setup::Request { only: vec![Pattern::parse("uniform/sobol/shift").unwrap()], ..request(p) };
+        assert_eq!(setup::check(&only).unwrap().rows, vec![PAPER_DEFAULT, row_of("uniform/sobol/shift")]);
     }
+    // Cameras: the still one alone unless frames accumulate; then the default path, jittered, and
+    // each --camera-path (a path equal to one already there is not measured twice).
+    assert_eq!(setup::check(&request("svgf")).unwrap().cameras, vec![crate::plan::CameraId::STATIC]);
+    let moving = setup::Request {
+        frames: 8,
+        cameras: vec!["pan:5".into(), "orbit:10".into()],
+        ..request("ema0.1+atrous")
+    };
+    let cams = setup::check(&moving).unwrap().cameras;
+    assert_eq!(cams.len(), 3, "still, the default orbit, pan:5");
+    assert_eq!(cams[0], crate::plan::CameraId::STATIC);
+    let runs: Vec<_> = cams[1..].iter().map(|c| c.run().unwrap()).collect();
+    assert_eq!(runs[0].path, setup::default_path());
+    assert!(runs.iter().all(|r| r.jitter && r.frames == 8));
+    assert_eq!(runs[1].path, crate::scene::camera_path::CameraPath::Pan { degrees: 5.0 });
+    let bad = setup::Request { cameras: vec!["spin:4".into()], ..moving.clone() };
+    assert!(
+        matches!(setup::check(&bad), Err(crate::error::Error::Usage(m)) if m.contains("--camera-path spin:4"))
+    );
+    let still = setup::Request { cameras: vec!["pan:5".into()], ..request("svgf") };
+    assert!(setup::check(&still).is_err(), "a camera path needs accumulated frames");
+    // The denoiser: NAME=PROGRAM ARGS, with both placeholders, only after a pipeline.
+    let d = setup::Request { denoiser: Some("box=denoise {input} {output}".into()), ..moving.clone() };
+    let id = setup::check(&d).unwrap().denoiser;
+    let got = id.get().unwrap();
+    assert_eq!((got.name.as_str(), got.command.program.as_str()), ("box", "denoise"));
+    assert_eq!(got.command.args, ["{input}", "{output}"]);
+    for wrong in ["box", "box=denoise {input}", "b x=denoise {input} {output}"] {
+        let r = setup::Request { denoiser: Some(wrong.into()), ..moving.clone() };
+        assert!(
+            matches!(setup::check(&r), Err(crate::error::Error::Usage(m)) if m.starts_with("--denoiser")),
+            "{wrong}"
+        );
+    }
+    let raw_d = setup::Request { denoiser: Some("box=denoise {input} {output}".into()), ..request("raw") };
+    assert!(setup::check(&raw_d).is_err());
+}
+
+fn row_of(text: &str) -> Row {
+    let p = Pattern::parse(text).unwrap();
+    Row::new(p.distribution.unwrap(), p.sequence.unwrap(), p.seed_mode.unwrap()).canonical()
 }

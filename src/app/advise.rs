@@ -16,7 +16,7 @@
 //! complete in DIR, and a budget whose finalists DIR lacks is answered by interpolation.
 
 use crate::advice::analysis::{self, Measured};
-use crate::advice::pipeline::as_ranked;
+use crate::advice::pipeline::{as_ranked, still_independent};
 use crate::advice::setup::{self, Request, Setup};
 use crate::cli::AdviseArgs;
 use crate::compare::budget::round_significant;
@@ -61,6 +61,8 @@ pub fn run(args: AdviseArgs) -> Result<()> {
                 )
                 .collect(),
             files_dir: std::env::current_dir().ok(),
+            cameras: args.camera_path.clone(),
+            denoiser: args.denoiser.clone(),
         },
     };
     let setup = set_up(&request)?;
@@ -103,6 +105,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
             frames: request.frames,
             budgets_s: args.budget_ms.iter().map(|b| b * 1e-3).collect(),
             default_budgets: request.pipeline == crate::denoise::Pipeline::RAW,
+            sweep_images: keeps_sweep_images(&setup),
         };
         let (f, cal) =
             forecast::advise(&setup.loaded, &setup.plan, &todo, &setup.reference_dir, &finalists, workers)?;
@@ -124,6 +127,16 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         policy,
         &runner,
     )?;
+    // The moving cameras' frames' references, as `run` obtains them.
+    let views = crate::jobs::reference::obtain_views(
+        spec,
+        &setup.plan,
+        &setup.loaded.scenes,
+        |_| 0,
+        &setup.reference_dir,
+        policy,
+        &runner,
+    )?;
 
     let stage = outdir::begin_advise_stage(&out, &sources.iter().map(PathBuf::as_path).collect::<Vec<_>>())?;
     outdir::write_advise_request(&stage, &request.to_json())?;
@@ -141,13 +154,22 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let (results, mut session) = match &args.from {
         Some(dir) => sweep::stored(&setup.loaded, &setup.plan, &reference, &previous, &stage, dir)?,
         None => {
-            let none = |_: usize, _: &crate::plan::Job, _: &crate::render::RenderOutput| Ok(String::new());
+            // After a real-time pipeline the sweep's images are kept: the bias/noise split of each
+            // configuration (`jobs::replicates`) and the page's final frames read them.
+            let keep_images = keeps_sweep_images(&setup);
+            let keep = |_: usize, job: &crate::plan::Job, o: &crate::render::RenderOutput| {
+                if !keep_images {
+                    return Ok(String::new());
+                }
+                let p = executor::provenance(&spec.name, job, &setup.loaded.scenes[0], &reference, o);
+                outdir::write_image(&stage, job, o, &p)
+            };
             let write = |s: &executor::Saved| store.write(s.new, false);
             let jobs = executor::Jobs {
                 loaded: &setup.loaded,
                 plan: &setup.plan,
                 references: std::slice::from_ref(&reference),
-                views: &Default::default(),
+                views: &views,
                 previous: &previous,
                 out: &stage,
                 protocol,
@@ -155,7 +177,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
                 label: "sweep",
                 write: &write,
             };
-            let ran = executor::measure_jobs(&jobs, &none).map_err(kept)?;
+            let ran = executor::measure_jobs(&jobs, &keep).map_err(kept)?;
             (ran.0, ran.1)
         }
     };
@@ -163,6 +185,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     if session.renders == 0 {
         session.overhead = outdir::previous_overhead(sources.first().map_or(&stage, |d| d), spec);
     }
+    let stored = results.clone();
     // What advise ranks: the images after the pipeline, at the time of one frame (`as_ranked`).
     let results = as_ranked(&results).map_err(Error::Refused)?;
     let mut analysis = analysis::analyse(&setup, &results, &args.budget_ms);
@@ -199,16 +222,20 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     let errors = sweep::error_images(&vplan, &verified, &reference, &stage)?;
     let verified: Vec<JobResult> = verified.into_iter().flatten().collect();
     store.add(&verified)?;
-    let verified = as_ranked(&verified).map_err(Error::Refused)?;
+    let verified = still_independent(&as_ranked(&verified).map_err(Error::Refused)?);
     // Rendered: what the sessions rendered; with --from nothing is (the records are all reused).
     let rendered = results.len() - session.reused
         + verify_session.as_ref().map_or(0, |s| verified.len().saturating_sub(s.reused));
     let reused = results.len() + verified.len() - rendered;
     analysis::measure(&mut analysis, &verified, replicates);
     outdir::write_timing(&stage, &session.timing(spec, protocol))?;
+    let images = |r: &JobResult| outdir::record_image(&stage, r);
     let measured = Measured {
         setup: &setup,
         reference: &reference,
+        views: &views,
+        images: &images,
+        stored,
         rendered,
         reused,
         results,
@@ -242,7 +269,16 @@ fn set_up(request: &Request) -> Result<Setup> {
     }
     let reference_dir = refs::dir_of_scene(request.reference_dir.as_deref(), &request.scene, &scene)?;
     let stored = refs::stored_of_scene(&reference_dir, &scene)?;
-    setup::setup(request, checked, setup::Inputs { scene, reference_dir, stored })
+    let setup = setup::setup(request, checked, setup::Inputs { scene, reference_dir, stored })?;
+    // A camera path that leaves the scene's view, a denoiser that cannot run: refused now.
+    crate::load::check_realtime(&setup.loaded.spec, &setup.loaded.scenes)?;
+    Ok(setup)
+}
+
+/// Whether the sweep keeps its images: after a real-time pipeline (the bias/noise split and the
+/// page's final frames read them), not for the paper's raw sweep of thousands of images.
+fn keeps_sweep_images(setup: &Setup) -> bool {
+    setup.pipeline != crate::denoise::Pipeline::RAW
 }
 
 /// Refuses (exit 2, in seconds) budgets no configuration can render an image in, naming the

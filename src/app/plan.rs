@@ -117,8 +117,17 @@ pub fn run(args: PlanArgs) -> Result<()> {
             let (lo, hi) =
                 ns.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
             let per_image = c.rows.first().map_or(0.0, |(_, k)| k.overhead_s);
+            // Each pipeline's own work per frame, on top of the frame's render.
+            let filters: String = c
+                .filters
+                .iter()
+                .map(|(p, moving, f)| {
+                    let cam = if *moving { " (moving camera)" } else { "" };
+                    format!(", {p}{cam} + {:.2} ms per frame", f * 1e3)
+                })
+                .collect();
             Some(format!(
-                "'{}' {:.1} ms per image + {:.0}–{:.0} ns per AO ray by estimator ({} estimators at {} rays)",
+                "'{}' {:.1} ms per image + {:.0}–{:.0} ns per AO ray by estimator ({} estimators at {} rays){filters}",
                 sc.name,
                 per_image * 1e3,
                 lo,

@@ -32,6 +32,8 @@ pub struct Finalists {
     /// of the paper default's range, taken here from its calibrated line) or answers per ray
     /// budget only (after a real-time pipeline: no finalists).
     pub default_budgets: bool,
+    /// The sweep keeps its images (after a real-time pipeline), not only its records.
+    pub sweep_images: bool,
 }
 
 /// advise's forecast: its reference (if it must be built), the sweep of `todo` (what `plan` still
@@ -71,8 +73,13 @@ pub fn advise(
     let pixels = geometry.pixels() as f64;
     // The sweep keeps numbers only; the finalists' images are kept (the winner maps read them).
     let per_pixel = plan.jobs.first().map_or(cal.exr_bytes_per_pixel, |j| cal.bytes_per_pixel(j));
-    let bytes = cost::output_bytes(todo, |_| 0, |_| 0.0, cal.record_bytes, false)
-        + final_jobs as f64 * (pixels * per_pixel + cal.record_bytes)
+    let bytes = cost::output_bytes(
+        todo,
+        |_| geometry.pixels(),
+        |j| cal.bytes_per_pixel(j),
+        cal.record_bytes,
+        finalists.sweep_images,
+    ) + final_jobs as f64 * (pixels * per_pixel + cal.record_bytes)
         + builds.len() as f64 * pixels * cal.exr_bytes_per_pixel * 1.5;
     let forecast = Forecast {
         references: Some(builds.len()),
@@ -110,12 +117,24 @@ pub fn advise(
 /// pipeline and frame): what a resumed command still renders. An estimate: the resume rule itself
 /// (`executor::resumed`) needs the reference, which may be what is about to be built.
 pub fn left<'a>(plan: &Plan, previous: impl Iterator<Item = &'a crate::results::JobResult>) -> Plan {
-    let key = |d: &str, s: &str, m: &str, rays: u32, rep: u32, seed: u64, frame: u32, p: &str| {
-        format!("{d}/{s}/{m}/{rays}/{rep}/{seed}/{frame}/{p}")
-    };
+    let key =
+        |d: &str, s: &str, m: &str, rays: u32, rep: u32, seed: u64, frame: u32, p: &str, view: String| {
+            format!("{d}/{s}/{m}/{rays}/{rep}/{seed}/{frame}/{p}/{view}")
+        };
     let done: std::collections::HashSet<String> = previous
         .map(|r| {
-            key(&r.distribution, &r.sequence, &r.seed_mode, r.rays, r.replicate, r.seed, r.frame, &r.pipeline)
+            let view = format!("{}/{}/{}", r.schedule, r.camera, r.denoiser);
+            key(
+                &r.distribution,
+                &r.sequence,
+                &r.seed_mode,
+                r.rays,
+                r.replicate,
+                r.seed,
+                r.frame,
+                &r.pipeline,
+                view,
+            )
         })
         .collect();
     let todo = |j: &Job| {
@@ -129,6 +148,12 @@ pub fn left<'a>(plan: &Plan, previous: impl Iterator<Item = &'a crate::results::
             j.seed,
             j.measurement.frame,
             &j.measurement.pipeline.to_string(),
+            format!(
+                "{}/{}/{}",
+                j.measurement.schedule.name(),
+                j.measurement.camera.name(),
+                j.measurement.denoiser.name()
+            ),
         );
         !done.contains(&k)
     };

@@ -130,6 +130,15 @@ impl SeedMode {
             _ => 1,
         }
     }
+
+    /// Whether the per-frame schedule (`independent`, `r1`) changes any of the first `frames`
+    /// frames (0..frames): a schedule acts once per full cycle of the mode's mask
+    /// ([`Self::depth`] frames; IGN under `r1` steps every frame), so over at most one cycle —
+    /// `stbn` up to 32 frames — both schedules draw the same points in every frame, and are one
+    /// configuration (measured once, not twice).
+    pub fn schedule_matters(self, frames: u32) -> bool {
+        frames > self.depth()
+    }
 }
 
 /// One pixel's randomization, derived once per pixel (three mixes).

@@ -159,6 +159,11 @@ fn plan_counts_a_moving_cameras_references_and_the_bytes_written() {
         "{text}"
     );
     assert!(text.contains("disk: ≈ ") && !text.contains("references none to build"), "{text}");
+    // A real-time frame costs its render and its pipeline's own work, calibrated on the moving
+    // camera's history (once left out: advise on the kitchen under SVGF was forecast at 84 s of
+    // CPU time and took 178 s).
+    let cal = text.lines().find(|l| l.starts_with("calibration on this machine")).unwrap();
+    assert!(cal.contains(", ema0.1 (moving camera) + ") && cal.ends_with(" ms per frame"), "{cal}");
 
     t.run_ok(&t.path("moving.toml"), "out", "ref", &[]);
     // Every reference the plan counted was built, and the plan now finds them all.

@@ -106,3 +106,30 @@ fn independent_frames_draw_fresh_points() {
         }
     }
 }
+
+/// `SeedMode::schedule_matters` is what the points say: over the first `depth` frames the two
+/// schedules draw the same points for `stbn` (one configuration, which advise sweeps once), and
+/// from the next cycle on they differ; for every mode of depth 1 they differ from frame 1.
+#[test]
+fn the_schedule_matters_exactly_when_the_points_say_so() {
+    let modes = [SeedMode::Stbn, SeedMode::BlueNoise, SeedMode::Rotation, SeedMode::Ign, SeedMode::Bayer];
+    for mode in modes {
+        for seq in [Sequence::Random, Sequence::Fibonacci] {
+            let base = SamplerConfig::new(seq, mode, 4, 11).unwrap();
+            let differs = |frame: u32| {
+                (0..60u64).any(|pixel| {
+                    let at = |s: Schedule| fill(base.with_frame(frame).with_schedule(s), pixel);
+                    at(Schedule::Independent) != at(Schedule::R1)
+                })
+            };
+            let first = (0..80).find(|&f| differs(f));
+            let depth = mode.depth();
+            // The first frame the schedules tell apart is the first of the second cycle.
+            assert_eq!(first, Some(depth), "{mode:?} {seq:?}");
+            for frames in [1, depth, depth + 1, 64] {
+                let any = (0..frames).any(differs);
+                assert_eq!(mode.schedule_matters(frames), any, "{mode:?} {seq:?} over {frames} frames");
+            }
+        }
+    }
+}

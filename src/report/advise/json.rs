@@ -126,16 +126,30 @@ fn recommendation(a: &Answer, per: &str) -> Value {
     v
 }
 
-/// A ray budget's answer (after a real-time pipeline): every configuration at that many rays per
-/// pixel per frame, least RMSE first, with its paired margin to the best and whether it is a
-/// near-tie; `recommended` the best, `near_ties` the best and those within its margin.
+/// A ray budget's answer for one camera (after a real-time pipeline): every configuration under
+/// each schedule at that many rays per pixel per frame, least RMSE first, with its paired margin to
+/// the best, whether it is a near-tie, its FLIP, flicker and bias/noise split; `recommended` the
+/// best by RMSE, `recommended_by_flip` the best by FLIP, `near_ties` the best and those within its
+/// margin.
 fn ray_budget(x: &AtRays, a: &Analysis) -> Value {
+    let schedule = |e: &Entry| {
+        if a.one_schedule.contains(&e.row) { "any".to_string() } else { e.schedule.name().to_string() }
+    };
+    let which = |e: &Entry| json!({"configuration": conf(e.row), "schedule": schedule(e)});
     let entry = |e: &Entry| {
         json!({
             "configuration": conf(e.row),
+            "schedule": schedule(e),
             "rmse": e.rmse.value,
             "rmse_se": e.rmse.se,
             "mse": e.mse.iter().map(|(r, v)| json!({"replicate": r, "mse": v})).collect::<Vec<_>>(),
+            "flip": e.flip.value,
+            "flip_se": e.flip.se,
+            "flips": e.flips.iter().map(|(r, v)| json!({"replicate": r, "flip": v})).collect::<Vec<_>>(),
+            "flicker": e.flicker,
+            "bias_rmse": e.split.bias_rmse,
+            "bias_se": e.split.bias_se,
+            "noise_rmse": e.split.noise_rmse,
             "time_per_frame_ms": e.time_s * 1e3,
             "sampler_ns_per_point": a.sampler_ns(e.row, x.rays),
             "mse_above_best": e.behind.map(|m| m.mean),
@@ -143,10 +157,18 @@ fn ray_budget(x: &AtRays, a: &Analysis) -> Value {
             "near_tie": e.near_tie,
         })
     };
+    let by_flip = x.best_flip();
     json!({
         "rays_per_pixel_per_frame": x.rays,
+        "camera": x.camera,
         "recommended": x.best().map(|e| conf(e.row)),
-        "near_ties": x.near_ties().map(|e| conf(e.row)).collect::<Vec<_>>(),
+        "recommended_schedule": x.best().map(schedule),
+        "recommended_by_flip": by_flip.map(which),
+        "flip_differs": match (x.best(), by_flip) {
+            (Some(b), Some(f)) => Value::Bool(b.candidate() != f.candidate()),
+            _ => Value::Null,
+        },
+        "near_ties": x.near_ties().map(which).collect::<Vec<_>>(),
         "alpha": crate::compare::per_ray::ALPHA,
         "ranking": x.entries.iter().map(entry).collect::<Vec<_>>(),
     })

@@ -3,6 +3,7 @@
 //! formats them and returns the files, which `outdir::write_files` writes.
 
 pub mod figures;
+pub mod frames;
 pub mod json;
 pub mod maps;
 pub mod page;
@@ -29,6 +30,7 @@ pub fn report(m: &Measured, a: &Analysis, shown: &Path) -> Result<Report> {
     let mut files = Vec::new();
     let figures = maps::figures(m, a, &colours, &mut files)?;
     let stale = if a.maps.is_empty() { vec![maps::WINNER_MAP] } else { Vec::new() };
-    let (text, warnings) = page::page(m, a, &figures, &mut files, shown);
+    let images = frames::images(m, a, &mut files)?;
+    let (text, warnings) = page::page(m, a, (&figures, &images), &mut files, shown);
     Ok(Report { files, stale, text, warnings })
 }

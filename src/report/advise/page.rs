@@ -3,7 +3,7 @@
 //! measured, the interpolated rankings, and every measured point.
 
 use super::maps::winner_note;
-use super::text::{advice_line, label, model_text, ms, pm, ray_line, status};
+use super::text::{advice_line, camera, candidate, label, model_text, ms, pm, ray_line, status};
 use crate::advice::analysis::{Analysis, Measured};
 use crate::advice::answer::{Answer, FINALISTS, RankScored};
 use crate::compare::budget::{Metric, Ranking};
@@ -23,7 +23,7 @@ const SHOWN: usize = 10;
 pub fn page(
     m: &Measured,
     a: &Analysis,
-    figures: &[Figure],
+    (figures, images): (&[Figure], &(Vec<Figure>, String)),
     files: &mut Vec<File>,
     shown: &Path,
 ) -> (String, Vec<String>) {
@@ -36,19 +36,28 @@ pub fn page(
     let mut lines: Vec<String> = a.per_ray.iter().map(|x| ray_line(x, a, &after)).collect();
     lines.extend(a.answers.iter().map(|x| advice_line(x, per)));
     let title = format!("hemilab advise: {} (budgets in ms per {per})", m.setup.title());
-    let mut intro = lines.clone();
+    // The answer first: its sentences, then the final frames of the top configurations.
+    let mut answer = lines.clone();
     if m.setup.pipeline.is_temporal() {
-        intro.push(crate::advice::REPEATING_ERROR.into());
+        answer.push(crate::advice::REPEATING_ERROR.into());
     }
+    let answer = answer.join("\n\n");
+    let mut intro = Vec::new();
     if !a.per_ray.is_empty() {
         intro.push(format!(
-            "After a real-time pipeline the budget is rays per pixel per frame, as an engine has it: at each \
-             ray count every configuration is ranked by its RMSE {after}, and the near-ties are those whose \
-             MSE is not behind the best's by a paired margin significant at {} (two-sided Student's t over \
-             the replicates). Beside each, one frame's CPU time here (one thread, the whole image) and its \
-             sampler's own cost per point (points drawn and mapped, no ray traced). Budgets in ms only with \
-             --budget-ms.",
-            crate::compare::per_ray::ALPHA
+            "After a real-time pipeline the budget is rays per pixel per frame, as an engine has it, and the \
+             answer is given for each camera (the scene's still camera, and a moving one: a jittered path \
+             through the scene's own view) at steady state: at each ray count every configuration — under \
+             each per-frame schedule, independent and r1, where the schedule changes its points — is ranked \
+             by its RMSE {after}, and the near-ties are those whose MSE is not behind the best's by a paired \
+             margin significant at {} (two-sided Student's t over the replicates). The best by mean FLIP \
+             (LDR-FLIP at {} pixels per degree) is named too when it is another. Beside each: its FLIP, its \
+             flicker (the RMS of its frame-to-frame change against the reference's), the bias and noise parts \
+             of its error (from its replicates: bias² + noise² is the mean MSE), one frame's CPU time here \
+             (one thread, the whole image) and its sampler's own cost per point (points drawn and mapped, no \
+             ray traced). Budgets in ms only with --budget-ms (then the still camera, independent schedule).",
+            crate::compare::per_ray::ALPHA,
+            crate::metrics::DEFAULT_PPD
         ));
     }
     intro.push(model_text());
@@ -92,7 +101,8 @@ pub fn page(
             .into(),
     );
     let intro = intro.join("\n\n");
-    let mut tables: Vec<Table> = a.per_ray.iter().map(|x| per_ray_table(x, a, &after)).collect();
+    let lead: Vec<Table> = a.per_ray.iter().map(|x| per_ray_table(x, a, &after)).collect();
+    let mut tables: Vec<Table> = Vec::new();
     if !a.answers.is_empty() || a.per_ray.is_empty() {
         tables.push(summary_table(a));
     }
@@ -107,15 +117,16 @@ pub fn page(
     files.push(File::new(outdir::ADVICE_JSON, text));
     let page = report::Page {
         title: &title,
-        lead: &[],
+        lead: &lead,
         intro: &intro,
-        interactive: "",
+        interactive: &images.1,
         tables: &tables,
         figures,
         collapsed: &collapsed,
     };
-    files.push(File::new(outdir::ADVICE_MD, report::markdown_page(&page)));
-    files.push(File::new(outdir::INDEX_HTML, report::html_page(&page)));
+    let opening = report::Opening { answer: &answer, figures: &images.0, method: "" };
+    files.push(File::new(outdir::ADVICE_MD, report::markdown_page_opened(&page, &opening)));
+    files.push(File::new(outdir::INDEX_HTML, report::html_page_opened(&page, &opening)));
     let mut s = String::new();
     for l in &lines {
         let _ = writeln!(s, "{l}");
@@ -147,8 +158,9 @@ pub fn page(
     (s, warnings)
 }
 
-/// A ray budget's ranking: the first `SHOWN` configurations (all are in advice.json).
+/// A ray budget's ranking for one camera: the first `SHOWN` candidates (all are in advice.json).
 fn per_ray_table(x: &AtRays, a: &Analysis, after: &str) -> Table {
+    let num = |v: f64| if v.is_finite() { format!("{v:.4}") } else { "—".into() };
     let rows = x
         .entries
         .iter()
@@ -157,12 +169,16 @@ fn per_ray_table(x: &AtRays, a: &Analysis, after: &str) -> Table {
         .map(|(i, e)| {
             vec![
                 (i + 1).to_string(),
-                label(e.row),
+                candidate(a, e),
                 pm(e.rmse, 4),
                 e.behind.map_or("best".into(), |m| {
                     format!("+{:.1} % ± {:.1} %", 100.0 * m.relative(), 100.0 * m.relative_se())
                 }),
                 if e.near_tie { "yes".into() } else { String::new() },
+                num(e.flip.value),
+                num(e.flicker),
+                num(e.split.bias_rmse),
+                num(e.split.noise_rmse),
                 ms(e.time_s),
                 format!("{:.1}", a.sampler_ns(e.row, x.rays)),
             ]
@@ -170,8 +186,9 @@ fn per_ray_table(x: &AtRays, a: &Analysis, after: &str) -> Table {
         .collect();
     Table {
         title: format!(
-            "At {} per pixel per frame, {after}: {} configurations ranked by RMSE",
+            "At {} per pixel per frame, {}, {after}: {} candidates ranked by RMSE",
             if x.rays == 1 { "1 ray".to_string() } else { format!("{} rays", x.rays) },
+            camera(&x.camera),
             x.entries.len()
         ),
         header: [
@@ -180,6 +197,10 @@ fn per_ray_table(x: &AtRays, a: &Analysis, after: &str) -> Table {
             "RMSE",
             "MSE above the best's (paired)",
             "near-tie",
+            "FLIP",
+            "flicker",
+            "bias",
+            "noise",
             "time per frame (ms)",
             "sampler (ns per point)",
         ]

@@ -5,7 +5,7 @@ use crate::advice::analysis::Analysis;
 use crate::advice::answer::Answer;
 use crate::compare::budget::{Place, Ranking, round_significant};
 use crate::compare::model::{self, Estimate};
-use crate::compare::per_ray::AtRays;
+use crate::compare::per_ray::{AtRays, Entry};
 use crate::compare::{PAPER_DEFAULT, structure};
 use crate::spec::Row;
 use std::fmt::Write as _;
@@ -109,27 +109,71 @@ pub fn advice_line(a: &Answer, per: &str) -> String {
     s + "."
 }
 
-/// One sentence per ray budget after a real-time pipeline (`after`, e.g. "after svgf at frame
-/// 8"): what to ship at that many rays per pixel per frame, its RMSE, its time per frame here and
-/// its sampler's cost per point, the near-ties within its paired margin, and the paper's default.
+/// Near-ties a ray budget's sentence names (the closest first); the table and advice.json hold all.
+pub const NEAR_TIES_NAMED: usize = 4;
+
+/// One sentence per ray budget and camera after a real-time pipeline (`after`, e.g. "after svgf
+/// at frame 64"): what to ship at that many rays per pixel per frame by RMSE — and by FLIP, named
+/// when it differs — its RMSE, FLIP, flicker and bias/noise split, its time per frame here and its
+/// sampler's cost per point, the near-ties within its paired margin, and the paper's default.
 pub fn ray_line(at: &AtRays, a: &Analysis, after: &str) -> String {
     let per = format!("{} per pixel per frame", rays(at.rays));
-    let Some(best) = at.best() else { return format!("At {per} {after}: nothing was measured.") };
+    let cam = camera(&at.camera);
+    let Some(best) = at.best() else { return format!("At {per}, {cam}, {after}: nothing was measured.") };
     let mut s = format!(
-        "At {per} {after}: ship {} (RMSE {}; here {} ms per frame, its sampler {:.1} ns per point)",
-        label(best.row),
+        "At {per}, {cam}, {after}: ship {} (RMSE {}; here {} ms per frame, its sampler {:.1} ns per point)",
+        candidate(a, best),
         pm(best.rmse, 4),
         ms(best.time_s),
         a.sampler_ns(best.row, at.rays)
     );
-    let ties: Vec<String> = at.near_ties().skip(1).map(|e| label(e.row)).collect();
+    match at.best_flip() {
+        Some(f) if f.candidate() == best.candidate() => {
+            let _ = write!(s, "; it has the least FLIP too ({:.4})", f.flip.value);
+        }
+        Some(f) => {
+            let _ = write!(
+                s,
+                "; by FLIP ship {} instead (FLIP {:.4} against {:.4})",
+                candidate(a, f),
+                f.flip.value,
+                best.flip.value
+            );
+        }
+        None => {}
+    }
+    if best.flicker.is_finite() {
+        let _ = write!(s, "; flicker {:.4}", best.flicker);
+    }
+    let sp = best.split;
+    if sp.bias_rmse.is_finite() && sp.noise_rmse.is_finite() {
+        let _ = write!(s, "; its error is bias {:.4}", sp.bias_rmse);
+        if sp.bias_se.is_finite() {
+            let _ = write!(s, " ± {:.4}", sp.bias_se);
+        }
+        let _ = write!(s, " and noise {:.4}", sp.noise_rmse);
+    }
+    let ties: Vec<String> = at.near_ties().skip(1).map(|e| candidate(a, e)).collect();
     if ties.is_empty() {
         s += "; no other configuration is within its paired margin";
+    } else if ties.len() <= NEAR_TIES_NAMED {
+        let _ = write!(s, "; within its paired margin (near-ties): {}", ties.join("; "));
     } else {
-        let _ = write!(s, "; within its paired margin (near-ties): {}", ties.join(", "));
+        let _ = write!(
+            s,
+            "; within its paired margin, {} near-ties: {} and {} more (advice.json lists them all)",
+            ties.len(),
+            ties[..NEAR_TIES_NAMED].join("; "),
+            ties.len() - NEAR_TIES_NAMED
+        );
     }
-    match at.entry(PAPER_DEFAULT) {
-        Some(d) if d.row == best.row => s += "; the paper's default is the best here",
+    let default = at
+        .entries
+        .iter()
+        .filter(|e| e.row == PAPER_DEFAULT)
+        .min_by(|x, y| x.rmse.value.total_cmp(&y.rmse.value));
+    match default {
+        Some(d) if d.candidate() == best.candidate() => s += "; the paper's default is the best here",
         Some(d) => {
             let _ = write!(
                 s,
@@ -183,6 +227,28 @@ pub fn status(r: &Ranking) -> &'static str {
         "above"
     } else {
         "outside"
+    }
+}
+
+/// A ranked candidate's name: its configuration, and after an accumulating pipeline its schedule
+/// ("either schedule" where both draw the same points, `Analysis::one_schedule`).
+pub fn candidate(a: &Analysis, e: &Entry) -> String {
+    let l = label(e.row);
+    if !a.temporal {
+        l
+    } else if a.one_schedule.contains(&e.row) {
+        format!("{l}, either schedule (the same points)")
+    } else {
+        format!("{l}, {} schedule", e.schedule.name())
+    }
+}
+
+/// A camera's name in sentences: "the still camera", "camera 'orbit'".
+pub fn camera(name: &str) -> String {
+    if name == crate::plan::CameraId::STATIC_NAME {
+        "the scene's still camera".into()
+    } else {
+        format!("the moving camera '{name}'")
     }
 }
 

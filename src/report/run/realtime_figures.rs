@@ -38,6 +38,23 @@ pub fn all(data: &ReportInput, files: &mut Vec<File>) -> Result<Vec<Figure>> {
     Ok(figs)
 }
 
+/// Only the crop grids of the final frames (image, signed error, FLIP) of every real-time group, at
+/// its fewest rays per frame, per scene and camera: what advise's page shows of its top
+/// configurations (it measures one frame, so it has no frame curves).
+pub fn final_frames(data: &ReportInput, files: &mut Vec<File>) -> Result<Vec<Figure>> {
+    let spec = &data.loaded.spec;
+    let mut figs = Vec::new();
+    for g in spec.groups.iter().filter(|g| is_realtime(g)) {
+        let Some(&rays) = g.rays.iter().min() else { continue };
+        for &si in &g.scenes {
+            let scene = &spec.scenes[si].name;
+            let stem = if g.scenes.len() > 1 { format!("{}_{scene}", g.name) } else { g.name.clone() };
+            figs.extend(final_crops(data, g, si, rays, &stem, files)?);
+        }
+    }
+    Ok(figs)
+}
+
 /// The records of one configuration under one pipeline and schedule, seen by `camera`.
 fn records<'a>(
     data: &'a ReportInput,

@@ -71,6 +71,9 @@ fn compact_cell(rows: &[&Vec<String>], rmse: usize, flip: usize, first: &str) ->
     format!("RMSE {w}/{t}/{l}{withheld} · FLIP {flip}")
 }
 
+/// A (pipeline, camera)'s table rows by rays per frame.
+type ByRays<'t> = BTreeMap<u32, Vec<&'t Vec<String>>>;
+
 /// A question's rows as pipeline × camera by rays per frame, each cell `compact_cell`.
 fn compact(
     t: &Table,
@@ -78,7 +81,7 @@ fn compact(
     (rmse, flip): (usize, usize),
     first: &str,
 ) -> (Vec<u32>, Vec<Vec<String>>) {
-    let mut by: BTreeMap<(String, String), BTreeMap<u32, Vec<&Vec<String>>>> = BTreeMap::new();
+    let mut by: BTreeMap<(String, String), ByRays> = BTreeMap::new();
     let mut all_rays = std::collections::BTreeSet::new();
     for r in &t.rows {
         let n = r[rays].parse::<u32>().unwrap_or(0);

@@ -19,6 +19,7 @@ pub(super) const TOP: &[&str] = &[
     "point_figures",
     "reference",
     "timing",
+    "tiles",
     "cameras",
     "denoisers",
     "table",
@@ -27,6 +28,7 @@ pub(super) const TOP: &[&str] = &[
 pub(super) const REFERENCE: &[&str] =
     &["dir", "rays", "replicates", "seed", "distribution", "sequence", "seed_mode", "allocation"];
 pub(super) const TIMING: &[&str] = &["repeats", "seed"];
+pub(super) const TILES: &[&str] = &["count", "size"];
 pub(super) const GROUP: &[&str] = &[
     "name",
     "rays",
@@ -76,6 +78,7 @@ fn walk(text: &str, table: &DeTable, path: &str, known: &[&str], found: &mut Fou
         let inner: Option<&[&str]> = match (path, name) {
             ("", "reference") => Some(REFERENCE),
             ("", "timing") => Some(TIMING),
+            ("", "tiles") => Some(TILES),
             ("", "table" | "convergence") => Some(GROUP),
             ("table" | "convergence", "rows") => Some(ROW),
             _ => None,

@@ -31,6 +31,7 @@ mod render_integrands;
 mod render_reproject;
 mod render_robust;
 mod render_stiff;
+mod render_window;
 mod sampling_blue_noise;
 mod sampling_engine_noise;
 mod sampling_estimators;

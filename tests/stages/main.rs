@@ -22,6 +22,7 @@ mod metrics_known;
 mod plan_integrands;
 mod plan_order;
 mod plan_shard;
+mod plan_tiles;
 mod reference_hashes;
 mod render_closed_form;
 mod render_closed_room;

@@ -196,6 +196,29 @@ pub fn motion_px(scene: &Scene, full: [u32; 2], run: &CameraRun) -> f64 {
     most * HISTORY_FRAMES.min(frames - 1) as f64
 }
 
+/// A small image of the frame for showing where its tiles are (`report::tiles::tiles_png`): 8-ray
+/// AO (sine-cosine, pseudo-random) of the scene's camera at the probe's size, at the spec's AO
+/// distance.
+pub fn preview(spec: &Spec, scene: &Scene) -> render::RenderOutput {
+    let g = Geometry::of(spec.resolution, spec.ao_distance, scene);
+    let [w, h] = tiles::probe_size([g.width, g.height]);
+    let sampler = crate::sampling::SamplerConfig::new(
+        crate::sampling::Sequence::Random,
+        crate::sampling::SeedMode::Rotation,
+        8,
+        1,
+    )
+    .expect("8 points");
+    let job = render::RenderJob {
+        distribution: crate::sampling::Distribution::SineCosine,
+        sampler,
+        width: w,
+        height: h,
+        ao_distance: g.distance.as_f32(),
+    };
+    render::render(scene, &job, &|_| {})
+}
+
 /// The tiles of `scene` for a `full` image measured through `pipelines` with `cameras`: chosen from
 /// its probe, with the apron the widest pipeline and the fastest camera need.
 pub fn of(

@@ -86,6 +86,9 @@ fn a_realtime_table_is_measured_on_the_tiles_interiors_against_their_references(
         let w = m["window"].as_array().expect("the window is in the manifest");
         assert_eq!((w[2].as_u64(), w[3].as_u64()), (Some(32), Some(32)), "{json}");
     }
+    // The frame with its tiles outlined.
+    let png = image::open(t.path("out/tiles-kitchen.png")).expect("tiles-kitchen.png").to_rgb8();
+    assert_eq!(png.dimensions(), (3 * 256, 3 * 144));
     // A second run reuses every reference and every record.
     let again = t.run_ok(&s, "out", "refs", &[]);
     assert!(!stderr(&again).contains("rendering a new one"), "{}", stderr(&again));

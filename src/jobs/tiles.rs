@@ -196,7 +196,7 @@ pub fn motion_px(scene: &Scene, full: [u32; 2], run: &CameraRun) -> f64 {
     most * HISTORY_FRAMES.min(frames - 1) as f64
 }
 
-/// A small image of the frame for showing where its tiles are (`report::tiles::tiles_png`): 8-ray
+/// A small image of the frame for showing where its tiles are (`report::tiles::tiles_png`): 32-ray
 /// AO (sine-cosine, pseudo-random) of the scene's camera at the probe's size, at the spec's AO
 /// distance.
 pub fn preview(spec: &Spec, scene: &Scene) -> render::RenderOutput {
@@ -205,10 +205,10 @@ pub fn preview(spec: &Spec, scene: &Scene) -> render::RenderOutput {
     let sampler = crate::sampling::SamplerConfig::new(
         crate::sampling::Sequence::Random,
         crate::sampling::SeedMode::Rotation,
-        8,
+        32,
         1,
     )
-    .expect("8 points");
+    .expect("32 points");
     let job = render::RenderJob {
         distribution: crate::sampling::Distribution::SineCosine,
         sampler,

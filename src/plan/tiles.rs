@@ -12,8 +12,9 @@
 //! * **thin geometry**: a covered probe pixel whose two neighbours on one axis are both farther
 //!   (or background): chair legs, slats, foliage, where samplers alias and masks show.
 //!
-//! Tiles are taken greedily, best score first (ties to the top-left), each not overlapping one
-//! already taken, so N tiles show N different places of the frame. Deterministic: the probe is a
+//! Tiles are taken greedily, best score first (ties to the top-left), each at least half a tile
+//! from every one already taken (then, if too few fit so, merely not overlapping), so N tiles show
+//! N different places of the frame rather than one cabinet in four adjacent squares. Deterministic: the probe is a
 //! render of fixed rays, and nothing else is read.
 //!
 //! **The default** `DEFAULT` is 4 tiles of 128 × 128: at 1920 × 1080 that is 65,536 interior pixels
@@ -185,12 +186,14 @@ pub fn choose(probe: &Probe, full: [u32; 2], spec: TileSpec) -> Vec<Window> {
     // Best first; equal scores in scan order (stable sort over scan-ordered candidates).
     candidates.sort_by(|a, b| b.0.total_cmp(&a.0));
     let mut chosen: Vec<Window> = Vec::new();
-    for (_, w) in candidates {
-        if chosen.len() as u32 >= spec.count {
-            break;
-        }
-        if chosen.iter().all(|c| !c.overlaps(&w)) {
-            chosen.push(w);
+    for spacing in [side / 2, 0] {
+        for (_, w) in &candidates {
+            if chosen.len() as u32 >= spec.count {
+                break;
+            }
+            if chosen.iter().all(|c| !c.grown(spacing).overlaps(w)) {
+                chosen.push(*w);
+            }
         }
     }
     chosen

@@ -70,8 +70,8 @@ mod tests {
         let png = tiles_png(&preview, &coverage, &[inner], &[inner.grown(10)]).unwrap();
         let img = image::load_from_memory(&png).unwrap().to_rgb8();
         assert_eq!(img.dimensions(), (96, 54));
-        // The interior's left edge, one canvas pixel outside x = 100 · 96/320 = 30.
-        assert_eq!(img.get_pixel(29, 40).0, INTERIOR);
+        // The interior's left edge, one canvas pixel outside x = 100 · 96/320 = 30 (rows 18..30).
+        assert_eq!(img.get_pixel(29, 24).0, INTERIOR);
         assert_eq!(img.get_pixel(60, 5).0, super::super::colormap::grey(0.5));
     }
 }

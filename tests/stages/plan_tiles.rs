@@ -1,5 +1,5 @@
 //! Tiles chosen where the content is (`plan::tiles`, `jobs::tiles`): the choice on the kitchen is
-//! pinned, deterministic for any thread count, covered, non-overlapping, and its apron is the
+//! pinned, deterministic for any thread count, covered, half a tile apart, and its apron is the
 //! pipeline's reach plus the camera's motion; the mosaic lays the interiors side by side; bad
 //! `[tiles]` values are refused naming the line and key.
 
@@ -39,7 +39,7 @@ fn the_kitchens_tiles_are_pinned_covered_and_apart() {
         assert_eq!((w.width, w.height), (48, 48));
         assert!(t.windows[i].covers(w) && t.windows[i].width <= 48 + 18);
         for o in &t.interiors[..i] {
-            assert!(!o.overlaps(w), "{w:?} overlaps {o:?}");
+            assert!(!o.grown(24).overlaps(w), "{w:?} is within half a tile of {o:?}");
         }
     }
     assert!(t.covered_share > 0.0 && t.covered_share < 1.0, "{}", t.covered_share);
@@ -49,7 +49,7 @@ fn the_kitchens_tiles_are_pinned_covered_and_apart() {
 }
 
 /// Where the kitchen's 4 tiles of 48 px at 320x180 are (top-left corners, best first).
-const PINNED: [(u32, u32); 4] = [(72, 72), (204, 108), (156, 96), (252, 132)];
+const PINNED: [(u32, u32); 4] = [(72, 72), (204, 108), (36, 0), (144, 36)];
 
 #[test]
 fn a_moving_camera_widens_the_apron_and_not_the_choice() {

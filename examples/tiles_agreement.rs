@@ -13,14 +13,18 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 type Key = (String, String, String, String);
+/// Per replicate: (RMSE, FLIP).
+type Replicates = BTreeMap<u32, (f64, f64)>;
+/// Per (camera, pipeline), per configuration.
+type Views = BTreeMap<(String, String), BTreeMap<Key, Replicates>>;
 
 fn load(dir: &str) -> Result<Vec<JobResult>, Box<dyn std::error::Error>> {
     Ok(from_json(&std::fs::read_to_string(Path::new(dir).join("results.json"))?)?)
 }
 
 /// Per (camera, pipeline): per configuration, replicate → (RMSE, FLIP) at the last frame.
-fn last_frames(rs: &[JobResult]) -> BTreeMap<(String, String), BTreeMap<Key, BTreeMap<u32, (f64, f64)>>> {
-    let mut out: BTreeMap<_, BTreeMap<_, BTreeMap<_, _>>> = BTreeMap::new();
+fn last_frames(rs: &[JobResult]) -> Views {
+    let mut out = Views::new();
     let last = rs.iter().map(|r| r.frame).max().unwrap_or(1);
     for r in rs.iter().filter(|r| r.frame == last) {
         let key = (r.distribution.clone(), r.sequence.clone(), r.seed_mode.clone(), r.schedule.clone());
@@ -46,8 +50,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (full, tiles) = (last_frames(&load(&args[0])?), last_frames(&load(&args[1])?));
     for (view, configs) in &full {
         let Some(tiled) = tiles.get(view) else { continue };
-        let rmse = |m: &BTreeMap<u32, (f64, f64)>| mean(m.values().map(|x| x.0));
-        let flip = |m: &BTreeMap<u32, (f64, f64)>| mean(m.values().map(|x| x.1));
+        let rmse = |m: &Replicates| mean(m.values().map(|x| x.0));
+        let flip = |m: &Replicates| mean(m.values().map(|x| x.1));
         let mut order: Vec<&Key> = configs.keys().collect();
         order.sort_by(|a, b| rmse(&configs[*a]).total_cmp(&rmse(&configs[*b])));
         let mut tiled_order: Vec<&Key> = tiled.keys().collect();

@@ -22,7 +22,8 @@
 //!
 //! [tiles]                               # optional: measure on tiles of the image (`plan::tiles`)
 //! count = 4                             # 1..=64 tiles, chosen where the content is
-//! size = 128                            # side in pixels, 8..=2048, at most the image's smaller side
+//! size = 64                             # side in pixels, 8..=2048 (default 128), at most the image's
+//!                                       # smaller side; count × size² below the image's pixels
 //!
 //! [timing]                              # optional section; see `timing` for the protocol
 //! repeats = 3                           # timed renders per (row, rays) at least, 1..=100
@@ -94,6 +95,7 @@ mod group;
 mod keys;
 pub(crate) mod position;
 mod raw;
+mod tiles;
 mod validate;
 
 pub use validate::{parse_spec, parse_spec_with};

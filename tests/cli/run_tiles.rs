@@ -98,3 +98,51 @@ fn a_realtime_table_is_measured_on_the_tiles_interiors_against_their_references(
         assert_eq!((a.key.as_str(), a.rmse), (b.key.as_str(), b.rmse));
     }
 }
+
+/// A tile's reference is the reference of its window: the whole frame's reference (same spec
+/// without `[tiles]`) cropped to the window, bit for bit, in mean, standard error and coverage.
+#[test]
+fn a_tiles_reference_is_the_crop_of_the_whole_frames() {
+    let t = Tmp::new("rt-tile-refs");
+    let text = |tiles: &str| {
+        format!(
+            "name = \"r\"\nscenes = [\"{}\"]\nresolution = [96, 72]\n{tiles}\n[reference]\nrays = 16\nreplicates = 2\n\n\
+             [[table]]\nname = \"t\"\nrays = [1]\ndistributions = [\"sine-cosine\"]\nsequences = [\"random\"]\n",
+            scene("kitchen.toml")
+        )
+    };
+    t.spec("whole.toml", &text(""));
+    t.spec("tiled.toml", &text("[tiles]\ncount = 3\nsize = 16\n"));
+    for s in ["whole.toml", "tiled.toml"] {
+        let o = t.hemilab(&["reference", s, "--reference-dir", "refs", "--quiet"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let mut whole = None;
+    let mut tiles = Vec::new();
+    for e in std::fs::read_dir(t.path("refs")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_none_or(|x| x != "json") {
+            continue;
+        }
+        let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+        let channels = hemilab::io::read_exr(&p.with_extension("exr")).unwrap();
+        match m["window"].as_array() {
+            None => whole = Some(channels),
+            Some(w) => {
+                tiles.push((w.iter().map(|v| v.as_u64().unwrap() as u32).collect::<Vec<_>>(), channels))
+            }
+        }
+    }
+    let whole = whole.expect("the whole frame's reference");
+    assert_eq!(tiles.len(), 3);
+    let full = hemilab::render::Window::full(96, 72);
+    for (w, channels) in &tiles {
+        let window = hemilab::render::Window::new([96, 72], w[0], w[1], w[2], w[3]);
+        for (name, img) in channels {
+            let of_whole = &whole.iter().find(|(n, _)| n == name).expect("same channels").1;
+            let crop = full.crop(&of_whole.data, &window);
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&img.data), bits(&crop), "channel {name} of {window:?}");
+        }
+    }
+}

@@ -369,6 +369,8 @@ impl AdviseSpec<'_> {
             resolution: Some(resolution),
             ao_distance: None,
             flip_ppd: crate::metrics::DEFAULT_PPD,
+            // Measured on tiles when the whole frame would cost too much (`plan::tiles::auto`).
+            tiles: crate::plan::tiles::auto(resolution),
             replicates: self.replicates,
             seed: 1,
             point_figures: false,

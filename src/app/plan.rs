@@ -38,9 +38,16 @@ pub fn run(args: PlanArgs) -> Result<()> {
     let mut s = String::new();
     let what = args.shard.map_or(String::new(), |k| format!(", shard {k}"));
     let b = estimate(&selected);
-    let size = plan::estimate(&selected, |j| {
-        let (_, sc) = loaded.scene_of(j);
-        [sc.resolution.0, sc.resolution.1]
+    // Under `[tiles]` a job renders its tiles' windows and writes the mosaic of their interiors.
+    let tiles: Vec<Option<crate::jobs::tiles::TileSet>> = (0..loaded.scenes.len())
+        .map(|si| crate::jobs::tiles::of_spec(spec, si, &loaded.scenes[si]))
+        .collect();
+    let size = plan::estimate_with(&selected, |j| {
+        let (si, sc) = loaded.scene_of(j);
+        match &tiles[si] {
+            Some(t) => t.rendered_pixels(),
+            None => plan::Geometry::of(j.resolution, j.ao_distance, sc).pixels(),
+        }
     });
     let _ = writeln!(
         s,
@@ -161,15 +168,18 @@ pub fn run(args: PlanArgs) -> Result<()> {
         load_s
     );
     let pixels = |j: &Job| {
-        let (_, sc) = loaded.scene_of(j);
-        plan::Geometry::of(j.resolution, j.ao_distance, sc).pixels()
+        let (si, sc) = loaded.scene_of(j);
+        match &tiles[si] {
+            Some(t) => t.mosaic_pixels(),
+            None => plan::Geometry::of(j.resolution, j.ao_distance, sc).pixels(),
+        }
     };
     let jobs_bytes =
         cost::output_bytes(&selected, pixels, |j| cal.bytes_per_pixel(j), cal.record_bytes, true);
     let refs_bytes: f64 = builds
         .iter()
         .map(|b| {
-            let [w, h] = b.manifest.resolution;
+            let [w, h] = b.manifest.image_size();
             // Three channels: the mean, its standard error, the coverage.
             w as f64 * h as f64 * cal.exr_bytes_per_pixel * 1.5
         })

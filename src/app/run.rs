@@ -131,6 +131,15 @@ pub fn run(args: RunArgs) -> Result<()> {
     };
     let report::run::Report { files, summary } = report::run::report(run)?;
     outdir::write_files(&out, &files, &[])?;
+    // Under `[tiles]`: each scene's frame with its tiles outlined, `tiles-<scene>.png`.
+    for (si, scene) in loaded.scenes.iter().enumerate() {
+        let Some(t) = crate::jobs::tiles::of_spec(&loaded.spec, si, scene) else { continue };
+        let p = crate::jobs::tiles::preview(&loaded.spec, scene);
+        let png =
+            report::tiles::tiles_png(&p.ao, &p.coverage, &t.interiors, &t.windows).map_err(Error::Refused)?;
+        let name = format!("tiles-{}.png", loaded.spec.scenes[si].name);
+        outdir::write_files(&out, &[outdir::File::new(&name, png)], &[])?;
+    }
     for w in &summary.warnings {
         eprintln!("{w}");
     }

@@ -83,6 +83,45 @@ impl Pipeline {
         Box::new(Run::new(*self, width, height))
     }
 
+    /// The same pipeline with its default iteration counts (`atrous`, `svgf` without `:K`) settled
+    /// for a `width` × `height` image: what a window of that image (`render::Window`) is filtered
+    /// with, so that a tile's kernels are the full frame's, not those of the tile's own size.
+    pub fn at_size(&self, width: u32, height: u32) -> Pipeline {
+        let k = super::edges::default_iterations(width, height);
+        let temporal = match self.temporal {
+            Some(Temporal::Svgf(o)) => {
+                Some(Temporal::Svgf(SvgfOptions { iterations: Some(o.iterations.unwrap_or(k)), ..o }))
+            }
+            t => t,
+        };
+        let spatial = match self.spatial {
+            Some(Spatial::Atrous(None)) => Some(Spatial::Atrous(Some(k))),
+            s => s,
+        };
+        Pipeline { temporal, spatial }
+    }
+
+    /// How far from a pixel, in pixels, one frame through the pipeline reads at a `width` ×
+    /// `height` image: half the à-trous footprint (`edges::footprint`; SVGF's 5 passes at 1080
+    /// lines: 62 px) plus SVGF's 7 × 7 spatial variance window (3), the Gaussian's 3σ, TAA's 3 × 3
+    /// neighbourhood (1). What a tile's apron must hold for its interior to be filtered as in the
+    /// full frame (`plan::tiles::apron`).
+    pub fn reach(&self, width: u32, height: u32) -> u32 {
+        let p = self.at_size(width, height);
+        let half = |k: Option<u32>| k.map_or(0, |k| (super::edges::footprint(k) / 2) as u32);
+        let temporal = match p.temporal {
+            Some(Temporal::Svgf(o)) => half(o.iterations) + 3,
+            Some(Temporal::Taa(_)) => 1,
+            _ => 0,
+        };
+        let spatial = match p.spatial {
+            Some(Spatial::Atrous(k)) => half(k),
+            Some(Spatial::Gauss) => (3.0 * GAUSS_SIGMA).ceil() as u32,
+            None => 0,
+        };
+        temporal + spatial
+    }
+
     /// The spatial part applied to `img` (a frame, or the accumulated frames), guided by `gbuf`
     /// (only `atrous` reads depth and normals; every filter reads its coverage). No spatial part:
     /// `img` as it is.
@@ -284,6 +323,16 @@ impl fmt::Display for Pipeline {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn reach_is_half_the_footprint_at_the_full_size() {
+        let svgf: Pipeline = "svgf".parse().unwrap();
+        assert_eq!(svgf.reach(1920, 1080), 62 + 3, "5 passes at 1080 lines");
+        assert_eq!(svgf.at_size(1920, 1080).reach(128, 128), 65, "settled counts stay");
+        assert_eq!("ema0.1+atrous:2".parse::<Pipeline>().unwrap().reach(1920, 1080), 6);
+        assert_eq!(Pipeline::RAW.reach(1920, 1080), 0);
+        assert_eq!("taa0.1".parse::<Pipeline>().unwrap().reach(64, 64), 1);
+    }
 
     #[test]
     fn names_round_trip_and_bad_ones_say_what_is_allowed() {

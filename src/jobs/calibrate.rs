@@ -249,7 +249,13 @@ pub fn calibrate(
         let one = of(Some(0), 1);
         let covered = one.first().map_or(0.0, |x| x.0 as f64);
         let base = (covered.round() as u64, median(&one));
-        let ratio = ratio_of[si];
+        // Under `[tiles]` a frame renders the tiles' windows: their share of the pixels (the
+        // per-image part) and of the covered pixels (the AO rays).
+        let (pixel_share, covered_share) = match super::tiles::of_spec(&loaded.spec, si, &loaded.scenes[si]) {
+            Some(t) => (t.pixel_share(), t.covered_share),
+            None => (1.0, 1.0),
+        };
+        let ratio = ratio_of[si] * pixel_share;
         let mut cals = Vec::new();
         for (i, job) in jobs.iter().enumerate() {
             let mine = of(Some(i), rays_of[si]);
@@ -261,7 +267,7 @@ pub fn calibrate(
             cals.push((job.row().canonical(), fit));
         }
         scenes.push(Some(SceneCal {
-            covered: covered * ratio,
+            covered: covered * ratio_of[si] * covered_share,
             overhead_s: median(&of(None, 0)) * ratio,
             rows: cals,
             rays: rays_of[si],
@@ -453,25 +459,49 @@ pub struct Build {
 /// the frame before it.
 pub fn builds(loaded: &Loaded, selected: &Plan, dir: &std::path::Path) -> Result<Vec<Build>> {
     let spec = &loaded.spec;
-    let mut out = Vec::new();
+    let mut out: Vec<Build> = Vec::new();
+    // Under `[tiles]` every reference is one per tile interior (`jobs::reference::obtain_measured`).
+    let tiles: Vec<Option<super::tiles::TileSet>> =
+        (0..loaded.scenes.len()).map(|si| super::tiles::of_spec(spec, si, &loaded.scenes[si])).collect();
+    let windows = |si: usize| -> Vec<Option<crate::render::Window>> {
+        match &tiles[si] {
+            Some(t) => t.interiors.iter().copied().map(Some).collect(),
+            None => vec![None],
+        }
+    };
+    let add = |out: &mut Vec<Build>,
+               si: usize,
+               view: &refs::ReferenceView,
+               at: Option<(crate::plan::CameraId, u32)>|
+     -> Result<()> {
+        for w in windows(si) {
+            let v = refs::ReferenceView { window: w, ..*view };
+            if let Some(manifest) = refs::missing_view(spec, si, &loaded.scenes[si], dir, &v)? {
+                // A frame seen from the scene's own camera (an orbit's frame 0) is the scene's reference.
+                if out.iter().any(|b: &Build| b.manifest.file_stem() == manifest.file_stem()) {
+                    continue;
+                }
+                let views = if v.jitter_average { crate::scene::camera_path::JITTER_CYCLE } else { 1 };
+                out.push(Build { scene: si, manifest, view: at, views });
+            }
+        }
+        Ok(())
+    };
     for (si, scene) in loaded.scenes.iter().enumerate() {
         if !selected.jobs.iter().any(|j| loaded.scene_of(j).0 == si) {
             continue;
         }
-        if let Some(manifest) = refs::missing(spec, si, scene, dir)? {
-            out.push(Build { scene: si, manifest, view: None, views: 1 });
+        if tiles[si].is_none() {
+            if let Some(manifest) = refs::missing(spec, si, scene, dir)? {
+                out.push(Build { scene: si, manifest, view: None, views: 1 });
+            }
+            continue;
         }
+        add(&mut out, si, &refs::ReferenceView::of_scene(scene), None)?;
     }
     let si_of = |j: &Job| loaded.scene_of(j).0;
     for n in crate::jobs::reference::needed_views(selected, &loaded.scenes, si_of) {
-        if let Some(manifest) = refs::missing_view(spec, n.scene, &loaded.scenes[n.scene], dir, &n.view)? {
-            // A frame seen from the scene's own camera (an orbit's frame 0) is the scene's reference.
-            if out.iter().any(|b: &Build| b.manifest.file_stem() == manifest.file_stem()) {
-                continue;
-            }
-            let views = if n.view.jitter_average { crate::scene::camera_path::JITTER_CYCLE } else { 1 };
-            out.push(Build { scene: n.scene, manifest, view: Some((n.camera, n.frame)), views });
-        }
+        add(&mut out, n.scene, &n.view, Some((n.camera, n.frame)))?;
     }
     Ok(out)
 }
@@ -491,11 +521,14 @@ pub fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Build], threads
     let mut cpu = 0.0;
     for b in builds {
         let (si, m) = (b.scene, &b.manifest);
+        // A tile's reference renders its window alone.
+        let [w, h] = m.image_size();
+        let share = (w as f64 * h as f64) / (m.resolution[0] as f64 * m.resolution[1] as f64).max(1.0);
         let passes = [Some(m.rays), adaptive_rays(loaded, si, m)];
         for rays in passes.into_iter().flatten() {
             let per = rays.div_ceil(b.views.max(1)).max(1);
             for job in plan::reference_jobs(&loaded.spec, si, per) {
-                cpu += cal.render_s(loaded, &job) * b.views as f64;
+                cpu += cal.render_s(loaded, &job) * b.views as f64 * share;
             }
         }
     }

@@ -70,17 +70,22 @@ pub fn advise(
     let final_jobs = (per_budget * budgets.len() as f64).round() as usize;
     let final_wall = final_cpu / workers.max(1) as f64 * cal.contention;
     let geometry = Geometry::of(loaded.spec.resolution, loaded.spec.ao_distance, &loaded.scenes[0]);
-    let pixels = geometry.pixels() as f64;
+    // Under `[tiles]` a job writes the mosaic of its tiles' interiors (`jobs::tiles`).
+    let pixels = super::tiles::of_spec(&loaded.spec, 0, &loaded.scenes[0])
+        .map_or(geometry.pixels(), |t| t.mosaic_pixels()) as f64;
     // The sweep keeps numbers only; the finalists' images are kept (the winner maps read them).
     let per_pixel = plan.jobs.first().map_or(cal.exr_bytes_per_pixel, |j| cal.bytes_per_pixel(j));
+    // The sweep keeps its images under a pipeline (the split reads them): mosaic pixels under tiles.
     let bytes = cost::output_bytes(
         todo,
-        |_| geometry.pixels(),
+        |_| pixels as u64,
         |j| cal.bytes_per_pixel(j),
         cal.record_bytes,
         finalists.sweep_images,
     ) + final_jobs as f64 * (pixels * per_pixel + cal.record_bytes)
-        + builds.len() as f64 * pixels * cal.exr_bytes_per_pixel * 1.5;
+        + builds.iter().map(|b| b.manifest.image_size().map(f64::from).iter().product::<f64>()).sum::<f64>()
+            * cal.exr_bytes_per_pixel
+            * 1.5;
     let forecast = Forecast {
         references: Some(builds.len()),
         jobs: todo.jobs.len() + final_jobs,

@@ -14,6 +14,11 @@
 //! through the motion from frame f − 1 (`jobs::guides::CameraFrames`); its error is against the
 //! reference of that frame.
 //!
+//! Under `[tiles]` (`jobs::tiles`) each frame is rendered as the tiles' windows, each pushed through
+//! a run of the pipeline of its own (with the whole image's iteration counts, `Pipeline::at_size`)
+//! and the user's denoiser; the measured image is the mosaic of the windows' interiors, and the
+//! references are the same mosaics, so every metric below reads it as it reads a whole frame.
+//!
 //! Beside the error, each reported frame's **flicker** (`metrics::flicker`): the RMS over pixels of
 //! (o_t − o_{t−1}) − (r_t − r_{t−1}), the change the viewer sees that the converged image does not
 //! make. For a pipeline that shows one frame, frame t − 1 is rendered too (untimed) for it.
@@ -29,14 +34,16 @@
 //! the paper's path stays one render, with nothing of the frames' machinery around it.
 
 use super::guides::Against;
+use crate::denoise::Motion;
 use crate::denoise::Pipeline;
 use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::metrics::{self, ErrorStats, MetricsError};
 use crate::plan::Measurement;
-use crate::render::{self, GBuffer, RenderJob, RenderOutput, View};
+use crate::render::{self, GBuffer, RenderJob, RenderOutput, View, Window};
 use crate::scene::Scene;
 use crate::timing::{Time, clock};
+use std::borrow::Cow;
 
 /// The image of one reported frame: after the whole pipeline, with the rays of every frame so
 /// far, its flicker, and the render time of those frames (`None`: the caller's time of the whole
@@ -97,10 +104,27 @@ impl Measure for SingleFrame {
         scene: &Scene,
         rj: &RenderJob,
         _reported: &[(Pipeline, u32)],
-        _against: &Against,
+        against: &Against,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<FrameImage>> {
-        let output = render::render_integrand(scene, rj, self.0.integrand, progress);
+        let output = match against.tiles {
+            None => render::render_integrand(scene, rj, self.0.integrand, progress),
+            // Each tile's window (as a frame of a pipeline renders it), measured on its interior.
+            Some(t) => {
+                let o: Vec<RenderOutput> = t
+                    .windows
+                    .iter()
+                    .map(|w| render::render_window(scene, rj, self.0.integrand, &View::SCENE, w, progress))
+                    .collect();
+                RenderOutput {
+                    ao: t.mosaic_of_windows(&o.iter().map(|o| o.ao.clone()).collect::<Vec<_>>(), 1.0),
+                    coverage: t
+                        .mosaic_of_windows(&o.iter().map(|o| o.coverage.clone()).collect::<Vec<_>>(), 0.0),
+                    rays: o.iter().map(|o| o.rays).sum(),
+                    occluded_rays: o.iter().map(|o| o.occluded_rays).sum(),
+                }
+            }
+        };
         Ok(vec![FrameImage {
             pipeline: Pipeline::RAW,
             frame: 1,
@@ -120,25 +144,26 @@ impl Measure for SingleFrame {
 /// is filtered in order, since its history is its own output.
 pub struct Frames(pub Measurement);
 
-/// One frame's guides: its view, G-buffer and motion from the frame before.
+/// One frame's guides: its view, and per part (`Against::parts`) its G-buffer and motion from the
+/// frame before.
 struct FrameGuide<'a> {
     view: View,
-    gbuffer: &'a GBuffer,
-    motion: std::borrow::Cow<'a, crate::denoise::Motion>,
+    gbuffers: Vec<&'a GBuffer>,
+    motions: Vec<Cow<'a, Motion>>,
 }
 
 impl Frames {
-    fn guide<'a>(&self, against: &'a Against, f: u32, width: u32, height: u32) -> FrameGuide<'a> {
+    fn guide<'a>(&self, against: &'a Against, f: u32, parts: &[Window]) -> FrameGuide<'a> {
         match against.camera {
             Some(c) => FrameGuide {
                 view: c.views[f as usize],
-                gbuffer: &c.gbuffers[f as usize].gbuffer,
-                motion: std::borrow::Cow::Borrowed(&c.motions[f as usize]),
+                gbuffers: c.gbuffers[f as usize].iter().map(|g| &g.gbuffer).collect(),
+                motions: c.motions[f as usize].iter().map(Cow::Borrowed).collect(),
             },
             None => FrameGuide {
                 view: View::SCENE,
-                gbuffer: against.gbuffer.expect("a filtered measurement has its G-buffer"),
-                motion: std::borrow::Cow::Owned(crate::denoise::Motion::identity(width, height)),
+                gbuffers: against.gbuffer.expect("a filtered measurement has its G-buffer").iter().collect(),
+                motions: parts.iter().map(|w| Cow::Owned(Motion::identity(w.width, w.height))).collect(),
             },
         }
     }
@@ -164,14 +189,29 @@ impl Frames {
     }
 }
 
-/// One pipeline's run over a series' frames.
+/// One pipeline's run over a series' frames: a run of its filter per part.
 struct Shown {
     pipeline: Pipeline,
-    filter: Box<dyn crate::denoise::FrameFilter>,
+    filters: Vec<Box<dyn crate::denoise::FrameFilter>>,
     /// Its reported frames (from 1) and the frames whose image is kept (those and the one before each).
     reported: Vec<u32>,
     kept: Vec<u32>,
     previous: Option<(u32, Image)>,
+}
+
+/// A run of `pipeline` over the frames of `part` of a `width` × `height` image, with the whole
+/// image's default iteration counts (`Pipeline::at_size`; the pipeline itself for the whole image).
+fn start(pipeline: Pipeline, width: u32, height: u32, part: &Window) -> Box<dyn crate::denoise::FrameFilter> {
+    pipeline.at_size(width, height).start(part.width, part.height)
+}
+
+/// The measured image of the parts' images (each its window's size): the mosaic of the tiles'
+/// interiors (`jobs::tiles`), or the whole frame itself.
+fn measured(against: &Against, mut parts: Vec<Image>, fill: f32) -> Image {
+    match against.tiles {
+        Some(t) => t.mosaic_of_windows(&parts, fill),
+        None => parts.pop().expect("one part: the whole frame"),
+    }
 }
 
 impl Measure for Frames {
@@ -184,13 +224,14 @@ impl Measure for Frames {
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<FrameImage>> {
         let m = &self.0;
+        let parts = against.parts(rj.width, rj.height);
         let mut runs: Vec<Shown> = Vec::new();
         for &(p, f) in reported {
             match runs.iter_mut().find(|r| r.pipeline == p) {
                 Some(r) => r.reported.push(f),
                 None => runs.push(Shown {
                     pipeline: p,
-                    filter: p.start(rj.width, rj.height),
+                    filters: parts.iter().map(|w| start(p, rj.width, rj.height, w)).collect(),
                     reported: vec![f],
                     kept: Vec::new(),
                     previous: None,
@@ -211,44 +252,60 @@ impl Measure for Frames {
         let mut spent = Time { cpu_s: 0.0, wall_s: 0.0 };
         let mut out = Vec::with_capacity(reported.len());
         for f in rendered {
-            let g = self.guide(against, f, rj.width, rj.height);
+            let g = self.guide(against, f, &parts);
             let frame = RenderJob { sampler: rj.sampler.with_frame(f).with_schedule(m.schedule), ..*rj };
             let timed = temporal || runs[0].reported.contains(&(f + 1));
             let (c0, w0) = (clock::thread_cpu_s(), clock::wall_s());
-            let o = render::render_view(scene, &frame, m.integrand, &g.view, progress);
+            let o: Vec<RenderOutput> = parts
+                .iter()
+                .map(|w| render::render_window(scene, &frame, m.integrand, &g.view, w, progress))
+                .collect();
             if timed {
                 spent.cpu_s += clock::thread_cpu_s() - c0;
                 spent.wall_s += clock::wall_s() - w0;
-                rays += o.rays;
-                occluded += o.occluded_rays;
+                rays += o.iter().map(|o| o.rays).sum::<u64>();
+                occluded += o.iter().map(|o| o.occluded_rays).sum::<u64>();
             }
             for run in &mut runs {
                 if temporal && !run.kept.contains(&(f + 1)) {
-                    run.filter.advance(&o.ao, None, g.gbuffer, &g.motion);
+                    for (k, filter) in run.filters.iter_mut().enumerate() {
+                        filter.advance(&o[k].ao, None, g.gbuffers[k], &g.motions[k]);
+                    }
                     continue;
                 }
-                let shown = if temporal {
-                    run.filter.push(&o.ao, g.gbuffer, &g.motion)
-                } else {
-                    // Nothing carries over between the frames of a pipeline that shows one: each
-                    // is filtered by a run of its own.
-                    run.pipeline.start(rj.width, rj.height).push(&o.ao, g.gbuffer, &g.motion)
-                };
+                let shown: Vec<Image> = (0..parts.len())
+                    .map(|k| {
+                        if temporal {
+                            run.filters[k].push(&o[k].ao, g.gbuffers[k], &g.motions[k])
+                        } else {
+                            // Nothing carries over between the frames of a pipeline that shows one:
+                            // each is filtered by a run of its own.
+                            start(run.pipeline, rj.width, rj.height, &parts[k]).push(
+                                &o[k].ao,
+                                g.gbuffers[k],
+                                &g.motions[k],
+                            )
+                        }
+                    })
+                    .collect();
                 if !run.kept.contains(&(f + 1)) {
                     continue;
                 }
-                let (shown, denoise_s) = self.denoise(against, shown, g.gbuffer)?;
+                let mut denoise_s = 0.0;
+                let mut done = Vec::with_capacity(shown.len());
+                for (k, img) in shown.into_iter().enumerate() {
+                    let (img, s) = self.denoise(against, img, g.gbuffers[k])?;
+                    denoise_s += s;
+                    done.push(img);
+                }
+                let shown = measured(against, done, 1.0);
                 if run.reported.contains(&(f + 1)) {
                     let flicker = match &run.previous {
                         Some((p, prev)) if *p == f => flicker(against, f + 1, prev, &shown),
                         _ => f64::NAN,
                     };
-                    let output = RenderOutput {
-                        ao: shown.clone(),
-                        coverage: o.coverage.clone(),
-                        rays,
-                        occluded_rays: occluded,
-                    };
+                    let coverage = measured(against, o.iter().map(|o| o.coverage.clone()).collect(), 0.0);
+                    let output = RenderOutput { ao: shown.clone(), coverage, rays, occluded_rays: occluded };
                     out.push(FrameImage {
                         pipeline: run.pipeline,
                         frame: f + 1,

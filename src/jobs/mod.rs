@@ -15,5 +15,6 @@ pub mod replicates;
 pub mod runner;
 pub mod sampler_cost;
 pub mod sweep;
+pub mod tiles;
 
 pub use config::Threads;

@@ -31,7 +31,47 @@ pub fn obtain(
     policy: Policy,
     runner: &JobRunner,
 ) -> Result<Reference> {
-    obtain_view(spec, si, scene, &ReferenceView::of_scene(scene), dir, policy, runner)
+    let tiles = super::tiles::of_spec(spec, si, scene);
+    obtain_measured(spec, si, scene, &ReferenceView::of_scene(scene), tiles.as_ref(), dir, policy, runner)
+}
+
+/// The reference a job measures against: `obtain_view`'s, or under `[tiles]` the mosaic
+/// (`jobs::tiles::TileSet::mosaic`) of the references of the tiles' interiors, each a reference of
+/// its own window (`ReferenceView::of_window`), stored with its window in its manifest and so
+/// reused by every run of the same tiles and never taken for a whole frame. The mosaic's manifest
+/// is the first tile's without its window, with the mosaic's noise floor.
+#[allow(clippy::too_many_arguments)]
+pub fn obtain_measured(
+    spec: &Spec,
+    si: usize,
+    scene: &Scene,
+    view: &ReferenceView,
+    tiles: Option<&super::tiles::TileSet>,
+    dir: &Path,
+    policy: Policy,
+    runner: &JobRunner,
+) -> Result<Reference> {
+    let Some(tiles) = tiles else { return obtain_view(spec, si, scene, view, dir, policy, runner) };
+    let mut parts = Vec::with_capacity(tiles.interiors.len());
+    for w in &tiles.interiors {
+        parts.push(obtain_view(spec, si, scene, &view.of_window(*w), dir, policy, runner)?);
+    }
+    let first = parts.first().ok_or_else(|| {
+        Error::Refused(format!(
+            "scene '{}': no tile of the image sees the scene ([tiles] needs covered pixels)",
+            scene.name
+        ))
+    })?;
+    let mosaic = |f: fn(&Reference) -> &Image, fill: f32| {
+        let images: Vec<Image> = parts.iter().map(|r| f(r).clone()).collect();
+        tiles.mosaic_image(&images, fill)
+    };
+    let (mean, stderr, coverage) =
+        (mosaic(|r| &r.mean, 1.0), mosaic(|r| &r.stderr, 0.0), mosaic(|r| &r.coverage, 0.0));
+    let mut manifest = Manifest { window: None, pixels: None, ..first.manifest.clone() };
+    manifest.noise_floor = Some(reference::noise_floor(&stderr, &coverage));
+    let exr = first.exr.clone();
+    Ok(Reference { mean, stderr, coverage, manifest, exr })
 }
 
 /// The references of camera paths' frames, by (scene index, camera, frame from 0): for a moving
@@ -117,6 +157,7 @@ pub fn needed_views(
             let view = ReferenceView {
                 camera: run.path.camera(&scene.view, frame, run.frames.max(1)),
                 jitter_average: run.jitter,
+                window: None,
             };
             out.push(NeededView { scene: si, camera, frame, view });
         }
@@ -136,8 +177,11 @@ pub fn obtain_views(
     runner: &JobRunner,
 ) -> Result<ViewReferences> {
     let mut out = ViewReferences::default();
+    let mut tiles: std::collections::HashMap<usize, Option<super::tiles::TileSet>> = Default::default();
     for n in needed_views(plan, scenes, si_of) {
-        let r = obtain_view(spec, n.scene, &scenes[n.scene], &n.view, dir, policy, runner)?;
+        let scene = &scenes[n.scene];
+        let t = tiles.entry(n.scene).or_insert_with(|| super::tiles::of_spec(spec, n.scene, scene));
+        let r = obtain_measured(spec, n.scene, scene, &n.view, t.as_ref(), dir, policy, runner)?;
         out.by_camera.entry((n.scene, n.camera)).or_default().insert(n.frame, r);
     }
     Ok(out)
@@ -216,8 +260,8 @@ fn build(
     if *view != ReferenceView::of_scene(scene) {
         if manifest.adaptive.is_some() {
             return Err(Error::Refused(format!(
-                "scene '{}': an adaptive reference (allocation = \"adaptive\") of a camera path's frame is not \
-                 supported; use allocation = \"even\" in a spec with cameras",
+                "scene '{}': an adaptive reference (allocation = \"adaptive\") of a camera path's frame or of \
+                 a tile is not supported; use allocation = \"even\" in a spec with cameras or [tiles]",
                 scene.name
             )));
         }
@@ -283,7 +327,7 @@ fn build_view(
         for (j, &jitter) in offsets.iter().enumerate() {
             let label = format!("reference {}/{} ({} of {} views)", i + 1, jobs.len(), j + 1, offsets.len());
             let v = crate::render::View::new(view.camera, jitter);
-            let out = runner.render_view_pass(job, scene, &v, j as u32, &label)?.output;
+            let out = runner.render_view_pass(job, scene, &v, view.window, j as u32, &label)?.output;
             let s = sum.get_or_insert_with(|| vec![0.0; out.ao.len()]);
             for (a, &x) in s.iter_mut().zip(&out.ao.data) {
                 *a += x as f64;
@@ -299,7 +343,7 @@ fn build_view(
         }
         let s = sum.expect("at least one view");
         let k = offsets.len() as f64;
-        let (w, h) = (manifest.resolution[0], manifest.resolution[1]);
+        let [w, h] = manifest.image_size();
         images.push(Image::from_vec(w, h, s.iter().map(|&x| (x / k) as f32).collect()));
     }
     let coverage =

@@ -48,22 +48,26 @@ impl JobRunner {
     }
 
     /// `render_pass` from another view (a camera path's frame, a jitter offset), its sampler at
-    /// frame `frame` (fresh numbers for each of a reference's views).
+    /// frame `frame` (fresh numbers for each of a reference's views), of `window` of the image
+    /// alone if given (a tile's reference, `render::render_window`).
     pub fn render_view_pass(
         &self,
         job: &Job,
         scene: &Scene,
         view: &render::View,
+        window: Option<render::Window>,
         frame: u32,
         label: &str,
     ) -> Result<Rendered> {
         let g = Geometry::of(job.resolution, job.ao_distance, scene);
-        self.start_pass(g.pixels() * job.rays as u64, label);
+        let window = window.unwrap_or(render::Window::full(g.width, g.height));
+        self.start_pass(window.pixels() * job.rays as u64, label);
         let mut rj = render_job(job, scene, job.rays)?;
         rj.sampler = rj.sampler.with_frame(frame);
         let rays = job.rays as u64;
+        let integrand = job.measurement.integrand;
         let output = self.pool.install(|| {
-            render::render_view(scene, &rj, job.measurement.integrand, view, &|px| self.bar.inc(px * rays))
+            render::render_window(scene, &rj, integrand, view, &window, &|px| self.bar.inc(px * rays))
         });
         Ok(Rendered { output })
     }

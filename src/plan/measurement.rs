@@ -159,6 +159,8 @@ pub struct Measurement {
     pub camera: CameraId,
     /// The user's denoiser, run on each measured frame after the pipeline.
     pub denoiser: DenoiserId,
+    /// Measured on tiles of the image (the spec's `[tiles]`, `jobs::tiles`); None: the whole image.
+    pub tiles: Option<super::tiles::TileSpec>,
 }
 
 impl Default for Measurement {
@@ -176,6 +178,7 @@ impl Measurement {
         pipeline: Pipeline::RAW,
         camera: CameraId::STATIC,
         denoiser: DenoiserId::NONE,
+        tiles: None,
     };
 
     /// The same measurement of another integrand.
@@ -242,11 +245,17 @@ impl Measurement {
     /// frame of one sequence, through every accumulating pipeline, is read from one render of it;
     /// otherwise `frames_key`. Part of the timing unit.
     pub fn series_key(&self) -> String {
-        if self.pipeline.is_temporal() {
+        let part = if self.pipeline.is_temporal() {
             format!(";schedule={};pipeline=temporal{}", self.schedule, self.view_key())
         } else {
             self.frames_key()
-        }
+        };
+        part + &self.tiles_key()
+    }
+
+    /// `;tiles=4x128` when measured on tiles, else empty (so every other key is what it was).
+    pub fn tiles_key(&self) -> String {
+        self.tiles.map_or(String::new(), |t| format!(";tiles={}", t.canonical()))
     }
 
     /// Everything this measurement adds to a job's canonical text: the frames part, then
@@ -256,6 +265,7 @@ impl Measurement {
         if self.integrand != Integrand::Ao {
             let _ = write!(s, ";integrand={}", self.integrand);
         }
+        s.push_str(&self.tiles_key());
         s
     }
 

@@ -11,6 +11,7 @@ pub mod cost;
 pub mod forecast;
 mod geometry;
 mod measurement;
+pub mod tiles;
 
 pub use geometry::Geometry;
 pub use measurement::{CameraId, CameraRun, Denoiser, DenoiserId, Measurement};
@@ -166,6 +167,7 @@ pub fn plan(spec: &Spec) -> Plan {
                                             pipeline,
                                             camera,
                                             denoiser,
+                                            tiles: spec.tiles,
                                         },
                                     };
                                     if seen.insert(job.canonical()) {
@@ -258,11 +260,19 @@ pub struct Estimate {
 /// `resolution_of` supplies the scene's own resolution for jobs without an override (the planner
 /// does not read scene files).
 pub fn estimate(plan: &Plan, resolution_of: impl Fn(&Job) -> [u32; 2]) -> Estimate {
+    estimate_with(plan, |job| {
+        let [w, h] = job.resolution.unwrap_or_else(|| resolution_of(job));
+        w as u64 * h as u64
+    })
+}
+
+/// `estimate` with each job's rendered pixels given (`pixels_of`): under `[tiles]`, its tiles'
+/// windows (`jobs::tiles::TileSet::rendered_pixels`), not the whole image.
+pub fn estimate_with(plan: &Plan, pixels_of: impl Fn(&Job) -> u64) -> Estimate {
     let mut total_rays = 0u64;
     let mut pixels = 0u64;
     for job in &plan.jobs {
-        let [w, h] = job.resolution.unwrap_or_else(|| resolution_of(job));
-        let px = w as u64 * h as u64;
+        let px = pixels_of(job);
         pixels += px;
         total_rays = total_rays.saturating_add(px.saturating_mul(job.rays as u64));
     }

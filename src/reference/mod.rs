@@ -62,6 +62,12 @@ pub struct Manifest {
     /// text it was.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub jitter_average: bool,
+    /// The reference of a rectangle of the `resolution` image alone (a tile's interior,
+    /// `render::Window`), as [x, y, width, height]: its pixels are those of the whole image's
+    /// reference in that rectangle, and its image is the rectangle's size. Left out of the file for
+    /// a whole image, so every other manifest is the text it was.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window: Option<[u32; 4]>,
     /// The content address of the reference's pixels (`pixel_hash` of its mean, standard error and
     /// coverage), checked whenever the reference is read: an image edited after it was made (a
     /// pixel nudged, a NaN) is refused naming the file instead of being measured against. Not part
@@ -187,6 +193,7 @@ impl Manifest {
             adaptive: None,
             integrand: scene.integrand.to_string(),
             jitter_average: false,
+            window: None,
             pixels: None,
         }
     }
@@ -222,6 +229,7 @@ impl Manifest {
         cmp("seed", self.seed.to_string(), wanted.seed.to_string());
         cmp("integrand", self.integrand.clone(), wanted.integrand.clone());
         cmp("jitter_average", self.jitter_average.to_string(), wanted.jitter_average.to_string());
+        cmp("window", format!("{:?}", self.window), format!("{:?}", wanted.window));
         // An adaptive reference's settings, not what they came to.
         let settings = |a: &Option<Adaptive>| match a {
             Some(a) => format!("adaptive ({}, min {} rays, budget {:?})", a.rule, a.min_rays, a.budget),
@@ -270,6 +278,11 @@ impl Manifest {
         m.to_json()
     }
 
+    /// The size of the reference's image: its window's, or the resolution.
+    pub fn image_size(&self) -> [u32; 2] {
+        self.window.map_or(self.resolution, |[_, _, w, h]| [w, h])
+    }
+
     /// File stem of a reference whose view has a reference of other settings already
     /// (`file_stem` taken): the view's stem and a hash of everything that determines the image,
     /// so another estimator, ray count or allocation gets a name of its own and never overwrites
@@ -289,10 +302,15 @@ impl Manifest {
         if self.jitter_average {
             what.push_str(";jitter-average");
         }
+        if let Some([x, y, w, h]) = self.window {
+            what.push_str(&format!(";window={x},{y}+{w}x{h}"));
+        }
         let h = crate::plan::fnv1a64(what.as_bytes());
         // Another integrand's reference sits beside the AO one of the same view.
         let of = if is_ao(&self.integrand) { String::new() } else { format!("-{}", self.integrand) };
-        format!("{name}{of}-{}x{}-{:08x}", self.resolution[0], self.resolution[1], h as u32)
+        // A window's reference says so in its name: it is never taken for a whole frame's.
+        let tile = if self.window.is_some() { "-tile" } else { "" };
+        format!("{name}{of}-{}x{}{tile}-{:08x}", self.resolution[0], self.resolution[1], h as u32)
     }
 }
 

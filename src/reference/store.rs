@@ -120,12 +120,19 @@ pub fn pilot_rays(spec: &Spec, scene: usize) -> u32 {
 pub struct ReferenceView {
     pub camera: crate::scene::WorldCamera,
     pub jitter_average: bool,
+    /// A rectangle of the image alone (a tile's interior, `Manifest::window`); None: all of it.
+    pub window: Option<crate::render::Window>,
 }
 
 impl ReferenceView {
     /// The scene's own camera, unjittered: every reference before camera paths.
     pub fn of_scene(scene: &Scene) -> Self {
-        Self { camera: scene.view, jitter_average: false }
+        Self { camera: scene.view, jitter_average: false, window: None }
+    }
+
+    /// The same view of the rectangle `window` alone.
+    pub fn of_window(self, window: crate::render::Window) -> Self {
+        Self { window: Some(window), ..self }
     }
 }
 
@@ -170,6 +177,7 @@ pub fn wanted_view(
         });
     }
     m.jitter_average = view.jitter_average;
+    m.window = view.window.map(|w| [w.x, w.y, w.width, w.height]);
     m
 }
 
@@ -275,7 +283,7 @@ pub fn load_if_matching(
         return Ok(Err((json.to_path_buf(), format!("does not match ({})", diffs.join("; ")))));
     }
     let (mean, stderr, coverage) = read_channels(exr)?;
-    if mean.width != wanted.resolution[0] || mean.height != wanted.resolution[1] {
+    if [mean.width, mean.height] != wanted.image_size() {
         return Ok(Err((exr.to_path_buf(), "has the wrong size".into())));
     }
     check_pixels(&stored, &mean, &stderr, &coverage, exr, json)?;

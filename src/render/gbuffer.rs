@@ -3,7 +3,7 @@
 //! tiles, packets and camera), so its depth and normal are those of the hits the AO rays of
 //! `render` start from; `render` itself does not compute or pay for any of it.
 
-use super::{Plane, Primary, TILE, View, tile_count, tile_primaries};
+use super::{Plane, Primary, TILE, View, Window, tile_count, tile_primaries};
 use crate::image::Image;
 use crate::scene::{Camera, Scene};
 use glam::{Vec2, Vec3};
@@ -47,6 +47,9 @@ pub struct FrameGBuffer {
     pub camera: Camera,
     /// The frame's sub-pixel jitter (`View::jitter`).
     pub jitter: Vec2,
+    /// The rectangle of the frame these pixels are (`frame_gbuffer_window`; the whole frame for
+    /// `frame_gbuffer`): the G-buffer is the window's size, its rays those of the full image.
+    pub window: Window,
     /// Per pixel, where its primary ray hit: ray origin + depth × unit direction, in the renderer's
     /// coordinates — relative to `Scene::origin` (the scene camera's eye), not to this frame's
     /// camera, so that every frame of a scene shares them and two frames' positions compare
@@ -67,7 +70,15 @@ pub fn gbuffer(scene: &Scene, width: u32, height: u32) -> GBuffer {
 /// the primary rays of `render_view` with the same view, so its depth, normal and coverage are
 /// those of the hits that frame's AO rays start from. `View::SCENE` gives `gbuffer`.
 pub fn frame_gbuffer(scene: &Scene, width: u32, height: u32, view: &View) -> FrameGBuffer {
-    let raster = view.raster(scene, width, height);
+    frame_gbuffer_window(scene, view, &Window::full(width, height))
+}
+
+/// `frame_gbuffer` of the pixels of `window` alone: a G-buffer of the window's size whose every
+/// pixel is the full frame's, bit for bit (the full image's primary rays, `render_window`'s).
+pub fn frame_gbuffer_window(scene: &Scene, view: &View, window: &Window) -> FrameGBuffer {
+    let [full_w, full_h] = window.full;
+    let raster = view.raster(scene, full_w, full_h);
+    let (width, height) = (window.width, window.height);
     let n = width as usize * height as usize;
     let (mut depth, mut normal, mut coverage) = (vec![0.0f32; n], vec![Vec3::ZERO; n], vec![0.0f32; n]);
     let mut position = vec![Vec3::ZERO; n];
@@ -78,7 +89,7 @@ pub fn frame_gbuffer(scene: &Scene, width: u32, height: u32, view: &View) -> Fra
         .map_init(
             || Vec::<Primary>::with_capacity((TILE * TILE) as usize),
             |primaries, t| {
-                tile_primaries(scene, &raster, t, primaries);
+                tile_primaries(scene, &raster, window, t, primaries);
                 primaries
                     .iter()
                     .filter_map(|p| {
@@ -86,7 +97,7 @@ pub fn frame_gbuffer(scene: &Scene, width: u32, height: u32, view: &View) -> Fra
                         let plane = Plane::of(scene.accel.triangle(hit.prim));
                         let (_, nrm) = plane.ao_origin(hit.bary_b, hit.bary_c, p.dir);
                         let at = raster.origin(p.x, p.y) + p.dir * hit.t;
-                        Some((p.y * width + p.x, hit.t, nrm, at, hit.prim))
+                        Some((window.index(p.x, p.y) as u32, hit.t, nrm, at, hit.prim))
                     })
                     .collect()
             },
@@ -108,5 +119,5 @@ pub fn frame_gbuffer(scene: &Scene, width: u32, height: u32, view: &View) -> Fra
         coverage: Image::from_vec(width, height, coverage),
         primitive,
     };
-    FrameGBuffer { gbuffer, camera: view.camera(scene), jitter: view.jitter, position }
+    FrameGBuffer { gbuffer, camera: view.camera(scene), jitter: view.jitter, window: *window, position }
 }

@@ -11,11 +11,13 @@ mod order;
 pub mod reproject;
 mod sight;
 mod view;
+mod window;
 
-pub use gbuffer::{FrameGBuffer, GBuffer, NO_PRIMITIVE, frame_gbuffer, gbuffer};
+pub use gbuffer::{FrameGBuffer, GBuffer, NO_PRIMITIVE, frame_gbuffer, frame_gbuffer_window, gbuffer};
 pub use reproject::{ReprojectParams, reproject};
 pub use sight::{Sight, primary_hits, sight};
 pub use view::View;
+pub use window::Window;
 
 pub use offset::{Plane, ao_origin};
 
@@ -121,18 +123,34 @@ pub fn render_view(
     view: &View,
     progress: &(dyn Fn(u64) + Sync),
 ) -> RenderOutput {
-    let (w, h) = (job.width as usize, job.height as usize);
+    render_window(scene, job, integrand, view, &Window::full(job.width, job.height), progress)
+}
+
+/// `render_view` of the pixels of `window` alone (a rectangle of the job's `width` × `height`
+/// image): an image of the window's size whose every pixel is the full render's, bit for bit (the
+/// full image's primary rays, the sampler at the pixel's absolute coordinates and index; `Window`).
+/// `progress` sums to the window's pixels.
+pub fn render_window(
+    scene: &Scene,
+    job: &RenderJob,
+    integrand: Integrand,
+    view: &View,
+    window: &Window,
+    progress: &(dyn Fn(u64) + Sync),
+) -> RenderOutput {
+    assert_eq!(window.full, [job.width, job.height], "render: a window of another image");
+    let (w, h) = (window.width as usize, window.height as usize);
     let n = job.sampler.count as usize;
     if w == 0 || h == 0 {
-        let empty = Image::new(job.width, job.height);
+        let empty = Image::new(window.width, window.height);
         return RenderOutput { ao: empty.clone(), coverage: empty, rays: 0, occluded_rays: 0 };
     }
     let raster = view.raster(scene, job.width, job.height);
     let unit_weight = integrand.unit_weight(job.distribution);
-    let tile = Tile { scene, job, integrand, unit_weight, raster, progress };
+    let tile = Tile { scene, job, integrand, unit_weight, raster, window: *window, progress };
     // Tiles in parallel, each its own rayon job (pixels differ a lot in cost; large sequential
     // ranges left one of 2 threads idle); each tile's covered pixels come back as (index, AO).
-    let tiles: Vec<TileResult> = (0..tile_count(job.width, job.height))
+    let tiles: Vec<TileResult> = (0..tile_count(window.width, window.height))
         .into_par_iter()
         .with_max_len(1)
         .map_init(
@@ -167,8 +185,8 @@ pub fn render_view(
         occluded += o;
     }
     RenderOutput {
-        ao: Image::from_vec(job.width, job.height, ao),
-        coverage: Image::from_vec(job.width, job.height, coverage),
+        ao: Image::from_vec(window.width, window.height, ao),
+        coverage: Image::from_vec(window.width, window.height, coverage),
         rays,
         occluded_rays: occluded,
     }
@@ -194,17 +212,19 @@ struct Tile<'a> {
     unit_weight: bool,
     /// The frame's primary rays (`View::raster`).
     raster: Raster,
+    /// The pixels rendered (`render_window`).
+    window: Window,
     progress: &'a (dyn Fn(u64) + Sync),
 }
 
-/// Tile `t`'s covered pixels as (index, AO), its AO rays and occluded rays.
+/// Tile `t`'s covered pixels as (index in the window, AO), its AO rays and occluded rays.
 #[inline(always)]
 fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
-    let Tile { scene, job, integrand, unit_weight, ref raster, progress } = *tile;
+    let Tile { scene, job, integrand, unit_weight, ref raster, ref window, progress } = *tile;
     let (w, n) = (job.width as usize, job.sampler.count as usize);
     let mut done = Vec::with_capacity((TILE * TILE) as usize);
     let (mut rays, mut occluded) = (0u64, 0u64);
-    tile_primaries(scene, raster, t, &mut s.primaries);
+    tile_primaries(scene, raster, window, t, &mut s.primaries);
     for p in &s.primaries {
         let Some(hit) = p.hit else { continue };
         let pixel = p.y as u64 * w as u64 + p.x as u64;
@@ -248,7 +268,7 @@ fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
             }
             sum
         };
-        done.push((pixel as u32, (1.0 - sum / n as f64) as f32));
+        done.push((window.index(p.x, p.y) as u32, (1.0 - sum / n as f64) as f32));
         rays += n as u64;
     }
     progress(s.primaries.len() as u64);
@@ -262,17 +282,20 @@ pub(crate) fn tile_count(width: u32, height: u32) -> u32 {
     width.div_ceil(TILE) * height.div_ceil(TILE)
 }
 
-/// The pixels of tile `t` (tiles in scan order), in scan order.
-fn tile_pixels(t: u32, width: u32, height: u32) -> impl Iterator<Item = (u32, u32)> {
-    let tiles_x = width.div_ceil(TILE);
-    let (x0, y0) = ((t % tiles_x) * TILE, (t / tiles_x) * TILE);
-    (y0..(y0 + TILE).min(height)).flat_map(move |y| (x0..(x0 + TILE).min(width)).map(move |x| (x, y)))
+/// The pixels of tile `t` of `window` (tiles in scan order from the window's corner), in scan
+/// order, in the full image's coordinates.
+fn tile_pixels(t: u32, window: Window) -> impl Iterator<Item = (u32, u32)> {
+    let tiles_x = window.width.div_ceil(TILE);
+    let (x0, y0) = (window.x + (t % tiles_x) * TILE, window.y + (t / tiles_x) * TILE);
+    let (right, bottom) = (window.x + window.width, window.y + window.height);
+    (y0..(y0 + TILE).min(bottom)).flat_map(move |y| (x0..(x0 + TILE).min(right)).map(move |x| (x, y)))
 }
 
 /// The renderer's pixel order: TILE × TILE tiles in scan order, each in scan order, so that
 /// consecutive pixels are neighbours in both directions (and share occluders, see `Occluders`).
 pub fn pixel_order(width: u32, height: u32) -> impl Iterator<Item = (u32, u32)> {
-    (0..tile_count(width, height)).flat_map(move |t| tile_pixels(t, width, height))
+    let window = Window::full(width, height);
+    (0..tile_count(width, height)).flat_map(move |t| tile_pixels(t, window))
 }
 
 /// The AO rays of pixel (x, y): primary hit, offset origin, the sampler's directions and weights.
@@ -330,15 +353,24 @@ pub(crate) struct Primary {
     hit: Option<Hit>,
 }
 
-/// The primary rays of tile `t`'s pixels (in `tile_pixels` order) of the image `raster` is for
-/// into `out` (what `render` and `gbuffer` share; the pixels' ray origins are read from `raster`
+/// The primary rays of tile `t`'s pixels (in `tile_pixels` order) of `window` of the image `raster`
+/// is for into `out` (what `render` and `gbuffer` share; the pixels' ray origins are read from `raster`
 /// later). Rays that share their origin (a pinhole camera's: the eye) are traced 32 at a time,
 /// 8 × 4 pixels (`Accel::closest_from`), others one by one; the hits are the same bits either way.
 #[inline(always)]
-pub(crate) fn tile_primaries(scene: &Scene, raster: &Raster, t: u32, out: &mut Vec<Primary>) {
+pub(crate) fn tile_primaries(
+    scene: &Scene,
+    raster: &Raster,
+    window: &Window,
+    t: u32,
+    out: &mut Vec<Primary>,
+) {
     out.clear();
-    let (width, height) = raster.size();
-    for (x, y) in tile_pixels(t, width, height) {
+    debug_assert_eq!(window.full, {
+        let (w, h) = raster.size();
+        [w, h]
+    });
+    for (x, y) in tile_pixels(t, *window) {
         out.push(Primary { x, y, dir: raster.ray(x, y).dir, hit: None });
     }
     if raster.shared_origin() {

@@ -55,15 +55,18 @@ pub const SNAP_PX: f32 = 1e-3;
 /// The motion from `prev` to `cur` (two frames of one scene at one size): per covered pixel of
 /// `cur`, its consistent bilinear taps into `prev`, or none (disoccluded: covered now but hidden,
 /// off-screen or background in `prev`). Background pixels of `cur` have no taps either.
+/// G-buffers of a window of the frames (`FrameGBuffer::window`, the same for both) reproject in
+/// the full frame's pixel grid; a tap outside the window counts as off-screen.
 pub fn reproject(prev: &FrameGBuffer, cur: &FrameGBuffer, params: &ReprojectParams) -> Motion {
     let (w, h) = (cur.gbuffer.width, cur.gbuffer.height);
     assert!(
-        (prev.gbuffer.width, prev.gbuffer.height) == (w, h),
-        "reproject: frames of different sizes ({}x{} and {w}x{h})",
+        (prev.gbuffer.width, prev.gbuffer.height) == (w, h) && prev.window == cur.window,
+        "reproject: frames of different sizes ({}x{} and {w}x{h}) or windows",
         prev.gbuffer.width,
         prev.gbuffer.height
     );
-    let raster = prev.camera.raster_jittered(w, h, prev.jitter);
+    let [full_w, full_h] = prev.window.full;
+    let raster = prev.camera.raster_jittered(full_w, full_h, prev.jitter);
     let taps: Vec<Vec<(u32, f32)>> = (0..w as usize * h as usize)
         .into_par_iter()
         .map(|i| pixel_taps(prev, &raster, cur, i, params))
@@ -91,8 +94,9 @@ fn fallback_taps(
 ) -> Vec<u32> {
     let (p, n) = (cur.position[i], cur.gbuffer.normal[i]);
     let (w, h) = (prev.gbuffer.width as i64, prev.gbuffer.height as i64);
+    let (ox, oy) = (prev.window.x, prev.window.y);
     let Some(at) = raster.pixel_of(p) else { return Vec::new() };
-    let (cx, cy) = (at.x.round() as i64, at.y.round() as i64);
+    let (cx, cy) = (at.x.round() as i64 - ox as i64, at.y.round() as i64 - oy as i64);
     let mut kept = Vec::new();
     for dy in -1..=1 {
         for dx in -1..=1 {
@@ -104,7 +108,7 @@ fn fallback_taps(
             if !prev.gbuffer.is_covered(q) {
                 continue;
             }
-            let ray = raster.ray(x as u32, y as u32);
+            let ray = raster.ray(x as u32 + ox, y as u32 + oy);
             if consistent(
                 p,
                 n,
@@ -133,9 +137,11 @@ fn pixel_taps(
     }
     let (p, n) = (cur.position[i], cur.gbuffer.normal[i]);
     let (w, h) = (prev.gbuffer.width, prev.gbuffer.height);
+    let (ox, oy) = (prev.window.x, prev.window.y);
     let Some(at) = raster.pixel_of(p) else { return Vec::new() };
     let (x0, ax) = split(at.x);
     let (y0, ay) = split(at.y);
+    let (x0, y0) = (x0 - ox as i64, y0 - oy as i64);
     let mut kept = Vec::with_capacity(4);
     for (dx, dy, weight) in
         [(0, 0, (1.0 - ax) * (1.0 - ay)), (1, 0, ax * (1.0 - ay)), (0, 1, (1.0 - ax) * ay), (1, 1, ax * ay)]
@@ -149,7 +155,7 @@ fn pixel_taps(
         if !prev.gbuffer.is_covered(q) {
             continue;
         }
-        let ray = raster.ray(x, y);
+        let ray = raster.ray(x + ox, y + oy);
         if consistent(p, n, (ray.origin, ray.dir), prev.gbuffer.depth.data[q], prev.gbuffer.normal[q], params)
         {
             kept.push((q as u32, weight));

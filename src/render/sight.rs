@@ -77,13 +77,14 @@ pub fn sight(scene: &Scene, width: u32, height: u32) -> Sight {
 /// `render`'s): 0 for a camera path's frame that sees nothing.
 pub fn primary_hits(scene: &Scene, view: &View, width: u32, height: u32) -> u64 {
     let raster = view.raster(scene, width, height);
+    let window = super::Window::full(width, height);
     (0..tile_count(width, height))
         .into_par_iter()
         .with_max_len(1)
         .map_init(
             || Vec::<Primary>::with_capacity((TILE * TILE) as usize),
             |primaries, t| {
-                tile_primaries(scene, &raster, t, primaries);
+                tile_primaries(scene, &raster, &window, t, primaries);
                 primaries.iter().filter(|p| p.hit.is_some()).count() as u64
             },
         )

@@ -22,6 +22,7 @@ mod html;
 pub(crate) mod plot;
 mod points;
 pub mod run;
+pub mod tiles;
 pub mod viewer;
 
 pub use backend::Format;

@@ -315,6 +315,9 @@ impl JobResult {
             pipeline: self.pipeline.parse().ok()?,
             camera: crate::plan::CameraId::named(&self.camera)?,
             denoiser: crate::plan::DenoiserId::named(&self.denoiser)?,
+            // Not a column: every record of a run shares the spec's `[tiles]`, and each image's
+            // provenance names the tile set (`jobs::executor::provenance_tiled`).
+            tiles: None,
         })
     }
 

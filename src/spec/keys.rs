@@ -20,6 +20,7 @@ pub(super) const TOP: &[&str] = &[
     "flip_ppd",
     "reference",
     "timing",
+    "tiles",
     "cameras",
     "denoisers",
     "table",
@@ -28,6 +29,7 @@ pub(super) const TOP: &[&str] = &[
 pub(super) const REFERENCE: &[&str] =
     &["dir", "rays", "replicates", "seed", "distribution", "sequence", "seed_mode", "allocation"];
 pub(super) const TIMING: &[&str] = &["repeats", "seed"];
+pub(super) const TILES: &[&str] = &["count", "size"];
 pub(super) const GROUP: &[&str] = &[
     "name",
     "rays",
@@ -77,6 +79,7 @@ fn walk(text: &str, table: &DeTable, path: &str, known: &[&str], found: &mut Fou
         let inner: Option<&[&str]> = match (path, name) {
             ("", "reference") => Some(REFERENCE),
             ("", "timing") => Some(TIMING),
+            ("", "tiles") => Some(TILES),
             ("", "table" | "convergence") => Some(GROUP),
             ("table" | "convergence", "rows") => Some(ROW),
             _ => None,

@@ -21,6 +21,11 @@
 //! seed_mode = "shift"
 //! allocation = "even"                   # or "adaptive": rays per pixel ∝ its spread in a pilot pass
 //!
+//! [tiles]                               # optional: measure on tiles of the image (`plan::tiles`)
+//! count = 4                             # 1..=64 tiles, chosen where the content is
+//! size = 64                             # side in pixels, 8..=2048 (default 128), at most the image's
+//!                                       # smaller side; count × size² below the image's pixels
+//!
 //! [timing]                              # optional section; see `timing` for the protocol
 //! repeats = 3                           # timed renders per (row, rays) at least, 1..=100
 //! seed = 1                              # of the interleaved order; default: the base seed
@@ -91,6 +96,7 @@ mod group;
 mod keys;
 pub(crate) mod position;
 mod raw;
+mod tiles;
 mod validate;
 
 pub use validate::{parse_spec, parse_spec_with};
@@ -349,6 +355,9 @@ pub struct Spec {
     pub scenes: Vec<SceneRef>,
     pub resolution: Option<[u32; 2]>,
     pub ao_distance: Option<AoDistance>,
+    /// `[tiles]`: every job measured on tiles of the image (`plan::tiles`, `jobs::tiles`); None:
+    /// on the whole image.
+    pub tiles: Option<crate::plan::tiles::TileSpec>,
     pub replicates: u32,
     pub seed: u64,
     /// Draw the paper's point figures (Table 1, Figures 2-4): they depend on no rendering, so

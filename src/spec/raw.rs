@@ -20,6 +20,8 @@ pub(super) struct RawSpec {
     pub(super) flip_ppd: Option<S<toml::Value>>,
     pub(super) reference: Option<RawReference>,
     pub(super) timing: Option<RawTiming>,
+    /// Measure on tiles of the image (`[tiles]`, `plan::tiles`).
+    pub(super) tiles: Option<S<RawTiles>>,
     /// Named camera paths for the real-time groups' `cameras` (`[cameras.NAME]`).
     #[serde(default)]
     pub(super) cameras: std::collections::BTreeMap<String, S<RawCamera>>,
@@ -50,6 +52,13 @@ pub(super) struct RawReference {
 pub(super) struct RawTiming {
     pub(super) repeats: Option<S<i64>>,
     pub(super) seed: Option<S<i64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawTiles {
+    pub(super) count: Option<S<i64>>,
+    pub(super) size: Option<S<i64>>,
 }
 
 #[derive(Deserialize)]

@@ -259,6 +259,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
     });
     let ao_distance = raw.ao_distance.as_ref().and_then(|v| distance(v, p));
     let flip_ppd = raw.flip_ppd.as_ref().map_or(crate::metrics::DEFAULT_PPD, |v| ppd(v, p));
+    let tiles = raw.tiles.as_ref().and_then(|t| super::tiles::tiles(t, resolution, p));
     let replicates = raw
         .replicates
         .as_ref()
@@ -375,6 +376,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         resolution,
         ao_distance,
         flip_ppd,
+        tiles,
         replicates: replicates.unwrap_or(DEFAULT_REPLICATES),
         seed,
         point_figures,

@@ -28,5 +28,6 @@ mod run_answer;
 mod run_errors;
 mod run_realtime;
 mod run_results;
+mod run_tiles;
 mod shard_merge;
 mod textures;

@@ -147,9 +147,17 @@ pub type Write<'a> = dyn Fn(&Saved) -> Result<()> + Sync + 'a;
 /// times everything per the protocol, and returns the records in plan order; each image is written
 /// as EXR under `out`.
 pub fn run_jobs(j: &Jobs) -> Result<(Vec<JobResult>, Session)> {
+    let spec = &j.loaded.spec;
+    let tiles: Vec<Option<super::tiles::TileSet>> = match spec.tiles {
+        Some(_) => (0..j.loaded.scenes.len())
+            .map(|si| super::tiles::of_spec(spec, si, &j.loaded.scenes[si]))
+            .collect(),
+        None => Vec::new(),
+    };
     let keep = |_: usize, job: &Job, output: &RenderOutput| {
         let (si, scene) = j.loaded.scene_of(job);
-        let provenance = provenance(&j.loaded.spec.name, job, scene, &j.references[si], output);
+        let t = tiles.get(si).and_then(Option::as_ref);
+        let provenance = provenance_tiled(&spec.name, job, scene, &j.references[si], output, t);
         outdir::write_image(j.out, job, output, &provenance)
     };
     measure_jobs(j, &keep)
@@ -163,6 +171,19 @@ pub fn provenance(
     scene: &Scene,
     reference: &Reference,
     output: &RenderOutput,
+) -> Provenance {
+    provenance_tiled(spec, job, scene, reference, output, None)
+}
+
+/// `provenance` of a job measured on `tiles` (`[tiles]`): the image is the mosaic of the tiles'
+/// interiors, and the tile set (`TileSet::canonical`) is named beside the image's size.
+pub fn provenance_tiled(
+    spec: &str,
+    job: &Job,
+    scene: &Scene,
+    reference: &Reference,
+    output: &RenderOutput,
+    tiles: Option<&super::tiles::TileSet>,
 ) -> Provenance {
     let (w, h) = (output.ao.width, output.ao.height);
     let d = plan::Geometry::of(job.resolution, job.ao_distance, scene).distance.canonical();
@@ -186,6 +207,19 @@ pub fn provenance(
         "reference": reference_file,
         "reference_noise_floor": reference.noise_floor(),
     });
+    let mut json = json;
+    let mut on = String::new();
+    if let (Some(t), Some(o)) = (tiles, json.as_object_mut()) {
+        let g = plan::Geometry::of(job.resolution, job.ao_distance, scene);
+        o.insert("tiles".into(), t.canonical().into());
+        o.insert("tiles_of".into(), serde_json::json!([g.width, g.height]));
+        on = format!(
+            "; measured on tiles {} of the {}x{} image (their interiors side by side)",
+            t.canonical(),
+            g.width,
+            g.height
+        );
+    }
     let summary = format!(
         "hemilab {} job of spec '{spec}': {} / {} / {}, {} rays per pixel, replicate {}, seed {}; scene {} \
          ({w}x{h}, d = {d}, hash {}); measured against reference {reference_file}",
@@ -198,7 +232,7 @@ pub fn provenance(
         job.seed,
         job.scene_id,
         scene.content_hash,
-    );
+    ) + &on;
     Provenance { summary, json }
 }
 
@@ -288,9 +322,16 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
         }),
         |si| &loaded.scenes[si],
         views,
+        |si| super::tiles::of_spec(&loaded.spec, si, &loaded.scenes[si]),
     );
     let frames_of = |id: usize| measures.get(id).map_or(1, |m| m.frames());
-    let pixels = |id: usize| jobs[id].width as u64 * jobs[id].height as u64 * frames_of(id);
+    // Pixels rendered per frame: the tiles' windows under `[tiles]`, else the whole image.
+    let frame_pixels = |id: usize| match guides.tiles(scene_of_id(id)).filter(|_| loaded.spec.tiles.is_some())
+    {
+        Some(t) => t.rendered_pixels(),
+        None => jobs[id].width as u64 * jobs[id].height as u64,
+    };
+    let pixels = |id: usize| frame_pixels(id) * frames_of(id);
     let cost = |slots: &[Slot]| slots.iter().map(|s| pixels(s.job) * jobs[s.job].sampler.count as u64).sum();
     bar.reset();
     bar.set_length(cost(&slots));
@@ -310,8 +351,9 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
         }
         let rj = &jobs[slot.job];
         let rays = rj.sampler.count as u64;
-        // Overhead renders (ids from n) are single AO frames.
-        let single = super::measure::SingleFrame(crate::plan::Measurement::PAPER);
+        // Overhead renders (ids from n) are single AO frames, of the tiles under `[tiles]`.
+        let paper = crate::plan::Measurement { tiles: loaded.spec.tiles, ..crate::plan::Measurement::PAPER };
+        let single = super::measure::SingleFrame(paper);
         let measure: &dyn super::measure::Measure = measures.get(slot.job).map_or(&single, |m| &**m);
         let members: Vec<usize> = members_of.get(&slot.job).cloned().unwrap_or_else(|| vec![slot.job]);
         let wanted = |i: usize| {
@@ -325,7 +367,7 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
                 reported.push(wanted(i));
             }
         }
-        let m = plan.jobs.get(slot.job).map_or(crate::plan::Measurement::PAPER, |j| j.measurement);
+        let m = plan.jobs.get(slot.job).map_or(paper, |j| j.measurement);
         let scratch = m.denoiser.get().map(|_| out.join(DENOISE_DIR).join(plan.jobs[slot.job].file_stem()));
         let against = guides.against(si, &m, &references[si], scratch);
         let (images, time): (Result<Vec<super::measure::FrameImage>>, Time) =

@@ -240,6 +240,9 @@ pub fn provenance_tiled(
 /// (one directory per job, removed after each success).
 pub const DENOISE_DIR: &str = ".denoise";
 
+/// Renders given a denoiser directory so far (each its own, `DENOISE_DIR/<job>-<n>`).
+static SCRATCH: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
 /// `run_jobs` with the image handed to `keep` instead of written.
 pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> {
     let Jobs { loaded, plan, references, views, previous, out, protocol, bar, label, write } = *j;
@@ -368,7 +371,12 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             }
         }
         let m = plan.jobs.get(slot.job).map_or(paper, |j| j.measurement);
-        let scratch = m.denoiser.get().map(|_| out.join(DENOISE_DIR).join(plan.jobs[slot.job].file_stem()));
+        // A directory of this render's own: a job's timing-only renders run beside its recorded
+        // one on another worker, and two renders writing one denoiser input collide.
+        let scratch = m.denoiser.get().map(|_| {
+            let n = SCRATCH.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            out.join(DENOISE_DIR).join(format!("{}-{n}", plan.jobs[slot.job].file_stem()))
+        });
         let against = guides.against(si, &m, &references[si], scratch);
         let (images, time): (Result<Vec<super::measure::FrameImage>>, Time) =
             worker.timed(|| measure.render(scene, rj, &reported, &against, &|px| bar.inc(px * rays)));

@@ -89,6 +89,8 @@ pub struct Guide<'a> {
     /// A whole σ_n (SVGF's 128) by repeated squaring: within a few ulp of `powf`, at a fraction of
     /// its cost (it was a third of a real-time run's filtering time).
     normal_power: Option<i32>,
+    /// `content_key`, hashed once (each pass of each filter asks for it).
+    key: std::sync::OnceLock<u64>,
 }
 
 /// At most 25 taps of one à-trous pass: (pixel, weight).
@@ -98,13 +100,18 @@ impl<'a> Guide<'a> {
     pub fn new(gbuf: &'a GBuffer, sigma_depth: f32, sigma_normal: f32) -> Self {
         let normal_power = (sigma_normal.fract() == 0.0 && (0.0..=1024.0).contains(&sigma_normal))
             .then_some(sigma_normal as i32);
-        Self { gbuf, grad: depth_gradient(gbuf), sigma_depth, sigma_normal, normal_power }
+        let key = std::sync::OnceLock::new();
+        Self { gbuf, grad: depth_gradient(gbuf), sigma_depth, sigma_normal, normal_power, key }
     }
 
     /// A hash of everything the taps depend on: the G-buffer's size, depth, normals and coverage,
     /// and σ_z, σ_n (`taps::Pass` keeps tables by it). Four independent lanes, so that hashing a
     /// frame costs a small part of filtering it.
     pub fn content_key(&self) -> u64 {
+        *self.key.get_or_init(|| self.hash())
+    }
+
+    fn hash(&self) -> u64 {
         const K: u64 = 0x9E37_79B9_7F4A_7C15;
         let g = self.gbuf;
         let mut lanes = [

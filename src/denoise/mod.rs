@@ -16,6 +16,7 @@ pub mod history;
 pub mod motion;
 pub mod pipeline;
 pub mod svgf;
+mod svgf_atrous;
 pub mod taa;
 pub mod taps;
 

@@ -26,10 +26,11 @@
 //!
 //! Background pixels (coverage 0) keep the frame's value, have no history and are never read.
 
-use super::edges::{Guide, Taps, default_iterations};
+use super::edges::{Guide, default_iterations};
 use super::history::{Extra, Reprojected, alpha_eff};
 use super::motion::Motion;
-use super::taps::Pass as TapPass;
+use super::svgf_atrous::{Eps, level, pass};
+pub use super::svgf_atrous::{LUMINANCE_EPS, RELATIVE_EPS};
 use crate::image::Image;
 use crate::render::GBuffer;
 use rayon::prelude::*;
@@ -39,16 +40,6 @@ pub const SPATIAL_VARIANCE_FRAMES: u32 = 4;
 
 /// The half width of the spatial variance estimate's window (7 × 7).
 const SPATIAL_RADIUS: i64 = 3;
-
-/// ε of the luminance weight: keeps a zero variance from dividing by zero.
-pub const LUMINANCE_EPS: f64 = 1e-10;
-
-/// With `SvgfOptions::relative_eps`, the variance floor of the luminance weight as a share of the
-/// frame's mean level squared: σ_l √(g₃ₓ₃(Var) + `RELATIVE_EPS` · l̄²) + `LUMINANCE_EPS`, l̄ the
-/// mean of the temporally accumulated colour over covered pixels. 1e-4 is a standard deviation of
-/// 1 % of the mean level: where the variance is 0 (a converged or noise-free input) neighbours
-/// differing by a few percent of the level are still averaged, instead of none at all.
-pub const RELATIVE_EPS: f64 = 1e-4;
 
 /// What a pipeline name (`svgf:5:fallback:id:releps`) chooses of SVGF beyond the paper's α and σ.
 /// `Default` is `svgf`: the share-of-image iteration count, and none of the three options, which
@@ -190,7 +181,8 @@ impl Svgf {
             self.color_ref.is_none() || self.frames == 0,
             "svgf: a run pushes pairs from its first frame or never"
         );
-        self.step(frame, None, gbuf, motion, true).0
+        let iterations = self.iterations(frame);
+        self.step(frame, None, gbuf, motion, &[iterations]).remove(0).0
     }
 
     /// `push` and its joint application to `reference` (module doc): (output, reference's output).
@@ -206,7 +198,8 @@ impl Svgf {
             self.color_ref.is_some() || self.frames == 0,
             "svgf: a run pushes pairs from its first frame or never"
         );
-        let (out, r) = self.step(frame, Some(reference), gbuf, motion, true);
+        let iterations = self.iterations(frame);
+        let (out, r) = self.step(frame, Some(reference), gbuf, motion, &[iterations]).remove(0);
         (out, r.expect("a reference was given"))
     }
 
@@ -218,7 +211,33 @@ impl Svgf {
             self.color_ref.is_some() == reference.is_some() || self.frames == 0,
             "svgf: a run pushes pairs from its first frame or never"
         );
-        self.step(frame, reference, gbuf, motion, false);
+        self.step(frame, reference, gbuf, motion, &[]);
+    }
+
+    /// `push` of several runs of this filter that differ only in their number of à-trous passes
+    /// (`passes`, each at least 1): each one's image, in the order of `passes`. Such runs advance
+    /// alike, bit for bit (a run's history is its first pass's output, and nothing else depends on
+    /// the count), so one state serves them all and the passes they share are made once: `svgf` and
+    /// `svgf:5` of one series cost one run of 5 passes on a shown frame, one pass on another
+    /// (`advance`), instead of 7 and 2.
+    pub fn push_passes(
+        &mut self,
+        frame: &Image,
+        gbuf: &GBuffer,
+        motion: &Motion,
+        passes: &[u32],
+    ) -> Vec<Image> {
+        assert!(
+            self.color_ref.is_none() || self.frames == 0,
+            "svgf: a run pushes pairs from its first frame or never"
+        );
+        assert!(passes.iter().all(|&k| k >= 1), "svgf: runs that share a state make at least one pass");
+        self.step(frame, None, gbuf, motion, passes).into_iter().map(|(out, _)| out).collect()
+    }
+
+    /// The number of à-trous passes on `frame`'s size.
+    fn iterations(&self, frame: &Image) -> u32 {
+        self.params.iterations.unwrap_or_else(|| default_iterations(frame.width, frame.height))
     }
 
     fn step(
@@ -227,8 +246,8 @@ impl Svgf {
         reference: Option<&Image>,
         gbuf: &GBuffer,
         motion: &Motion,
-        shown: bool,
-    ) -> (Image, Option<Image>) {
+        shown: &[u32],
+    ) -> Vec<(Image, Option<Image>)> {
         assert!(
             frame.width == gbuf.width && frame.height == gbuf.height,
             "svgf: the frame is {}x{}, its G-buffer {}x{}",
@@ -284,9 +303,10 @@ impl Svgf {
         let variance = estimate_variance(&guide, &moments, &r.length);
         self.integrated = color.clone();
         self.variance = variance.clone();
-        // 3. The à-trous passes; 4. the first one's output is the colour history.
-        let iterations = p.iterations.unwrap_or_else(|| default_iterations(frame.width, frame.height));
-        let run = if shown { iterations } else { iterations.min(1) };
+        // 3. The à-trous passes; 4. the first one's output is the colour history. Each of `shown`
+        // is the image after that many passes; none shown: the history alone (one pass).
+        let iterations = self.iterations(frame);
+        let run = shown.iter().copied().max().unwrap_or(iterations.min(1));
         let floor = if p.relative_eps { RELATIVE_EPS * level(&guide, &color).powi(2) } else { 0.0 };
         let eps = Eps { relative: p.relative_eps, floor };
         let (mut c, mut var, mut cr) = (color, variance, color_ref);
@@ -294,6 +314,15 @@ impl Svgf {
             self.color = c.clone();
             self.color_ref = cr.clone();
         }
+        let image =
+            |v: &[f64]| Image::from_vec(frame.width, frame.height, v.iter().map(|&x| x as f32).collect());
+        let mut out: Vec<Option<(Image, Option<Image>)>> = vec![None; shown.len()];
+        let mut snap = |done: u32, c: &[f64], cr: Option<&[f64]>| {
+            for (o, _) in out.iter_mut().zip(shown).filter(|(_, k)| **k == done) {
+                *o = Some((image(c), cr.map(image)));
+            }
+        };
+        snap(0, &c, cr.as_deref());
         for it in 0..run {
             let (c2, var2, cr2) = pass(&guide, &c, &var, cr.as_deref(), it, p.sigma_luminance, eps);
             if it == 0 {
@@ -301,6 +330,7 @@ impl Svgf {
                 self.color_ref = cr2.clone();
             }
             (c, var, cr) = (c2, var2, cr2);
+            snap(it + 1, &c, cr.as_deref());
         }
         // Background: the frame as it is (the passes copied it through already).
         self.moments = moments;
@@ -310,9 +340,7 @@ impl Svgf {
         }
         (self.width, self.height) = (frame.width, frame.height);
         self.frames += 1;
-        let out = self.image(&c);
-        let out_ref = cr.as_deref().map(|v| self.image(v));
-        (out, out_ref)
+        out.into_iter().map(|o| o.expect("every shown count is at most the passes run")).collect()
     }
 }
 
@@ -362,130 +390,5 @@ fn estimate_variance(guide: &Guide, moments: &[[f64; 2]], length: &[u32]) -> Vec
             *o = (m2 - m1 * m1).max(0.0);
         }
     });
-    out
-}
-
-/// The 3 × 3 Gaussian (1/4, 1/2, 1/4)² of the variance over covered pixels, normalized by the
-/// covered taps' weight: g₃ₓ₃(Var) of the luminance weight.
-fn prefilter(guide: &Guide, var: &[f64]) -> Vec<f64> {
-    const G: [f64; 3] = [0.25, 0.5, 0.25];
-    let (w, h) = (guide.width(), guide.height());
-    let mut out = vec![0.0f64; var.len()];
-    out.par_chunks_mut(w.max(1) as usize).enumerate().for_each(|(y, row)| {
-        let y = y as i64;
-        for (x, o) in row.iter_mut().enumerate() {
-            let x = x as i64;
-            let p = (y * w + x) as usize;
-            if !guide.is_covered(p) {
-                continue;
-            }
-            let (mut s, mut ws) = (0.0f64, 0.0f64);
-            for (ky, gy) in G.iter().enumerate() {
-                for (kx, gx) in G.iter().enumerate() {
-                    let (qx, qy) = (x + kx as i64 - 1, y + ky as i64 - 1);
-                    if qx < 0 || qy < 0 || qx >= w || qy >= h {
-                        continue;
-                    }
-                    let q = (qy * w + qx) as usize;
-                    if guide.is_covered(q) {
-                        s += gx * gy * var[q];
-                        ws += gx * gy;
-                    }
-                }
-            }
-            *o = s / ws;
-        }
-    });
-    out
-}
-
-type Pass = (Vec<f64>, Vec<f64>, Option<Vec<f64>>);
-
-/// The luminance weight's ε: the fixed `LUMINANCE_EPS`, or that plus a variance `floor`.
-#[derive(Debug, Clone, Copy)]
-struct Eps {
-    relative: bool,
-    floor: f64,
-}
-
-impl Eps {
-    /// σ_l √(g₃ₓ₃(Var)) + ε, or σ_l √(g₃ₓ₃(Var) + floor) + ε.
-    fn scale(self, sigma_l: f64, gvar: f64) -> f64 {
-        if self.relative {
-            sigma_l * (gvar + self.floor).sqrt() + LUMINANCE_EPS
-        } else {
-            sigma_l * gvar.sqrt() + LUMINANCE_EPS
-        }
-    }
-}
-
-/// The mean of `c` over covered pixels (0 with none): the level `RELATIVE_EPS` is relative to.
-fn level(guide: &Guide, c: &[f64]) -> f64 {
-    let (s, k) =
-        (0..c.len()).filter(|&p| guide.is_covered(p)).fold((0.0, 0usize), |(s, k), p| (s + c[p], k + 1));
-    if k == 0 { 0.0 } else { s / k as f64 }
-}
-
-/// À-trous pass `it` of the colour `c` with variance `var` (and the reference's colour `cr` under
-/// the same weights): the new colour, variance and reference colour.
-fn pass(guide: &Guide, c: &[f64], var: &[f64], cr: Option<&[f64]>, it: u32, sigma_l: f64, eps: Eps) -> Pass {
-    let w = guide.width() as usize;
-    let gvar = prefilter(guide, var);
-    let taps_of = TapPass::new(guide, it);
-    let rows: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (0..guide.height() as usize)
-        .into_par_iter()
-        .map(|y| {
-            let mut taps: Taps = [(0, 0.0); 25];
-            let (mut rc, mut rv, mut rr) =
-                (vec![0.0; w], vec![0.0; w], vec![0.0; if cr.is_some() { w } else { 0 }]);
-            for x in 0..w {
-                let p = y * w + x;
-                if !guide.is_covered(p) {
-                    rc[x] = c[p];
-                    if let Some(cr) = cr {
-                        rr[x] = cr[p];
-                    }
-                    continue;
-                }
-                let k = taps_of.taps(x as i64, y as i64, &mut taps);
-                let scale = eps.scale(sigma_l, gvar[p]);
-                let (mut s, mut sv, mut sr, mut ws) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-                for &(q, g) in &taps[..k] {
-                    let wl = (-(c[p] - c[q]).abs() / scale).exp();
-                    let wt = g * wl;
-                    s += wt * c[q];
-                    sv += wt * wt * var[q];
-                    if let Some(cr) = cr {
-                        sr += wt * cr[q];
-                    }
-                    ws += wt;
-                }
-                // The centre tap has w_l = 1: ws > 0 unless its own normal weight underflows.
-                if ws > 0.0 {
-                    rc[x] = s / ws;
-                    rv[x] = sv / (ws * ws);
-                    if cr.is_some() {
-                        rr[x] = sr / ws;
-                    }
-                } else {
-                    rc[x] = c[p];
-                    rv[x] = var[p];
-                    if let Some(cr) = cr {
-                        rr[x] = cr[p];
-                    }
-                }
-            }
-            (rc, rv, rr)
-        })
-        .collect();
-    let mut out =
-        (Vec::with_capacity(c.len()), Vec::with_capacity(c.len()), cr.map(|_| Vec::with_capacity(c.len())));
-    for (rc, rv, rr) in rows {
-        out.0.extend(rc);
-        out.1.extend(rv);
-        if let Some(o) = out.2.as_mut() {
-            o.extend(rr);
-        }
-    }
     out
 }

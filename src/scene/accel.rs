@@ -54,7 +54,7 @@ pub struct Accel {
 }
 
 /// A closest hit: distance, triangle (BVH order) and the barycentrics of `b` and `c`.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
     pub t: f32,
     pub prim: u32,

@@ -11,6 +11,7 @@ mod denoise_command;
 mod denoise_filters;
 mod denoise_gbuffer;
 mod denoise_joint;
+mod denoise_kept_taps;
 mod denoise_svgf;
 mod denoise_temporal;
 mod fuzz_files;

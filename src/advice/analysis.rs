@@ -49,6 +49,10 @@ pub struct Measured<'a> {
     pub reused: usize,
     /// Re-analysed from this directory's records without rendering (`advise --from`).
     pub from: Option<PathBuf>,
+    /// Under tiles (an engine's resolution, `plan::tiles::auto`): the frame with its tiles and
+    /// aprons outlined, a PNG of the output set (`report::tiles::tiles_png`), shown first on the
+    /// page so that the reader sees which parts of the image the answer was measured on.
+    pub tiles: Option<crate::outdir::File>,
 }
 
 /// Replicates of each finalist at least: the winner map's per-pixel test splits them in halves

@@ -230,6 +230,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
     analysis::measure(&mut analysis, &verified, replicates);
     outdir::write_timing(&stage, &session.timing(spec, protocol))?;
     let images = |r: &JobResult| outdir::record_image(&stage, r);
+    let tiles = tiles_png(&setup)?;
     let measured = Measured {
         setup: &setup,
         reference: &reference,
@@ -246,6 +247,7 @@ pub fn run(args: AdviseArgs) -> Result<()> {
         verify_session,
         protocol,
         from: args.from.clone(),
+        tiles,
     };
     analysis.maps = analysis::winner_maps(&measured, &analysis);
     let report = crate::report::advise::report(&measured, &analysis, &out)?;
@@ -273,6 +275,16 @@ fn set_up(request: &Request) -> Result<Setup> {
     // A camera path that leaves the scene's view, a denoiser that cannot run: refused now.
     crate::load::check_realtime(&setup.loaded.spec, &setup.loaded.scenes)?;
     Ok(setup)
+}
+
+/// Under tiles, the scene's frame with its tiles outlined (`tiles.png`), as `run` draws it.
+fn tiles_png(setup: &Setup) -> Result<Option<outdir::File>> {
+    let (spec, scene) = (&setup.loaded.spec, &setup.loaded.scenes[0]);
+    let Some(t) = crate::jobs::tiles::of_spec(spec, 0, scene) else { return Ok(None) };
+    let p = crate::jobs::tiles::preview(spec, scene);
+    let png = crate::report::tiles::tiles_png(&p.ao, &p.coverage, &t.interiors, &t.windows)
+        .map_err(Error::Refused)?;
+    Ok(Some(outdir::File::new("tiles.png", png)))
 }
 
 /// Whether the sweep keeps its images: after a real-time pipeline (the bias/noise split and the

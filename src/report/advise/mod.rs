@@ -28,7 +28,21 @@ pub struct Report {
 pub fn report(m: &Measured, a: &Analysis, shown: &Path) -> Result<Report> {
     let colours = maps::colours(&a.maps);
     let mut files = Vec::new();
-    let figures = maps::figures(m, a, &colours, &mut files)?;
+    let mut figures = maps::figures(m, a, &colours, &mut files)?;
+    if let Some(t) = &m.tiles {
+        figures.insert(
+            0,
+            crate::report::Figure {
+                path: t.name.clone(),
+                caption:
+                    "Measured on tiles: the frame (a 32-ray preview) with each tile outlined and its apron \
+                          (the filter's reach and the camera's motion) around it"
+                        .into(),
+                links: Vec::new(),
+            },
+        );
+        files.push(crate::outdir::File::new(&t.name, t.bytes.clone()));
+    }
     let stale = if a.maps.is_empty() { vec![maps::WINNER_MAP] } else { Vec::new() };
     let images = frames::images(m, a, &mut files)?;
     let (text, warnings) = page::page(m, a, (&figures, &images), &mut files, shown);

@@ -144,6 +144,24 @@ impl<'a> Guide<'a> {
         self.gbuf.is_covered(i)
     }
 
+    /// `f(x, y, p)` at every covered pixel p = (x, y), in parallel by rows; 0 on background: the
+    /// loop SVGF's per-pixel passes (its variance estimate and prefilter) share.
+    pub fn per_covered(&self, f: impl Fn(i64, i64, usize) -> f64 + Sync) -> Vec<f64> {
+        use rayon::prelude::*;
+        let w = self.width();
+        let mut out = vec![0.0f64; self.gbuf.width as usize * self.gbuf.height as usize];
+        out.par_chunks_mut(w.max(1) as usize).enumerate().for_each(|(y, row)| {
+            let y = y as i64;
+            for (x, o) in row.iter_mut().enumerate() {
+                let p = (y * w + x as i64) as usize;
+                if self.is_covered(p) {
+                    *o = f(x as i64, y, p);
+                }
+            }
+        });
+        out
+    }
+
     /// w_z · w_n between covered pixels p and q = p + (dx, dy).
     #[inline]
     pub fn weight(&self, p: usize, q: usize, dx: i64, dy: i64) -> f64 {

@@ -33,7 +33,6 @@ use super::svgf_atrous::{Eps, level, pass};
 pub use super::svgf_atrous::{LUMINANCE_EPS, RELATIVE_EPS};
 use crate::image::Image;
 use crate::render::GBuffer;
-use rayon::prelude::*;
 
 /// Below this many frames of history the variance is estimated spatially (the paper's 4).
 pub const SPATIAL_VARIANCE_FRAMES: u32 = 4;
@@ -356,39 +355,29 @@ fn gather2(r: &Reprojected, prev: &[[f64; 2]], i: usize) -> (f64, f64) {
 /// depth and normal weights (`Guide::weight`). 0 on background.
 fn estimate_variance(guide: &Guide, moments: &[[f64; 2]], length: &[u32]) -> Vec<f64> {
     let (w, h) = (guide.width(), guide.height());
-    let mut out = vec![0.0f64; moments.len()];
-    out.par_chunks_mut(w.max(1) as usize).enumerate().for_each(|(y, row)| {
-        let y = y as i64;
-        for (x, o) in row.iter_mut().enumerate() {
-            let x = x as i64;
-            let p = (y * w + x) as usize;
-            if !guide.is_covered(p) {
-                continue;
-            }
-            let [m1, m2] = if length[p] >= SPATIAL_VARIANCE_FRAMES {
-                moments[p]
-            } else {
-                let (mut s1, mut s2, mut ws) = (0.0f64, 0.0f64, 0.0f64);
-                for dy in -SPATIAL_RADIUS..=SPATIAL_RADIUS {
-                    for dx in -SPATIAL_RADIUS..=SPATIAL_RADIUS {
-                        let (qx, qy) = (x + dx, y + dy);
-                        if qx < 0 || qy < 0 || qx >= w || qy >= h {
-                            continue;
-                        }
-                        let q = (qy * w + qx) as usize;
-                        if !guide.is_covered(q) {
-                            continue;
-                        }
-                        let wt = guide.weight(p, q, dx, dy);
-                        s1 += wt * moments[q][0];
-                        s2 += wt * moments[q][1];
-                        ws += wt;
+    guide.per_covered(|x, y, p| {
+        let [m1, m2] = if length[p] >= SPATIAL_VARIANCE_FRAMES {
+            moments[p]
+        } else {
+            let (mut s1, mut s2, mut ws) = (0.0f64, 0.0f64, 0.0f64);
+            for dy in -SPATIAL_RADIUS..=SPATIAL_RADIUS {
+                for dx in -SPATIAL_RADIUS..=SPATIAL_RADIUS {
+                    let (qx, qy) = (x + dx, y + dy);
+                    if qx < 0 || qy < 0 || qx >= w || qy >= h {
+                        continue;
                     }
+                    let q = (qy * w + qx) as usize;
+                    if !guide.is_covered(q) {
+                        continue;
+                    }
+                    let wt = guide.weight(p, q, dx, dy);
+                    s1 += wt * moments[q][0];
+                    s2 += wt * moments[q][1];
+                    ws += wt;
                 }
-                if ws > 0.0 { [s1 / ws, s2 / ws] } else { moments[p] }
-            };
-            *o = (m2 - m1 * m1).max(0.0);
-        }
-    });
-    out
+            }
+            if ws > 0.0 { [s1 / ws, s2 / ws] } else { moments[p] }
+        };
+        (m2 - m1 * m1).max(0.0)
+    })
 }

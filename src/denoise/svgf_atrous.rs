@@ -26,33 +26,23 @@ pub const RELATIVE_EPS: f64 = 1e-4;
 pub(super) fn prefilter(guide: &Guide, var: &[f64]) -> Vec<f64> {
     const G: [f64; 3] = [0.25, 0.5, 0.25];
     let (w, h) = (guide.width(), guide.height());
-    let mut out = vec![0.0f64; var.len()];
-    out.par_chunks_mut(w.max(1) as usize).enumerate().for_each(|(y, row)| {
-        let y = y as i64;
-        for (x, o) in row.iter_mut().enumerate() {
-            let x = x as i64;
-            let p = (y * w + x) as usize;
-            if !guide.is_covered(p) {
-                continue;
-            }
-            let (mut s, mut ws) = (0.0f64, 0.0f64);
-            for (ky, gy) in G.iter().enumerate() {
-                for (kx, gx) in G.iter().enumerate() {
-                    let (qx, qy) = (x + kx as i64 - 1, y + ky as i64 - 1);
-                    if qx < 0 || qy < 0 || qx >= w || qy >= h {
-                        continue;
-                    }
-                    let q = (qy * w + qx) as usize;
-                    if guide.is_covered(q) {
-                        s += gx * gy * var[q];
-                        ws += gx * gy;
-                    }
+    guide.per_covered(|x, y, _| {
+        let (mut s, mut ws) = (0.0f64, 0.0f64);
+        for (ky, gy) in G.iter().enumerate() {
+            for (kx, gx) in G.iter().enumerate() {
+                let (qx, qy) = (x + kx as i64 - 1, y + ky as i64 - 1);
+                if qx < 0 || qy < 0 || qx >= w || qy >= h {
+                    continue;
+                }
+                let q = (qy * w + qx) as usize;
+                if guide.is_covered(q) {
+                    s += gx * gy * var[q];
+                    ws += gx * gy;
                 }
             }
-            *o = s / ws;
         }
-    });
-    out
+        s / ws
+    })
 }
 
 pub(super) type Pass = (Vec<f64>, Vec<f64>, Option<Vec<f64>>);

@@ -24,24 +24,19 @@ pub fn is_realtime(g: &Group) -> bool {
 
 /// Every real-time group's figures, per scene, their files added to `files`.
 pub fn all(data: &ReportInput, files: &mut Vec<File>) -> Result<Vec<Figure>> {
-    let spec = &data.loaded.spec;
-    let mut figs = Vec::new();
-    for g in spec.groups.iter().filter(|g| is_realtime(g)) {
-        let Some(&rays) = g.rays.iter().min() else { continue };
-        for &si in &g.scenes {
-            let scene = &spec.scenes[si].name;
-            let stem = if g.scenes.len() > 1 { format!("{}_{scene}", g.name) } else { g.name.clone() };
-            figs.extend(frame_curves(data, g, scene, rays, &stem, files)?);
-            figs.extend(final_crops(data, g, si, rays, &stem, files)?);
-        }
-    }
-    Ok(figs)
+    per_scene(data, files, true)
 }
 
 /// Only the crop grids of the final frames (image, signed error, FLIP) of every real-time group, at
 /// its fewest rays per frame, per scene and camera: what advise's page shows of its top
 /// configurations (it measures one frame, so it has no frame curves).
 pub fn final_frames(data: &ReportInput, files: &mut Vec<File>) -> Result<Vec<Figure>> {
+    per_scene(data, files, false)
+}
+
+/// Per real-time group and scene, at the group's fewest rays: the frame curves (with `curves`)
+/// and the final frames' crop grids.
+fn per_scene(data: &ReportInput, files: &mut Vec<File>, curves: bool) -> Result<Vec<Figure>> {
     let spec = &data.loaded.spec;
     let mut figs = Vec::new();
     for g in spec.groups.iter().filter(|g| is_realtime(g)) {
@@ -49,6 +44,9 @@ pub fn final_frames(data: &ReportInput, files: &mut Vec<File>) -> Result<Vec<Fig
         for &si in &g.scenes {
             let scene = &spec.scenes[si].name;
             let stem = if g.scenes.len() > 1 { format!("{}_{scene}", g.name) } else { g.name.clone() };
+            if curves {
+                figs.extend(frame_curves(data, g, scene, rays, &stem, files)?);
+            }
             figs.extend(final_crops(data, g, si, rays, &stem, files)?);
         }
     }

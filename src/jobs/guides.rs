@@ -11,6 +11,15 @@
 //! Under `[tiles]` (`jobs::tiles`) every G-buffer and motion is one per tile window, made by
 //! `render::frame_gbuffer_window` and reprojected within the window.
 //!
+//! **Primary hits.** Each G-buffer keeps its window's primary hits (`render::Primaries`, 20 bytes
+//! a pixel: 1.15 MB a frame at 320x180, 75 MB a 64-frame path), and every render of that frame
+//! reads them instead of tracing the same rays again (`render::render_window_from`, the same image
+//! bit for bit). A record's time still includes its primary rays (`timing::TIME_INCLUDES`): each
+//! frame's window's are traced on one thread, alone, timed by that thread's CPU clock (the median
+//! of `PRIMARY_TRACES` traces, `Traced::primary`), and that time is added to every render of the
+//! frame (`jobs::measure::Frames`): measured once per frame instead of once per render of it, the
+//! same for every sampler.
+//!
 //! The filter's floor is not made here: it is the filter's bias measured from the replicates of
 //! per-pixel-unbiased input (`jobs::replicates`), not the filter applied to the reference (which a
 //! non-linear filter such as SVGF passes through unchanged).
@@ -21,18 +30,48 @@ use crate::denoise::Motion;
 use crate::image::Image;
 use crate::plan::{CameraId, Measurement};
 use crate::reference::store::Reference;
-use crate::render::{self, FrameGBuffer, GBuffer, ReprojectParams, View, Window};
+use crate::render::{self, FrameGBuffer, Primaries, ReprojectParams, View, Window};
 use crate::scene::Scene;
 use crate::scene::camera_path::halton_jitter;
+use crate::timing::{Time, clock};
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
+
+/// A frame's G-buffer of one window (with its primary hits) and what tracing its primary rays took.
+pub struct Traced {
+    pub frame: FrameGBuffer,
+    /// The primary rays' CPU and wall time, traced on one thread alone (module doc).
+    pub primary: Time,
+}
+
+/// Times a frame's primary rays are traced to time them: the median is kept (the first trace
+/// of a frame is the slowest, its BVH nodes not yet in cache).
+const PRIMARY_TRACES: usize = 3;
+
+impl Traced {
+    /// The frame of `view` over `scene`, its pixels of `window`.
+    pub fn new(scene: &Scene, view: &View, window: &Window) -> Self {
+        let mut samples = Vec::with_capacity(PRIMARY_TRACES);
+        let mut hits = None;
+        for _ in 0..PRIMARY_TRACES {
+            let (c0, w0) = (clock::thread_cpu_s(), clock::wall_s());
+            hits = Some(Primaries::trace_here(scene, view, window));
+            samples.push(Time { cpu_s: clock::thread_cpu_s() - c0, wall_s: clock::wall_s() - w0 });
+        }
+        samples.sort_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s));
+        let primary = samples[PRIMARY_TRACES / 2];
+        Self { frame: FrameGBuffer::of(scene, hits.expect("traced")), primary }
+    }
+}
 
 /// The frames of one camera path over one scene.
 pub struct CameraFrames<'a> {
     /// Frame f's camera and jitter (from 0).
     pub views: Vec<View>,
-    /// Frame f's G-buffer of each part (`Against::parts`: the whole frame, or each tile's window).
-    pub gbuffers: Vec<Vec<FrameGBuffer>>,
+    /// Frame f's G-buffer of each part (`Against::parts`: the whole frame, or each tile's window),
+    /// its primary hits and their time.
+    pub gbuffers: Vec<Vec<Traced>>,
     /// Where frame f's pixels were in frame f − 1, per part (frame 0: `Motion::identity`, no
     /// history yet).
     pub motions: Vec<Vec<Motion>>,
@@ -51,8 +90,8 @@ impl CameraFrames<'_> {
 /// Everything the plan's filtered measurements need (module doc).
 #[derive(Default)]
 pub struct Guides<'a> {
-    /// Per scene, its G-buffer of each part.
-    gbuffers: HashMap<usize, Vec<GBuffer>>,
+    /// Per scene, its G-buffer of each part, with its primary hits and their time.
+    gbuffers: HashMap<usize, Vec<Traced>>,
     cameras: HashMap<(usize, CameraId), CameraFrames<'a>>,
     /// Per scene, its tiles (`[tiles]`).
     tiles: HashMap<usize, TileSet>,
@@ -63,8 +102,9 @@ pub struct Guides<'a> {
 pub struct Against<'a> {
     pub reference: &'a Image,
     pub coverage: &'a Image,
-    /// The scene's G-buffer at the job's size, one per part (`None` for a single frame).
-    pub gbuffer: Option<&'a [GBuffer]>,
+    /// The scene's G-buffer at the job's size, one per part, with its primary hits and their time
+    /// (`None` for a single frame).
+    pub gbuffer: Option<&'a [Traced]>,
     /// The camera path's frames (`None`: the scene's camera, unjittered).
     pub camera: Option<&'a CameraFrames<'a>>,
     /// A directory of the job's own for a denoiser command's files.
@@ -121,12 +161,9 @@ impl<'a> Guides<'a> {
                 continue;
             }
             let windows = parts(g.tiles.get(&t).filter(|_| m.tiles.is_some()), n.width, n.height);
-            g.gbuffers.entry(t).or_insert_with(|| {
-                windows
-                    .iter()
-                    .map(|w| render::frame_gbuffer_window(scene(t), &View::SCENE, w).gbuffer)
-                    .collect()
-            });
+            g.gbuffers
+                .entry(t)
+                .or_insert_with(|| windows.iter().map(|w| Traced::new(scene(t), &View::SCENE, w)).collect());
             if let Some(run) = m.camera.run() {
                 g.cameras
                     .entry((t, m.camera))
@@ -183,17 +220,15 @@ fn camera_frames<'a>(
             View::new(camera, if run.jitter { halton_jitter(f) } else { glam::Vec2::ZERO })
         })
         .collect();
-    let gbuffers: Vec<Vec<FrameGBuffer>> = views
-        .iter()
-        .map(|v| windows.iter().map(|w| render::frame_gbuffer_window(scene, v, w)).collect())
-        .collect();
+    let gbuffers: Vec<Vec<Traced>> =
+        views.par_iter().map(|v| windows.iter().map(|w| Traced::new(scene, v, w)).collect()).collect();
     let params = ReprojectParams::default();
     let motions = (0..frames as usize)
         .map(|f| {
             (0..windows.len())
                 .map(|k| match f {
                     0 => Motion::identity(windows[k].width, windows[k].height),
-                    _ => render::reproject(&gbuffers[f - 1][k], &gbuffers[f][k], &params),
+                    _ => render::reproject(&gbuffers[f - 1][k].frame, &gbuffers[f][k].frame, &params),
                 })
                 .collect()
         })

@@ -26,21 +26,23 @@
 //! before it; its own wall-clock time is reported apart (`denoise_s`), never in the render's.
 //!
 //! A series of frames is rendered once, to its last reported frame, and each reported frame's
-//! image is taken on the way (`plan::series`). The time of a reported frame's record (`time_s`
-//! and the timing columns) is the CPU time of rendering the frames up to it and accumulating
-//! them; the spatial filter is not timed (it costs the same for every sampler, so it cannot change
-//! which sampler wins at equal time). A single frame's time is that of its whole render. A single
+//! image is taken on the way (`plan::series`); SVGF runs of a series that differ only in their
+//! number of passes (`svgf`, `svgf:5`) share one state per part (`Svgf::push_passes`, `SvgfGroup`).
+//! The time of a reported frame's record (`time_s` and the timing columns) is the CPU time of
+//! rendering the frames up to it; each frame's primary hits are its G-buffer's, and the time of
+//! tracing them, measured once per frame and window on one thread (`jobs::guides`), is added to
+//! each render of it. The filters are not timed (they cost the same for every sampler, so they
+//! cannot change which sampler wins at equal time). A single frame's time is that of its whole render. A single
 //! frame rendered by `Frames` would be the same image bit for bit: `SingleFrame` exists so that
 //! the paper's path stays one render, with nothing of the frames' machinery around it.
 
-use super::guides::Against;
-use crate::denoise::Motion;
-use crate::denoise::Pipeline;
+use super::guides::{Against, Traced};
+use crate::denoise::{Motion, Pipeline, Svgf, SvgfOptions, SvgfParams, Temporal, default_iterations};
 use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::metrics::{self, ErrorStats, MetricsError};
 use crate::plan::Measurement;
-use crate::render::{self, GBuffer, RenderJob, RenderOutput, View, Window};
+use crate::render::{self, GBuffer, Primaries, RenderJob, RenderOutput, View, Window};
 use crate::scene::Scene;
 use crate::timing::{Time, clock};
 use std::borrow::Cow;
@@ -144,27 +146,42 @@ impl Measure for SingleFrame {
 /// is filtered in order, since its history is its own output.
 pub struct Frames(pub Measurement);
 
-/// One frame's guides: its view, and per part (`Against::parts`) its G-buffer and motion from the
-/// frame before.
+/// One frame's guides: its view, and per part (`Against::parts`) its G-buffer, primary hits and
+/// their time, and motion from the frame before.
 struct FrameGuide<'a> {
     view: View,
     gbuffers: Vec<&'a GBuffer>,
+    primaries: Vec<(&'a Primaries, Time)>,
     motions: Vec<Cow<'a, Motion>>,
+}
+
+/// Per part, its G-buffer and its primary hits and their time.
+fn kept(traced: &[Traced]) -> (Vec<&GBuffer>, Vec<(&Primaries, Time)>) {
+    traced.iter().map(|t| (&t.frame.gbuffer, (&t.frame.primaries, t.primary))).unzip()
 }
 
 impl Frames {
     fn guide<'a>(&self, against: &'a Against, f: u32, parts: &[Window]) -> FrameGuide<'a> {
         match against.camera {
-            Some(c) => FrameGuide {
-                view: c.views[f as usize],
-                gbuffers: c.gbuffers[f as usize].iter().map(|g| &g.gbuffer).collect(),
-                motions: c.motions[f as usize].iter().map(Cow::Borrowed).collect(),
-            },
-            None => FrameGuide {
-                view: View::SCENE,
-                gbuffers: against.gbuffer.expect("a filtered measurement has its G-buffer").iter().collect(),
-                motions: parts.iter().map(|w| Cow::Owned(Motion::identity(w.width, w.height))).collect(),
-            },
+            Some(c) => {
+                let (gbuffers, primaries) = kept(&c.gbuffers[f as usize]);
+                FrameGuide {
+                    view: c.views[f as usize],
+                    gbuffers,
+                    primaries,
+                    motions: c.motions[f as usize].iter().map(Cow::Borrowed).collect(),
+                }
+            }
+            None => {
+                let (gbuffers, primaries) =
+                    kept(against.gbuffer.expect("a filtered measurement has its G-buffer"));
+                FrameGuide {
+                    view: View::SCENE,
+                    gbuffers,
+                    primaries,
+                    motions: parts.iter().map(|w| Cow::Owned(Motion::identity(w.width, w.height))).collect(),
+                }
+            }
         }
     }
 
@@ -197,6 +214,18 @@ struct Shown {
     reported: Vec<u32>,
     kept: Vec<u32>,
     previous: Option<(u32, Image)>,
+    /// The `SvgfGroup` whose states it reads its images from (an SVGF run), instead of `filters`.
+    svgf: Option<usize>,
+}
+
+/// The SVGF runs of a series that differ only in their number of passes (`svgf`, `svgf:5`): one
+/// state per part for all (`Svgf::push_passes`, the same images bit for bit).
+struct SvgfGroup {
+    options: SvgfOptions,
+    /// One per part.
+    states: Vec<Svgf>,
+    /// (run, its passes).
+    members: Vec<(usize, u32)>,
 }
 
 /// A run of `pipeline` over the frames of `part` of a `width` × `height` image, with the whole
@@ -235,6 +264,7 @@ impl Measure for Frames {
                     reported: vec![f],
                     kept: Vec::new(),
                     previous: None,
+                    svgf: None,
                 }),
             }
         }
@@ -246,6 +276,23 @@ impl Measure for Frames {
         // A pipeline that does not accumulate shows one frame: the frames kept alone are rendered
         // (the one before a reported frame for its flicker, untimed). Its series is itself.
         let temporal = m.pipeline.is_temporal();
+        let mut groups: Vec<SvgfGroup> = Vec::new();
+        for (i, r) in runs.iter_mut().enumerate() {
+            let Some(Temporal::Svgf(o)) = r.pipeline.temporal else { continue };
+            // The whole image's pass count on every part (`Pipeline::at_size`).
+            let passes = o.iterations.unwrap_or_else(|| default_iterations(rj.width, rj.height));
+            let options = SvgfOptions { iterations: None, ..o };
+            let g = match groups.iter().position(|g| g.options == options) {
+                Some(g) => g,
+                None => {
+                    let states = parts.iter().map(|_| Svgf::new(SvgfParams::of(options))).collect();
+                    groups.push(SvgfGroup { options, states, members: Vec::new() });
+                    groups.len() - 1
+                }
+            };
+            groups[g].members.push((i, passes));
+            r.svgf = Some(g);
+        }
         let rendered: Vec<u32> =
             if temporal { (0..last).collect() } else { runs[0].kept.iter().map(|f| f - 1).collect() };
         let (mut rays, mut occluded) = (0u64, 0u64);
@@ -258,36 +305,71 @@ impl Measure for Frames {
             let (c0, w0) = (clock::thread_cpu_s(), clock::wall_s());
             let o: Vec<RenderOutput> = parts
                 .iter()
-                .map(|w| render::render_window(scene, &frame, m.integrand, &g.view, w, progress))
+                .zip(&g.primaries)
+                .map(|(w, p)| {
+                    render::render_window_from(scene, &frame, m.integrand, &g.view, w, Some(p.0), progress)
+                })
                 .collect();
             if timed {
-                spent.cpu_s += clock::thread_cpu_s() - c0;
-                spent.wall_s += clock::wall_s() - w0;
+                // The primary rays' time, measured when they were traced (`jobs::guides`).
+                let primary =
+                    g.primaries.iter().fold((0.0, 0.0), |(c, w), p| (c + p.1.cpu_s, w + p.1.wall_s));
+                spent.cpu_s += clock::thread_cpu_s() - c0 + primary.0;
+                spent.wall_s += clock::wall_s() - w0 + primary.1;
                 rays += o.iter().map(|o| o.rays).sum::<u64>();
                 occluded += o.iter().map(|o| o.occluded_rays).sum::<u64>();
             }
-            for run in &mut runs {
-                if temporal && !run.kept.contains(&(f + 1)) {
+            // Each SVGF group's kept runs' images per part; the group advances if none is kept.
+            let mut shared: Vec<Option<Vec<Image>>> = vec![None; runs.len()];
+            for group in &mut groups {
+                let kept: Vec<(usize, u32)> =
+                    group.members.iter().copied().filter(|&(i, _)| runs[i].kept.contains(&(f + 1))).collect();
+                if kept.is_empty() {
+                    for (k, state) in group.states.iter_mut().enumerate() {
+                        state.advance(&o[k].ao, None, g.gbuffers[k], &g.motions[k]);
+                    }
+                    continue;
+                }
+                let passes: Vec<u32> = kept.iter().map(|k| k.1).collect();
+                let mut images: Vec<Vec<Image>> = vec![Vec::with_capacity(parts.len()); kept.len()];
+                for (k, state) in group.states.iter_mut().enumerate() {
+                    let part = state.push_passes(&o[k].ao, g.gbuffers[k], &g.motions[k], &passes);
+                    for (run, img) in images.iter_mut().zip(part) {
+                        run.push(img);
+                    }
+                }
+                for ((i, _), imgs) in kept.into_iter().zip(images) {
+                    shared[i] = Some(imgs);
+                }
+            }
+            for (i, run) in runs.iter_mut().enumerate() {
+                if run.svgf.is_some() && shared[i].is_none() {
+                    continue;
+                }
+                if run.svgf.is_none() && temporal && !run.kept.contains(&(f + 1)) {
                     for (k, filter) in run.filters.iter_mut().enumerate() {
                         filter.advance(&o[k].ao, None, g.gbuffers[k], &g.motions[k]);
                     }
                     continue;
                 }
-                let shown: Vec<Image> = (0..parts.len())
-                    .map(|k| {
-                        if temporal {
-                            run.filters[k].push(&o[k].ao, g.gbuffers[k], &g.motions[k])
-                        } else {
-                            // Nothing carries over between the frames of a pipeline that shows one:
-                            // each is filtered by a run of its own.
-                            start(run.pipeline, rj.width, rj.height, &parts[k]).push(
-                                &o[k].ao,
-                                g.gbuffers[k],
-                                &g.motions[k],
-                            )
-                        }
-                    })
-                    .collect();
+                let shown: Vec<Image> = match shared[i].take() {
+                    Some(imgs) => imgs,
+                    None => (0..parts.len())
+                        .map(|k| {
+                            if temporal {
+                                run.filters[k].push(&o[k].ao, g.gbuffers[k], &g.motions[k])
+                            } else {
+                                // Nothing carries over between the frames of a pipeline that shows one:
+                                // each is filtered by a run of its own.
+                                start(run.pipeline, rj.width, rj.height, &parts[k]).push(
+                                    &o[k].ao,
+                                    g.gbuffers[k],
+                                    &g.motions[k],
+                                )
+                            }
+                        })
+                        .collect(),
+                };
                 if !run.kept.contains(&(f + 1)) {
                     continue;
                 }

@@ -8,18 +8,23 @@ mod clearance;
 mod gbuffer;
 mod offset;
 mod order;
+mod primary;
 pub mod reproject;
 mod sight;
 mod view;
 mod window;
 
-pub use gbuffer::{FrameGBuffer, GBuffer, NO_PRIMITIVE, frame_gbuffer, frame_gbuffer_window, gbuffer};
+pub use gbuffer::{
+    FrameGBuffer, GBuffer, NO_PRIMITIVE, Primaries, frame_gbuffer, frame_gbuffer_window, gbuffer,
+};
 pub use reproject::{ReprojectParams, reproject};
 pub use sight::{Sight, primary_hits, sight};
 pub use view::View;
 pub use window::Window;
 
 pub use offset::{Plane, ao_origin};
+pub(crate) use primary::{Primary, tile_count, tile_pixels, tile_primaries};
+pub use primary::{TILE, pixel_order};
 
 use crate::image::Image;
 use crate::sampling::batch::Directions;
@@ -138,7 +143,31 @@ pub fn render_window(
     window: &Window,
     progress: &(dyn Fn(u64) + Sync),
 ) -> RenderOutput {
+    render_window_from(scene, job, integrand, view, window, None, progress)
+}
+
+/// `render_window` whose primary hits are `primaries` (the frame's G-buffer's for this window,
+/// traced with the same `view`, `Primaries`) instead of traced again: the same image, bit for bit
+/// (the hits are those `tile_primaries` gives). `None`: traced, `render_window`. Panics if
+/// `primaries` were traced for another view or window.
+pub fn render_window_from(
+    scene: &Scene,
+    job: &RenderJob,
+    integrand: Integrand,
+    view: &View,
+    window: &Window,
+    primaries: Option<&Primaries>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> RenderOutput {
     assert_eq!(window.full, [job.width, job.height], "render: a window of another image");
+    if let Some(p) = primaries {
+        assert!(
+            p.view == *view && p.window == *window,
+            "render: primary hits of another view or window ({}) than the job's ({})",
+            p.window.canonical(),
+            window.canonical()
+        );
+    }
     let (w, h) = (window.width as usize, window.height as usize);
     let n = job.sampler.count as usize;
     if w == 0 || h == 0 {
@@ -147,7 +176,7 @@ pub fn render_window(
     }
     let raster = view.raster(scene, job.width, job.height);
     let unit_weight = integrand.unit_weight(job.distribution);
-    let tile = Tile { scene, job, integrand, unit_weight, raster, window: *window, progress };
+    let tile = Tile { scene, job, integrand, unit_weight, raster, window: *window, primaries, progress };
     // Tiles in parallel, each its own rayon job (pixels differ a lot in cost; large sequential
     // ranges left one of 2 threads idle); each tile's covered pixels come back as (index, AO).
     let tiles: Vec<TileResult> = (0..tile_count(window.width, window.height))
@@ -214,17 +243,22 @@ struct Tile<'a> {
     raster: Raster,
     /// The pixels rendered (`render_window`).
     window: Window,
+    /// Their primary hits, kept from the frame's G-buffer (`None`: traced here).
+    primaries: Option<&'a Primaries>,
     progress: &'a (dyn Fn(u64) + Sync),
 }
 
 /// Tile `t`'s covered pixels as (index in the window, AO), its AO rays and occluded rays.
 #[inline(always)]
 fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
-    let Tile { scene, job, integrand, unit_weight, ref raster, ref window, progress } = *tile;
+    let Tile { scene, job, integrand, unit_weight, ref raster, ref window, primaries, progress } = *tile;
     let (w, n) = (job.width as usize, job.sampler.count as usize);
     let mut done = Vec::with_capacity((TILE * TILE) as usize);
     let (mut rays, mut occluded) = (0u64, 0u64);
-    tile_primaries(scene, raster, window, t, &mut s.primaries);
+    match primaries {
+        Some(kept) => kept.tile(raster, t, &mut s.primaries),
+        None => tile_primaries(scene, raster, window, t, &mut s.primaries),
+    }
     for p in &s.primaries {
         let Some(hit) = p.hit else { continue };
         let pixel = p.y as u64 * w as u64 + p.x as u64;
@@ -275,29 +309,6 @@ fn render_tile(tile: &Tile, t: u32, s: &mut Scratch) -> TileResult {
     (done, rays, occluded)
 }
 
-/// Side of the square tiles the renderer works in.
-pub const TILE: u32 = 8;
-
-pub(crate) fn tile_count(width: u32, height: u32) -> u32 {
-    width.div_ceil(TILE) * height.div_ceil(TILE)
-}
-
-/// The pixels of tile `t` of `window` (tiles in scan order from the window's corner), in scan
-/// order, in the full image's coordinates.
-fn tile_pixels(t: u32, window: Window) -> impl Iterator<Item = (u32, u32)> {
-    let tiles_x = window.width.div_ceil(TILE);
-    let (x0, y0) = (window.x + (t % tiles_x) * TILE, window.y + (t / tiles_x) * TILE);
-    let (right, bottom) = (window.x + window.width, window.y + window.height);
-    (y0..(y0 + TILE).min(bottom)).flat_map(move |y| (x0..(x0 + TILE).min(right)).map(move |x| (x, y)))
-}
-
-/// The renderer's pixel order: TILE × TILE tiles in scan order, each in scan order, so that
-/// consecutive pixels are neighbours in both directions (and share occluders, see `Occluders`).
-pub fn pixel_order(width: u32, height: u32) -> impl Iterator<Item = (u32, u32)> {
-    let window = Window::full(width, height);
-    (0..tile_count(width, height)).flat_map(move |t| tile_pixels(t, window))
-}
-
 /// The AO rays of pixel (x, y): primary hit, offset origin, the sampler's directions and weights.
 /// False for background. `points` must hold `job.sampler.count` entries.
 pub fn pixel_rays(
@@ -342,57 +353,6 @@ pub fn pixel_rays_of(
     out.weights.clear();
     out.weights.extend_from_slice(&b.weight[..b.len()]);
     true
-}
-
-/// A pixel's primary ray: its direction and closest hit.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Primary {
-    x: u32,
-    y: u32,
-    dir: Vec3,
-    hit: Option<Hit>,
-}
-
-/// The primary rays of tile `t`'s pixels (in `tile_pixels` order) of `window` of the image `raster`
-/// is for into `out` (what `render` and `gbuffer` share; the pixels' ray origins are read from `raster`
-/// later). Rays that share their origin (a pinhole camera's: the eye) are traced 32 at a time,
-/// 8 × 4 pixels (`Accel::closest_from`), others one by one; the hits are the same bits either way.
-#[inline(always)]
-pub(crate) fn tile_primaries(
-    scene: &Scene,
-    raster: &Raster,
-    window: &Window,
-    t: u32,
-    out: &mut Vec<Primary>,
-) {
-    out.clear();
-    debug_assert_eq!(window.full, {
-        let (w, h) = raster.size();
-        [w, h]
-    });
-    for (x, y) in tile_pixels(t, *window) {
-        out.push(Primary { x, y, dir: raster.ray(x, y).dir, hit: None });
-    }
-    if raster.shared_origin() {
-        let o = raster.ray(0, 0).origin;
-        let mut dirs = [Vec3::ZERO; PACKET];
-        let mut hits = [None; PACKET];
-        for chunk in out.chunks_mut(PACKET) {
-            let k = chunk.len();
-            for (d, p) in dirs.iter_mut().zip(chunk.iter()) {
-                *d = p.dir;
-            }
-            scene.accel.closest_from(o, &dirs[..k], f32::INFINITY, &mut hits[..k]);
-            for (p, h) in chunk.iter_mut().zip(hits) {
-                p.hit = h;
-            }
-        }
-    } else {
-        for p in out.iter_mut() {
-            let r = raster.ray(p.x, p.y);
-            p.hit = scene.accel.closest(&Ray::new(r.origin, r.dir, f32::INFINITY));
-        }
-    }
 }
 
 /// The AO rays of pixel (x, y, index) from its primary ray (origin, direction) and hit: offset

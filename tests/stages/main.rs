@@ -30,6 +30,7 @@ mod render_closed_room;
 mod render_determinism;
 mod render_exact;
 mod render_integrands;
+mod render_kept_primaries;
 mod render_reproject;
 mod render_robust;
 mod render_stiff;

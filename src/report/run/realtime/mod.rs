@@ -120,14 +120,13 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
                 pm(c.best_rmse),
                 parts_text(c.paper_parts),
                 parts_text(c.best_parts),
-                margin_text(&c.rmse.margin),
-                margin_text(&c.noise.margin),
-                rmse_verdict(c.rmse.sign, c.below_floor, c.bias_interaction, "paper", "best other"),
-                verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "paper", "best other"),
-                margin_text(&c.flip.margin),
-                flip_verdict(&c.flip, "paper", "best other"),
-                if c.degenerate { "1 ray: sequence axis degenerate".into() } else { String::new() },
             ]);
+            row.extend(verdict_columns(
+                (&c.rmse, &c.noise, &c.flip),
+                (c.below_floor, c.bias_interaction),
+                ("paper", "best other"),
+            ));
+            row.extend([if c.degenerate { "1 ray: sequence axis degenerate".into() } else { String::new() }]);
             row
         })
         .collect();
@@ -159,6 +158,24 @@ pub fn paper_table(results: &[JobResult]) -> Option<Table> {
     })
 }
 
+/// The six verdict columns every real-time question's table has, in this order: the margin on
+/// RMSE and on the noise part, their verdicts (the RMSE's withheld below floor or as a bias
+/// interaction), the margin on FLIP and its verdict; `a` and `b` name the two sides.
+fn verdict_columns(
+    (rmse, noise, flip): (&Versus, &Versus, &Versus),
+    (below_floor, bias_interaction): (bool, bool),
+    (a, b): (&str, &str),
+) -> [String; 6] {
+    [
+        margin_text(&rmse.margin),
+        margin_text(&noise.margin),
+        rmse_verdict(rmse.sign, below_floor, bias_interaction, a, b),
+        verdict_of(noise.sign, noise.margin.relative().is_finite(), a, b),
+        margin_text(&flip.margin),
+        flip_verdict(flip, a, b),
+    ]
+}
+
 /// The columns every real-time table opens with: where the cell is, and that place's floor.
 fn place_columns(p: &Place) -> Vec<String> {
     vec![p.scene.clone(), p.rays.to_string(), p.camera.clone(), p.pipeline_text(), floor_text(p.floor)]
@@ -176,17 +193,12 @@ pub fn stbn_table(results: &[JobResult]) -> Option<Table> {
         .into_iter()
         .map(|c| {
             let mut row = place_columns(&c.place);
-            row.extend([
-                c.prefix,
-                pm(c.blue_noise),
-                pm(c.stbn),
-                margin_text(&c.rmse.margin),
-                margin_text(&c.noise.margin),
-                rmse_verdict(c.rmse.sign, c.below_floor, c.bias_interaction, "blue noise", "stbn"),
-                verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "blue noise", "stbn"),
-                margin_text(&c.flip.margin),
-                flip_verdict(&c.flip, "blue noise", "stbn"),
-            ]);
+            row.extend([c.prefix, pm(c.blue_noise), pm(c.stbn)]);
+            row.extend(verdict_columns(
+                (&c.rmse, &c.noise, &c.flip),
+                (c.below_floor, c.bias_interaction),
+                ("blue noise", "stbn"),
+            ));
             row
         })
         .collect();
@@ -273,18 +285,12 @@ pub fn engine_table(results: &[JobResult]) -> Option<Table> {
         .into_iter()
         .map(|c| {
             let mut row = place_columns(&c.place);
-            row.extend([
-                c.engine.to_string(),
-                pm(c.engine_rmse),
-                c.other.to_string(),
-                pm(c.other_rmse),
-                margin_text(&c.rmse.margin),
-                margin_text(&c.noise.margin),
-                rmse_verdict(c.rmse.sign, c.below_floor, c.bias_interaction, "engine", "other"),
-                verdict_of(c.noise.sign, c.noise.margin.relative().is_finite(), "engine", "other"),
-                margin_text(&c.flip.margin),
-                flip_verdict(&c.flip, "engine", "other"),
-            ]);
+            row.extend([c.engine.to_string(), pm(c.engine_rmse), c.other.to_string(), pm(c.other_rmse)]);
+            row.extend(verdict_columns(
+                (&c.rmse, &c.noise, &c.flip),
+                (c.below_floor, c.bias_interaction),
+                ("engine", "other"),
+            ));
             row
         })
         .collect();

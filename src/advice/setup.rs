@@ -218,8 +218,12 @@ pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> 
     if (resolution[0], resolution[1]) != scene.resolution {
         check_view(&args.scene, &scene, resolution[0], resolution[1])?;
     }
+    // After a pipeline the errors are a filtered image's, a tenth of a raw frame's: its reference
+    // must have at least `PIPELINE_REFERENCE_RAYS` rays a replicate.
+    let enough =
+        |m: &Manifest| args.pipeline == crate::denoise::Pipeline::RAW || m.rays >= PIPELINE_REFERENCE_RAYS;
     let mut at_size: Vec<&(Manifest, PathBuf)> =
-        stored.iter().filter(|(m, _)| m.resolution == resolution && usable(m)).collect();
+        stored.iter().filter(|(m, _)| m.resolution == resolution && usable(m) && enough(m)).collect();
     at_size.sort_by(|a, b| {
         a.0.noise_floor.unwrap_or(f64::INFINITY).total_cmp(&b.0.noise_floor.unwrap_or(f64::INFINITY))
     });
@@ -229,7 +233,7 @@ pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> 
             (sketch.spec(&m.scene, resolution, reference), format!("stored reference {}", file.display()))
         }
         None => (
-            sketch.spec(&given_id, resolution, default_reference()),
+            sketch.spec(&given_id, resolution, default_reference(args.pipeline)),
             format!("no stored reference of this scene at {}x{}: one is built", resolution[0], resolution[1]),
         ),
     };
@@ -371,6 +375,8 @@ impl AdviseSpec<'_> {
             flip_ppd: crate::metrics::DEFAULT_PPD,
             // Measured on tiles when the whole frame would cost too much (`plan::tiles::auto`).
             tiles: crate::plan::tiles::auto(resolution),
+            // A steady-state frame is measured from the frames its pipeline remembers.
+            steady_state: true,
             replicates: self.replicates,
             seed: 1,
             point_figures: false,
@@ -408,9 +414,21 @@ fn reference_spec_of(m: &Manifest) -> Option<ReferenceSpec> {
 }
 
 /// What `run` builds when nothing is stored: the spec format's defaults, `rays = "auto"`.
-fn default_reference() -> ReferenceSpec {
+/// Rays per pixel of each of the 4 replicates of the reference advise builds after a real-time
+/// pipeline: `experiments/realtime.toml`'s. The raw sweep's rule (`ReferenceRays::Auto`: a tenth
+/// of the error of the largest ray count's raw frame) gives 64 at 2 rays, a noise floor of about
+/// 0.02 at 1920x1080, as large as half of what SVGF leaves; 4 × 1024 puts it near 0.005.
+pub const PIPELINE_REFERENCE_RAYS: u32 = 1024;
+
+/// The reference advise builds when none is stored: `ReferenceRays::Auto` for the raw sweep,
+/// `PIPELINE_REFERENCE_RAYS` after a pipeline.
+fn default_reference(pipeline: crate::denoise::Pipeline) -> ReferenceSpec {
     ReferenceSpec {
-        rays: ReferenceRays::Auto,
+        rays: if pipeline == crate::denoise::Pipeline::RAW {
+            ReferenceRays::Auto
+        } else {
+            ReferenceRays::Fixed(PIPELINE_REFERENCE_RAYS)
+        },
         replicates: 4,
         seed: 1,
         estimator: Row::new(

@@ -28,7 +28,32 @@ pub enum Temporal {
     Svgf(SvgfOptions),
 }
 
+/// The weight below which a pipeline's history is said to have forgotten a frame: `memory_frames`.
+pub const FORGOTTEN: f64 = 0.01;
+
 impl Temporal {
+    /// How many of the newest frames hold all but `FORGOTTEN` of the weight of a long history at
+    /// steady state: the least W with (1 − α)^W ≤ `FORGOTTEN` (SVGF: α = 0.2 for colour and
+    /// moments, W = 21; an EMA or TAA of α 0.1: W = 44); `None` for the mean, which never forgets.
+    /// Why: a run started W frames before the frame it measures (`plan::Measurement::first_frame`)
+    /// shows that frame as a long run does, the frames before weighing at most 1 % together (and
+    /// the warm start α_eff = max(α, 1/n) gives its first frames the running mean's weights).
+    /// TAA's clipping only shortens its memory.
+    pub fn memory_frames(self) -> Option<u32> {
+        let alpha = match self {
+            Temporal::Mean => return None,
+            Temporal::Ema(a) | Temporal::Taa(a) => a as f64,
+            Temporal::Svgf(o) => {
+                let p = super::svgf::SvgfParams::of(o);
+                p.alpha_color.min(p.alpha_moments)
+            }
+        };
+        if alpha >= 1.0 {
+            return Some(1);
+        }
+        Some((FORGOTTEN.ln() / (1.0 - alpha).ln()).ceil().max(1.0) as u32)
+    }
+
     /// The α of α_eff = max(α, 1/n) (0 for the mean), for the modes `Accumulator` runs.
     fn alpha(self) -> f64 {
         match self {
@@ -117,5 +142,24 @@ impl Accumulator {
     /// The accumulated image (empty 0 × 0 before the first frame).
     pub fn image(&self) -> Image {
         Image::from_vec(self.width, self.height, self.state.iter().map(|&v| v as f32).collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_history_forgets_all_but_one_percent_after_its_memory_frames() {
+        let svgf = Temporal::Svgf(SvgfOptions::default());
+        assert_eq!(svgf.memory_frames(), Some(21));
+        assert_eq!(Temporal::Taa(0.1).memory_frames(), Some(44));
+        assert_eq!(Temporal::Ema(1.0).memory_frames(), Some(1));
+        assert_eq!(Temporal::Mean.memory_frames(), None);
+        for a in [0.05f32, 0.1, 0.2, 0.5] {
+            let w = Temporal::Ema(a).memory_frames().unwrap() as i32;
+            let kept = |n: i32| (1.0 - a as f64).powi(n);
+            assert!(kept(w) <= FORGOTTEN && kept(w - 1) > FORGOTTEN, "{a}");
+        }
     }
 }

@@ -71,6 +71,12 @@ impl Pipeline {
         }
     }
 
+    /// The frames its history remembers (`Temporal::memory_frames`); None when it forgets nothing
+    /// (the mean) or combines no frames.
+    pub fn memory_frames(&self) -> Option<u32> {
+        self.temporal.and_then(Temporal::memory_frames)
+    }
+
     /// True if more than one frame is combined.
     pub fn is_temporal(&self) -> bool {
         self.temporal.is_some()

@@ -60,6 +60,11 @@ pub struct SceneCal {
     /// then gathered from four taps, not one): CPU seconds of its own work per frame at the
     /// image's size (`filter_frames`), on top of the frame's render.
     pub filters: Vec<(crate::denoise::Pipeline, bool, f64)>,
+    /// Under `[tiles]`, the share of the image's pixels and of its covered pixels a frame renders
+    /// (its windows, `jobs::tiles::TileSet`), for the still camera [0] and a moving one [1] (whose
+    /// windows are wider by its motion); (1, 1) for the whole image. Everything above is of the
+    /// whole image.
+    pub shares: [(f64, f64); 2],
 }
 
 pub struct Calibrated {
@@ -93,19 +98,34 @@ impl Calibrated {
         self.scenes[loaded.scene_of(job).0].as_ref().expect("every planned scene is calibrated")
     }
 
-    /// Predicted CPU seconds of one render of `job` (on its own row's line).
+    /// Predicted CPU seconds of one render of `job` (on its own row's line), of one frame for a
+    /// series: under `[tiles]` of its camera's windows (`SceneCal::shares`), the filter's work too.
     pub fn render_s(&self, loaded: &Loaded, job: &Job) -> f64 {
+        let s = self.scene(loaded, job);
+        let (pixels, covered) = s.shares[usize::from(moves(job))];
+        self.render_share_s(loaded, job, pixels, covered)
+    }
+
+    /// `render_s` of the whole image, whatever `[tiles]` says: a reference's render is scaled by
+    /// its own window (`references_s`).
+    fn render_whole_s(&self, loaded: &Loaded, job: &Job) -> f64 {
+        self.render_share_s(loaded, job, 1.0, 1.0)
+    }
+
+    fn render_share_s(&self, loaded: &Loaded, job: &Job, pixels: f64, covered: f64) -> f64 {
         let s = self.scene(loaded, job);
         let row = job.row().canonical();
         let cal = s.rows.iter().find(|(r, _)| *r == row).map(|(_, c)| c).expect("calibrated row");
         let key = (job.measurement.pipeline, moves(job));
         let filter = s.filters.iter().find(|(p, m, _)| (*p, *m) == key).map_or(0.0, |f| f.2);
-        cal.predict((s.covered * job.rays as f64).round() as u64) + filter
+        let rays = (s.covered * covered * job.rays as f64).round() as u64;
+        cal.overhead_s * pixels + cal.ns_per_ray * 1e-9 * rays as f64 + filter * pixels
     }
 
+    /// The no-AO-ray render of the scene (of the still camera's windows under `[tiles]`).
     pub fn overhead_s(&self, loaded: &Loaded, scene_id: &str) -> f64 {
         let si = loaded.spec.scenes.iter().position(|s| s.id == scene_id).expect("planned scene");
-        self.scenes[si].as_ref().map_or(0.0, |s| s.overhead_s)
+        self.scenes[si].as_ref().map_or(0.0, |s| s.overhead_s * s.shares[0].0)
     }
 
     /// Bytes per pixel of `job`'s image as written: a filtered one's after a pipeline or a
@@ -250,13 +270,19 @@ pub fn calibrate(
         let one = of(Some(0), 1);
         let covered = one.first().map_or(0.0, |x| x.0 as f64);
         let base = (covered.round() as u64, median(&one));
-        // Under `[tiles]` a frame renders the tiles' windows: their share of the pixels (the
-        // per-image part) and of the covered pixels (the AO rays).
-        let (pixel_share, covered_share) = match super::tiles::of_spec(&loaded.spec, si, &loaded.scenes[si]) {
-            Some(t) => (t.pixel_share(), t.covered_share),
-            None => (1.0, 1.0),
+        // Under `[tiles]` a frame renders the tiles' windows as its camera sees them: their share
+        // of the pixels (the per-image part, the filter) and of the covered pixels (the AO rays).
+        let share_of = |c: crate::plan::CameraId| {
+            super::tiles::of_camera(&loaded.spec, si, &loaded.scenes[si], c)
+                .map_or((1.0, 1.0), |t| (t.pixel_share(), t.covered_share))
         };
-        let ratio = ratio_of[si] * pixel_share;
+        let still = share_of(crate::plan::CameraId::STATIC);
+        let moving = full
+            .jobs
+            .iter()
+            .find(|j| loaded.scene_of(j).0 == si && moves(j))
+            .map_or(still, |j| share_of(j.measurement.camera));
+        let ratio = ratio_of[si];
         let mut cals = Vec::new();
         for (i, job) in jobs.iter().enumerate() {
             let mine = of(Some(i), rays_of[si]);
@@ -268,11 +294,12 @@ pub fn calibrate(
             cals.push((job.row().canonical(), fit));
         }
         scenes.push(Some(SceneCal {
-            covered: covered * ratio_of[si] * covered_share,
+            covered: covered * ratio_of[si],
             overhead_s: median(&of(None, 0)) * ratio,
             rows: cals,
             rays: rays_of[si],
             filters: filter_frames(loaded, full, si, &jobs[0])?,
+            shares: [still, moving],
         }));
     }
 
@@ -441,7 +468,7 @@ pub fn references_s(loaded: &Loaded, cal: &Calibrated, builds: &[Build], threads
         for rays in passes.into_iter().flatten() {
             let per = rays.div_ceil(b.views.max(1)).max(1);
             for job in plan::reference_jobs(&loaded.spec, si, per) {
-                cpu += cal.render_s(loaded, &job) * b.views as f64 * share;
+                cpu += cal.render_whole_s(loaded, &job) * b.views as f64 * share;
             }
         }
     }

@@ -79,7 +79,8 @@ pub(super) fn filter_frames(
     for (p, moving) in wanted {
         let m = motion(moving);
         let (cpu, _) = worker.timed(|| {
-            let mut f = p.start(w, h);
+            // The whole image's pass counts, as a run filters it (and each tile's window).
+            let mut f = p.at_size(g.width, g.height).start(w, h);
             let mut step = |frame: &image::Image| {
                 if p.is_temporal() {
                     f.advance(frame, None, &gbuf, &m);

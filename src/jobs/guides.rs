@@ -93,8 +93,8 @@ pub struct Guides<'a> {
     /// Per scene, its G-buffer of each part, with its primary hits and their time.
     gbuffers: HashMap<usize, Vec<Traced>>,
     cameras: HashMap<(usize, CameraId), CameraFrames<'a>>,
-    /// Per scene, its tiles (`[tiles]`).
-    tiles: HashMap<usize, TileSet>,
+    /// Per scene and camera, its tiles (`[tiles]`): one set of interiors, each camera's apron.
+    tiles: HashMap<(usize, CameraId), TileSet>,
 }
 
 /// What one job is measured against: its reference (the static camera's; a path's frames read
@@ -112,6 +112,10 @@ pub struct Against<'a> {
     /// The tiles the job is measured on (`None`: the whole image); the references above are then
     /// their mosaics (`jobs::reference::obtain_measured`).
     pub tiles: Option<&'a TileSet>,
+    /// A render for its time alone (the timing protocol's extra renders, `slot.record` false):
+    /// the frames are rendered and timed, and nothing that is not timed (the filters, the
+    /// denoiser, the images) is done.
+    pub timing_only: bool,
 }
 
 impl Against<'_> {
@@ -139,35 +143,51 @@ pub struct Need<'m> {
 
 impl<'a> Guides<'a> {
     /// For every job of a plan: what its filters need; `views` are the camera paths' frames'
-    /// references; `tiles(scene)` the scene's tiles (`jobs::tiles::of_spec`), asked for the scenes
-    /// of jobs measured on tiles.
+    /// references; `tiles(scene, camera)` the scene's tiles as that camera renders them
+    /// (`jobs::tiles::of_camera`), asked for the scenes of jobs measured on tiles. A camera path's
+    /// frames are traced from the earliest first frame its jobs render (`Measurement::first_frame`).
     pub fn new<'m>(
         needs: impl IntoIterator<Item = Need<'m>>,
         scene: impl Fn(usize) -> &'a Scene,
         views: &'a ViewReferences,
-        tiles: impl Fn(usize) -> Option<TileSet>,
+        tiles: impl Fn(usize, CameraId) -> Option<TileSet>,
     ) -> Self {
+        let needs: Vec<Need<'m>> = needs.into_iter().collect();
+        let mut from: HashMap<(usize, CameraId), u32> = HashMap::new();
+        for n in needs.iter().filter(|n| !n.measurement.is_single_frame()) {
+            let m = n.measurement;
+            // One frame earlier: a pipeline that shows one frame renders the one before it too.
+            let first = m.frames_rendered().first().copied().unwrap_or(0).saturating_sub(1);
+            let e = from.entry((n.target, m.camera)).or_insert(first);
+            *e = (*e).min(first);
+        }
         let mut g = Guides::default();
         for n in needs {
             let m = n.measurement;
             let t = n.target;
-            if m.tiles.is_some()
-                && !g.tiles.contains_key(&t)
-                && let Some(set) = tiles(t)
-            {
-                g.tiles.insert(t, set);
+            if m.tiles.is_some() {
+                for c in [CameraId::STATIC, m.camera] {
+                    if !g.tiles.contains_key(&(t, c))
+                        && let Some(set) = tiles(t, c)
+                    {
+                        g.tiles.insert((t, c), set);
+                    }
+                }
             }
             if m.is_single_frame() {
                 continue;
             }
-            let windows = parts(g.tiles.get(&t).filter(|_| m.tiles.is_some()), n.width, n.height);
+            let tiled = |c: CameraId| g.tiles.get(&(t, c)).filter(|_| m.tiles.is_some());
+            let still = parts(tiled(CameraId::STATIC), n.width, n.height);
             g.gbuffers
                 .entry(t)
-                .or_insert_with(|| windows.iter().map(|w| Traced::new(scene(t), &View::SCENE, w)).collect());
+                .or_insert_with(|| still.iter().map(|w| Traced::new(scene(t), &View::SCENE, w)).collect());
             if let Some(run) = m.camera.run() {
+                let windows = parts(tiled(m.camera), n.width, n.height);
+                let first = from.get(&(t, m.camera)).copied().unwrap_or(0);
                 g.cameras
                     .entry((t, m.camera))
-                    .or_insert_with(|| camera_frames(scene(t), run, &windows, views.of(t, m.camera)));
+                    .or_insert_with(|| camera_frames(scene(t), run, &windows, first, views.of(t, m.camera)));
             }
         }
         g
@@ -188,13 +208,14 @@ impl<'a> Guides<'a> {
             gbuffer: if single { None } else { self.gbuffers.get(&target).map(Vec::as_slice) },
             camera: self.cameras.get(&(target, m.camera)),
             scratch,
-            tiles: if m.tiles.is_some() { self.tiles.get(&target) } else { None },
+            tiles: if m.tiles.is_some() { self.tiles.get(&(target, m.camera)) } else { None },
+            timing_only: false,
         }
     }
 
-    /// The tiles of scene `target`, if its jobs are measured on tiles.
-    pub fn tiles(&self, target: usize) -> Option<&TileSet> {
-        self.tiles.get(&target)
+    /// The tiles of scene `target` as `camera` renders them, if its jobs are measured on tiles.
+    pub fn tiles(&self, target: usize, camera: CameraId) -> Option<&TileSet> {
+        self.tiles.get(&(target, camera))
     }
 }
 
@@ -206,11 +227,14 @@ fn parts(tiles: Option<&TileSet>, width: u32, height: u32) -> Vec<Window> {
     }
 }
 
-/// The frames of `run` over `scene`, each of `windows` of the frame.
+/// The frames of `run` over `scene`, each of `windows` of the frame; frames before `first` (from
+/// 0) are rendered by no job: they have their view but no G-buffer, and frame `first` has no
+/// history to reproject (`Motion::identity`).
 fn camera_frames<'a>(
     scene: &Scene,
     run: &crate::plan::CameraRun,
     windows: &[Window],
+    first: u32,
     references: &'a HashMap<u32, Reference>,
 ) -> CameraFrames<'a> {
     let frames = run.frames.max(1);
@@ -220,14 +244,28 @@ fn camera_frames<'a>(
             View::new(camera, if run.jitter { halton_jitter(f) } else { glam::Vec2::ZERO })
         })
         .collect();
+    let first = first.min(frames - 1) as usize;
     let gbuffers: Vec<Vec<Traced>> =
-        views.par_iter().map(|v| windows.iter().map(|w| Traced::new(scene, v, w)).collect()).collect();
+        views
+            .par_iter()
+            .enumerate()
+            .map(|(f, v)| {
+                if f < first {
+                    Vec::new()
+                } else {
+                    windows.iter().map(|w| Traced::new(scene, v, w)).collect()
+                }
+            })
+            .collect();
     let params = ReprojectParams::default();
     let motions = (0..frames as usize)
         .map(|f| {
+            if f < first {
+                return Vec::new();
+            }
             (0..windows.len())
                 .map(|k| match f {
-                    0 => Motion::identity(windows[k].width, windows[k].height),
+                    _ if f == first => Motion::identity(windows[k].width, windows[k].height),
                     _ => render::reproject(&gbuffers[f - 1][k].frame, &gbuffers[f][k].frame, &params),
                 })
                 .collect()

@@ -293,8 +293,10 @@ impl Measure for Frames {
             groups[g].members.push((i, passes));
             r.svgf = Some(g);
         }
+        // A steady-state series starts at its first frame (`Measurement::first_frame`).
+        let first = m.first_frame.clamp(1, last) - 1;
         let rendered: Vec<u32> =
-            if temporal { (0..last).collect() } else { runs[0].kept.iter().map(|f| f - 1).collect() };
+            if temporal { (first..last).collect() } else { runs[0].kept.iter().map(|f| f - 1).collect() };
         let (mut rays, mut occluded) = (0u64, 0u64);
         let mut spent = Time { cpu_s: 0.0, wall_s: 0.0 };
         let mut out = Vec::with_capacity(reported.len());
@@ -318,6 +320,28 @@ impl Measure for Frames {
                 spent.wall_s += clock::wall_s() - w0 + primary.1;
                 rays += o.iter().map(|o| o.rays).sum::<u64>();
                 occluded += o.iter().map(|o| o.occluded_rays).sum::<u64>();
+            }
+            if against.timing_only {
+                // Only the time is wanted: the filters (untimed) and the images are left out.
+                for run in &runs {
+                    if run.reported.contains(&(f + 1)) {
+                        let empty = Image::from_vec(0, 0, Vec::new());
+                        out.push(FrameImage {
+                            pipeline: run.pipeline,
+                            frame: f + 1,
+                            output: RenderOutput {
+                                ao: empty.clone(),
+                                coverage: empty,
+                                rays,
+                                occluded_rays: occluded,
+                            },
+                            flicker: f64::NAN,
+                            denoise_s: 0.0,
+                            time: Some(spent),
+                        });
+                    }
+                }
+                continue;
             }
             // Each SVGF group's kept runs' images per part; the group advances if none is kept.
             let mut shared: Vec<Option<Vec<Image>>> = vec![None; runs.len()];

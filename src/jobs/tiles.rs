@@ -54,9 +54,22 @@ pub struct TileSet {
 impl TileSet {
     /// The tiles of a spec's `[tiles]` chosen from `probe`, with `apron`.
     pub fn new(probe: &Probe, full: [u32; 2], spec: TileSpec, apron: u32) -> Self {
+        Self::with_aprons(probe, full, spec, |_| apron)
+    }
+
+    /// The same with an apron of each interior's own (`apron(interior)`); `apron` then holds the
+    /// widest.
+    pub fn with_aprons(
+        probe: &Probe,
+        full: [u32; 2],
+        spec: TileSpec,
+        apron: impl Fn(&Window) -> u32,
+    ) -> Self {
         let interiors = tiles::choose(probe, full, spec);
-        let windows: Vec<Window> = interiors.iter().map(|w| w.grown(apron)).collect();
+        let aprons: Vec<u32> = interiors.iter().map(&apron).collect();
+        let windows: Vec<Window> = interiors.iter().zip(&aprons).map(|(w, &a)| w.grown(a)).collect();
         let covered_share = covered_share(probe, full, &windows);
+        let apron = aprons.into_iter().max().unwrap_or(0);
         TileSet { spec, apron, interiors, windows, covered_share }
     }
 
@@ -166,9 +179,16 @@ pub fn probe(scene: &Scene, full: [u32; 2]) -> Probe {
 /// in pixels (jitter included), times `HISTORY_FRAMES` (at most the path's frames): the camera's
 /// share of the apron. The probe's hit points of the path's first frame stand for the scene.
 pub fn motion_px(scene: &Scene, full: [u32; 2], run: &CameraRun) -> f64 {
+    let most = motions(scene, full, run).iter().map(|m| m.1 as f64).fold(0.0, f64::max);
+    most * HISTORY_FRAMES.min(run.frames.max(1) - 1) as f64
+}
+
+/// Per probe point of the path's first frame: where it is in a `full` image then, and the most it
+/// moves there from one frame of `run` to the next, in pixels (jitter included).
+fn motions(scene: &Scene, full: [u32; 2], run: &CameraRun) -> Vec<(glam::Vec2, f32)> {
     let frames = run.frames.max(1);
     if frames < 2 {
-        return 0.0;
+        return Vec::new();
     }
     let jitter = |f: u32| if run.jitter { halton_jitter(f) } else { glam::Vec2::ZERO };
     let view = |f: u32| View::new(run.path.camera(&scene.view, f, frames), jitter(f));
@@ -180,20 +200,38 @@ pub fn motion_px(scene: &Scene, full: [u32; 2], run: &CameraRun) -> f64 {
         .collect();
     let raster = |f: u32| view(f).raster(scene, full[0], full[1]);
     let inside = |p: glam::Vec2| p.x >= -0.5 && p.y >= -0.5 && p.x < full[0] as f32 && p.y < full[1] as f32;
-    let mut most = 0.0f64;
-    let mut prev = raster(0);
+    let start = raster(0);
+    let mut out: Vec<(glam::Vec2, f32)> =
+        points.iter().map(|&p| (start.pixel_of(p).unwrap_or(glam::Vec2::NAN), 0.0)).collect();
+    let mut prev = start;
     for f in 1..frames {
         let cur = raster(f);
-        for &p in &points {
+        for (k, &p) in points.iter().enumerate() {
             if let (Some(a), Some(b)) = (prev.pixel_of(p), cur.pixel_of(p))
                 && inside(b)
             {
-                most = most.max((a - b).length() as f64);
+                out[k].1 = out[k].1.max((a - b).length());
             }
         }
         prev = cur;
     }
-    most * HISTORY_FRAMES.min(frames - 1) as f64
+    out
+}
+
+/// The camera's share of interior `w`'s apron: `HISTORY_FRAMES` (at most the path's frames) times
+/// the most a point of the interior, or of the filter's `reach` around it, moves from one frame
+/// to the next. The interior's history comes from where its own surfaces were, so the motion of
+/// what the frame shows elsewhere (a near chair at the image's edge) need not widen it.
+fn motion_of(moves: &[(glam::Vec2, f32)], w: &Window, reach: u32, frames: u32) -> f64 {
+    let r = reach as f32;
+    let (x0, y0) = (w.x as f32 - r, w.y as f32 - r);
+    let (x1, y1) = ((w.x + w.width) as f32 + r, (w.y + w.height) as f32 + r);
+    let most = moves
+        .iter()
+        .filter(|(p, _)| p.x >= x0 && p.x < x1 && p.y >= y0 && p.y < y1)
+        .map(|m| m.1 as f64)
+        .fold(0.0, f64::max);
+    most * HISTORY_FRAMES.min(frames.max(1) - 1) as f64
 }
 
 /// A small image of the frame for showing where its tiles are (`report::tiles::tiles_png`): 32-ray
@@ -229,21 +267,35 @@ pub fn of(
     cameras: &[CameraId],
 ) -> TileSet {
     let reach = pipelines.iter().map(|p| p.reach(full[0], full[1])).max().unwrap_or(0);
-    let motion =
-        cameras.iter().filter_map(|c| c.run()).map(|r| motion_px(scene, full, r)).fold(0.0, f64::max);
-    TileSet::new(&probe(scene, full), full, spec, tiles::apron(reach, motion))
+    let runs: Vec<(&CameraRun, Vec<(glam::Vec2, f32)>)> =
+        cameras.iter().filter_map(|c| c.run()).map(|r| (r, motions(scene, full, r))).collect();
+    TileSet::with_aprons(&probe(scene, full), full, spec, |w| {
+        let motion = runs.iter().map(|(r, m)| motion_of(m, w, reach, r.frames)).fold(0.0, f64::max);
+        tiles::apron(reach, motion)
+    })
 }
 
 /// The tiles of scene `si` under `spec`'s `[tiles]` (None without it): the pipelines and cameras
 /// of every group that measures the scene (module doc).
 pub fn of_spec(spec: &Spec, si: usize, scene: &Scene) -> Option<TileSet> {
+    of_spec_seen_by(spec, si, scene, None)
+}
+
+/// The tiles of scene `si` as camera `camera` renders them: the same interiors as `of_spec`'s,
+/// with the apron that camera's own motion needs (the scene's still camera: the filter's reach
+/// alone), so that a still camera's windows are not widened by another camera's motion.
+pub fn of_camera(spec: &Spec, si: usize, scene: &Scene, camera: CameraId) -> Option<TileSet> {
+    of_spec_seen_by(spec, si, scene, Some(camera))
+}
+
+fn of_spec_seen_by(spec: &Spec, si: usize, scene: &Scene, camera: Option<CameraId>) -> Option<TileSet> {
     let t = spec.tiles?;
     let g = Geometry::of(spec.resolution, spec.ao_distance, scene);
     let groups = spec.groups.iter().filter(|g| g.scenes.contains(&si));
     let (mut pipelines, mut cameras) = (Vec::new(), Vec::new());
     for group in groups {
         pipelines.extend(group.pipelines.iter().copied());
-        cameras.extend(group.cameras.iter().copied());
+        cameras.extend(group.cameras.iter().copied().filter(|c| camera.is_none_or(|only| only == *c)));
     }
     Some(of(scene, [g.width, g.height], t, &pipelines, &cameras))
 }

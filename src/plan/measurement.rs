@@ -161,6 +161,10 @@ pub struct Measurement {
     pub denoiser: DenoiserId,
     /// Measured on tiles of the image (the spec's `[tiles]`, `jobs::tiles`); None: the whole image.
     pub tiles: Option<super::tiles::TileSpec>,
+    /// The first frame rendered, from 1 (1: every frame up to `frame`): a steady-state
+    /// measurement (`first_frame`) starts its run where the frames before would weigh at most
+    /// `denoise::accumulate::FORGOTTEN` in the measured one.
+    pub first_frame: u32,
 }
 
 impl Default for Measurement {
@@ -179,6 +183,7 @@ impl Measurement {
         camera: CameraId::STATIC,
         denoiser: DenoiserId::NONE,
         tiles: None,
+        first_frame: 1,
     };
 
     /// The same measurement of another integrand.
@@ -200,7 +205,31 @@ impl Measurement {
     /// The frame indices (from 0) a job renders: all `frame` frames when the pipeline
     /// accumulates, the one last frame when it does not.
     pub fn frames_rendered(&self) -> Vec<u32> {
-        if self.pipeline.is_temporal() { (0..self.frame).collect() } else { vec![self.frame - 1] }
+        if self.pipeline.is_temporal() {
+            (self.first_frame.clamp(1, self.frame) - 1..self.frame).collect()
+        } else {
+            vec![self.frame - 1]
+        }
+    }
+
+    /// The same measurement at steady state: its run started `pipeline.memory_frames()` frames
+    /// before `frame` when that is later than frame 1 (a pipeline that forgets nothing, or one
+    /// whose memory reaches frame 1, renders every frame).
+    pub fn at_steady_state(self) -> Self {
+        let first_frame = match self.pipeline.memory_frames() {
+            Some(w) if w < self.frame => self.frame - w + 1,
+            _ => 1,
+        };
+        Self { first_frame, ..self }
+    }
+
+    /// `;from=F` when the run starts at frame F > 1, else empty (so every other key is what it was).
+    pub fn start_key(&self) -> String {
+        if self.first_frame > 1 && self.pipeline.is_temporal() {
+            format!(";from={}", self.first_frame)
+        } else {
+            String::new()
+        }
     }
 
     /// Whether the timing protocol's second round (more renders for cheap configurations) applies:
@@ -217,11 +246,12 @@ impl Measurement {
             String::new()
         } else {
             format!(
-                ";frame={};schedule={};pipeline={}{}",
+                ";frame={};schedule={};pipeline={}{}{}",
                 self.frame,
                 self.schedule,
                 self.pipeline,
-                self.view_key()
+                self.view_key(),
+                self.start_key()
             )
         }
     }
@@ -246,7 +276,7 @@ impl Measurement {
     /// otherwise `frames_key`. Part of the timing unit.
     pub fn series_key(&self) -> String {
         let part = if self.pipeline.is_temporal() {
-            format!(";schedule={};pipeline=temporal{}", self.schedule, self.view_key())
+            format!(";schedule={};pipeline=temporal{}{}", self.schedule, self.view_key(), self.start_key())
         } else {
             self.frames_key()
         };

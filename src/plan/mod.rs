@@ -168,7 +168,13 @@ pub fn plan(spec: &Spec) -> Plan {
                                             camera,
                                             denoiser,
                                             tiles: spec.tiles,
+                                            first_frame: 1,
                                         },
+                                    };
+                                    let job = if spec.steady_state {
+                                        Job { measurement: job.measurement.at_steady_state(), ..job }
+                                    } else {
+                                        job
                                     };
                                     if seen.insert(job.canonical()) {
                                         jobs.push(job);

@@ -204,6 +204,20 @@ pub struct JobResult {
     /// method); NaN below three replicates or where the bias is 0.
     #[serde(default = "nan", deserialize_with = "split::nan_null")]
     pub bias_se: f64,
+    /// The first frame the run rendered (from 1) when a steady-state measurement started later
+    /// than frame 1 (`plan::Measurement::first_frame`: advise after an accumulating pipeline);
+    /// absent from the file when 1, so that every other record is written as before. Not a CSV
+    /// column: `time_s` over the frames rendered is what a reader wants, and advise gives it.
+    #[serde(default = "first", skip_serializing_if = "is_first")]
+    pub first_frame: u32,
+}
+
+fn first() -> u32 {
+    1
+}
+
+fn is_first(f: &u32) -> bool {
+    *f == 1
 }
 
 /// Two records are the same when their files are: an undefined column (NaN, null in JSON) equals
@@ -302,6 +316,7 @@ impl JobResult {
             flip: f64::NAN,
             bias_rmse: f64::NAN,
             bias_se: f64::NAN,
+            first_frame: job.measurement.first_frame,
         }
     }
 
@@ -318,6 +333,7 @@ impl JobResult {
             // Not a column: every record of a run shares the spec's `[tiles]`, and each image's
             // provenance names the tile set (`jobs::executor::provenance_tiled`).
             tiles: None,
+            first_frame: self.first_frame,
         })
     }
 

@@ -358,6 +358,11 @@ pub struct Spec {
     /// `[tiles]`: every job measured on tiles of the image (`plan::tiles`, `jobs::tiles`); None:
     /// on the whole image.
     pub tiles: Option<crate::plan::tiles::TileSpec>,
+    /// Each accumulating job's run starts where its earlier frames would weigh at most 1 % in the
+    /// measured one (`plan::Measurement::at_steady_state`), not at frame 1: what advise measures,
+    /// the frame at steady state for a fraction of its frames. No spec key: a run's committed
+    /// series render every frame.
+    pub steady_state: bool,
     pub replicates: u32,
     pub seed: u64,
     /// Draw the paper's point figures (Table 1, Figures 2-4): they depend on no rendering, so

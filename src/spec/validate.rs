@@ -377,6 +377,7 @@ fn validate(raw: RawSpec, path: &Path, p: &mut Problems) -> Spec {
         ao_distance,
         flip_ppd,
         tiles,
+        steady_state: false,
         replicates: replicates.unwrap_or(DEFAULT_REPLICATES),
         seed,
         point_figures,

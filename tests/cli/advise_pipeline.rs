@@ -292,3 +292,38 @@ fn advise_help_lists_every_pipeline_the_error_lists() {
         common::stderr(&o)
     );
 }
+
+#[test]
+fn a_steady_state_frame_is_rendered_from_the_frames_its_pipeline_remembers() {
+    // SVGF remembers 21 frames (all but 1 % of its history's weight): frame 32 is rendered from
+    // frame 12, each record says so, and what advise ranks is the time of one of those frames.
+    let t = Tmp::new("advise-steady");
+    let o = t.hemilab(&args("svgf", "32", "sine-cosine/fibonacci/rotation", &[]));
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let out = t.path("out");
+    let records =
+        hemilab::results::from_json(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert!(!records.is_empty());
+    hemilab::plan::CameraId::intern(hemilab::plan::CameraRun {
+        name: "orbit".into(),
+        path: hemilab::advice::setup::default_path(),
+        jitter: true,
+        frames: 32,
+    });
+    let ranked = hemilab::advice::pipeline::as_ranked(&records).unwrap();
+    for (r, k) in records.iter().zip(&ranked) {
+        assert_eq!((r.frame, r.first_frame), (32, 12), "{r:?}");
+        assert!((k.time_s * 21.0 - r.time_s).abs() <= 1e-12 * r.time_s, "{} vs {}", k.time_s, r.time_s);
+    }
+    // Its reference has 4 x 1024 rays (a filtered image's error is a tenth of a raw frame's).
+    let manifests: Vec<_> = std::fs::read_dir(t.path("ref"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    assert!(!manifests.is_empty());
+    for m in manifests {
+        let v = json(&m);
+        assert_eq!((v["rays"].as_u64(), v["replicates"].as_u64()), (Some(1024), Some(4)), "{}", m.display());
+    }
+}

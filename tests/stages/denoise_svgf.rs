@@ -303,3 +303,38 @@ fn the_relative_epsilon_filters_a_noise_free_input_by_its_closed_form() {
         assert!(changed > 100, "the relative epsilon filters: {changed} pixels changed");
     }
 }
+
+#[test]
+fn a_run_started_at_its_memory_shows_the_steady_state_frame_as_a_long_run_does() {
+    // What advise's steady-state measurement rests on (`Measurement::at_steady_state`): SVGF's
+    // frame 64 from a run of its last `memory_frames` frames has the error of a 64-frame run's.
+    let (w, h) = (96u32, 96u32);
+    let g = cornell(w, h);
+    let still = Motion::identity(w, h);
+    let frames: Vec<Image> = (0..64).map(|f| noise(w, h, 0.5, 0.2, 7000 + f)).collect();
+    let memory = Temporal::Svgf(SvgfOptions::default()).memory_frames().unwrap() as usize;
+    assert_eq!(memory, 21);
+    let run = |from: usize| {
+        let mut s = Svgf::new(SvgfParams::default());
+        let mut last = None;
+        for f in &frames[from..] {
+            last = Some(s.push(f, &g, &still));
+        }
+        last.unwrap()
+    };
+    let (long, steady) = (run(0), run(64 - memory));
+    let covered: Vec<usize> = (0..(w * h) as usize).filter(|&i| g.is_covered(i)).collect();
+    let rms = |f: &dyn Fn(usize) -> f64| {
+        (covered.iter().map(|&i| f(i).powi(2)).sum::<f64>() / covered.len() as f64).sqrt()
+    };
+    let error = |im: &Image| rms(&|i| im.data[i] as f64 - 0.5);
+    let (e_long, e_steady) = (error(&long), error(&steady));
+    let apart = rms(&|i| (long.data[i] - steady.data[i]) as f64);
+    eprintln!("RMSE 64 frames {e_long:.5}, last {memory} {e_steady:.5}, apart {apart:.5}");
+    assert!((e_steady / e_long - 1.0).abs() < 0.02, "{e_steady} vs {e_long}");
+    assert!(apart < 0.2 * e_long, "the two images differ by {apart} against an error of {e_long}");
+    // A run of 3 frames is not at steady state: its error is well above (the test can tell).
+    let short = error(&run(61));
+    eprintln!("RMSE of the last 3 frames {short:.5}");
+    assert!(short > 1.1 * e_long, "{short} vs {e_long}");
+}

@@ -124,3 +124,30 @@ fn bad_tiles_are_refused_naming_the_line_and_key() {
     let e = error("[tiles]\ncuont = 2\n");
     assert!(e.contains("did you mean `count`"), "{e}");
 }
+
+#[test]
+fn each_tiles_apron_holds_the_motion_of_its_own_content() {
+    let svgf: Pipeline = "svgf".parse().unwrap();
+    let still = kitchen_tiles(&[svgf], &[]);
+    let orbit = CameraId::intern(CameraRun {
+        name: "orbit-tiles-10".into(),
+        path: CameraPath::Orbit { degrees: 10.0 },
+        jitter: true,
+        frames: 64,
+    });
+    let moving = kitchen_tiles(&[svgf], &[orbit]);
+    assert_eq!(moving.interiors, still.interiors);
+    // Each window is its interior grown by an apron of its own: the filter's reach (9 px here)
+    // plus 8 frames of the most its own content (and the reach around it) moves.
+    let aprons: Vec<u32> = moving
+        .interiors
+        .iter()
+        .zip(&moving.windows)
+        .map(|(i, w)| (0..=400).find(|&a| i.grown(a) == *w).expect("a grown interior"))
+        .collect();
+    eprintln!("aprons {aprons:?}");
+    assert!(aprons.iter().all(|&a| a > 9), "{aprons:?}");
+    assert_eq!(aprons.iter().max(), Some(&moving.apron));
+    assert!(aprons.iter().min() < aprons.iter().max(), "the near content moves more: {aprons:?}");
+    assert!(still.windows.iter().zip(&still.interiors).all(|(w, i)| *w == i.grown(9)));
+}

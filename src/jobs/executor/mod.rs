@@ -325,11 +325,15 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
         }),
         |si| &loaded.scenes[si],
         views,
-        |si| super::tiles::of_spec(&loaded.spec, si, &loaded.scenes[si]),
+        |si, camera| super::tiles::of_camera(&loaded.spec, si, &loaded.scenes[si], camera),
     );
     let frames_of = |id: usize| measures.get(id).map_or(1, |m| m.frames());
     // Pixels rendered per frame: the tiles' windows under `[tiles]`, else the whole image.
-    let frame_pixels = |id: usize| match guides.tiles(scene_of_id(id)).filter(|_| loaded.spec.tiles.is_some())
+    let camera_of =
+        |id: usize| plan.jobs.get(id).map_or(crate::plan::CameraId::STATIC, |j| j.measurement.camera);
+    let frame_pixels = |id: usize| match guides
+        .tiles(scene_of_id(id), camera_of(id))
+        .filter(|_| loaded.spec.tiles.is_some())
     {
         Some(t) => t.rendered_pixels(),
         None => jobs[id].width as u64 * jobs[id].height as u64,
@@ -377,7 +381,10 @@ pub fn measure_jobs(j: &Jobs, keep: &Keep) -> Result<(Vec<JobResult>, Session)> 
             let n = SCRATCH.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             out.join(DENOISE_DIR).join(format!("{}-{n}", plan.jobs[slot.job].file_stem()))
         });
-        let against = guides.against(si, &m, &references[si], scratch);
+        let against = super::guides::Against {
+            timing_only: !slot.record,
+            ..guides.against(si, &m, &references[si], scratch)
+        };
         let (images, time): (Result<Vec<super::measure::FrameImage>>, Time) =
             worker.timed(|| measure.render(scene, rj, &reported, &against, &|px| bar.inc(px * rays)));
         let images = images?;

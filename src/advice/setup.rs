@@ -383,7 +383,17 @@ impl AdviseSpec<'_> {
             reference,
             // Unused: advise passes its --reference-dir to every reference lookup.
             reference_dir: Path::new("reference").to_path_buf(),
-            timing: TimingSpec { repeats: timing::DEFAULT_REPEATS, seed: 1 },
+            // After a pipeline a series is rendered for its errors, and its time per frame is
+            // only shown: its replicates' renders time it, and none is rendered again for a third
+            // sample (a series of 21 frames at 1080p is many seconds of filtering).
+            timing: TimingSpec {
+                repeats: if self.pipeline == crate::denoise::Pipeline::RAW {
+                    timing::DEFAULT_REPEATS
+                } else {
+                    timing::DEFAULT_REPEATS.min(self.replicates)
+                },
+                seed: 1,
+            },
             groups,
         }
     }
@@ -419,6 +429,18 @@ fn reference_spec_of(m: &Manifest) -> Option<ReferenceSpec> {
 /// of the error of the largest ray count's raw frame) gives 64 at 2 rays, a noise floor of about
 /// 0.02 at 1920x1080, as large as half of what SVGF leaves; 4 × 1024 puts it near 0.005.
 pub const PIPELINE_REFERENCE_RAYS: u32 = 1024;
+
+/// Replicates when `--replicates` is not given: 4, or 2 when the image is measured on tiles
+/// (`plan::tiles::auto`: above 320 × 180): each replicate then holds 4 tiles of 128² measured
+/// pixels, its RMSE varies by a fraction of a percent from seed to seed, and at 1080 lines two
+/// replicates are what keeps a 260k-triangle scene's advice within 20 minutes here
+/// (docs/advise.md). More with `--replicates`.
+pub fn default_replicates(resolution: Option<(u32, u32)>) -> u32 {
+    match resolution {
+        Some((w, h)) if crate::plan::tiles::auto([w, h]).is_some() => 2,
+        _ => 4,
+    }
+}
 
 /// The reference advise builds when none is stored: `ReferenceRays::Auto` for the raw sweep,
 /// `PIPELINE_REFERENCE_RAYS` after a pipeline.

@@ -262,10 +262,11 @@ fn load_scene_with(path: &Path, rays: &dyn Fn((u32, u32)) -> Option<u64>) -> Res
     drop(parts);
     drop((bytes, external));
     let res = (spec.resolution.0, spec.resolution.1);
-    let scene = Scene::new(name, view, res, spec.ao_distance.0, hash, mesh, rays(res)).map_err(|e| {
+    let mut scene = Scene::new(name, view, res, spec.ao_distance.0, hash, mesh, rays(res)).map_err(|e| {
         // Its camera and distance were checked with the file; an empty mesh is the mesh's fault.
         Error::input(if e.starts_with(scene::EMPTY_MESH) { &mesh_path } else { path }, e)
     })?;
+    scene.paths = spec.cameras.iter().map(|(n, c)| (n.clone(), c.path.clone(), c.jitter)).collect();
     let sight = check_view(path, &scene, res.0, res.1)?;
     let camera = match (&spec.camera.0, &scene.view) {
         (None, _) => {

@@ -11,10 +11,11 @@
 //! - **What is shipped**: each budget's finalists measured at the integer ray count that fits it
 //!   (`advice/answer.rs`); the per-pixel winner map (`advice/winner.rs`); the ranked image of a
 //!   real-time pipeline (`advice/pipeline.rs`); the sweep a request sets up (`advice/setup.rs`,
-//!   from inputs the command loaded).
+//!   from inputs the command loaded, with `advice/defaults.rs`'s replicates and reference).
 
 pub mod analysis;
 pub mod answer;
+pub mod defaults;
 pub mod pipeline;
 pub mod request;
 pub mod setup;

@@ -188,6 +188,34 @@ pub(super) fn cameras(args: &Request) -> Result<Vec<CameraId>> {
     Ok(out)
 }
 
+/// The scene file's own camera paths (`[cameras.NAME]`, `Scene::paths`) as advise ranks them after
+/// a pipeline that accumulates frames, over the request's frames, each unless `already` has the
+/// same path (none without such a pipeline: the scene's paths are there for its real-time advice,
+/// not a request to refuse).
+pub(super) fn scene_cameras(
+    args: &Request,
+    scene: &crate::scene::Scene,
+    already: &[CameraId],
+) -> Vec<CameraId> {
+    if !args.pipeline.is_temporal() || args.frames < 2 {
+        return Vec::new();
+    }
+    let mut out: Vec<CameraId> = Vec::new();
+    for (name, path, jitter) in &scene.paths {
+        let same = |c: &CameraId| c.run().is_some_and(|r| r.path == *path && r.jitter == *jitter);
+        if already.iter().chain(&out).any(same) {
+            continue;
+        }
+        out.push(CameraId::intern(CameraRun {
+            name: name.clone(),
+            path: path.clone(),
+            jitter: *jitter,
+            frames: args.frames,
+        }));
+    }
+    out
+}
+
 /// `--camera-path`'s text: `orbit:DEG`, `pan:DEG`, `dolly:DISTANCE` (a number, degrees or scene
 /// units over the frames; see `scene::camera_path`), or `still` (the scene's camera, jittered).
 pub fn parse_camera_path(text: &str) -> std::result::Result<CameraPath, String> {

@@ -189,8 +189,9 @@ pub struct Inputs {
 /// Decides the resolution and reference settings from the checked flags and the loaded inputs, and
 /// plans the jobs.
 pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> {
-    let Checked { rays, rows, cameras, denoiser } = checked;
+    let Checked { rays, rows, mut cameras, denoiser } = checked;
     let Inputs { scene, reference_dir, stored } = inputs;
+    cameras.extend(super::request::scene_cameras(args, &scene, &cameras));
     let name = args.scene.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = name.strip_suffix(".toml").unwrap_or(&name).to_string();
     let given_id = spec::normalize(&args.scene.to_string_lossy());
@@ -220,8 +221,9 @@ pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> 
     }
     // After a pipeline the errors are a filtered image's, a tenth of a raw frame's: its reference
     // must have at least `PIPELINE_REFERENCE_RAYS` rays a replicate.
-    let enough =
-        |m: &Manifest| args.pipeline == crate::denoise::Pipeline::RAW || m.rays >= PIPELINE_REFERENCE_RAYS;
+    let enough = |m: &Manifest| {
+        args.pipeline == crate::denoise::Pipeline::RAW || m.rays >= super::defaults::PIPELINE_REFERENCE_RAYS
+    };
     let mut at_size: Vec<&(Manifest, PathBuf)> =
         stored.iter().filter(|(m, _)| m.resolution == resolution && usable(m) && enough(m)).collect();
     at_size.sort_by(|a, b| {
@@ -233,7 +235,7 @@ pub fn setup(args: &Request, checked: Checked, inputs: Inputs) -> Result<Setup> 
             (sketch.spec(&m.scene, resolution, reference), format!("stored reference {}", file.display()))
         }
         None => (
-            sketch.spec(&given_id, resolution, default_reference(args.pipeline)),
+            sketch.spec(&given_id, resolution, super::defaults::reference(args.pipeline)),
             format!("no stored reference of this scene at {}x{}: one is built", resolution[0], resolution[1]),
         ),
     };
@@ -424,44 +426,6 @@ fn reference_spec_of(m: &Manifest) -> Option<ReferenceSpec> {
 }
 
 /// What `run` builds when nothing is stored: the spec format's defaults, `rays = "auto"`.
-/// Rays per pixel of each of the 4 replicates of the reference advise builds after a real-time
-/// pipeline: `experiments/realtime.toml`'s. The raw sweep's rule (`ReferenceRays::Auto`: a tenth
-/// of the error of the largest ray count's raw frame) gives 64 at 2 rays, a noise floor of about
-/// 0.02 at 1920x1080, as large as half of what SVGF leaves; 4 × 1024 puts it near 0.005.
-pub const PIPELINE_REFERENCE_RAYS: u32 = 1024;
-
-/// Replicates when `--replicates` is not given: 4, or 2 when the image is measured on tiles
-/// (`plan::tiles::auto`: above 320 × 180): each replicate then holds 4 tiles of 128² measured
-/// pixels, its RMSE varies by a fraction of a percent from seed to seed, and at 1080 lines two
-/// replicates are what keeps a 260k-triangle scene's advice within 20 minutes here
-/// (docs/advise.md). More with `--replicates`.
-pub fn default_replicates(resolution: Option<(u32, u32)>) -> u32 {
-    match resolution {
-        Some((w, h)) if crate::plan::tiles::auto([w, h]).is_some() => 2,
-        _ => 4,
-    }
-}
-
-/// The reference advise builds when none is stored: `ReferenceRays::Auto` for the raw sweep,
-/// `PIPELINE_REFERENCE_RAYS` after a pipeline.
-fn default_reference(pipeline: crate::denoise::Pipeline) -> ReferenceSpec {
-    ReferenceSpec {
-        rays: if pipeline == crate::denoise::Pipeline::RAW {
-            ReferenceRays::Auto
-        } else {
-            ReferenceRays::Fixed(PIPELINE_REFERENCE_RAYS)
-        },
-        replicates: 4,
-        seed: 1,
-        estimator: Row::new(
-            crate::sampling::Distribution::SineCosine,
-            crate::sampling::Sequence::Fibonacci,
-            crate::sampling::SeedMode::Shift,
-        ),
-        adaptive: false,
-    }
-}
-
 /// The largest resolution with a reusable stored reference of at most `DEFAULT_MAX_PIXELS`
 /// pixels, else the scene's own scaled down (aspect kept) to at most that many.
 fn default_resolution(

@@ -46,7 +46,9 @@ pub fn run(args: AdviseArgs) -> Result<()> {
             scene: args.scene.clone().expect("clap requires a scene without --from"),
             rays: if args.rays.is_empty() { setup::default_rays(args.pipeline) } else { args.rays.clone() },
             only: args.only.clone(),
-            replicates: args.replicates.unwrap_or_else(|| setup::default_replicates(args.resolution)),
+            replicates: args
+                .replicates
+                .unwrap_or_else(|| crate::advice::defaults::replicates(args.resolution)),
             resolution: args.resolution,
             reference_dir: args.reference_dir.clone(),
             pipeline: args.pipeline,

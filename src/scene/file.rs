@@ -32,7 +32,24 @@ pub struct SceneFile {
     pub camera: CameraEntry,
     pub resolution: Resolution,
     pub ao_distance: AoDistance,
+    /// Camera paths of the scene's own, `[cameras.NAME]` with `path` and `jitter` as a spec's
+    /// (`scene::camera_path`; jitter default false): what `advise --pipeline` ranks besides the
+    /// still camera and its default orbit, as the user's game moves through the scene.
+    #[serde(default)]
+    pub cameras: std::collections::BTreeMap<String, ScenePath>,
 }
+
+/// One of a scene file's `[cameras.NAME]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScenePath {
+    pub path: super::camera_path::CameraPath,
+    #[serde(default)]
+    pub jitter: bool,
+}
+
+/// Names a scene's camera may not take: the still camera's and advise's default orbit's.
+const RESERVED_CAMERAS: [&str; 2] = ["static", "orbit"];
 
 /// The `[camera.*]` table if the file has one (`parse` refuses a file without one unless its mesh
 /// is glTF).
@@ -243,6 +260,16 @@ pub fn parse(text: &str) -> Result<SceneFile, String> {
         Some(c) => check_camera(text, c)?,
         None if !is_gltf(&file.mesh) => return Err(format!("key `camera`: missing; {}", MISSING_CAMERA)),
         None => {}
+    }
+    for name in file.cameras.keys() {
+        let ok = !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
+        if !ok || RESERVED_CAMERAS.contains(&name.as_str()) {
+            return Err(format!(
+                "key `cameras.{name}`: a camera's name is letters, digits, '-' and '_' (it names files), \
+                 and not {}",
+                RESERVED_CAMERAS.join(" or ")
+            ));
+        }
     }
     Ok(file)
 }

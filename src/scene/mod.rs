@@ -82,6 +82,8 @@ pub struct Scene {
     pub skipped_elements: Option<String>,
     /// The mesh's other load warnings (`Mesh::notes`), one sentence each.
     pub notes: Vec<String>,
+    /// The scene file's own camera paths (`[cameras.NAME]`), in name order: (name, path, jitter).
+    pub paths: Vec<(String, camera_path::CameraPath, bool)>,
     /// Core BVH build time (obvhs's own measure, without input conversion).
     pub bvh_build_s: f64,
     pub accel: Accel,
@@ -181,6 +183,7 @@ impl Scene {
             repeated_triangles,
             skipped_elements,
             notes,
+            paths: Vec::new(),
             bvh_build_s,
             accel,
         })

@@ -327,3 +327,39 @@ fn a_steady_state_frame_is_rendered_from_the_frames_its_pipeline_remembers() {
         assert_eq!((v["rays"].as_u64(), v["replicates"].as_u64()), (Some(1024), Some(4)), "{}", m.display());
     }
 }
+
+/// The Cornell box's scene file in `t`, its mesh by absolute path, with `extra` appended.
+fn room(t: &Tmp, extra: &str) -> String {
+    let text = std::fs::read_to_string(scene("cornell-box.toml")).unwrap();
+    let mesh = std::path::Path::new(&scene("cornell-box.obj")).canonicalize().unwrap();
+    let text = text.replace("\"cornell-box.obj\"", &format!("{:?}", mesh.display().to_string()));
+    let path = t.path("room.toml");
+    std::fs::write(&path, format!("{text}\n{extra}")).unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn a_scenes_own_cameras_are_ranked_beside_the_default_orbit() {
+    let t = Tmp::new("advise-scene-cameras");
+    let file = room(&t, "[cameras.walk]\npath = { pan = { degrees = 4.0 } }\njitter = true\n");
+    let mut a = args("ema0.1", "4", "sine-cosine/fibonacci/rotation", &[]);
+    a[1] = file;
+    let o = t.hemilab(&a);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let records =
+        hemilab::results::from_json(&std::fs::read_to_string(t.path("out/results.json")).unwrap()).unwrap();
+    let mut cams: Vec<&str> = records.iter().map(|r| r.camera.as_str()).collect();
+    cams.sort_unstable();
+    cams.dedup();
+    assert_eq!(cams, ["orbit", "static", "walk"]);
+    // A name advise gives its own cameras is refused, naming the key (exit 2, nothing written).
+    let bad = room(&t, "[cameras.orbit]\npath = { pan = { degrees = 4.0 } }\n");
+    let mut a = args("ema0.1", "4", "sine-cosine/fibonacci/rotation", &[]);
+    a[1] = bad;
+    let out = a.iter().position(|x| x == "out").unwrap();
+    a[out] = "out-bad".into();
+    let o = t.hemilab(&a);
+    assert_eq!(o.status.code(), Some(2), "{}", common::stderr(&o));
+    assert!(common::stderr(&o).contains("cameras.orbit"), "{}", common::stderr(&o));
+    assert!(!t.path("out-bad").exists());
+}

@@ -35,8 +35,9 @@ pub fn report(m: &Measured, a: &Analysis, shown: &Path) -> Result<Report> {
             crate::report::Figure {
                 path: t.name.clone(),
                 caption:
-                    "Measured on tiles: the frame (a 32-ray preview) with each tile outlined and its apron \
-                          (the filter's reach and the camera's motion) around it"
+                    "Measured on tiles: the frame (a 32-ray preview) with each tile outlined and its widest \
+                          apron around it (the filter's reach and the moving camera's motion near \
+                          that tile; the still camera's apron is the reach alone)"
                         .into(),
                 links: Vec::new(),
             },

@@ -175,14 +175,6 @@ pub fn probe(scene: &Scene, full: [u32; 2]) -> Probe {
     }
 }
 
-/// The most a point the probe sees moves in a `full` image from one frame of `run` to the next,
-/// in pixels (jitter included), times `HISTORY_FRAMES` (at most the path's frames): the camera's
-/// share of the apron. The probe's hit points of the path's first frame stand for the scene.
-pub fn motion_px(scene: &Scene, full: [u32; 2], run: &CameraRun) -> f64 {
-    let most = motions(scene, full, run).iter().map(|m| m.1 as f64).fold(0.0, f64::max);
-    most * HISTORY_FRAMES.min(run.frames.max(1) - 1) as f64
-}
-
 /// Per probe point of the path's first frame: where it is in a `full` image then, and the most it
 /// moves there from one frame of `run` to the next, in pixels (jitter included).
 fn motions(scene: &Scene, full: [u32; 2], run: &CameraRun) -> Vec<(glam::Vec2, f32)> {

@@ -61,9 +61,9 @@ pub struct SceneCal {
     /// image's size (`filter_frames`), on top of the frame's render.
     pub filters: Vec<(crate::denoise::Pipeline, bool, f64)>,
     /// Under `[tiles]`, the share of the image's pixels and of its covered pixels a frame renders
-    /// (its windows, `jobs::tiles::TileSet`), for the still camera [0] and a moving one [1] (whose
-    /// windows are wider by its motion); (1, 1) for the whole image. Everything above is of the
-    /// whole image.
+    /// (its windows, `jobs::tiles::TileSet`): `shares[0]` for the still camera, `shares[1]` for a
+    /// moving one (whose windows are wider by its motion); (1, 1) for the whole image. Everything
+    /// above is of the whole image.
     pub shares: [(f64, f64); 2],
 }
 

@@ -219,8 +219,8 @@ pub fn auto(resolution: [u32; 2]) -> Option<TileSpec> {
 
 /// The apron around every tile: how far the pipeline reads from a pixel (`filter_reach`, half its
 /// spatial footprint) plus how far the camera moves the image over the frames a history keeps
-/// (`jobs::tiles`, per tile and camera), so that an interior pixel's filter taps and its reprojected history are pixels
-/// that were rendered.
+/// (`jobs::tiles`, per tile and camera), so that an interior pixel's filter taps and its reprojected
+/// history are pixels that were rendered.
 pub fn apron(filter_reach: u32, motion_px: f64) -> u32 {
     filter_reach.saturating_add(motion_px.max(0.0).ceil().min(u32::MAX as f64 / 2.0) as u32)
 }

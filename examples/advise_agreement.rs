@@ -24,13 +24,12 @@ fn read(path: &Path) -> Result<String, Box<dyn std::error::Error>> {
     std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()).into())
 }
 
-/// The paired mean and standard error of b − a over the replicates both have.
+/// The paired mean and standard error of b − a over the replicates both have (the crate's one
+/// paired margin, `compare::margin::paired`).
 fn paired(a: &Replicates, b: &Replicates, pick: fn(&(f64, f64)) -> f64) -> (f64, f64) {
-    let d: Vec<f64> = a.iter().filter_map(|(r, x)| b.get(r).map(|y| pick(y) - pick(x))).collect();
-    let n = d.len() as f64;
-    let m = d.iter().sum::<f64>() / n;
-    let var = d.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-    (m, (var / n).sqrt())
+    let list = |r: &Replicates| r.iter().map(|(&k, v)| (k, pick(v))).collect::<Vec<_>>();
+    let m = hemilab::compare::margin::paired(&list(a), &list(b));
+    (m.mean, m.se)
 }
 
 fn mean(r: &Replicates, pick: fn(&(f64, f64)) -> f64) -> f64 {

@@ -3,10 +3,12 @@
 //! convergence slopes (`results/slopes.rs`).
 
 mod aggregate;
+mod csv;
 mod slopes;
 mod split;
 
 pub use aggregate::{Aggregate, Stat, aggregate, aggregate_columns, aggregates_to_csv, lookup};
+pub use csv::to_csv;
 pub use slopes::{Slope, SlopeFit, SweepSlopes, convergence_slopes, sweep_slopes};
 pub use split::{efficiency_spread, fill_timing};
 
@@ -208,15 +210,11 @@ pub struct JobResult {
     /// than frame 1 (`plan::Measurement::first_frame`: advise after an accumulating pipeline);
     /// absent from the file when 1, so that every other record is written as before. Not a CSV
     /// column: `time_s` over the frames rendered is what a reader wants, and advise gives it.
-    #[serde(default = "first", skip_serializing_if = "is_first")]
+    #[serde(default = "one", skip_serializing_if = "is_one")]
     pub first_frame: u32,
 }
 
-fn first() -> u32 {
-    1
-}
-
-fn is_first(f: &u32) -> bool {
+fn is_one(f: &u32) -> bool {
     *f == 1
 }
 
@@ -437,62 +435,6 @@ pub(crate) fn csv_field(s: &str) -> String {
 /// Shortest text that reads back to the same f64; non-finite as empty.
 pub(crate) fn num(x: f64) -> String {
     if x.is_finite() { format!("{x}") } else { String::new() }
-}
-
-/// `results.csv`: a header with `CSV_COLUMNS`, then one line per record.
-pub fn to_csv(results: &[JobResult]) -> String {
-    let mut s = CSV_COLUMNS.join(",");
-    s.push('\n');
-    for r in results {
-        let fields = [
-            csv_field(&r.scene),
-            csv_field(&r.distribution),
-            csv_field(&r.sequence),
-            csv_field(&r.seed_mode),
-            r.rays.to_string(),
-            r.replicate.to_string(),
-            r.seed.to_string(),
-            num(r.rmse),
-            num(r.bias),
-            num(r.autocorr_x),
-            num(r.autocorr_y),
-            num(r.lowpass_rmse),
-            num(r.time_s),
-            num(r.rays_per_s),
-            num(r.whiteness_z),
-            r.rays_cast.to_string(),
-            num(r.time_median_s),
-            num(r.time_min_s),
-            num(r.time_max_s),
-            r.timings.to_string(),
-            num(r.overhead_s),
-            num(r.ao_time_s),
-            num(r.ns_per_ray),
-            r.efficiency.map_or(String::new(), num),
-            r.timing_threads.to_string(),
-            num(r.wall_s),
-            r.covered_pixels.to_string(),
-            csv_field(&r.key),
-            csv_field(&r.image),
-            num(r.lowfreq_ratio),
-            csv_field(&r.pipeline),
-            r.frame.to_string(),
-            csv_field(&r.schedule),
-            num(r.noise_rmse),
-            csv_field(&r.integrand),
-            csv_field(&r.camera),
-            csv_field(&r.denoiser),
-            num(r.flicker.unwrap_or(f64::NAN)),
-            num(r.floor.unwrap_or(f64::NAN)),
-            num(r.denoise_s),
-            num(r.flip),
-            num(r.bias_rmse),
-            num(r.bias_se),
-        ];
-        s.push_str(&fields.join(","));
-        s.push('\n');
-    }
-    s
 }
 
 /// `results.json`: a pretty array of records (the resume source).

@@ -29,9 +29,10 @@ pub fn run(args: PlanArgs) -> Result<()> {
     let estimate = |p: &Plan| {
         cost::jobs(
             p,
-            |j| cal.render_s(&loaded, j),
+            |j| cal.frame_s(&loaded, j),
+            |j, frames, shown| cal.filter_s(&loaded, j, frames, shown),
             |id| cal.overhead_s(&loaded, id),
-            &cal.model(&loaded, p.jobs.len(), threads),
+            &cal.model(&loaded, threads),
         )
     };
 
@@ -130,7 +131,9 @@ pub fn run(args: PlanArgs) -> Result<()> {
                 .iter()
                 .map(|(p, moving, f)| {
                     let cam = if *moving { " (moving camera)" } else { "" };
-                    format!(", {p}{cam} + {:.2} ms per frame", f * 1e3)
+                    // A history's first frames cost more (SVGF's spatial variance).
+                    let first = f.first.first().map_or(String::new(), |x| format!(" {:.2} ms at first, then", x * 1e3));
+                    format!(", {p}{cam} +{first} {:.2} ms per frame", f.later * 1e3)
                 })
                 .collect();
             Some(format!(
@@ -146,7 +149,11 @@ pub fn run(args: PlanArgs) -> Result<()> {
         .collect();
     let _ = writeln!(s, "{}", parts.join("; "));
     if cal.contention > 1.15 {
-        let load = cal.averaged.map_or(String::new(), |a| format!(", the load average says {a:.1}x"));
+        let load = match (cal.now, cal.averaged) {
+            (Some(n), _) => format!(", other processes' runnable threads say {n:.1}x"),
+            (None, Some(a)) => format!(", the load average says {a:.1}x"),
+            (None, None) => String::new(),
+        };
         let _ = writeln!(
             s,
             "the machine is busy: the calibration renders took {:.1}x their CPU time in wall time{load}; the \

@@ -8,18 +8,20 @@
 //! `cost::CALIBRATION_PIXELS` with the same aspect, the per-image costs scaled back up by the pixel ratio:
 //! at 8000x8000 a full-size calibration took minutes, and its 2 rays per pixel measured a negative
 //! cost per ray): the no-AO-ray overhead render
-//! and a 1-ray render of the first estimator (3 each), and every estimator the plan uses (and the
-//! reference's, if a reference must be built) once at a few rays per pixel. Each estimator's cost
-//! is the line through its render and the 1-ray render (`Calibration::fit`): a render's time
-//! grows linearly with its AO rays (measured on the kitchen from 1 to 1024 rays). Wall time per CPU
-//! second of those renders measures how busy the machine is; the estimate assumes it stays so.
-//! A real-time job's frame costs its render plus its pipeline's own work (`filter_frames`: the
-//! filter timed on the calibration frame, still and moving). Not estimated: writing files (fsync)
-//! and drawing the report, about a second or two.
+//! and a 1-ray render of the first estimator, and every estimator the plan uses (and the
+//! reference's, if a reference must be built) at a few rays per pixel, 3 times each. Each
+//! estimator's cost is the line through its renders' median and the 1-ray renders' median
+//! (`Calibration::fit`): a render's time grows linearly with its AO rays (measured on the kitchen
+//! from 1 to 1024 rays). Other processes' runnable threads, sampled meanwhile, say how busy the
+//! machine is; the estimate assumes it stays so. A real-time job's frame costs its render plus its
+//! pipelines' own work (`filter_frames`: each filter timed frame by frame on the calibration frame,
+//! still and moving). A recorded job's metrics, FLIP and image file are timed on one calibration
+//! render, in wall time (the file's fsync). Not estimated: drawing the report, a few seconds.
 
-use super::filter_cost::{filter_frames, moves};
+use super::filter_cost::{FilterCost, filter_frames, moves};
+use super::post_cost::post_cost;
+pub use super::to_build::{Build, builds, by_scene};
 use crate::error::{Error, Result};
-use crate::image::{self, Channel};
 use crate::io;
 use crate::jobs::executor::{overhead_job, render_job};
 use crate::load::Loaded;
@@ -28,9 +30,8 @@ use crate::plan::{self, Job, Plan, cost};
 use crate::reference::Manifest;
 use crate::reference::store as refs;
 use crate::render::{self, RenderJob, RenderOutput};
-use crate::results::{self, JobResult};
 use crate::spec::Row;
-use crate::timing::{self, Calibration, Time, clock};
+use crate::timing::{self, Calibration, Time};
 use std::sync::Mutex;
 
 /// AO rays per calibration render, about: enough to dwarf the per-image cost, few enough that a
@@ -38,11 +39,12 @@ use std::sync::Mutex;
 const CALIBRATION_RAYS: u64 = 250_000;
 /// … and all estimator renders of all scenes together no more than this.
 const CALIBRATION_TOTAL_RAYS: u64 = 4_000_000;
-/// Bytes per pixel of two uncompressed 32-bit channels: a job image's size when no calibration
-/// image was encoded.
-pub const EXR_BYTES_PER_PIXEL_AT_MOST: f64 = 8.0;
-/// Timed samples of the overhead and 1-ray renders per scene.
+/// Timed samples of the overhead and 1-ray renders per scene, and of each estimator's render (a
+/// single one put the paper spec's forecast anywhere from 1 min 00 s to 1 min 25 s on the quiet
+/// machine).
 const CALIBRATION_SAMPLES: usize = 3;
+/// Milliseconds between samples of the machine's runnable threads during the calibration.
+const RUNNABLE_EVERY_MS: u64 = 10;
 /// Untimed CPU seconds each calibration worker renders on a scene first.
 const CALIBRATION_WARMUP_S: f64 = 0.05;
 
@@ -59,7 +61,7 @@ pub struct SceneCal {
     /// Per pipeline the plan filters frames with, and whether the camera moves (its history is
     /// then gathered from four taps, not one): CPU seconds of its own work per frame at the
     /// image's size (`filter_frames`), on top of the frame's render.
-    pub filters: Vec<(crate::denoise::Pipeline, bool, f64)>,
+    pub filters: Vec<(crate::denoise::Pipeline, bool, FilterCost)>,
     /// Under `[tiles]`, the share of the image's pixels and of its covered pixels a frame renders
     /// (its windows, `jobs::tiles::TileSet`): `shares[0]` for the still camera, `shares[1]` for a
     /// moving one (whose windows are wider by its motion); (1, 1) for the whole image. Everything
@@ -77,15 +79,20 @@ pub struct Calibrated {
     pub filtered_exr_bytes_per_pixel: f64,
     /// Bytes of one record in results.json and results.csv together.
     pub record_bytes: f64,
-    /// Wall seconds per CPU second a worker will see: the geometric mean of `measured` and
-    /// `averaged`. The calibration's own wall/CPU is a direct measurement but of a fraction of a
-    /// second, in which the scheduler favours threads that just started; the load average
-    /// (threads wanting a core, with the run's workers added, per online CPU) is a minute's average
-    /// of the whole machine. On this project's shared 2-core machine the first alone came out
-    /// 1.3–2.3× below what the run then saw, the second 1.2–1.6× above.
+    /// Wall seconds per CPU second a worker will see: `now` where `/proc` has it, else the
+    /// geometric mean of `measured` and `averaged`. The calibration's own wall/CPU is a direct
+    /// measurement but of a fraction of a second, in which the scheduler favours threads that just
+    /// started; the load average (threads wanting a core, with the run's workers added, per online
+    /// CPU) is a minute's average of the whole machine, this process's own earlier work and that of
+    /// a run which has just ended included. On this project's shared 2-core machine the first alone
+    /// came out 1.3–2.3× below what the run then saw, the second 1.2–1.6× above; on the idle machine
+    /// a minute after a run the mean said 1.4× where the run then saw 1.0×.
     pub contention: f64,
     pub measured: f64,
     pub averaged: Option<f64>,
+    /// (Other processes' runnable threads, sampled during the calibration (`io::Runnable`), plus the
+    /// run's workers) per CPU, at least 1: what `contention` is where `/proc` says it.
+    pub now: Option<f64>,
     /// CPU seconds per job for metrics and EXR encoding, and per record for rewriting the results.
     pub measure_s: f64,
     pub serialize_per_record_s: f64,
@@ -99,14 +106,33 @@ impl Calibrated {
     }
 
     /// Predicted CPU seconds of one render of `job` (on its own row's line), of one frame for a
-    /// series: under `[tiles]` of its camera's windows (`SceneCal::shares`), the filter's work too.
+    /// series, its pipeline's own work included (as one series of the job's frames showing its last
+    /// spends it per frame): under `[tiles]` of its camera's windows (`SceneCal::shares`).
     pub fn render_s(&self, loaded: &Loaded, job: &Job) -> f64 {
+        let frames = job.measurement.frames_rendered().len();
+        self.frame_s(loaded, job) + self.filter_s(loaded, job, frames, 1) / frames.max(1) as f64
+    }
+
+    /// `render_s` without the pipeline's work: the frame's render alone.
+    pub fn frame_s(&self, loaded: &Loaded, job: &Job) -> f64 {
         let s = self.scene(loaded, job);
         let (pixels, covered) = s.shares[usize::from(moves(job))];
         self.render_share_s(loaded, job, pixels, covered)
     }
 
-    /// `render_s` of the whole image, whatever `[tiles]` says: a reference's render is scaled by
+    /// CPU seconds of `job`'s pipeline over a series of `frames` frames showing `shown`
+    /// (`FilterCost::series_s`), on its camera's windows under `[tiles]`; 0 for raw.
+    pub fn filter_s(&self, loaded: &Loaded, job: &Job, frames: usize, shown: usize) -> f64 {
+        let s = self.scene(loaded, job);
+        let key = (job.measurement.pipeline, moves(job));
+        let pixels = s.shares[usize::from(key.1)].0;
+        s.filters
+            .iter()
+            .find(|(p, m, _)| (*p, *m) == key)
+            .map_or(0.0, |f| f.2.series_s(frames, shown) * pixels)
+    }
+
+    /// `frame_s` of the whole image, whatever `[tiles]` says: a reference's render is scaled by
     /// its own window (`references_s`).
     fn render_whole_s(&self, loaded: &Loaded, job: &Job) -> f64 {
         self.render_share_s(loaded, job, 1.0, 1.0)
@@ -116,10 +142,8 @@ impl Calibrated {
         let s = self.scene(loaded, job);
         let row = job.row().canonical();
         let cal = s.rows.iter().find(|(r, _)| *r == row).map(|(_, c)| c).expect("calibrated row");
-        let key = (job.measurement.pipeline, moves(job));
-        let filter = s.filters.iter().find(|(p, m, _)| (*p, *m) == key).map_or(0.0, |f| f.2);
         let rays = (s.covered * covered * job.rays as f64).round() as u64;
-        cal.overhead_s * pixels + cal.ns_per_ray * 1e-9 * rays as f64 + filter * pixels
+        cal.overhead_s * pixels + cal.ns_per_ray * 1e-9 * rays as f64
     }
 
     /// The no-AO-ray render of the scene (of the still camera's windows under `[tiles]`).
@@ -137,13 +161,16 @@ impl Calibrated {
         if filtered { self.filtered_exr_bytes_per_pixel } else { self.exr_bytes_per_pixel }
     }
 
-    pub fn model(&self, loaded: &Loaded, jobs: usize, workers: usize) -> cost::Model {
+    pub fn model(&self, loaded: &Loaded, workers: usize) -> cost::Model {
         let spec = &loaded.spec;
         cost::Model {
             protocol: timing::Protocol::new(spec.timing.repeats, spec.timing.seed, workers),
             overhead_renders: timing::OVERHEAD_REPEATS,
-            // Results are rewritten after every job, on average half full.
-            post_s: self.measure_s + self.serialize_per_record_s * jobs as f64 / 2.0,
+            // Each job's record is appended to the journal; the results files are rewritten whole
+            // every so often.
+            post_s: self.measure_s + self.serialize_per_record_s,
+            rewrite_s: self.serialize_per_record_s,
+            rewrite_every_s: crate::outdir::Saver::EVERY.as_secs_f64(),
             contention: self.contention,
         }
     }
@@ -205,8 +232,10 @@ pub fn calibrate(
             renders.push(at(first, 1)?);
         }
         for (i, job) in jobs.iter().enumerate() {
-            probes.push((Probe { scene: si, row: Some(i), rays }, renders.len()));
-            renders.push(at(job, rays)?);
+            for _ in 0..CALIBRATION_SAMPLES {
+                probes.push((Probe { scene: si, row: Some(i), rays }, renders.len()));
+                renders.push(at(job, rays)?);
+            }
         }
     }
 
@@ -248,7 +277,21 @@ pub fn calibrate(
         Ok(())
     };
     let pool = timing::workers(workers).map_err(Error::Refused)?;
-    timing::run_queue(&probes, pool, work, done)?;
+    // How busy the machine is now: other processes' runnable threads, sampled beside the renders.
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let (queued, runnable) = std::thread::scope(|s| {
+        let sampler = s.spawn(|| {
+            let mut r = io::Runnable::default();
+            while !stop.load(std::sync::atomic::Ordering::Relaxed) && r.sample() {
+                std::thread::sleep(std::time::Duration::from_millis(RUNNABLE_EVERY_MS));
+            }
+            r
+        });
+        let queued = timing::run_queue(&probes, pool, work, done);
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        (queued, sampler.join().unwrap_or_default())
+    });
+    queued?;
     let results = results.into_inner().unwrap_or_else(|e| e.into_inner());
 
     let cpu_s: f64 = results.iter().map(|r| r.1.cpu_s).sum();
@@ -286,7 +329,7 @@ pub fn calibrate(
         let mut cals = Vec::new();
         for (i, job) in jobs.iter().enumerate() {
             let mine = of(Some(i), rays_of[si]);
-            let fit = Calibration::fit(&[base, (mine[0].0, mine[0].1)]).ok_or_else(|| {
+            let fit = Calibration::fit(&[base, (mine[0].0, median(&mine))]).ok_or_else(|| {
                 Error::Refused(format!("calibration of {} on '{}' failed", job.row().label(), job.scene_name))
             })?;
             // Per image: as many times more as the real image has pixels; per AO ray: the same.
@@ -303,60 +346,32 @@ pub fn calibrate(
         }));
     }
 
-    // Per recorded job: metrics and the EXR; per record: the results files.
-    let out = sample.into_inner().unwrap_or_else(|e| e.into_inner());
-    let mut exr_bytes_per_pixel = EXR_BYTES_PER_PIXEL_AT_MOST;
-    let mut filtered_exr_bytes_per_pixel = EXR_BYTES_PER_PIXEL_AT_MOST;
-    if let Some(n) = noisiest.into_inner().unwrap_or_else(|e| e.into_inner()) {
-        let per_pixel = |ao: &image::Image| {
-            image::encode_exr(&[Channel { name: "Y", image: ao }, Channel { name: "A", image: &n.coverage }])
-                .map(|b| b.len() as f64 / ao.len().max(1) as f64)
-        };
-        if let Ok(b) = per_pixel(&n.ao) {
-            exr_bytes_per_pixel = b;
-        }
-        let smooth = crate::denoise::gaussian(&n.ao, &n.coverage, crate::denoise::GAUSS_SIGMA);
-        if let Ok(b) = per_pixel(&smooth) {
-            filtered_exr_bytes_per_pixel = b;
-        }
-    }
-    let mut record_bytes = 0.0;
-    let (measure_s, serialize_per_record_s) = match out {
-        Some((si, out)) => {
-            let c0 = clock::thread_cpu_s();
-            let stats = crate::metrics::measure(&out.ao, &out.ao, &out.coverage)
-                .map_err(|e| Error::Refused(format!("calibration: {e}")))?;
-            let _ = image::encode_exr(&[
-                Channel { name: "Y", image: &out.ao },
-                Channel { name: "A", image: &out.coverage },
-            ]);
-            let c1 = clock::thread_cpu_s();
-            let records: Vec<JobResult> = full
-                .jobs
-                .iter()
-                .map(|j| JobResult::new(j, &stats, out.rays, crate::outdir::image_rel(j)))
-                .collect();
-            let text = (results::to_json(&records), results::to_csv(&records));
-            let c2 = clock::thread_cpu_s();
-            record_bytes = (text.0.len() + text.1.len()) as f64 / records.len().max(1) as f64;
-            drop(text);
-            ((c1 - c0) * ratio_of[si], (c2 - c1) / full.jobs.len().max(1) as f64)
-        }
-        None => (0.0, 0.0),
-    };
+    // Per recorded job: metrics, FLIP and the EXR; per record: the results files.
+    let post = post_cost(
+        loaded,
+        full,
+        sample.into_inner().unwrap_or_else(|e| e.into_inner()),
+        noisiest.into_inner().unwrap_or_else(|e| e.into_inner()),
+        &ratio_of,
+    )?;
     let measured = if cpu_s > 0.0 { (wall_s / cpu_s).max(1.0) } else { 1.0 };
+    let cpus = timing::cores() as f64;
+    let busy = |others: f64| ((others + workers as f64) / cpus).max(1.0);
+    let now = runnable.mean().map(busy);
     let averaged = io::load_average().map(|(load, cpus)| ((load + workers as f64) / cpus as f64).max(1.0));
-    let contention = averaged.map_or(measured, |a| (measured * a).sqrt());
+    // Where /proc says who is running now, that; else between the two older measures.
+    let contention = now.or(averaged.map(|a| (measured * a).sqrt())).unwrap_or(measured);
     Ok(Calibrated {
         scenes,
-        exr_bytes_per_pixel,
-        filtered_exr_bytes_per_pixel,
-        record_bytes,
+        exr_bytes_per_pixel: post.exr_bytes_per_pixel,
+        filtered_exr_bytes_per_pixel: post.filtered_exr_bytes_per_pixel,
+        record_bytes: post.record_bytes,
         contention,
         measured,
         averaged,
-        measure_s,
-        serialize_per_record_s,
+        now,
+        measure_s: post.measure_s,
+        serialize_per_record_s: post.serialize_per_record_s,
         cpu_s,
         wall_s,
     })
@@ -381,77 +396,6 @@ pub fn cheapest(loaded: &Loaded, plan: &Plan, cal: &Calibrated) -> Result<(f64, 
 pub fn adaptive_rays(loaded: &Loaded, si: usize, m: &Manifest) -> Option<u32> {
     let a = m.adaptive.as_ref()?;
     Some(a.budget.unwrap_or_else(|| refs::auto_rays(&loaded.spec, si)))
-}
-
-/// A reference a run of the plan would build: the scene's own, or a camera path frame's.
-pub struct Build {
-    pub scene: usize,
-    pub manifest: Manifest,
-    /// `None`: the scene's own view; else the camera and frame (from 0) it is of.
-    pub view: Option<(crate::plan::CameraId, u32)>,
-    /// Renders per replicate: 1, or the jitter cycle a jittered camera's reference averages.
-    pub views: u32,
-}
-
-/// The references a run of `selected` would build in `dir` (`reference::store::missing`,
-/// `missing_view`): each scene's own that a job of the plan uses, then every camera path frame's
-/// the jobs read (`jobs::reference::needed_views`), a moving camera's one per measured frame and
-/// the frame before it.
-pub fn builds(loaded: &Loaded, selected: &Plan, dir: &std::path::Path) -> Result<Vec<Build>> {
-    let spec = &loaded.spec;
-    let mut out: Vec<Build> = Vec::new();
-    // Under `[tiles]` every reference is one per tile interior (`jobs::reference::obtain_measured`).
-    let tiles: Vec<Option<super::tiles::TileSet>> =
-        (0..loaded.scenes.len()).map(|si| super::tiles::of_spec(spec, si, &loaded.scenes[si])).collect();
-    let windows = |si: usize| -> Vec<Option<crate::render::Window>> {
-        match &tiles[si] {
-            Some(t) => t.interiors.iter().copied().map(Some).collect(),
-            None => vec![None],
-        }
-    };
-    let add = |out: &mut Vec<Build>,
-               si: usize,
-               view: &refs::ReferenceView,
-               at: Option<(crate::plan::CameraId, u32)>|
-     -> Result<()> {
-        for w in windows(si) {
-            let v = refs::ReferenceView { window: w, ..*view };
-            if let Some(manifest) = refs::missing_view(spec, si, &loaded.scenes[si], dir, &v)? {
-                // A frame seen from the scene's own camera (an orbit's frame 0) is the scene's reference.
-                if out.iter().any(|b: &Build| b.manifest.file_stem() == manifest.file_stem()) {
-                    continue;
-                }
-                let views = if v.jitter_average { crate::scene::camera_path::JITTER_CYCLE } else { 1 };
-                out.push(Build { scene: si, manifest, view: at, views });
-            }
-        }
-        Ok(())
-    };
-    for (si, scene) in loaded.scenes.iter().enumerate() {
-        if !selected.jobs.iter().any(|j| loaded.scene_of(j).0 == si) {
-            continue;
-        }
-        if tiles[si].is_none() {
-            if let Some(manifest) = refs::missing(spec, si, scene, dir)? {
-                out.push(Build { scene: si, manifest, view: None, views: 1 });
-            }
-            continue;
-        }
-        add(&mut out, si, &refs::ReferenceView::of_scene(scene), None)?;
-    }
-    let si_of = |j: &Job| loaded.scene_of(j).0;
-    for n in crate::jobs::reference::needed_views(selected, &loaded.scenes, si_of) {
-        add(&mut out, n.scene, &n.view, Some((n.camera, n.frame)))?;
-    }
-    Ok(out)
-}
-
-/// Per scene, a reference it must build, if any: what `calibrate` adds the reference's estimator
-/// for.
-pub fn by_scene(loaded: &Loaded, builds: &[Build]) -> Vec<Option<Manifest>> {
-    (0..loaded.scenes.len())
-        .map(|si| builds.iter().find(|b| b.scene == si).map(|b| b.manifest.clone()))
-        .collect()
 }
 
 /// Wall seconds to build `builds` (on `threads` threads): every replicate at the manifest's rays
@@ -488,9 +432,10 @@ pub fn estimate_s(
     let cal = calibrate(loaded, full, &by_scene(loaded, &builds), threads)?;
     let b = cost::jobs(
         selected,
-        |j| cal.render_s(loaded, j),
+        |j| cal.frame_s(loaded, j),
+        |j, frames, shown| cal.filter_s(loaded, j, frames, shown),
         |id| cal.overhead_s(loaded, id),
-        &cal.model(loaded, selected.jobs.len(), threads),
+        &cal.model(loaded, threads),
     );
     Ok(references_s(loaded, &cal, &builds, threads) + b.wall_s)
 }

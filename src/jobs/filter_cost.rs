@@ -14,24 +14,50 @@ pub(super) fn moves(job: &Job) -> bool {
     job.measurement.camera.run().is_some_and(|r| !r.path.is_static())
 }
 
-/// Frames each pipeline filters in calibration, after one that starts it.
-const FILTER_FRAMES: u32 = 4;
+/// Frames of a series the calibration times one by one: a pipeline's first frames cost more
+/// than its later ones (SVGF estimates a pixel's variance over 7 × 7 neighbours until its history
+/// holds `denoise::svgf::SPATIAL_VARIANCE_FRAMES` frames) …
+const FIRST_FRAMES: usize = crate::denoise::svgf::SPATIAL_VARIANCE_FRAMES as usize + 1;
+/// … then this many later frames, whose median is every later frame's cost.
+const LATER_FRAMES: usize = 3;
+
+/// A pipeline's own CPU seconds per frame at the image's size, as a series spends them: its first
+/// frames one by one (`first`), each later frame advanced without being shown (`later`: SVGF makes
+/// its first à-trous pass only, the colour history), and the shown frame (`shown`: every pass).
+/// Measured on Sponza at 1080p's pass count (2026-12-07): SVGF's first five frames cost 1.5–2.0×
+/// a later one, and the calibration that timed only frames 2–5 forecast a 21-frame steady-state
+/// series' filter at twice its cost.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FilterCost {
+    pub first: Vec<f64>,
+    pub later: f64,
+    pub shown: f64,
+}
+
+impl FilterCost {
+    /// CPU seconds over a series of `frames` frames of which `shown` are shown: every frame
+    /// advanced (its first ones at their own cost), the shown ones' extra passes on top.
+    pub fn series_s(&self, frames: usize, shown: usize) -> f64 {
+        let advanced: f64 = (0..frames).map(|k| self.first.get(k).copied().unwrap_or(self.later)).sum();
+        advanced + shown as f64 * (self.shown - self.later).max(0.0)
+    }
+}
 
 /// Per pipeline (other than raw) the plan's jobs on scene `si` use, still or moving, its own CPU
-/// seconds per frame at the image's size: a frame of noise at the calibration size with the
-/// scene's G-buffer, pushed through the pipeline's filter `FILTER_FRAMES` times after a first one
-/// (as a run advances an accumulating one frame by frame; a spatial filter alone filters its one
-/// frame), on a worker thread as the run times it (a filter's rayon work stays on that thread),
-/// with the history gathered from one tap per pixel (a still camera) or four (a moving one),
-/// scaled by the pixel ratio. Measured at 64x48 on the kitchen under load (2026-12-07): SVGF
-/// 0.9 ms per frame still and 2 ms moving beside a 2-ray frame's 2 ms render, which a forecast of
-/// the renders alone left out.
+/// seconds per frame at the image's size (`FilterCost`): frames of noise at the calibration size
+/// with the scene's G-buffer pushed through the pipeline's filter as a run does (an accumulating
+/// one advanced frame by frame, then shown; a spatial filter alone filters each frame anew), on a
+/// worker thread as the run times it (a filter's rayon work stays on that thread), with the
+/// history gathered from one tap per pixel (a still camera) or four (a moving one), scaled by the
+/// pixel ratio. Measured at 64x48 on the kitchen under load (2026-12-07): SVGF 0.9 ms per frame
+/// still and 2 ms moving beside a 2-ray frame's 2 ms render, which a forecast of the renders alone
+/// left out.
 pub(super) fn filter_frames(
     loaded: &Loaded,
     full: &Plan,
     si: usize,
     first: &Job,
-) -> Result<Vec<(crate::denoise::Pipeline, bool, f64)>> {
+) -> Result<Vec<(crate::denoise::Pipeline, bool, FilterCost)>> {
     let mut wanted: Vec<(crate::denoise::Pipeline, bool)> = Vec::new();
     for j in full.jobs.iter().filter(|j| loaded.scene_of(j).0 == si) {
         let k = (j.measurement.pipeline, moves(j));
@@ -52,7 +78,7 @@ pub(super) fn filter_frames(
             .collect();
         image::Image::from_vec(w, h, v)
     };
-    let frames: Vec<image::Image> = (0..=FILTER_FRAMES as u64).map(noise).collect();
+    let frames: Vec<image::Image> = (0..(FIRST_FRAMES + LATER_FRAMES + 1) as u64).map(noise).collect();
     let motion = |moving: bool| {
         if !moving {
             return crate::denoise::motion::Motion::identity(w, h);
@@ -78,22 +104,57 @@ pub(super) fn filter_frames(
     let mut out = Vec::new();
     for (p, moving) in wanted {
         let m = motion(moving);
-        let (cpu, _) = worker.timed(|| {
+        let (costs, _) = worker.timed(|| {
             // The whole image's pass counts, as a run filters it (and each tile's window).
-            let mut f = p.at_size(g.width, g.height).start(w, h);
-            let mut step = |frame: &image::Image| {
-                if p.is_temporal() {
-                    f.advance(frame, None, &gbuf, &m);
-                } else {
+            let run = p.at_size(g.width, g.height);
+            let mut f = run.start(w, h);
+            let mut timed = |frame: &image::Image, shown: bool| {
+                let c0 = clock::thread_cpu_s();
+                if !p.is_temporal() {
+                    // Nothing carries over: each frame is filtered by a run of its own.
+                    let _ = run.start(w, h).push(frame, &gbuf, &m);
+                } else if shown {
                     let _ = f.push(frame, &gbuf, &m);
+                } else {
+                    f.advance(frame, None, &gbuf, &m);
                 }
+                (clock::thread_cpu_s() - c0) * ratio
             };
-            step(&frames[0]);
-            let c0 = clock::thread_cpu_s();
-            frames[1..].iter().for_each(&mut step);
-            clock::thread_cpu_s() - c0
+            let (last, advanced) = frames.split_last().expect("frames to filter");
+            let v: Vec<f64> = advanced.iter().map(|frame| timed(frame, false)).collect();
+            let shown = timed(last, true);
+            (v, shown)
         });
-        out.push((p, moving, cpu / FILTER_FRAMES as f64 * ratio));
+        let (v, shown) = costs;
+        let cost = if p.is_temporal() {
+            FilterCost {
+                first: v[..FIRST_FRAMES].to_vec(),
+                later: crate::stats::median(&v[FIRST_FRAMES..]),
+                shown,
+            }
+        } else {
+            // Every frame alike; the process's first one (code and pages not yet touched, 6x the
+            // others on the kitchen) left out.
+            let c = crate::stats::median(&v[1..]);
+            FilterCost { first: Vec::new(), later: c, shown: c }
+        };
+        out.push((p, moving, cost));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::FilterCost;
+
+    #[test]
+    fn a_series_pays_its_first_frames_at_their_own_cost_and_its_shown_frames_passes() {
+        let c = FilterCost { first: vec![3.0, 3.0, 2.0], later: 1.0, shown: 5.0 };
+        // 21 frames, the last shown: 3 + 3 + 2 + 18 later ones, and the shown one's 4 more.
+        assert_eq!(c.series_s(21, 1), 8.0 + 18.0 + 4.0);
+        assert_eq!(c.series_s(2, 2), 6.0 + 8.0);
+        // A filter without history: every frame alike.
+        let spatial = FilterCost { first: Vec::new(), later: 2.0, shown: 2.0 };
+        assert_eq!(spatial.series_s(1, 1), 2.0);
+    }
 }

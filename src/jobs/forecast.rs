@@ -50,9 +50,10 @@ pub fn advise(
     let cal = calibrate::calibrate(loaded, plan, &calibrate::by_scene(loaded, &builds), workers)?;
     let sweep = cost::jobs(
         todo,
-        |j| cal.render_s(loaded, j),
+        |j| cal.frame_s(loaded, j),
+        |j, frames, shown| cal.filter_s(loaded, j, frames, shown),
         |id| cal.overhead_s(loaded, id),
-        &cal.model(loaded, todo.jobs.len(), workers),
+        &cal.model(loaded, workers),
     );
     let refs_s = calibrate::references_s(loaded, &cal, &builds, workers);
     // The paper's default is the sweep's first row; its line gives the default budgets' range.

@@ -72,10 +72,16 @@ fn rough_run_s(
         let j = selected.jobs.iter().find(|j| j.scene_id == id).expect("a planned scene");
         pixels(j) * 10.0 / TYPICAL_RAYS_PER_S
     };
-    let model =
-        cost::Model { protocol, overhead_renders: timing::OVERHEAD_REPEATS, post_s: 0.0, contention: 1.0 };
+    let model = cost::Model {
+        protocol,
+        overhead_renders: timing::OVERHEAD_REPEATS,
+        post_s: 0.0,
+        rewrite_s: 0.0,
+        rewrite_every_s: 0.0,
+        contention: 1.0,
+    };
     let render_s = |j: &Job| pixels(j) * (j.rays as f64 + 10.0) / TYPICAL_RAYS_PER_S;
-    let jobs_s = cost::jobs(selected, render_s, overhead, &model).wall_s;
+    let jobs_s = cost::jobs(selected, render_s, |_, _, _| 0.0, overhead, &model).wall_s;
     // The references, if they must be built: looked up (reading each image) only if they matter.
     let spec = &loaded.spec;
     let used = |si: usize| selected.jobs.iter().any(|j| loaded.scene_of(j).0 == si);

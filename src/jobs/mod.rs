@@ -11,11 +11,13 @@ pub mod forecast;
 pub mod guides;
 pub mod long_run;
 pub mod measure;
+mod post_cost;
 pub mod reference;
 pub mod replicates;
 pub mod runner;
 pub mod sampler_cost;
 pub mod sweep;
 pub mod tiles;
+mod to_build;
 
 pub use config::Threads;

@@ -81,8 +81,9 @@ pub fn error_images(
 }
 
 /// How often the records are rewritten while jobs finish: rewriting every record after every one
-/// of a sweep's ~1,500 jobs would cost more than the renders; a killed run loses at most this.
-const WRITE_EVERY: Duration = Duration::from_secs(2);
+/// of a sweep's ~1,500 jobs would cost more than the renders; a killed run loses at most this. As
+/// often as `run` rewrites its results (`outdir::Saver`).
+const WRITE_EVERY: Duration = crate::outdir::Saver::EVERY;
 
 /// The stage's results.json: every earlier record and this run's, rewritten every `WRITE_EVERY`.
 pub struct Store<'a> {

@@ -38,7 +38,7 @@ pub fn all_open_warning(path: &Path, scene: &Scene, camera: &str) -> Option<Stri
         path.display(),
         scene.ao_distance,
         out.rays,
-        super::where_is_the_mesh(scene)
+        super::describe::where_is_the_mesh(scene)
     ))
 }
 
@@ -48,7 +48,7 @@ const ENCLOSED_RAYS: u32 = 256;
 /// The fraction of directions from the centre of the mesh's bounding box that meet the mesh: near
 /// 1 inside a room, near 0 for a lone quad, whose surfaces are open from anywhere.
 fn enclosed(scene: &Scene) -> f64 {
-    let (lo, hi) = super::bounds(scene);
+    let (lo, hi) = super::describe::bounds(scene);
     let centre = ((lo + hi) * 0.5 - scene.origin).as_vec3();
     let mut hits = 0u32;
     for i in 0..ENCLOSED_RAYS {

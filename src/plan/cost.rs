@@ -15,8 +15,13 @@ pub struct Model {
     pub protocol: Protocol,
     /// Timed no-AO-ray renders per scene in the first round.
     pub overhead_renders: u32,
-    /// CPU seconds per recorded job besides its render: metrics, EXR encoding, rewriting results.
+    /// CPU seconds per recorded job besides its render: metrics, EXR encoding, its journal line.
     pub post_s: f64,
+    /// CPU seconds per record each time the results files are rewritten whole, which a run does
+    /// at most every `rewrite_every_s` wall seconds (`outdir::Saver`): after every job, as this
+    /// model once assumed, a 13,200-job real-time run would spend 900 s rewriting; it spends 40.
+    pub rewrite_s: f64,
+    pub rewrite_every_s: f64,
     /// Wall seconds per CPU second of a worker (1 on an idle machine, more when other work shares
     /// the cores).
     pub contention: f64,
@@ -48,54 +53,93 @@ pub struct Breakdown {
     pub wall_s: f64,
 }
 
-/// `render_s(job)`: CPU seconds of one render of the job (of one frame, for a series of frames);
-/// `overhead_s(scene_id)`: of the scene's no-AO-ray render.
+/// `frame_s(job)`: CPU seconds of one render of the job (of one frame, for a series of frames),
+/// without its pipeline's own work; `filter_s(job, frames, shown)`: of the job's pipeline over a
+/// series of `frames` frames of which `shown` are shown (0 for raw); `overhead_s(scene_id)`: of the
+/// scene's no-AO-ray render. A series is rendered once for all its accumulating pipelines, and each
+/// of them filters every frame: the engine-noise spec's series of 16 frames feed SVGF and
+/// ema0.1+atrous, each showing 5 (a forecast of one pipeline's single shown frame said 88 s of
+/// renders for 147).
 pub fn jobs(
     plan: &Plan,
-    render_s: impl Fn(&Job) -> f64,
+    frame_s: impl Fn(&Job) -> f64,
+    filter_s: impl Fn(&Job, usize, usize) -> f64,
     overhead_s: impl Fn(&str) -> f64,
     m: &Model,
 ) -> Breakdown {
     let units = units(plan);
     let mut b = Breakdown { units: units.len(), ..Breakdown::default() };
     // A series of frames is rendered once, by its leader, frame after frame (`plan::series`).
-    let mut leads = vec![false; plan.jobs.len()];
-    for s in series(plan) {
-        leads[s.leader] = true;
+    let series = series(plan);
+    let mut led: Vec<Option<usize>> = vec![None; plan.jobs.len()];
+    for (k, s) in series.iter().enumerate() {
+        led[s.leader] = Some(k);
     }
     for u in &units {
         let first = &plan.jobs[u[0]];
-        let t = render_s(first);
         if first.measurement.is_single_frame() {
+            let t = frame_s(first) + filter_s(first, 1, 1);
             let n = m.samples(u.len(), u.len().max(m.protocol.repeats as usize), t);
             b.renders += n;
             b.render_cpu_s += n as f64 * t;
             continue;
         }
-        // Each of the unit's series renders its leader's frames; a multi-frame unit is not topped
-        // up (`Measurement::tops_up`), but re-rendered to `repeats` like any other.
-        let leaders: Vec<&Job> = u.iter().filter(|&&i| leads[i]).map(|&i| &plan.jobs[i]).collect();
-        let frames = leaders.iter().map(|j| j.measurement.frames_rendered().len()).max().unwrap_or(1);
-        let n = leaders.len().max(m.protocol.repeats as usize);
+        // Each of the unit's series renders its leader's frames and feeds every pipeline of its
+        // members; a multi-frame unit is not topped up (`Measurement::tops_up`), but re-rendered to
+        // `repeats` like any other, for its time only (no filter).
+        let mut frames = 1;
+        let mut recorded = 0usize;
+        for s in u.iter().filter_map(|&i| led[i]).map(|k| &series[k]) {
+            let leader = &plan.jobs[s.leader];
+            let n = leader.measurement.frames_rendered().len();
+            frames = frames.max(n);
+            recorded += 1;
+            b.render_cpu_s += n as f64 * frame_s(leader);
+            let mut pipelines: Vec<(crate::denoise::Pipeline, &Job, Vec<u32>)> = Vec::new();
+            for j in s.members.iter().map(|&i| &plan.jobs[i]) {
+                let (p, f) = (j.measurement.pipeline, j.measurement.frame);
+                match pipelines.iter_mut().find(|x| x.0 == p) {
+                    Some(x) if x.2.contains(&f) => {}
+                    Some(x) => x.2.push(f),
+                    None => pipelines.push((p, j, vec![f])),
+                }
+            }
+            b.render_cpu_s += pipelines.iter().map(|(_, j, shown)| filter_s(j, n, shown.len())).sum::<f64>();
+        }
+        let n = recorded.max(m.protocol.repeats as usize);
         b.renders += n;
-        b.render_cpu_s += n as f64 * frames as f64 * t;
+        b.render_cpu_s += (n - recorded) as f64 * frames as f64 * frame_s(first);
     }
-    let mut scenes: Vec<&str> = plan.jobs.iter().map(|j| j.scene_id.as_str()).collect();
-    scenes.sort_unstable();
-    scenes.dedup();
+    // Each scene a run loads (one per scene and integrand: `load::Loaded::scene_of`) has its own
+    // overhead renders and every worker's warm-up: the integrands spec's 3 scenes are 12.
+    let mut scenes: Vec<(&str, crate::sampling::Integrand)> = Vec::new();
+    for j in &plan.jobs {
+        let k = (j.scene_id.as_str(), j.measurement.integrand);
+        if !scenes.contains(&k) {
+            scenes.push(k);
+        }
+    }
     if b.renders == 0 {
         return b;
     }
     let workers = m.protocol.workers.clamp(1, b.renders);
-    for s in &scenes {
+    for (s, _) in &scenes {
         let t = overhead_s(s);
         b.overhead_cpu_s += m.samples(1, m.overhead_renders as usize, t) as f64 * t;
     }
-    b.post_cpu_s = plan.jobs.len() as f64 * m.post_s;
+    let jobs = plan.jobs.len() as f64;
+    b.post_cpu_s = jobs * m.post_s;
     b.warmup_cpu_s = (workers * scenes.len()) as f64 * m.protocol.warmup_s;
     // Workers share the renders; each warms up on every scene itself.
-    let per_worker = (b.render_cpu_s + b.overhead_cpu_s + b.post_cpu_s) / workers as f64;
-    b.wall_s = (per_worker + scenes.len() as f64 * m.protocol.warmup_s) * m.contention.max(1.0);
+    let wall = |b: &Breakdown| {
+        let per_worker = (b.render_cpu_s + b.overhead_cpu_s + b.post_cpu_s) / workers as f64;
+        (per_worker + scenes.len() as f64 * m.protocol.warmup_s) * m.contention.max(1.0)
+    };
+    // The results files are rewritten whole at most once per job and once per interval, on
+    // average half full.
+    let rewrites = if m.rewrite_every_s > 0.0 { (wall(&b) / m.rewrite_every_s).min(jobs) } else { jobs };
+    b.post_cpu_s += rewrites * jobs / 2.0 * m.rewrite_s;
+    b.wall_s = wall(&b);
     b
 }
 
@@ -196,13 +240,89 @@ frames = 8
         let mut protocol = Protocol::new(1, 1, 1);
         protocol.warmup_s = 0.0;
         protocol.min_total_s = 100.0;
-        let m = Model { protocol, overhead_renders: 1, post_s: 0.0, contention: 1.0 };
-        let b = jobs(&p, |_| 0.5, |_| 0.0, &m);
+        let m = Model {
+            protocol,
+            overhead_renders: 1,
+            post_s: 0.0,
+            rewrite_s: 0.0,
+            rewrite_every_s: 0.0,
+            contention: 1.0,
+        };
+        let b = jobs(&p, |_| 0.5, |_, _, _| 0.0, |_| 0.0, &m);
         assert_eq!((b.units, b.renders), (1, 3), "{b:?}");
         assert!((b.render_cpu_s - 3.0 * 8.0 * 0.5).abs() < 1e-12, "{b:?}");
         // Re-rendered to the protocol's repeats like any unit, never topped up.
-        let b = jobs(&p, |_| 0.5, |_| 0.0, &Model { protocol: Protocol::new(5, 1, 1), ..m });
+        let b = jobs(&p, |_| 0.5, |_, _, _| 0.0, |_| 0.0, &Model { protocol: Protocol::new(5, 1, 1), ..m });
         assert_eq!(b.renders, 5, "{b:?}");
+        // Each series feeds both pipelines, each showing frames 1, 2, 4 and 8 (a filter costs 1 a
+        // frame and 10 more a shown one); the 2 renders for time alone filter nothing.
+        let filter = |_: &Job, frames: usize, shown: usize| frames as f64 + 10.0 * shown as f64;
+        let b = jobs(&p, |_| 0.5, filter, |_| 0.0, &m);
+        assert!((b.render_cpu_s - 3.0 * (8.0 * 0.5 + 2.0 * (8.0 + 40.0))).abs() < 1e-9, "{b:?}");
+        let b = jobs(&p, |_| 0.5, filter, |_| 0.0, &Model { protocol: Protocol::new(5, 1, 1), ..m });
+        assert!((b.render_cpu_s - 3.0 * (8.0 * 0.5 + 2.0 * 48.0) - 2.0 * 8.0 * 0.5).abs() < 1e-9, "{b:?}");
+    }
+
+    #[test]
+    fn results_are_rewritten_as_often_as_a_run_rewrites_them() {
+        // 6 jobs of 1 s on one worker: a rewrite every 2 s is 3 of them (of 3 records on average),
+        // not one after every job; every 0 s (or less often than jobs finish) is one a job.
+        let p = plan_of(
+            r#"
+scenes = ["a.toml"]
+resolution = [10, 10]
+replicates = 6
+[[table]]
+name = "t"
+rays = [2]
+rows = [ { distribution = "sine", sequence = "random" } ]
+"#,
+        );
+        let mut protocol = Protocol::new(1, 1, 1);
+        protocol.warmup_s = 0.0;
+        protocol.min_total_s = 0.0;
+        let m = Model {
+            protocol,
+            overhead_renders: 0,
+            post_s: 0.0,
+            rewrite_s: 0.01,
+            rewrite_every_s: 2.0,
+            contention: 1.0,
+        };
+        let b = jobs(&p, |_| 1.0, |_, _, _| 0.0, |_| 0.0, &m);
+        assert!((b.post_cpu_s - 3.0 * 3.0 * 0.01).abs() < 1e-12, "{b:?}");
+        let b = jobs(&p, |_| 1.0, |_, _, _| 0.0, |_| 0.0, &Model { rewrite_every_s: 0.0, ..m });
+        assert!((b.post_cpu_s - 6.0 * 3.0 * 0.01).abs() < 1e-12, "{b:?}");
+    }
+
+    #[test]
+    fn each_scene_and_integrand_is_warmed_up_by_every_worker() {
+        // One scene under two integrands is two loaded scenes (`load::Loaded::scene_of`).
+        let p = plan_of(
+            r#"
+scenes = ["a.toml"]
+resolution = [10, 10]
+replicates = 2
+[[table]]
+name = "t"
+rays = [2]
+distributions = ["sine"]
+sequences = ["random"]
+integrands = ["ao", "visibility"]
+"#,
+        );
+        let mut protocol = Protocol::new(1, 1, 2);
+        protocol.warmup_s = 0.5;
+        let m = Model {
+            protocol,
+            overhead_renders: 1,
+            post_s: 0.0,
+            rewrite_s: 0.0,
+            rewrite_every_s: 0.0,
+            contention: 1.0,
+        };
+        let b = jobs(&p, |_| 1.0, |_, _, _| 0.0, |_| 0.25, &m);
+        assert_eq!(b.warmup_cpu_s, 2.0 * 2.0 * 0.5, "{b:?}");
     }
 
     #[test]
@@ -228,8 +348,15 @@ rows = [ { distribution = "sine", sequence = "random" } ]
         protocol.warmup_s = 0.5;
         protocol.min_total_s = 0.25;
         protocol.max_repeats = 15;
-        let m = Model { protocol, overhead_renders: 7, post_s: 0.01, contention: 1.0 };
-        let b = jobs(&p, |j| j.rays as f64, |_| 0.1, &m);
+        let m = Model {
+            protocol,
+            overhead_renders: 7,
+            post_s: 0.01,
+            rewrite_s: 0.0,
+            rewrite_every_s: 0.0,
+            contention: 1.0,
+        };
+        let b = jobs(&p, |j| j.rays as f64, |_, _, _| 0.0, |_| 0.1, &m);
         assert_eq!((b.units, b.renders), (2, 7));
         assert_eq!(b.render_cpu_s, 4.0 * 8.0 + 3.0 * 16.0);
         assert!((b.overhead_cpu_s - 0.7).abs() < 1e-12);
@@ -237,25 +364,26 @@ rows = [ { distribution = "sine", sequence = "random" } ]
         assert_eq!(b.warmup_cpu_s, 2.0 * 0.5);
         let wall = (80.0 + 0.7 + 0.05) / 2.0 + 0.5;
         assert!((b.wall_s - wall).abs() < 1e-9, "{b:?}");
-        let busy = jobs(&p, |j| j.rays as f64, |_| 0.1, &Model { contention: 2.5, ..m });
+        let busy = jobs(&p, |j| j.rays as f64, |_, _, _| 0.0, |_| 0.1, &Model { contention: 2.5, ..m });
         assert!((busy.wall_s - 2.5 * wall).abs() < 1e-9);
         let one = jobs(
             &p,
             |j| j.rays as f64,
+            |_, _, _| 0.0,
             |_| 0.1,
             &Model { protocol: Protocol { workers: 1, ..protocol }, ..m },
         );
         assert!((one.wall_s - (80.75 + 0.5)).abs() < 1e-9);
-        assert_eq!(jobs(&Plan::default(), |_| 1.0, |_| 1.0, &m), Breakdown::default());
+        assert_eq!(jobs(&Plan::default(), |_| 1.0, |_, _, _| 0.0, |_| 1.0, &m), Breakdown::default());
 
         // Cheap renders: the second round tops each unit up towards 0.25 s, at most 15 samples, and
         // the overhead render too: 8 ms needs 32 → 15, 16 ms needs 16 → 15, 10 ms needs 25 → 15.
-        let cheap = jobs(&p, |j| j.rays as f64 * 1e-3, |_| 0.01, &m);
+        let cheap = jobs(&p, |j| j.rays as f64 * 1e-3, |_, _, _| 0.0, |_| 0.01, &m);
         assert_eq!(cheap.renders, 30);
         assert!((cheap.render_cpu_s - 15.0 * (0.008 + 0.016)).abs() < 1e-12, "{cheap:?}");
         assert!((cheap.overhead_cpu_s - 15.0 * 0.01).abs() < 1e-12, "{cheap:?}");
         // 50 ms: 4 × 0.1 s and 3 × 0.2 s are past 0.25 s already; the overhead (7 × 0.1 s) too.
-        let dear = jobs(&p, |j| j.rays as f64 * 12.5e-3, |_| 0.1, &m);
+        let dear = jobs(&p, |j| j.rays as f64 * 12.5e-3, |_, _, _| 0.0, |_| 0.1, &m);
         assert_eq!(dear.renders, 7);
         assert!((dear.overhead_cpu_s - 0.7).abs() < 1e-12);
     }

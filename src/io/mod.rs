@@ -7,6 +7,9 @@ use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+mod machine;
+pub use machine::{Runnable, cpu_model, host_tag, hostname, load_average};
+
 pub fn read_string(path: &Path) -> Result<String> {
     String::from_utf8(read_bytes(path)?).map_err(|e| {
         Error::io(path, std::io::Error::other(format!("is not UTF-8 text ({})", e.utf8_error())))
@@ -297,46 +300,6 @@ pub fn remove_file_if_exists(path: &Path) -> Result<()> {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
         Err(e) => Err(Error::io(path, e)),
     }
-}
-
-/// This machine's host name (`/proc/sys/kernel/hostname`, else `$HOSTNAME`), or "unknown".
-pub fn hostname() -> String {
-    fs::read_to_string("/proc/sys/kernel/hostname")
-        .ok()
-        .or_else(|| std::env::var("HOSTNAME").ok())
-        .map(|h| h.trim().to_string())
-        .filter(|h| !h.is_empty())
-        .unwrap_or_else(|| "unknown".into())
-}
-
-/// The host name with only letters, digits, '-' and '.', for file names.
-pub fn host_tag() -> String {
-    hostname()
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' })
-        .collect()
-}
-
-/// The CPU model (`model name` in `/proc/cpuinfo`) and its logical CPU count, e.g.
-/// "AMD EPYC 7B13 (2 CPUs)"; the architecture where `/proc` has no model name.
-pub fn cpu_model() -> String {
-    let cpus = crate::timing::cores();
-    let model = fs::read_to_string("/proc/cpuinfo").ok().and_then(|t| {
-        t.lines()
-            .find(|l| l.starts_with("model name"))
-            .and_then(|l| l.split_once(':'))
-            .map(|(_, m)| m.split_whitespace().collect::<Vec<_>>().join(" "))
-    });
-    format!("{} ({cpus} CPUs)", model.unwrap_or_else(|| std::env::consts::ARCH.to_string()))
-}
-
-/// The 1-minute load average and the number of CPUs the kernel has online (`/proc/loadavg`,
-/// `/proc/cpuinfo`): how many threads want a core, machine-wide, and how many cores there are.
-pub fn load_average() -> Option<(f64, usize)> {
-    let load = fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()?;
-    let cpus =
-        fs::read_to_string("/proc/cpuinfo").ok()?.lines().filter(|l| l.starts_with("processor")).count();
-    (cpus > 0).then_some((load, cpus))
 }
 
 /// An exclusive lock on a file, held until dropped. It is the operating system's advisory lock

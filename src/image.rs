@@ -117,7 +117,14 @@ pub fn encode_exr_with(channels: &[Channel], provenance: Option<&Provenance>) ->
     }
     let layer = Layer::new((w, h), attributes, Encoding::SMALL_LOSSLESS, AnyChannels::sort(list));
     let mut bytes = Cursor::new(Vec::new());
-    exr::prelude::Image::from_layer(layer).write().to_buffered(&mut bytes).map_err(|e| e.to_string())?;
+    // On the calling thread: exr's parallel compression sends a small image's blocks to rayon's
+    // global pool, whose idle threads then spin beside the run's timing workers (the integrands
+    // spec's 2,544 small images: a third of both cores' time went to yielding threads).
+    exr::prelude::Image::from_layer(layer)
+        .write()
+        .non_parallel()
+        .to_buffered(&mut bytes)
+        .map_err(|e| e.to_string())?;
     Ok(bytes.into_inner())
 }
 

@@ -46,7 +46,7 @@ const CALIBRATION_SAMPLES: usize = 3;
 /// Milliseconds between samples of the machine's runnable threads during the calibration.
 const RUNNABLE_EVERY_MS: u64 = 10;
 /// Untimed CPU seconds each calibration worker renders on a scene first.
-const CALIBRATION_WARMUP_S: f64 = 0.05;
+const CALIBRATION_WARMUP_S: f64 = 0.15;
 
 /// What the calibration measured on one scene.
 pub struct SceneCal {
@@ -225,14 +225,15 @@ pub fn calibrate(
         let rays = (per_probe / (width as u64 * height as u64).max(1)).clamp(2, 64) as u32;
         rays_of[si] = rays;
         warm[si] = Some(at(first, 16)?);
+        // In rounds, each a sample of everything: every line's two ends are measured early and
+        // late alike (the 1-ray renders all first, while the machine warmed up, once moved every
+        // estimator's per-image cost by 30 %).
         for _ in 0..CALIBRATION_SAMPLES {
             probes.push((Probe { scene: si, row: None, rays: 0 }, renders.len()));
             renders.push(overhead_job(&at(first, 1)?));
             probes.push((Probe { scene: si, row: Some(0), rays: 1 }, renders.len()));
             renders.push(at(first, 1)?);
-        }
-        for (i, job) in jobs.iter().enumerate() {
-            for _ in 0..CALIBRATION_SAMPLES {
+            for (i, job) in jobs.iter().enumerate() {
                 probes.push((Probe { scene: si, row: Some(i), rays }, renders.len()));
                 renders.push(at(job, rays)?);
             }

@@ -20,6 +20,9 @@ pub(super) fn moves(job: &Job) -> bool {
 const FIRST_FRAMES: usize = crate::denoise::svgf::SPATIAL_VARIANCE_FRAMES as usize + 1;
 /// … then this many later frames, whose median is every later frame's cost.
 const LATER_FRAMES: usize = 3;
+/// Times the series is filtered, each frame's cost the median of its runs (one run's later frames
+/// once came out 1.6x another's on the idle machine).
+const FILTER_RUNS: usize = 3;
 
 /// A pipeline's own CPU seconds per frame at the image's size, as a series spends them: its first
 /// frames one by one (`first`), each later frame advanced without being shown (`later`: SVGF makes
@@ -104,27 +107,36 @@ pub(super) fn filter_frames(
     let mut out = Vec::new();
     for (p, moving) in wanted {
         let m = motion(moving);
-        let (costs, _) = worker.timed(|| {
-            // The whole image's pass counts, as a run filters it (and each tile's window).
-            let run = p.at_size(g.width, g.height);
-            let mut f = run.start(w, h);
-            let mut timed = |frame: &image::Image, shown: bool| {
-                let c0 = clock::thread_cpu_s();
-                if !p.is_temporal() {
-                    // Nothing carries over: each frame is filtered by a run of its own.
-                    let _ = run.start(w, h).push(frame, &gbuf, &m);
-                } else if shown {
-                    let _ = f.push(frame, &gbuf, &m);
-                } else {
-                    f.advance(frame, None, &gbuf, &m);
-                }
-                (clock::thread_cpu_s() - c0) * ratio
-            };
-            let (last, advanced) = frames.split_last().expect("frames to filter");
-            let v: Vec<f64> = advanced.iter().map(|frame| timed(frame, false)).collect();
-            let shown = timed(last, true);
-            (v, shown)
+        // The series `FILTER_RUNS` times, each frame's cost the median of its runs.
+        let (runs, _) = worker.timed(|| {
+            (0..FILTER_RUNS)
+                .map(|_| {
+                    // The whole image's pass counts, as a run filters it (and each tile's window).
+                    let run = p.at_size(g.width, g.height);
+                    let mut f = run.start(w, h);
+                    let mut timed = |frame: &image::Image, shown: bool| {
+                        let c0 = clock::thread_cpu_s();
+                        if !p.is_temporal() {
+                            // Nothing carries over: each frame is filtered by a run of its own.
+                            let _ = run.start(w, h).push(frame, &gbuf, &m);
+                        } else if shown {
+                            let _ = f.push(frame, &gbuf, &m);
+                        } else {
+                            f.advance(frame, None, &gbuf, &m);
+                        }
+                        (clock::thread_cpu_s() - c0) * ratio
+                    };
+                    let (last, advanced) = frames.split_last().expect("frames to filter");
+                    let mut v: Vec<f64> = advanced.iter().map(|frame| timed(frame, false)).collect();
+                    v.push(timed(last, true));
+                    v
+                })
+                .collect::<Vec<Vec<f64>>>()
         });
+        let median = |k: usize| crate::stats::median(&runs.iter().map(|r| r[k]).collect::<Vec<_>>());
+        let mut v: Vec<f64> = (0..runs[0].len()).map(median).collect();
+        let shown = v.pop().expect("a shown frame");
+        let costs = (v, shown);
         let (v, shown) = costs;
         let cost = if p.is_temporal() {
             FilterCost {

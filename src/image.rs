@@ -131,12 +131,15 @@ pub fn encode_exr_with(channels: &[Channel], provenance: Option<&Provenance>) ->
 /// Decodes every channel of the first layer as f32, by name.
 pub fn decode_exr(bytes: &[u8]) -> Result<Vec<(String, Image)>, String> {
     use exr::prelude::*;
+    // On the calling thread, as `encode_exr_with` writes: exr's parallel reader builds a thread
+    // pool per image (4,029 of them in a run of the integrands spec).
     let img = read()
         .no_deep_data()
         .largest_resolution_level()
         .all_channels()
         .first_valid_layer()
         .all_attributes()
+        .non_parallel()
         .from_buffered(Cursor::new(bytes))
         .map_err(|e| e.to_string())?;
     let size = img.layer_data.size;

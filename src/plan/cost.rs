@@ -183,6 +183,18 @@ mod tests {
         super::super::plan(&parse_spec(text, Path::new("c.toml")).unwrap())
     }
 
+    /// The protocol's renders alone: one overhead render, no per-job work, an idle machine.
+    fn renders_only(protocol: Protocol) -> Model {
+        Model {
+            protocol,
+            overhead_renders: 1,
+            post_s: 0.0,
+            rewrite_s: 0.0,
+            rewrite_every_s: 0.0,
+            contention: 1.0,
+        }
+    }
+
     #[test]
     fn calibration_images_are_small_with_the_same_aspect() {
         assert_eq!(calibration_size(160, 120), (160, 120, 1.0));
@@ -240,14 +252,7 @@ frames = 8
         let mut protocol = Protocol::new(1, 1, 1);
         protocol.warmup_s = 0.0;
         protocol.min_total_s = 100.0;
-        let m = Model {
-            protocol,
-            overhead_renders: 1,
-            post_s: 0.0,
-            rewrite_s: 0.0,
-            rewrite_every_s: 0.0,
-            contention: 1.0,
-        };
+        let m = renders_only(protocol);
         let b = jobs(&p, |_| 0.5, |_, _, _| 0.0, |_| 0.0, &m);
         assert_eq!((b.units, b.renders), (1, 3), "{b:?}");
         assert!((b.render_cpu_s - 3.0 * 8.0 * 0.5).abs() < 1e-12, "{b:?}");
@@ -281,14 +286,8 @@ rows = [ { distribution = "sine", sequence = "random" } ]
         let mut protocol = Protocol::new(1, 1, 1);
         protocol.warmup_s = 0.0;
         protocol.min_total_s = 0.0;
-        let m = Model {
-            protocol,
-            overhead_renders: 0,
-            post_s: 0.0,
-            rewrite_s: 0.01,
-            rewrite_every_s: 2.0,
-            contention: 1.0,
-        };
+        let m =
+            Model { overhead_renders: 0, rewrite_s: 0.01, rewrite_every_s: 2.0, ..renders_only(protocol) };
         let b = jobs(&p, |_| 1.0, |_, _, _| 0.0, |_| 0.0, &m);
         assert!((b.post_cpu_s - 3.0 * 3.0 * 0.01).abs() < 1e-12, "{b:?}");
         let b = jobs(&p, |_| 1.0, |_, _, _| 0.0, |_| 0.0, &Model { rewrite_every_s: 0.0, ..m });
@@ -313,14 +312,7 @@ integrands = ["ao", "visibility"]
         );
         let mut protocol = Protocol::new(1, 1, 2);
         protocol.warmup_s = 0.5;
-        let m = Model {
-            protocol,
-            overhead_renders: 1,
-            post_s: 0.0,
-            rewrite_s: 0.0,
-            rewrite_every_s: 0.0,
-            contention: 1.0,
-        };
+        let m = renders_only(protocol);
         let b = jobs(&p, |_| 1.0, |_, _, _| 0.0, |_| 0.25, &m);
         assert_eq!(b.warmup_cpu_s, 2.0 * 2.0 * 0.5, "{b:?}");
     }
@@ -348,14 +340,7 @@ rows = [ { distribution = "sine", sequence = "random" } ]
         protocol.warmup_s = 0.5;
         protocol.min_total_s = 0.25;
         protocol.max_repeats = 15;
-        let m = Model {
-            protocol,
-            overhead_renders: 7,
-            post_s: 0.01,
-            rewrite_s: 0.0,
-            rewrite_every_s: 0.0,
-            contention: 1.0,
-        };
+        let m = Model { overhead_renders: 7, post_s: 0.01, ..renders_only(protocol) };
         let b = jobs(&p, |j| j.rays as f64, |_, _, _| 0.0, |_| 0.1, &m);
         assert_eq!((b.units, b.renders), (2, 7));
         assert_eq!(b.render_cpu_s, 4.0 * 8.0 + 3.0 * 16.0);

@@ -3,7 +3,6 @@
 //! from a shared queue.
 
 use super::clock::{thread_cpu_s, wall_s};
-use std::cell::RefCell;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -20,7 +19,9 @@ pub struct Time {
 pub struct Worker {
     pub index: usize,
     pool: rayon::ThreadPool,
-    warmed: RefCell<Vec<usize>>,
+    /// Scenes warmed up (a Mutex, not a RefCell: a worker's whole job runs on its own thread,
+    /// which borrows the worker).
+    warmed: Mutex<Vec<usize>>,
 }
 
 impl Worker {
@@ -30,7 +31,7 @@ impl Worker {
             .thread_name(move |_| format!("hemilab-timed-{index}"))
             .build()
             .map_err(|e| format!("cannot start a worker thread: {e}"))?;
-        Ok(Self { index, pool, warmed: RefCell::new(Vec::new()) })
+        Ok(Self { index, pool, warmed: Mutex::new(Vec::new()) })
     }
 
     /// Runs `f` on this worker's thread and returns its value with the time it took there.
@@ -47,7 +48,7 @@ impl Worker {
     /// it has used `min_s` CPU seconds (at most 1000 calls), so the first timed render does not pay
     /// for cold caches, page faults and the clock ramping up.
     pub fn warm_up(&self, key: usize, min_s: f64, f: impl Fn() + Sync) {
-        if self.warmed.borrow().contains(&key) {
+        if self.warmed.lock().unwrap_or_else(|p| p.into_inner()).contains(&key) {
             return;
         }
         self.pool.install(|| {
@@ -59,7 +60,7 @@ impl Worker {
                 }
             }
         });
-        self.warmed.borrow_mut().push(key);
+        self.warmed.lock().unwrap_or_else(|p| p.into_inner()).push(key);
     }
 }
 
@@ -98,7 +99,11 @@ where
                 while !stop.load(Ordering::SeqCst) {
                     let i = next.fetch_add(1, Ordering::SeqCst);
                     let Some(slot) = slots.get(i) else { break };
-                    let result = work(&worker, slot).and_then(|t| {
+                    // The whole job on the worker's own thread, its untimed work too: done from
+                    // this spawning thread, that work left the worker's pool thread spinning for
+                    // its next job beside it (2 threads wanting each core; the integrands spec's
+                    // 2,544 small jobs kept both cores 30 % idle).
+                    let result = worker.pool.install(|| work(&worker, slot)).and_then(|t| {
                         let mut d = done.lock().unwrap_or_else(|p| p.into_inner());
                         (*d)(slot, t)
                     });

@@ -182,13 +182,13 @@ pub fn run(args: PlanArgs) -> Result<()> {
         }
     };
     let jobs_bytes =
-        cost::output_bytes(&selected, pixels, |j| cal.bytes_per_pixel(j), cal.record_bytes, true);
+        cost::output_bytes(&selected, pixels, |j| cal.bytes_per_pixel(j), cal.post.record_bytes, true);
     let refs_bytes: f64 = builds
         .iter()
         .map(|b| {
             let [w, h] = b.manifest.image_size();
             // Three channels: the mean, its standard error, the coverage.
-            w as f64 * h as f64 * cal.exr_bytes_per_pixel * 1.5
+            w as f64 * h as f64 * cal.post.exr_bytes_per_pixel * 1.5
         })
         .sum();
     let _ = writeln!(
@@ -197,8 +197,8 @@ pub fn run(args: PlanArgs) -> Result<()> {
          encoded here, and their records; references {})",
         plan::format_bytes(jobs_bytes + refs_bytes),
         selected.jobs.len(),
-        cal.exr_bytes_per_pixel,
-        cal.filtered_exr_bytes_per_pixel,
+        cal.post.exr_bytes_per_pixel,
+        cal.post.filtered_exr_bytes_per_pixel,
         if builds.is_empty() { "none to build".into() } else { plan::format_bytes(refs_bytes) }
     );
     if let Some(n) = count {

@@ -19,7 +19,7 @@
 //! render, in wall time (the file's fsync). Not estimated: drawing the report, a few seconds.
 
 use super::filter_cost::{FilterCost, filter_frames, moves};
-use super::post_cost::post_cost;
+use super::post_cost::{PostCost, post_cost};
 pub use super::to_build::{Build, builds, by_scene};
 use crate::error::{Error, Result};
 use crate::io;
@@ -71,14 +71,8 @@ pub struct SceneCal {
 
 pub struct Calibrated {
     pub scenes: Vec<Option<SceneCal>>,
-    /// Bytes per pixel of a job's image as written (AO and coverage, compressed losslessly): one
-    /// 1-ray calibration render encoded (a raw frame) …
-    pub exr_bytes_per_pixel: f64,
-    /// … and the same filtered (`denoise::gaussian`): a frame after a pipeline or a denoiser, whose
-    /// smooth values compress least.
-    pub filtered_exr_bytes_per_pixel: f64,
-    /// Bytes of one record in results.json and results.csv together.
-    pub record_bytes: f64,
+    /// A recorded job's work after its render and the bytes it writes (`post_cost`).
+    pub post: PostCost,
     /// Wall seconds per CPU second a worker will see: `now` where `/proc` has it, else the
     /// geometric mean of `measured` and `averaged`. The calibration's own wall/CPU is a direct
     /// measurement but of a fraction of a second, in which the scheduler favours threads that just
@@ -93,9 +87,6 @@ pub struct Calibrated {
     /// (Other processes' runnable threads, sampled during the calibration (`io::Runnable`), plus the
     /// run's workers) per CPU, at least 1: what `contention` is where `/proc` says it.
     pub now: Option<f64>,
-    /// CPU seconds per job for metrics and EXR encoding, and per record for rewriting the results.
-    pub measure_s: f64,
-    pub serialize_per_record_s: f64,
     pub cpu_s: f64,
     pub wall_s: f64,
 }
@@ -158,7 +149,7 @@ impl Calibrated {
         let m = &job.measurement;
         let filtered =
             m.pipeline != crate::denoise::Pipeline::RAW || m.denoiser != crate::plan::DenoiserId::NONE;
-        if filtered { self.filtered_exr_bytes_per_pixel } else { self.exr_bytes_per_pixel }
+        if filtered { self.post.filtered_exr_bytes_per_pixel } else { self.post.exr_bytes_per_pixel }
     }
 
     pub fn model(&self, loaded: &Loaded, workers: usize) -> cost::Model {
@@ -168,8 +159,8 @@ impl Calibrated {
             overhead_renders: timing::OVERHEAD_REPEATS,
             // Each job's record is appended to the journal; the results files are rewritten whole
             // every so often.
-            post_s: self.measure_s + self.serialize_per_record_s,
-            rewrite_s: self.serialize_per_record_s,
+            post_s: self.post.measure_s + self.post.serialize_per_record_s,
+            rewrite_s: self.post.serialize_per_record_s,
             rewrite_every_s: crate::outdir::Saver::EVERY.as_secs_f64(),
             contention: self.contention,
         }
@@ -362,20 +353,7 @@ pub fn calibrate(
     let averaged = io::load_average().map(|(load, cpus)| ((load + workers as f64) / cpus as f64).max(1.0));
     // Where /proc says who is running now, that; else between the two older measures.
     let contention = now.or(averaged.map(|a| (measured * a).sqrt())).unwrap_or(measured);
-    Ok(Calibrated {
-        scenes,
-        exr_bytes_per_pixel: post.exr_bytes_per_pixel,
-        filtered_exr_bytes_per_pixel: post.filtered_exr_bytes_per_pixel,
-        record_bytes: post.record_bytes,
-        contention,
-        measured,
-        averaged,
-        now,
-        measure_s: post.measure_s,
-        serialize_per_record_s: post.serialize_per_record_s,
-        cpu_s,
-        wall_s,
-    })
+    Ok(Calibrated { scenes, post, contention, measured, averaged, now, cpu_s, wall_s })
 }
 
 /// The cheapest render of `plan` on this machine now, from its calibration `cal` (a fraction of a

@@ -75,17 +75,17 @@ pub fn advise(
     let pixels = super::tiles::of_spec(&loaded.spec, 0, &loaded.scenes[0])
         .map_or(geometry.pixels(), |t| t.mosaic_pixels()) as f64;
     // The sweep keeps numbers only; the finalists' images are kept (the winner maps read them).
-    let per_pixel = plan.jobs.first().map_or(cal.exr_bytes_per_pixel, |j| cal.bytes_per_pixel(j));
+    let per_pixel = plan.jobs.first().map_or(cal.post.exr_bytes_per_pixel, |j| cal.bytes_per_pixel(j));
     // The sweep keeps its images under a pipeline (the split reads them): mosaic pixels under tiles.
     let bytes = cost::output_bytes(
         todo,
         |_| pixels as u64,
         |j| cal.bytes_per_pixel(j),
-        cal.record_bytes,
+        cal.post.record_bytes,
         finalists.sweep_images,
-    ) + final_jobs as f64 * (pixels * per_pixel + cal.record_bytes)
+    ) + final_jobs as f64 * (pixels * per_pixel + cal.post.record_bytes)
         + builds.iter().map(|b| b.manifest.image_size().map(f64::from).iter().product::<f64>()).sum::<f64>()
-            * cal.exr_bytes_per_pixel
+            * cal.post.exr_bytes_per_pixel
             * 1.5;
     let forecast = Forecast {
         references: Some(builds.len()),

@@ -11,7 +11,7 @@ pub mod forecast;
 pub mod guides;
 pub mod long_run;
 pub mod measure;
-mod post_cost;
+pub mod post_cost;
 pub mod reference;
 pub mod replicates;
 pub mod runner;

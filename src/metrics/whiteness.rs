@@ -79,19 +79,7 @@ pub fn whiteness(err: &Image, mask: &Image) -> Whiteness {
         return none;
     }
     let (mut q, mut used) = (0.0f64, 0usize);
-    for (dx, dy) in lags() {
-        let (mut s, mut v) = (0.0f64, 0.0f64);
-        for y in 0..(h - dy).max(0) {
-            for x in (-dx).max(0)..(w - dx.max(0)).max(0) {
-                let i = (y * w + x) as usize;
-                let j = ((y + dy) * w + x + dx) as usize;
-                if covered(mask, i) && covered(mask, j) {
-                    let p = e[i] * e[j];
-                    s += p;
-                    v += p * p;
-                }
-            }
-        }
+    for (s, v) in lag_sums(&e, mask, w, h) {
         if v > 0.0 {
             q += s * s / v;
             used += 1;
@@ -101,6 +89,73 @@ pub fn whiteness(err: &Image, mask: &Image) -> Whiteness {
         return none;
     }
     Whiteness { q, lags: used, z: wilson_hilferty_z(q, used) }
+}
+
+/// `lag_sums` pair by pair over each lag's pairs of covered pixels: the definition, for errors that
+/// are not all finite.
+fn pairwise_sums(e: &[f64], mask: &Image, w: i32, h: i32) -> Vec<(f64, f64)> {
+    lags()
+        .iter()
+        .map(|&(dx, dy)| {
+            let (mut s, mut v) = (0.0f64, 0.0f64);
+            for y in 0..(h - dy).max(0) {
+                for x in (-dx).max(0)..(w - dx.max(0)).max(0) {
+                    let i = (y * w + x) as usize;
+                    let j = ((y + dy) * w + x + dx) as usize;
+                    if covered(mask, i) && covered(mask, j) {
+                        let p = e[i] * e[j];
+                        s += p;
+                        v += p * p;
+                    }
+                }
+            }
+            (s, v)
+        })
+        .collect()
+}
+
+/// Per lag of `lags()`, (Σ e_i e_{i+h}, Σ (e_i e_{i+h})²) over the pairs of covered pixels, each
+/// sum in row-major order of i. `e` is 0 off the mask, so a pair with an uncovered pixel adds ±0,
+/// which leaves a sum that starts at +0 as it was: every lag can run over every pixel of a copy of
+/// `e` padded with zeros, 8 lags in one pass (16 independent sums instead of 2 in a chain: half the
+/// time at 320x180, the same bits). A non-finite error (±0 · ∞ is NaN) takes the pairwise loop.
+fn lag_sums(e: &[f64], mask: &Image, w: i32, h: i32) -> Vec<(f64, f64)> {
+    let lags = lags();
+    if !e.iter().all(|v| v.is_finite()) {
+        return pairwise_sums(e, mask, w, h);
+    }
+    const L: usize = MAX_LAG as usize;
+    const GROUP: usize = 8;
+    let (w, h) = (w.max(0) as usize, h.max(0) as usize);
+    // L zero columns either side, L zero rows below (every lag's dy ≥ 0).
+    let pw = w + 2 * L;
+    let mut padded = vec![0.0f64; pw * (h + L)];
+    for y in 0..h {
+        padded[y * pw + L..y * pw + L + w].copy_from_slice(&e[y * w..y * w + w]);
+    }
+    let mut out = Vec::with_capacity(lags.len());
+    for group in lags.chunks(GROUP) {
+        let mut off = [0usize; GROUP];
+        for (o, &(dx, dy)) in off.iter_mut().zip(group) {
+            *o = (dy as usize * pw).wrapping_add_signed(dx as isize);
+        }
+        let (mut s, mut v) = ([0.0f64; GROUP], [0.0f64; GROUP]);
+        let k = group.len();
+        for y in 0..h {
+            for i in y * pw + L..y * pw + L + w {
+                let a = padded[i];
+                // All GROUP sums (a short group's spare ones unused): a fixed count the compiler
+                // unrolls, every sum in a register.
+                for j in 0..GROUP {
+                    let p = a * padded[i + off[j]];
+                    s[j] += p;
+                    v[j] += p * p;
+                }
+            }
+        }
+        out.extend((0..k).map(|j| (s[j], v[j])));
+    }
+    out
 }
 
 #[cfg(test)]
@@ -130,6 +185,29 @@ mod tests {
         let noise = normals((W * H) as usize, seed);
         let img = image(|x, y, i| 0.05 * noise[i] + 0.05 * a * pattern(x as f64, y as f64));
         whiteness(&img, &full()).z
+    }
+
+    #[test]
+    fn the_padded_pass_sums_as_the_pairs_do_bit_for_bit() {
+        for (w, h, seed) in [(1, 1, 1), (3, 2, 2), (9, 5, 3), (40, 7, 4), (37, 23, 5)] {
+            let n = (w * h) as usize;
+            let z = normals(n, seed);
+            // Every third pixel uncovered (its error 0, as `whiteness` makes it), some covered ones
+            // exactly 0.
+            let mask = Image::from_vec(w, h, (0..n).map(|i| if i % 3 == 1 { 0.0 } else { 1.0 }).collect());
+            let e: Vec<f64> =
+                (0..n).map(|i| if i % 3 == 1 || i % 7 == 0 { 0.0 } else { 0.05 * z[i] - 0.01 }).collect();
+            let (a, b) =
+                (lag_sums(&e, &mask, w as i32, h as i32), pairwise_sums(&e, &mask, w as i32, h as i32));
+            assert_eq!(a.len(), b.len());
+            for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+                assert_eq!(
+                    (x.0.to_bits(), x.1.to_bits()),
+                    (y.0.to_bits(), y.1.to_bits()),
+                    "{w}x{h}, lag {k}"
+                );
+            }
+        }
     }
 
     #[test]

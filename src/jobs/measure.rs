@@ -93,7 +93,7 @@ pub fn errors(image: &FrameImage, against: &Against) -> Result<ErrorStats, Metri
 /// checked.
 pub fn flip(image: &FrameImage, against: &Against, ppd: f64) -> f64 {
     let (reference, coverage) = against.at(image.frame);
-    let map = metrics::flip::ldr_flip_map(reference, &image.output.ao, ppd);
+    let map = super::flip_refs::flip_map(reference, &image.output.ao, ppd);
     metrics::flip::mean_flip(&map, coverage)
 }
 

@@ -7,6 +7,7 @@ pub mod calibrate;
 pub mod config;
 pub mod executor;
 mod filter_cost;
+pub mod flip_refs;
 pub mod forecast;
 pub mod guides;
 pub mod long_run;

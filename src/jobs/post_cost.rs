@@ -65,11 +65,13 @@ pub(super) fn post_cost(
     // what the run spent).
     let other = noisiest.as_ref().map(|n| &n.ao).filter(|a| a.same_size(&out.ao));
     let reference = other.unwrap_or(&out.ao);
+    // Every record has its FLIP too (`jobs::measure::flip`), against a reference whose own half of
+    // the map a run makes once for many jobs (`jobs::flip_refs`): made before the clock starts.
+    let flip_reference = crate::metrics::flip::FlipReference::new(reference, loaded.spec.flip_ppd);
     let (c0, w0) = (clock::thread_cpu_s(), clock::wall_s());
     let stats = crate::metrics::measure(&out.ao, reference, &out.coverage)
         .map_err(|e| Error::Refused(format!("calibration: {e}")))?;
-    // Every record has its FLIP too (`jobs::measure::flip`).
-    let map = crate::metrics::flip::ldr_flip_map(reference, &out.ao, loaded.spec.flip_ppd);
+    let map = flip_reference.map(&out.ao);
     let _ = crate::metrics::flip::mean_flip(&map, &out.coverage);
     // Written as a job's image is (`io::write_atomic`: a new file, fsync, rename), in wall time: a
     // worker waits for the disk as it computes (the integrands spec's 2,544 small jobs spent 8 ms

@@ -99,31 +99,81 @@ impl Opponent {
 /// compares them through absolute differences). Panics when the sizes differ or `ppd` is not a
 /// positive finite number (callers validate the setting).
 pub fn ldr_flip_map(reference: &Image, test: &Image, ppd: f64) -> Image {
-    assert!(reference.same_size(test), "FLIP compares images of one size");
-    assert!(ppd.is_finite() && ppd > 0.0, "pixels per degree must be positive, got {ppd}");
-    let (w, n) = (reference.width as usize, reference.len());
-    if n == 0 {
-        return Image::new(reference.width, reference.height);
+    FlipReference::new(reference, ppd).map(test)
+}
+
+/// The half of LDR-FLIP that depends on the reference alone (its filtered colour and its feature
+/// responses), made once for every test image measured against it: a real-time run measures
+/// thousands of frames against a few references, and this half is about half of a map's time.
+/// `map` gives `ldr_flip_map`'s image, bit for bit.
+pub struct FlipReference {
+    width: u32,
+    height: u32,
+    ppd: f32,
+    /// The reference as given (`is_of` compares against it).
+    image: Vec<f32>,
+    color: Vec<Color>,
+    features: Vec<(f32, f32)>,
+}
+
+impl FlipReference {
+    /// Panics when `ppd` is not a positive finite number (callers validate the setting).
+    pub fn new(reference: &Image, ppd: f64) -> Self {
+        assert!(ppd.is_finite() && ppd > 0.0, "pixels per degree must be positive, got {ppd}");
+        let (w, ppd) = (reference.width as usize, ppd as f32);
+        let (color, features) = if reference.is_empty() {
+            (Vec::new(), Vec::new())
+        } else {
+            let r = Opponent::new(reference);
+            (r.filtered(w, &SpatialTaps::new(ppd)), r.features(w, &FeatureTaps::new(ppd)))
+        };
+        Self {
+            width: reference.width,
+            height: reference.height,
+            ppd,
+            image: reference.data.clone(),
+            color,
+            features,
+        }
     }
-    let ppd = ppd as f32;
-    let (r, t) = (Opponent::new(reference), Opponent::new(test));
-    let spatial = SpatialTaps::new(ppd);
-    let remap = Remap::new();
-    let (rc, tc) = (r.filtered(w, &spatial), t.filtered(w, &spatial));
-    let feature = FeatureTaps::new(ppd);
-    let (rf, tf) = (r.features(w, &feature), t.features(w, &feature));
-    let scale = 1.0f32 / 2.0f32.sqrt();
-    let data = (0..n)
-        .map(|i| {
-            let color = remap.color_error(rc[i], tc[i]);
-            let edge = (rf[i].0 - tf[i].0).abs();
-            let point = (rf[i].1 - tf[i].1).abs();
-            let larger = if edge > point { edge } else { point };
-            let feature = (scale * larger).powf(0.5);
-            color.powf(1.0 - feature)
-        })
-        .collect();
-    Image::from_vec(reference.width, reference.height, data)
+
+    /// Whether this is `reference`'s at `ppd` (the same size and bits).
+    pub fn is_of(&self, reference: &Image, ppd: f64) -> bool {
+        self.ppd == ppd as f32
+            && (self.width, self.height) == (reference.width, reference.height)
+            && self.image.iter().zip(&reference.data).all(|(a, b)| a.to_bits() == b.to_bits())
+    }
+
+    /// Bytes it holds.
+    pub fn bytes(&self) -> usize {
+        4 * self.image.len() + 12 * self.color.len() + 8 * self.features.len()
+    }
+
+    /// The LDR-FLIP map of `test` against the reference (`ldr_flip_map`). Panics when the sizes differ.
+    pub fn map(&self, test: &Image) -> Image {
+        assert!((self.width, self.height) == (test.width, test.height), "FLIP compares images of one size");
+        let (w, n) = (self.width as usize, test.len());
+        if n == 0 {
+            return Image::new(self.width, self.height);
+        }
+        let t = Opponent::new(test);
+        let tc = t.filtered(w, &SpatialTaps::new(self.ppd));
+        let tf = t.features(w, &FeatureTaps::new(self.ppd));
+        let (rc, rf) = (&self.color, &self.features);
+        let remap = Remap::new();
+        let scale = 1.0f32 / 2.0f32.sqrt();
+        let data = (0..n)
+            .map(|i| {
+                let color = remap.color_error(rc[i], tc[i]);
+                let edge = (rf[i].0 - tf[i].0).abs();
+                let point = (rf[i].1 - tf[i].1).abs();
+                let larger = if edge > point { edge } else { point };
+                let feature = (scale * larger).powf(0.5);
+                color.powf(1.0 - feature)
+            })
+            .collect();
+        Image::from_vec(self.width, self.height, data)
+    }
 }
 
 /// Mean of a FLIP map over the covered pixels of `coverage` (the mean the FLIP tools report, over

@@ -46,6 +46,37 @@ impl Image {
     }
 }
 
+/// A fast key of pixel data (not cryptographic): 32-bit words mixed into four independent lanes
+/// (word i into lane i mod 4, restarting with each `mix`), so that hashing a frame costs a small
+/// part of the work a cache keyed by it saves. The caches that use it (`denoise::taps`,
+/// `jobs::flip_refs`) key tables made from images by it.
+#[derive(Debug, Clone, Copy)]
+pub struct WordHash {
+    lanes: [u64; 4],
+}
+
+impl WordHash {
+    const K: u64 = 0x9E37_79B9_7F4A_7C15;
+
+    /// Starts from four words of the caller's (sizes, parameters).
+    pub fn new(lanes: [u64; 4]) -> Self {
+        Self { lanes }
+    }
+
+    /// Mixes `words` in.
+    pub fn mix(&mut self, words: impl IntoIterator<Item = u32>) {
+        for (i, w) in words.into_iter().enumerate() {
+            let l = &mut self.lanes[i & 3];
+            *l = (*l ^ w as u64).wrapping_mul(Self::K).rotate_left(29);
+        }
+    }
+
+    /// The key.
+    pub fn finish(&self) -> u64 {
+        self.lanes.iter().fold(0u64, |h, &l| (h ^ l).wrapping_mul(Self::K).rotate_left(31))
+    }
+}
+
 /// Coverage masks are 1.0 (a surface) or 0.0 (background); anything above one half counts. (Here,
 /// beside `Image`, so that `metrics` and `denoise` read masks by one rule without importing each
 /// other.)

@@ -112,24 +112,17 @@ impl<'a> Guide<'a> {
     }
 
     fn hash(&self) -> u64 {
-        const K: u64 = 0x9E37_79B9_7F4A_7C15;
         let g = self.gbuf;
-        let mut lanes = [
+        let mut h = crate::image::WordHash::new([
             g.width as u64,
             g.height as u64,
             self.sigma_depth.to_bits() as u64,
             self.sigma_normal.to_bits() as u64,
-        ];
-        let mut mix = |words: &mut dyn Iterator<Item = u32>| {
-            for (i, w) in words.enumerate() {
-                let l = &mut lanes[i & 3];
-                *l = (*l ^ w as u64).wrapping_mul(K).rotate_left(29);
-            }
-        };
-        mix(&mut g.depth.data.iter().map(|v| v.to_bits()));
-        mix(&mut g.coverage.data.iter().map(|v| v.to_bits()));
-        mix(&mut g.normal.iter().flat_map(|n| [n.x.to_bits(), n.y.to_bits(), n.z.to_bits()]));
-        lanes.iter().fold(0u64, |h, &l| (h ^ l).wrapping_mul(K).rotate_left(31))
+        ]);
+        h.mix(g.depth.data.iter().map(|v| v.to_bits()));
+        h.mix(g.coverage.data.iter().map(|v| v.to_bits()));
+        h.mix(g.normal.iter().flat_map(|n| [n.x.to_bits(), n.y.to_bits(), n.z.to_bits()]));
+        h.finish()
     }
 
     pub fn width(&self) -> i64 {

@@ -7,7 +7,7 @@
 //! takes 1.4 MB, a 1080p one 50 MB), found by a hash of the image and confirmed bit for bit
 //! (`FlipReference::is_of`), so that a kept half is only ever used for its own reference.
 
-use crate::image::Image;
+use crate::image::{Image, WordHash};
 use crate::metrics::flip::FlipReference;
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -24,13 +24,9 @@ fn kept() -> &'static Mutex<Kept> {
 
 /// A hash of the image's size and bits and of `ppd`.
 fn key(image: &Image, ppd: f64) -> u64 {
-    const K: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut lanes = [image.width as u64, image.height as u64, ppd.to_bits(), K];
-    for (i, v) in image.data.iter().enumerate() {
-        let l = &mut lanes[i & 3];
-        *l = (*l ^ v.to_bits() as u64).wrapping_mul(K).rotate_left(29);
-    }
-    lanes.iter().fold(0u64, |h, &l| (h ^ l).wrapping_mul(K).rotate_left(31))
+    let mut h = WordHash::new([image.width as u64, image.height as u64, ppd.to_bits(), 0]);
+    h.mix(image.data.iter().map(|v| v.to_bits()));
+    h.finish()
 }
 
 /// The LDR-FLIP map of `test` against `reference` (`metrics::ldr_flip_map`, the same bits), with the

@@ -78,6 +78,13 @@ pub struct Occluders {
 /// At most this many live rays: a node's children are culled by the rays' own slab tests only.
 const FEW: u32 = 4;
 
+/// At most this many rays of a pixel are traced one by one (`Accel::occluded`), not as a packet.
+/// Whole renders on one thread (`profile_render SCENE render D REPEATS RAYS`, 2026-12-07, single
+/// walk compiled for AVX2): at 2 rays a pixel the kitchen takes the same time either way and Sponza
+/// (alpha masks, whose packets run on SSE2) 15 % less one by one; at 4 rays a pixel one by one is
+/// 33 % slower on the kitchen (the packet's occluder cache pays) and 3 % on Sponza.
+const SINGLES: usize = 2;
+
 /// Triangles remembered from one packet for the next.
 const OCCLUDERS: usize = 32;
 
@@ -167,11 +174,15 @@ impl Accel {
         for (k, mask) in masks.iter_mut().enumerate() {
             let r = k * PACKET..((k + 1) * PACKET).min(n);
             let len = r.len();
-            if len == 1 {
-                // A lone ray (1 ray a pixel, or the 33rd): the single-ray walk is the same answer
-                // and faster than a packet's setup (kitchen, d = 1: 176 against 231 ns a ray).
-                let d = Vec3::new(dirs.x[r.start], dirs.y[r.start], dirs.z[r.start]);
-                *mask = self.occluded(&Ray::new(origin, d, tmax)) as u32;
+            if len <= SINGLES {
+                // A lone ray or two (1 or 2 rays a pixel, or the 33rd): the single-ray walk is the
+                // same answer and no slower than a packet's setup (see `SINGLES`).
+                let mut m = 0u32;
+                for (k, i) in r.enumerate() {
+                    let d = Vec3::new(dirs.x[i], dirs.y[i], dirs.z[i]);
+                    m |= (self.occluded(&Ray::new(origin, d, tmax)) as u32) << k;
+                }
+                *mask = m;
                 continue;
             }
             p.fill_soa(&dirs.x[r.clone()], &dirs.y[r.clone()], &dirs.z[r]);

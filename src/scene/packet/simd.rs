@@ -170,6 +170,7 @@ pub(super) fn present_children(meta: &[u8; 8]) -> u32 {
 #[cfg(target_arch = "x86_64")]
 pub(super) mod wide {
     use super::{Cull, Packet, Seen};
+    pub use crate::scene::node::wide::planes;
     use glam::Vec3A;
     use obvhs::cwbvh::node::CwBvhNode;
     use std::arch::x86_64::*;
@@ -236,30 +237,6 @@ pub(super) mod wide {
         (unsafe { std::mem::transmute::<__m256i, [u32; 8]>(cm) }, !empty & 0xff)
     }
 
-    /// `child_planes` (the same values), all 8 children of each plane in one register.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub fn planes(node: &CwBvhNode, o: Vec3A) -> [__m256; 6] {
-        let e = node.compute_extent();
-        let rel = Vec3A::from(node.p) - o;
-        let pad = (rel.abs() + e * 255.0) * (1.0 / 262144.0);
-        // SAFETY: each load reads exactly the 8 bytes of one array.
-        let q = |v: &[u8; 8]| unsafe {
-            _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(v.as_ptr() as *const __m128i)))
-        };
-        let plane = |v: &[u8; 8], base: f32, e: f32| {
-            _mm256_add_ps(_mm256_set1_ps(base), _mm256_mul_ps(q(v), _mm256_set1_ps(e)))
-        };
-        [
-            plane(&node.child_min_x, rel.x - pad.x, e.x),
-            plane(&node.child_max_x, rel.x + pad.x, e.x),
-            plane(&node.child_min_y, rel.y - pad.y, e.y),
-            plane(&node.child_max_y, rel.y + pad.y, e.y),
-            plane(&node.child_min_z, rel.z - pad.z, e.z),
-            plane(&node.child_max_z, rel.z + pad.z, e.z),
-        ]
-    }
-
     /// Each child box's squared distance from the origin the planes are relative to (0 inside).
     #[inline]
     #[target_feature(enable = "avx2")]
@@ -278,24 +255,11 @@ pub(super) mod wide {
         unsafe { std::mem::transmute::<__m256, [f32; 8]>(dist2(pl)) }
     }
 
-    /// Children (bits) whose slabs ray `i` crosses within [0, tmax].
+    /// Children (bits) whose slabs ray `i` crosses within [0, tmax] (`node::wide::slabs`).
     #[inline]
     #[target_feature(enable = "avx2")]
     pub fn ray_hits(pl: &[__m256; 6], p: &Packet, i: usize, tmax: f32, widen: f32) -> u32 {
-        let (ix, iy, iz) =
-            (_mm256_set1_ps(p.inv[0][i]), _mm256_set1_ps(p.inv[1][i]), _mm256_set1_ps(p.inv[2][i]));
-        let (x0, x1) = (_mm256_mul_ps(pl[0], ix), _mm256_mul_ps(pl[1], ix));
-        let (y0, y1) = (_mm256_mul_ps(pl[2], iy), _mm256_mul_ps(pl[3], iy));
-        let (z0, z1) = (_mm256_mul_ps(pl[4], iz), _mm256_mul_ps(pl[5], iz));
-        let tn = _mm256_max_ps(
-            _mm256_max_ps(_mm256_max_ps(_mm256_min_ps(x0, x1), _mm256_min_ps(y0, y1)), _mm256_min_ps(z0, z1)),
-            _mm256_setzero_ps(),
-        );
-        let tf = _mm256_min_ps(
-            _mm256_min_ps(_mm256_min_ps(_mm256_max_ps(x0, x1), _mm256_max_ps(y0, y1)), _mm256_max_ps(z0, z1)),
-            _mm256_set1_ps(tmax),
-        );
-        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, _mm256_mul_ps(tf, _mm256_set1_ps(widen)))) as u32
+        crate::scene::node::wide::slabs(pl, [p.inv[0][i], p.inv[1][i], p.inv[2][i]], tmax, widen)
     }
 
     /// Which of rays 8g..8g+7 hit `s` within (0, tmax) (bits 0..8).

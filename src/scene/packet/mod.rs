@@ -78,13 +78,6 @@ pub struct Occluders {
 /// At most this many live rays: a node's children are culled by the rays' own slab tests only.
 const FEW: u32 = 4;
 
-/// At most this many rays of a pixel are traced one by one (`Accel::occluded`), not as a packet.
-/// Whole renders on one thread (`profile_render SCENE render D REPEATS RAYS`, 2026-12-07, single
-/// walk compiled for AVX2): at 2 rays a pixel the kitchen takes the same time either way and Sponza
-/// (alpha masks, whose packets run on SSE2) 15 % less one by one; at 4 rays a pixel one by one is
-/// 33 % slower on the kitchen (the packet's occluder cache pays) and 3 % on Sponza.
-const SINGLES: usize = 2;
-
 /// Triangles remembered from one packet for the next.
 const OCCLUDERS: usize = 32;
 
@@ -174,15 +167,13 @@ impl Accel {
         for (k, mask) in masks.iter_mut().enumerate() {
             let r = k * PACKET..((k + 1) * PACKET).min(n);
             let len = r.len();
-            if len <= SINGLES {
-                // A lone ray or two (1 or 2 rays a pixel, or the 33rd): the single-ray walk is the
-                // same answer and no slower than a packet's setup (see `SINGLES`).
-                let mut m = 0u32;
-                for (k, i) in r.enumerate() {
-                    let d = Vec3::new(dirs.x[i], dirs.y[i], dirs.z[i]);
-                    m |= (self.occluded(&Ray::new(origin, d, tmax)) as u32) << k;
-                }
-                *mask = m;
+            if len == 1 {
+                // A lone ray (1 ray a pixel, or the 33rd): the single-ray walk is the same answer
+                // and faster than a packet's setup (kitchen, d = 1: 176 against 231 ns a ray). Two
+                // rays a pixel take the same time either way (whole renders of the kitchen and
+                // Sponza, both walks on AVX2, 2026-12-07); from 4 the packet's occluder cache wins.
+                let d = Vec3::new(dirs.x[r.start], dirs.y[r.start], dirs.z[r.start]);
+                *mask = self.occluded(&Ray::new(origin, d, tmax)) as u32;
                 continue;
             }
             p.fill_soa(&dirs.x[r.clone()], &dirs.y[r.clone()], &dirs.z[r]);
@@ -230,11 +221,19 @@ impl Accel {
         #[cfg(target_arch = "x86_64")]
         {
             use std::arch::is_x86_feature_detected as has;
-            // Masked scenes take the SSE2 walk (same answers): a masked AVX2 copy beside this one
-            // made `wide::node` an out-of-line call, +14 % instructions on the kitchen's query.
-            if wide && self.alpha.is_none() && has!("avx2") && has!("popcnt") && has!("bmi1") {
+            // Masked scenes have their own AVX2 copy, whose `wide::node` and `wide::hit8` are
+            // instances of their own (`COPY`): sharing them once made the unmasked copy +5 to +14 %
+            // instructions on the kitchen's query. Sponza's query (d = 2): 36 % less time than on
+            // the SSE2 walk, its renders at 4 rays a pixel 30 % less (2026-12-07).
+            if wide && has!("avx2") && has!("popcnt") && has!("bmi1") {
                 // SAFETY: the CPU supports AVX2, POPCNT and BMI1 (checked just above).
-                return unsafe { self.occluded_packet_avx2(o, up, p, len, tmax, cache) };
+                return unsafe {
+                    if self.alpha.is_none() {
+                        self.occluded_packet_avx2(o, up, p, len, tmax, cache)
+                    } else {
+                        self.occluded_packet_avx2_masked(o, up, p, len, tmax, cache)
+                    }
+                };
             }
         }
         // Two copies of the walk: scenes without masks run one with no mask test in it at all.
@@ -256,6 +255,20 @@ impl Accel {
         cache: &mut Occluders,
     ) -> u32 {
         self.occluded_packet::<true, false>(o, up, p, len, tmax, cache)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,popcnt,bmi1")]
+    unsafe fn occluded_packet_avx2_masked(
+        &self,
+        o: Vec3A,
+        up: Option<Horizon>,
+        p: &Packet,
+        len: usize,
+        tmax: f32,
+        cache: &mut Occluders,
+    ) -> u32 {
+        self.occluded_packet::<true, true>(o, up, p, len, tmax, cache)
     }
 
     /// Bit i set: ray i (of at most 32) is blocked. `MASKED`: the scene has alpha masks, and a hit
@@ -305,7 +318,7 @@ impl Accel {
                     let gm = (live >> (8 * g)) & 0xff;
                     if gm != 0 {
                         // SAFETY: WIDE is only set by `occluded_packet_avx2`, on CPUs with AVX2.
-                        new |= (unsafe { wide::hit8(p, g, &s, tmax) } & gm) << (8 * g);
+                        new |= (unsafe { wide::hit8::<MASKED>(p, g, &s, tmax) } & gm) << (8 * g);
                     }
                 }
                 if MASKED && new != 0 {
@@ -358,7 +371,7 @@ impl Accel {
             #[cfg(target_arch = "x86_64")]
             let (cm, hit) = if WIDE {
                 // SAFETY: WIDE is only set by `occluded_packet_avx2`, on CPUs with AVX2.
-                unsafe { wide::node(node, o, p, live, few, &cull, tmax, present) }
+                unsafe { wide::node::<MASKED>(node, o, p, live, few, &cull, tmax, present) }
             } else {
                 self.node_sse2(node, o, p, live, few, &cull, tmax, present)
             };

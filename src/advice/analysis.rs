@@ -29,7 +29,8 @@ pub struct Measured<'a> {
     pub views: &'a crate::jobs::reference::ViewReferences,
     /// A kept record's image and its coverage (the sweep's after a real-time pipeline, the
     /// finalists'), read from where advise writes them (`outdir::record_image`).
-    pub images: &'a dyn Fn(&JobResult) -> crate::error::Result<(crate::image::Image, crate::image::Image)>,
+    pub images:
+        &'a (dyn Fn(&JobResult) -> crate::error::Result<(crate::image::Image, crate::image::Image)> + Sync),
     /// The sweep's records as stored (each with its real pipeline, frame and camera), for the
     /// page's final frames and viewer.
     pub stored: Vec<JobResult>,

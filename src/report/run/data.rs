@@ -18,8 +18,8 @@ use crate::timing::{Protocol, Summary};
 #[derive(Clone, Copy)]
 pub struct Flip<'a> {
     pub ppd: f64,
-    pub map: &'a dyn Fn(&Image, &Image, f64) -> Image,
-    pub mean: &'a dyn Fn(&Image, &Image) -> f64,
+    pub map: &'a (dyn Fn(&Image, &Image, f64) -> Image + Sync),
+    pub mean: &'a (dyn Fn(&Image, &Image) -> f64 + Sync),
 }
 
 impl Flip<'_> {
@@ -44,7 +44,7 @@ pub struct ReportInput<'a> {
     pub notes: Vec<String>,
     /// A record's kept image and its coverage, read by the command that owns the files
     /// (`outdir::record_image`): the image figures' only input from disk.
-    pub images: &'a dyn Fn(&JobResult) -> Result<(Image, Image)>,
+    pub images: &'a (dyn Fn(&JobResult) -> Result<(Image, Image)> + Sync),
     /// FLIP maps for the error figures and the viewer (`None`: those layers are left out).
     pub flip: Option<Flip<'a>>,
 }

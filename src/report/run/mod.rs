@@ -41,7 +41,7 @@ pub struct Run<'a> {
     pub session: &'a Session,
     pub cost: Option<quotes::Cost>,
     pub notes: Vec<String>,
-    pub images: &'a dyn Fn(&JobResult) -> Result<(Image, Image)>,
+    pub images: &'a (dyn Fn(&JobResult) -> Result<(Image, Image)> + Sync),
 }
 
 /// The report's files, in the order to write them (the page last), and what to print.

@@ -228,10 +228,9 @@ impl Accel {
             if wide && has!("avx2") && has!("popcnt") && has!("bmi1") {
                 // SAFETY: the CPU supports AVX2, POPCNT and BMI1 (checked just above).
                 return unsafe {
-                    if self.alpha.is_none() {
-                        self.occluded_packet_avx2(o, up, p, len, tmax, cache)
-                    } else {
-                        self.occluded_packet_avx2_masked(o, up, p, len, tmax, cache)
+                    match self.alpha.is_some() {
+                        true => self.occluded_packet_avx2::<true>(o, up, p, len, tmax, cache),
+                        false => self.occluded_packet_avx2::<false>(o, up, p, len, tmax, cache),
                     }
                 };
             }
@@ -243,9 +242,10 @@ impl Accel {
         }
     }
 
+    /// `occluded_packet` compiled for AVX2: one instance for scenes without masks, one for masked.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,popcnt,bmi1")]
-    unsafe fn occluded_packet_avx2(
+    unsafe fn occluded_packet_avx2<const MASKED: bool>(
         &self,
         o: Vec3A,
         up: Option<Horizon>,
@@ -254,21 +254,7 @@ impl Accel {
         tmax: f32,
         cache: &mut Occluders,
     ) -> u32 {
-        self.occluded_packet::<true, false>(o, up, p, len, tmax, cache)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,popcnt,bmi1")]
-    unsafe fn occluded_packet_avx2_masked(
-        &self,
-        o: Vec3A,
-        up: Option<Horizon>,
-        p: &Packet,
-        len: usize,
-        tmax: f32,
-        cache: &mut Occluders,
-    ) -> u32 {
-        self.occluded_packet::<true, true>(o, up, p, len, tmax, cache)
+        self.occluded_packet::<true, MASKED>(o, up, p, len, tmax, cache)
     }
 
     /// Bit i set: ray i (of at most 32) is blocked. `MASKED`: the scene has alpha masks, and a hit

@@ -16,6 +16,7 @@
 //! the error of the hit point itself.
 
 use super::alpha::Mask;
+pub use super::effort::{Effort, FAST_BELOW_RAYS_PER_TRIANGLE};
 pub use super::node::Ray;
 use super::node::{child_planes, slabs};
 use glam::{UVec2, Vec3, Vec3A, Vec3Swizzles, Vec4};
@@ -60,38 +61,6 @@ pub struct Hit {
     pub prim: u32,
     pub bary_b: f32,
     pub bary_c: f32,
-}
-
-/// How much the BVH build spends on the tree's quality, chosen by the work the tree will do
-/// (the rule and its measured trade-offs are in docs/performance.md). The image does not
-/// depend on it: AO asks whether anything is hit (any hit) and the primary rays take the least
-/// (t, input index) of the hits (`closer`), whatever order a tree meets them in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Effort {
-    /// obvhs's slow preset (spatial pre-splits, reinsertion): the paper runs' tree, for work that
-    /// traces many rays per triangle.
-    #[default]
-    Full,
-    /// obvhs's fastest preset (no splits, no reinsertion) over pairs of triangles (`cluster`): a
-    /// fraction of the build's time and memory, for a render that traces few rays per triangle.
-    Fast,
-}
-
-/// Below this many rays per triangle the full build costs more than it saves. Measured
-/// (docs/performance.md, `examples/build_effort.rs`): the full build's extra time per triangle
-/// equals the time its faster tree saves on about 240 rays on the kitchen and about 50 on a 1 M
-/// triangle grid; the threshold sits at the low end, so a render in doubt gets a paper run's tree.
-pub const FAST_BELOW_RAYS_PER_TRIANGLE: f64 = 64.0;
-
-impl Effort {
-    /// The effort for a command that will trace `rays` rays (None: unknown, as many as a paper run
-    /// may) through `triangles` triangles.
-    pub fn for_work(rays: Option<u64>, triangles: usize) -> Effort {
-        match rays {
-            Some(r) if (r as f64) < FAST_BELOW_RAYS_PER_TRIANGLE * triangles as f64 => Effort::Fast,
-            _ => Effort::Full,
-        }
-    }
 }
 
 impl Accel {
@@ -509,59 +478,4 @@ fn intersect(tri: &Tri, ray: &Ray, tmax: f32) -> Option<(f32, f32, f32, f32)> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn hits_a_triangle_and_respects_tmax() {
-        let tri = [Vec3::new(-1.0, -1.0, 1.0), Vec3::new(1.0, -1.0, 1.0), Vec3::new(0.0, 1.0, 1.0)];
-        let (acc, _) = Accel::build(&[tri]);
-        let r = Ray::new(Vec3::ZERO, Vec3::Z, f32::INFINITY);
-        let h = acc.closest(&r).unwrap();
-        assert!((h.t - 1.0).abs() < 1e-6);
-        assert!(acc.occluded(&r));
-        assert!(!acc.occluded(&Ray::new(Vec3::ZERO, Vec3::Z, 0.5)));
-        assert!(!acc.occluded(&Ray::new(Vec3::ZERO, -Vec3::Z, f32::INFINITY)));
-        // -0.0 components must not make the ray miss.
-        assert!(acc.occluded(&Ray::new(Vec3::ZERO, Vec3::new(-0.0, -0.0, 1.0), f32::INFINITY)));
-    }
-
-    #[test]
-    fn the_avx2_single_ray_walk_answers_as_the_sse2_walk_and_brute_force() {
-        // A soup of small triangles in a unit box, rays from inside it in every direction.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
-        let mut tris = Vec::new();
-        for _ in 0..3000 {
-            let c = Vec3::new(next(), next(), next());
-            let e = |n: &mut dyn FnMut() -> f32| Vec3::new(n() - 0.5, n() - 0.5, n() - 0.5) * 0.08;
-            tris.push([c, c + e(&mut next), c + e(&mut next)]);
-        }
-        let (acc, _) = Accel::build(&tris);
-        let (mut hits, mut cases) = (0, 0);
-        for _ in 0..4000 {
-            let o = Vec3::new(next(), next(), next());
-            let d = Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize_or(Vec3::Z);
-            for tmax in [0.05, 0.3, f32::INFINITY] {
-                let ray = Ray::new(o, d, tmax);
-                let want = acc.occluded_walk::<false>(&ray);
-                assert_eq!(acc.occluded(&ray), want, "{o} {d} {tmax}");
-                assert_eq!(acc.closest_brute_force(&ray).is_some(), want, "{o} {d} {tmax}");
-                hits += want as u32;
-                cases += 1;
-            }
-        }
-        assert!(hits > cases / 10 && hits < cases * 9 / 10, "{hits} of {cases}");
-    }
-
-    #[test]
-    fn short_hits_below_obvhs_epsilon_are_found() {
-        let s = 1e-6;
-        let tri = [Vec3::new(-s, -s, s), Vec3::new(s, -s, s), Vec3::new(0.0, s, s)];
-        let (acc, _) = Accel::build(&[tri]);
-        assert!(acc.occluded(&Ray::new(Vec3::ZERO, Vec3::Z, f32::INFINITY)));
-    }
-}
+mod tests;

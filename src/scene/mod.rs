@@ -7,6 +7,7 @@ pub mod camera;
 pub mod camera_path;
 mod cluster;
 pub mod dds;
+mod effort;
 pub mod file;
 #[cfg(any(test, feature = "testing"))]
 pub mod foliage;

@@ -197,9 +197,9 @@ impl Accel {
     }
 
     /// The walk compiled for AVX2 with the 8 children's boxes in one register (`node::wide`): the
-    /// same IEEE operations, so the same answers. Kitchen, one thread (`profile_render SCENE single
-    /// D`): 17 % less time at d = inf, 19 % at d = 1 than the SSE2 walk; whole renders at 1 ray a
-    /// pixel 12-13 % less on the kitchen and Sponza (2026-12-07).
+    /// same IEEE operations, so the same answers. Kitchen, one thread, against the SSE2 walk: 21 %
+    /// less time at d = inf, 25 % at d = 1; whole renders at 1 ray a pixel 19 % less on the
+    /// kitchen, 5 % on Sponza (docs/performance.md, "Few rays a pixel").
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,popcnt,bmi1")]
     unsafe fn occluded_avx2(&self, ray: &Ray) -> bool {
@@ -268,9 +268,7 @@ fn node_hits<const WIDE: bool>(node: &CwBvhNode, ray: &Ray, tmax: f32, oct_inv4:
     let mut mask = if WIDE {
         use super::node::wide;
         // SAFETY: WIDE is only set by the walks compiled for AVX2, on CPUs that have it.
-        unsafe {
-            wide::slabs(&wide::planes(node, ray.org), ray.inv.to_array(), tmax, 1.0 + 8.0 * f32::EPSILON)
-        }
+        unsafe { wide::slabs(&wide::planes(node, ray.org), ray.inv.to_array(), tmax, super::node::WIDEN) }
     } else {
         slabs(&child_planes(node, ray.org), ray.inv.to_array(), tmax)
     };

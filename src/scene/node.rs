@@ -14,6 +14,10 @@ pub struct Ray {
     pub(super) tmax: f32,
 }
 
+/// The slab test widens each box's exit distance by this factor (8 ulps), so the rounding of the
+/// products never drops a box the ray touches. One value for every walk, so all cull alike.
+pub(in crate::scene) const WIDEN: f32 = 1.0 + 8.0 * f32::EPSILON;
+
 /// Slabs use 1/dir; a zero component would give 0 * inf = NaN, so tiny components are clamped.
 pub(crate) const TINY: f32 = 1e-20;
 
@@ -82,7 +86,7 @@ pub(in crate::scene) fn child_planes(node: &CwBvhNode, o: Vec3A) -> [[Vec4; 2]; 
 #[allow(clippy::needless_range_loop)] // h indexes the halves of six plane arrays
 pub(in crate::scene) fn slabs(pl: &[[Vec4; 2]; 6], inv: [f32; 3], tmax: f32) -> u32 {
     let (ix, iy, iz) = (Vec4::splat(inv[0]), Vec4::splat(inv[1]), Vec4::splat(inv[2]));
-    let (widen, tmax4) = (Vec4::splat(1.0 + 8.0 * f32::EPSILON), Vec4::splat(tmax));
+    let (widen, tmax4) = (Vec4::splat(WIDEN), Vec4::splat(tmax));
     let mut mask = 0u32;
     for h in 0..2 {
         let (x0, x1) = (pl[0][h] * ix, pl[1][h] * ix);

@@ -67,7 +67,7 @@ impl Accel {
         // A ray's best t so far: its boxes are culled beyond it.
         let mut bound = [tmax; PACKET];
         let mut stack = [(0u32, 0u32); STACK];
-        let (mut top, widen) = (1usize, 1.0 + 8.0 * f32::EPSILON);
+        let (mut top, widen) = (1usize, crate::scene::node::WIDEN);
         stack[0] = (0, all);
         while top > 0 {
             top -= 1;

@@ -225,7 +225,7 @@ pub(super) mod wide {
             while rays != 0 {
                 let i = rays.trailing_zeros() as usize;
                 rays &= rays - 1;
-                let hits = ray_hits(&pl, p, i, tmax, 1.0 + 8.0 * f32::EPSILON) & want;
+                let hits = ray_hits(&pl, p, i, tmax, crate::scene::node::WIDEN) & want;
                 cm = _mm256_or_si256(
                     cm,
                     _mm256_and_si256(lanes_of(hits), _mm256_set1_epi32((1u32 << i) as i32)),

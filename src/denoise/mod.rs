@@ -10,6 +10,7 @@
 pub mod accumulate;
 pub mod atrous;
 pub mod edges;
+mod exp;
 pub mod filter;
 pub mod gaussian;
 pub mod history;

@@ -90,7 +90,9 @@ pub(super) fn level(guide: &Guide, c: &[f64]) -> f64 {
 }
 
 /// À-trous pass `it` of the colour `c` with variance `var` (and the reference's colour `cr` under
-/// the same weights): the new colour, variance and reference colour.
+/// the same weights): the new colour, variance and reference colour. Where the pass's taps are a
+/// kept table and the CPU runs `exp4`, four pixels of a row at a time (`row_lanes`): each lane the
+/// same operations in the same order as `pixel`'s, so the same bits.
 pub(super) fn pass(
     guide: &Guide,
     c: &[f64],
@@ -103,49 +105,36 @@ pub(super) fn pass(
     let w = guide.width() as usize;
     let gvar = prefilter(guide, var);
     let taps_of = TapPass::new(guide, it);
+    let lanes = taps_of.lanes().filter(|_| super::exp::available());
+    let px = Pixels { c, var, cr, gvar: &gvar, sigma_l, eps };
     let rows: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (0..guide.height() as usize)
         .into_par_iter()
         .map(|y| {
             let mut taps: Taps = [(0, 0.0); 25];
-            let (mut rc, mut rv, mut rr) =
-                (vec![0.0; w], vec![0.0; w], vec![0.0; if cr.is_some() { w } else { 0 }]);
-            for x in 0..w {
+            let mut row = (vec![0.0; w], vec![0.0; w], vec![0.0; if cr.is_some() { w } else { 0 }]);
+            let mut done = 0;
+            #[cfg(target_arch = "x86_64")]
+            if let Some(l) = &lanes {
+                // SAFETY: `exp::available` checked AVX2 and FMA.
+                done = unsafe { row_lanes(l, &px, y, w, &mut row) };
+            }
+            for x in done..w {
                 let p = y * w + x;
                 if !guide.is_covered(p) {
-                    rc[x] = c[p];
+                    row.0[x] = c[p];
                     if let Some(cr) = cr {
-                        rr[x] = cr[p];
+                        row.2[x] = cr[p];
                     }
                     continue;
                 }
                 let k = taps_of.taps(x as i64, y as i64, &mut taps);
-                let scale = eps.scale(sigma_l, gvar[p]);
-                let (mut s, mut sv, mut sr, mut ws) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-                for &(q, g) in &taps[..k] {
-                    let wt = g * luminance_weight(c[p] - c[q], scale, g);
-                    s += wt * c[q];
-                    sv += wt * wt * var[q];
-                    if let Some(cr) = cr {
-                        sr += wt * cr[q];
-                    }
-                    ws += wt;
-                }
-                // The centre tap has w_l = 1: ws > 0 unless its own normal weight underflows.
-                if ws > 0.0 {
-                    rc[x] = s / ws;
-                    rv[x] = sv / (ws * ws);
-                    if cr.is_some() {
-                        rr[x] = sr / ws;
-                    }
-                } else {
-                    rc[x] = c[p];
-                    rv[x] = var[p];
-                    if let Some(cr) = cr {
-                        rr[x] = cr[p];
-                    }
+                let (rc, rv, rr) = px.pixel(p, &taps[..k]);
+                (row.0[x], row.1[x]) = (rc, rv);
+                if cr.is_some() {
+                    row.2[x] = rr;
                 }
             }
-            (rc, rv, rr)
+            row
         })
         .collect();
     let mut out =
@@ -160,9 +149,239 @@ pub(super) fn pass(
     out
 }
 
+/// What a pass reads per pixel: the colour, its variance, the reference's colour, the prefiltered
+/// variance and the luminance weight's σ_l and ε.
+struct Pixels<'a> {
+    c: &'a [f64],
+    var: &'a [f64],
+    cr: Option<&'a [f64]>,
+    gvar: &'a [f64],
+    sigma_l: f64,
+    eps: Eps,
+}
+
+impl Pixels<'_> {
+    /// Covered pixel `p` under its `taps`: its new colour, variance and reference colour (eq. 6;
+    /// the reference's 0 without one).
+    fn pixel(&self, p: usize, taps: &[(usize, f64)]) -> (f64, f64, f64) {
+        let (c, var) = (self.c, self.var);
+        let scale = self.eps.scale(self.sigma_l, self.gvar[p]);
+        let (mut s, mut sv, mut sr, mut ws) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        for &(q, g) in taps {
+            let wt = g * luminance_weight(c[p] - c[q], scale, g);
+            s += wt * c[q];
+            sv += wt * wt * var[q];
+            if let Some(cr) = self.cr {
+                sr += wt * cr[q];
+            }
+            ws += wt;
+        }
+        // The centre tap has w_l = 1: ws > 0 unless its own normal weight underflows.
+        if ws > 0.0 {
+            (s / ws, sv / (ws * ws), sr / ws)
+        } else {
+            (c[p], var[p], self.cr.map_or(0.0, |cr| cr[p]))
+        }
+    }
+}
+
+/// Row `y`'s pixels four at a time (lane i pixel x + i), up to the last whole four: returns how
+/// many it filtered. Each lane walks its own taps in kernel order (the table's mask bits), its
+/// sums a chain of its own as `Pixels::pixel`'s; a lane without tap j leaves its sums as they were
+/// (a blend, not an added 0, which would turn −0 into +0 or a NaN into the sum); the luminance
+/// weight by `exp4`, lanes outside its main path by `luminance_weight`. Uncovered pixels (mask 0)
+/// keep their colour and reference and a variance of 0, as `pass`'s.
+///
+/// # Safety
+/// The CPU has AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn row_lanes(
+    l: &super::taps::Lanes,
+    px: &Pixels,
+    y: usize,
+    w: usize,
+    row: &mut (Vec<f64>, Vec<f64>, Vec<f64>),
+) -> usize {
+    use std::arch::x86_64::*;
+    let (c, var) = (px.c, px.var);
+    let n4 = w / 4 * 4;
+    for x0 in (0..n4).step_by(4) {
+        let p0 = y * w + x0;
+        let m: [u32; 4] = std::array::from_fn(|i| l.mask[p0 + i]);
+        if m == [0; 4] {
+            row.0[x0..x0 + 4].copy_from_slice(&c[p0..p0 + 4]);
+            if let Some(cr) = px.cr {
+                row.2[x0..x0 + 4].copy_from_slice(&cr[p0..p0 + 4]);
+            }
+            continue;
+        }
+        let mv = _mm256_setr_epi64x(m[0] as i64, m[1] as i64, m[2] as i64, m[3] as i64);
+        // Lane i's next weight; a lane without the tap reads its next one's (or 0 past the end) and
+        // drops it.
+        let mut cursor: [usize; 4] = std::array::from_fn(|i| l.start[p0 + i] as usize);
+        let scales: [f64; 4] = std::array::from_fn(|i| px.eps.scale(px.sigma_l, px.gvar[p0 + i]));
+        // SAFETY: p0 + 3 < c.len() (a whole four of row y).
+        let (scale, cp) = unsafe { (_mm256_loadu_pd(scales.as_ptr()), _mm256_loadu_pd(c.as_ptr().add(p0))) };
+        let z = _mm256_setzero_pd();
+        let (mut s, mut sv, mut sr, mut ws) = (z, z, z, z);
+        let mut bits = m[0] | m[1] | m[2] | m[3];
+        while bits != 0 {
+            let j = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let bit = _mm256_set1_epi64x(1 << j);
+            let has = _mm256_cmpeq_epi64(_mm256_and_si256(mv, bit), bit);
+            let hasd = _mm256_castsi256_pd(has);
+            let lanes = _mm256_movemask_pd(hasd) as u32;
+            // Lane i's tap j is pixel p0 + i + offset[j], inside the image where the lane has it;
+            // the masked loads read nothing for the other lanes.
+            let q0 = (p0 as i64 + l.offset[j]) as isize;
+            let at = |i: usize| l.weight.get(cursor[i]).copied().unwrap_or(0.0);
+            let g = _mm256_and_pd(_mm256_setr_pd(at(0), at(1), at(2), at(3)), hasd);
+            for (i, k) in cursor.iter_mut().enumerate() {
+                *k += ((m[i] >> j) & 1) as usize;
+            }
+            // SAFETY: the lanes read are pixels of the image.
+            let (cq, vq) = unsafe {
+                (
+                    _mm256_maskload_pd(c.as_ptr().wrapping_offset(q0), has),
+                    _mm256_maskload_pd(var.as_ptr().wrapping_offset(q0), has),
+                )
+            };
+            let d = _mm256_sub_pd(cp, cq);
+            // −|d| / scale: the sign bit set.
+            let x = _mm256_div_pd(_mm256_or_pd(d, _mm256_set1_pd(-0.0)), scale);
+            // SAFETY: AVX2 and FMA (this function's features).
+            let (e, special) = unsafe { super::exp::exp4(x) };
+            let one = _mm256_or_pd(
+                _mm256_cmp_pd::<_CMP_EQ_OQ>(x, z),
+                _mm256_and_pd(_mm256_cmp_pd::<_CMP_EQ_OQ>(g, z), _mm256_cmp_pd::<_CMP_ORD_Q>(x, x)),
+            );
+            let under = _mm256_cmp_pd::<_CMP_LT_OQ>(x, _mm256_set1_pd(-746.0));
+            let mut lw = _mm256_blendv_pd(_mm256_blendv_pd(e, z, under), _mm256_set1_pd(1.0), one);
+            let fix = special & lanes & !(_mm256_movemask_pd(_mm256_or_pd(one, under)) as u32);
+            if fix != 0 {
+                let mut a = [[0.0f64; 4]; 4];
+                for (v, o) in [d, scale, g, lw].into_iter().zip(&mut a) {
+                    // SAFETY: one register into 4 f64.
+                    unsafe { _mm256_storeu_pd(o.as_mut_ptr(), v) };
+                }
+                for i in (0..4).filter(|i| fix & (1 << i) != 0) {
+                    a[3][i] = luminance_weight(a[0][i], a[1][i], a[2][i]);
+                }
+                // SAFETY: 4 f64.
+                lw = unsafe { _mm256_loadu_pd(a[3].as_ptr()) };
+            }
+            let wt = _mm256_mul_pd(g, lw);
+            s = _mm256_blendv_pd(s, _mm256_add_pd(s, _mm256_mul_pd(wt, cq)), hasd);
+            sv = _mm256_blendv_pd(sv, _mm256_add_pd(sv, _mm256_mul_pd(_mm256_mul_pd(wt, wt), vq)), hasd);
+            if let Some(cr) = px.cr {
+                // SAFETY: as the colour's load.
+                let rq = unsafe { _mm256_maskload_pd(cr.as_ptr().wrapping_offset(q0), has) };
+                sr = _mm256_blendv_pd(sr, _mm256_add_pd(sr, _mm256_mul_pd(wt, rq)), hasd);
+            }
+            ws = _mm256_blendv_pd(ws, _mm256_add_pd(ws, wt), hasd);
+        }
+        let pos = _mm256_cmp_pd::<_CMP_GT_OQ>(ws, z);
+        let covered = _mm256_castsi256_pd(_mm256_xor_si256(
+            _mm256_cmpeq_epi64(mv, _mm256_setzero_si256()),
+            _mm256_set1_epi64x(-1),
+        ));
+        // SAFETY: p0..p0 + 4 is inside the image and x0..x0 + 4 inside the row.
+        unsafe {
+            let vp = _mm256_loadu_pd(var.as_ptr().add(p0));
+            let rc = _mm256_blendv_pd(cp, _mm256_div_pd(s, ws), pos);
+            let rv =
+                _mm256_and_pd(_mm256_blendv_pd(vp, _mm256_div_pd(sv, _mm256_mul_pd(ws, ws)), pos), covered);
+            _mm256_storeu_pd(row.0.as_mut_ptr().add(x0), rc);
+            _mm256_storeu_pd(row.1.as_mut_ptr().add(x0), rv);
+            if let Some(cr) = px.cr {
+                let rp = _mm256_loadu_pd(cr.as_ptr().add(p0));
+                _mm256_storeu_pd(
+                    row.2.as_mut_ptr().add(x0),
+                    _mm256_blendv_pd(rp, _mm256_div_pd(sr, ws), pos),
+                );
+            }
+        }
+    }
+    n4
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::denoise::taps::{TapCache, with_cache};
+    use crate::image::Image;
+    use crate::render::GBuffer;
+    use glam::Vec3;
+    use std::sync::Arc;
+
+    /// A pass's three images as bits.
+    fn bits(p: &Pass) -> Vec<u64> {
+        p.0.iter().chain(&p.1).chain(p.2.iter().flatten()).map(|v| v.to_bits()).collect()
+    }
+
+    #[test]
+    fn four_pixels_at_a_time_give_each_pixels_bits() {
+        // 37 wide: a row ends in a part four. Colours with equal and one-ulp-apart neighbours,
+        // variances from 1e-12 to 1 (so −|d|/s spans 0, below 2⁻⁵⁴, glibc's 512..746 special case
+        // and past exp's underflow), an uncovered pixel every 13th, normals that cut some taps to 0.
+        let (w, h) = (37u32, 23u32);
+        let n = (w * h) as usize;
+        let mut s = 0x853c49e6748fea9bu64;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let depth: Vec<f32> = (0..n).map(|i| 1.0 + 0.02 * (i % 5) as f32).collect();
+        let normal: Vec<Vec3> =
+            (0..n)
+                .map(|i| {
+                    if i % 17 == 0 { Vec3::X } else { Vec3::new(0.05 * (i % 3) as f32, 0.0, 1.0).normalize() }
+                })
+                .collect();
+        let coverage: Vec<f32> = (0..n).map(|i| if i % 13 == 5 { 0.0 } else { 1.0 }).collect();
+        let gb = GBuffer {
+            width: w,
+            height: h,
+            depth: Image::from_vec(w, h, depth),
+            normal,
+            coverage: Image::from_vec(w, h, coverage),
+            primitive: Vec::new(),
+        };
+        let c: Vec<f64> = (0..n)
+            .map(|i| match i % 4 {
+                0 => 0.5,
+                1 => f64::from_bits(0.5f64.to_bits() + 1),
+                _ => next(),
+            })
+            .collect();
+        let var: Vec<f64> = (0..n).map(|_| 10f64.powf(-12.0 * next())).collect();
+        let cr: Vec<f64> = (0..n).map(|_| next()).collect();
+        let guide = Guide::new(&gb, 1.0, 128.0);
+        for it in 0..3 {
+            for eps in [Eps { relative: false, floor: 0.0 }, Eps { relative: true, floor: 1e-9 }] {
+                for cr in [None, Some(&cr[..])] {
+                    let computed =
+                        with_cache(&Arc::new(TapCache::new(0)), || pass(&guide, &c, &var, cr, it, 4.0, eps));
+                    let cache = Arc::new(TapCache::new(1 << 30));
+                    let kept = with_cache(&cache, || {
+                        pass(&guide, &c, &var, cr, it, 4.0, eps);
+                        pass(&guide, &c, &var, cr, it, 4.0, eps)
+                    });
+                    assert_eq!(cache.tables(), 1);
+                    assert_eq!(
+                        bits(&kept),
+                        bits(&computed),
+                        "pass {it}, {eps:?}, reference {}",
+                        cr.is_some()
+                    );
+                }
+            }
+        }
+    }
 
     #[test]
     fn the_luminance_weight_times_the_edge_weight_has_exps_bits() {

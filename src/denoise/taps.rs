@@ -191,6 +191,28 @@ impl<'g, 'a> Pass<'g, 'a> {
     }
 }
 
+/// A kept table as a walk over several pixels at once reads it (`svgf_atrous`'s four lanes): per
+/// pixel the mask of its taps (0: uncovered) and where its weights start, the weights, and per
+/// kernel position (bit) q − p.
+pub struct Lanes<'t> {
+    pub mask: &'t [u32],
+    pub start: &'t [u32],
+    pub weight: &'t [f64],
+    pub offset: &'t [i64; KERNEL],
+}
+
+impl Pass<'_, '_> {
+    /// The kept table's `Lanes`, or `None` where the taps are computed (`taps` computes them).
+    pub fn lanes(&self) -> Option<Lanes<'_>> {
+        self.table.as_deref().map(|t| Lanes {
+            mask: &t.mask,
+            start: &t.start,
+            weight: &t.weight,
+            offset: &self.offset,
+        })
+    }
+}
+
 /// The table of `guide`'s pass `iteration`: every covered pixel's taps (uncovered pixels have none).
 fn build(guide: &Guide, iteration: u32) -> Table {
     let (w, h) = (guide.width() as usize, guide.height() as usize);

@@ -203,8 +203,7 @@ unsafe fn row_lanes(
     w: usize,
     row: &mut (Vec<f64>, Vec<f64>, Vec<f64>),
 ) -> usize {
-    use std::arch::x86_64::*;
-    let (c, var) = (px.c, px.var);
+    let c = px.c;
     let n4 = w / 4 * 4;
     for x0 in (0..n4).step_by(4) {
         let p0 = y * w + x0;
@@ -216,95 +215,130 @@ unsafe fn row_lanes(
             }
             continue;
         }
-        let mv = _mm256_setr_epi64x(m[0] as i64, m[1] as i64, m[2] as i64, m[3] as i64);
-        // Lane i's next weight; a lane without the tap reads its next one's (or 0 past the end) and
-        // drops it.
-        let mut cursor: [usize; 4] = std::array::from_fn(|i| l.start[p0 + i] as usize);
-        let scales: [f64; 4] = std::array::from_fn(|i| px.eps.scale(px.sigma_l, px.gvar[p0 + i]));
-        // SAFETY: p0 + 3 < c.len() (a whole four of row y).
-        let (scale, cp) = unsafe { (_mm256_loadu_pd(scales.as_ptr()), _mm256_loadu_pd(c.as_ptr().add(p0))) };
-        let z = _mm256_setzero_pd();
-        let (mut s, mut sv, mut sr, mut ws) = (z, z, z, z);
-        let mut bits = m[0] | m[1] | m[2] | m[3];
-        while bits != 0 {
-            let j = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let bit = _mm256_set1_epi64x(1 << j);
-            let has = _mm256_cmpeq_epi64(_mm256_and_si256(mv, bit), bit);
-            let hasd = _mm256_castsi256_pd(has);
-            let lanes = _mm256_movemask_pd(hasd) as u32;
-            // Lane i's tap j is pixel p0 + i + offset[j], inside the image where the lane has it;
-            // the masked loads read nothing for the other lanes.
-            let q0 = (p0 as i64 + l.offset[j]) as isize;
+        // SAFETY: AVX2 and FMA (this function's features).
+        unsafe {
+            if m == [ALL_TAPS; 4] {
+                group::<true>(l, px, (x0, p0), m, row)
+            } else {
+                group::<false>(l, px, (x0, p0), m, row)
+            }
+        }
+    }
+    n4
+}
+
+/// Every tap of the 5 × 5 kernel (25 bits).
+#[cfg(target_arch = "x86_64")]
+const ALL_TAPS: u32 = (1 << 25) - 1;
+
+/// `row_lanes`' four pixels x0.. (p0.. in the image) with tap masks `m`. `FULL`: every lane has
+/// every tap (most of a frame), so no lane is masked: the blends and masked loads are plain adds
+/// and loads and lane i's weight of tap j is its j-th; the same operations on every lane.
+///
+/// # Safety
+/// The CPU has AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn group<const FULL: bool>(
+    l: &super::taps::Lanes,
+    px: &Pixels,
+    (x0, p0): (usize, usize),
+    m: [u32; 4],
+    row: &mut (Vec<f64>, Vec<f64>, Vec<f64>),
+) {
+    use std::arch::x86_64::*;
+    let (c, var) = (px.c, px.var);
+    let mv = _mm256_setr_epi64x(m[0] as i64, m[1] as i64, m[2] as i64, m[3] as i64);
+    // Lane i's next weight; a lane without the tap reads its next one's (or 0 past the end) and
+    // drops it.
+    let mut cursor: [usize; 4] = std::array::from_fn(|i| l.start[p0 + i] as usize);
+    let scales: [f64; 4] = std::array::from_fn(|i| px.eps.scale(px.sigma_l, px.gvar[p0 + i]));
+    // SAFETY: p0 + 3 < c.len() (a whole four of row y).
+    let (scale, cp) = unsafe { (_mm256_loadu_pd(scales.as_ptr()), _mm256_loadu_pd(c.as_ptr().add(p0))) };
+    let z = _mm256_setzero_pd();
+    let (mut s, mut sv, mut sr, mut ws) = (z, z, z, z);
+    let mut bits = m[0] | m[1] | m[2] | m[3];
+    while bits != 0 {
+        let j = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        let bit = _mm256_set1_epi64x(1 << j);
+        let has =
+            if FULL { _mm256_set1_epi64x(-1) } else { _mm256_cmpeq_epi64(_mm256_and_si256(mv, bit), bit) };
+        let hasd = _mm256_castsi256_pd(has);
+        let lanes = if FULL { 0xf } else { _mm256_movemask_pd(hasd) as u32 };
+        // Lane i's tap j is pixel p0 + i + offset[j], inside the image where the lane has it;
+        // the masked loads read nothing for the other lanes.
+        let q0 = (p0 as i64 + l.offset[j]) as isize;
+        let g = if FULL {
+            let at = |i: usize| l.weight[cursor[i] + j];
+            _mm256_setr_pd(at(0), at(1), at(2), at(3))
+        } else {
             let at = |i: usize| l.weight.get(cursor[i]).copied().unwrap_or(0.0);
             let g = _mm256_and_pd(_mm256_setr_pd(at(0), at(1), at(2), at(3)), hasd);
             for (i, k) in cursor.iter_mut().enumerate() {
                 *k += ((m[i] >> j) & 1) as usize;
             }
-            // SAFETY: the lanes read are pixels of the image.
-            let (cq, vq) = unsafe {
-                (
-                    _mm256_maskload_pd(c.as_ptr().wrapping_offset(q0), has),
-                    _mm256_maskload_pd(var.as_ptr().wrapping_offset(q0), has),
-                )
-            };
-            let d = _mm256_sub_pd(cp, cq);
-            // −|d| / scale: the sign bit set.
-            let x = _mm256_div_pd(_mm256_or_pd(d, _mm256_set1_pd(-0.0)), scale);
-            // SAFETY: AVX2 and FMA (this function's features).
-            let (e, special) = unsafe { super::exp::exp4(x) };
-            let one = _mm256_or_pd(
-                _mm256_cmp_pd::<_CMP_EQ_OQ>(x, z),
-                _mm256_and_pd(_mm256_cmp_pd::<_CMP_EQ_OQ>(g, z), _mm256_cmp_pd::<_CMP_ORD_Q>(x, x)),
-            );
-            let under = _mm256_cmp_pd::<_CMP_LT_OQ>(x, _mm256_set1_pd(-746.0));
-            let mut lw = _mm256_blendv_pd(_mm256_blendv_pd(e, z, under), _mm256_set1_pd(1.0), one);
-            let fix = special & lanes & !(_mm256_movemask_pd(_mm256_or_pd(one, under)) as u32);
-            if fix != 0 {
-                let mut a = [[0.0f64; 4]; 4];
-                for (v, o) in [d, scale, g, lw].into_iter().zip(&mut a) {
-                    // SAFETY: one register into 4 f64.
-                    unsafe { _mm256_storeu_pd(o.as_mut_ptr(), v) };
-                }
-                for i in (0..4).filter(|i| fix & (1 << i) != 0) {
-                    a[3][i] = luminance_weight(a[0][i], a[1][i], a[2][i]);
-                }
-                // SAFETY: 4 f64.
-                lw = unsafe { _mm256_loadu_pd(a[3].as_ptr()) };
+            g
+        };
+        // SAFETY: the lanes read are pixels of the image.
+        let (cq, vq) = unsafe {
+            (
+                _mm256_maskload_pd(c.as_ptr().wrapping_offset(q0), has),
+                _mm256_maskload_pd(var.as_ptr().wrapping_offset(q0), has),
+            )
+        };
+        let d = _mm256_sub_pd(cp, cq);
+        // −|d| / scale: the sign bit set.
+        let x = _mm256_div_pd(_mm256_or_pd(d, _mm256_set1_pd(-0.0)), scale);
+        // SAFETY: AVX2 and FMA (this function's features).
+        let (e, special) = unsafe { super::exp::exp4(x) };
+        let one = _mm256_or_pd(
+            _mm256_cmp_pd::<_CMP_EQ_OQ>(x, z),
+            _mm256_and_pd(_mm256_cmp_pd::<_CMP_EQ_OQ>(g, z), _mm256_cmp_pd::<_CMP_ORD_Q>(x, x)),
+        );
+        let under = _mm256_cmp_pd::<_CMP_LT_OQ>(x, _mm256_set1_pd(-746.0));
+        let mut lw = _mm256_blendv_pd(_mm256_blendv_pd(e, z, under), _mm256_set1_pd(1.0), one);
+        let fix = special & lanes & !(_mm256_movemask_pd(_mm256_or_pd(one, under)) as u32);
+        if fix != 0 {
+            let mut a = [[0.0f64; 4]; 4];
+            for (v, o) in [d, scale, g, lw].into_iter().zip(&mut a) {
+                // SAFETY: one register into 4 f64.
+                unsafe { _mm256_storeu_pd(o.as_mut_ptr(), v) };
             }
-            let wt = _mm256_mul_pd(g, lw);
-            s = _mm256_blendv_pd(s, _mm256_add_pd(s, _mm256_mul_pd(wt, cq)), hasd);
-            sv = _mm256_blendv_pd(sv, _mm256_add_pd(sv, _mm256_mul_pd(_mm256_mul_pd(wt, wt), vq)), hasd);
-            if let Some(cr) = px.cr {
-                // SAFETY: as the colour's load.
-                let rq = unsafe { _mm256_maskload_pd(cr.as_ptr().wrapping_offset(q0), has) };
-                sr = _mm256_blendv_pd(sr, _mm256_add_pd(sr, _mm256_mul_pd(wt, rq)), hasd);
+            for i in (0..4).filter(|i| fix & (1 << i) != 0) {
+                a[3][i] = luminance_weight(a[0][i], a[1][i], a[2][i]);
             }
-            ws = _mm256_blendv_pd(ws, _mm256_add_pd(ws, wt), hasd);
+            // SAFETY: 4 f64.
+            lw = unsafe { _mm256_loadu_pd(a[3].as_ptr()) };
         }
-        let pos = _mm256_cmp_pd::<_CMP_GT_OQ>(ws, z);
-        let covered = _mm256_castsi256_pd(_mm256_xor_si256(
-            _mm256_cmpeq_epi64(mv, _mm256_setzero_si256()),
-            _mm256_set1_epi64x(-1),
-        ));
-        // SAFETY: p0..p0 + 4 is inside the image and x0..x0 + 4 inside the row.
-        unsafe {
-            let vp = _mm256_loadu_pd(var.as_ptr().add(p0));
-            let rc = _mm256_blendv_pd(cp, _mm256_div_pd(s, ws), pos);
-            let rv =
-                _mm256_and_pd(_mm256_blendv_pd(vp, _mm256_div_pd(sv, _mm256_mul_pd(ws, ws)), pos), covered);
-            _mm256_storeu_pd(row.0.as_mut_ptr().add(x0), rc);
-            _mm256_storeu_pd(row.1.as_mut_ptr().add(x0), rv);
-            if let Some(cr) = px.cr {
-                let rp = _mm256_loadu_pd(cr.as_ptr().add(p0));
-                _mm256_storeu_pd(
-                    row.2.as_mut_ptr().add(x0),
-                    _mm256_blendv_pd(rp, _mm256_div_pd(sr, ws), pos),
-                );
-            }
+        let wt = _mm256_mul_pd(g, lw);
+        s = _mm256_blendv_pd(s, _mm256_add_pd(s, _mm256_mul_pd(wt, cq)), hasd);
+        sv = _mm256_blendv_pd(sv, _mm256_add_pd(sv, _mm256_mul_pd(_mm256_mul_pd(wt, wt), vq)), hasd);
+        if let Some(cr) = px.cr {
+            // SAFETY: as the colour's load.
+            let rq = unsafe { _mm256_maskload_pd(cr.as_ptr().wrapping_offset(q0), has) };
+            sr = _mm256_blendv_pd(sr, _mm256_add_pd(sr, _mm256_mul_pd(wt, rq)), hasd);
+        }
+        ws = _mm256_blendv_pd(ws, _mm256_add_pd(ws, wt), hasd);
+    }
+    let pos = _mm256_cmp_pd::<_CMP_GT_OQ>(ws, z);
+    let covered = _mm256_castsi256_pd(_mm256_xor_si256(
+        _mm256_cmpeq_epi64(mv, _mm256_setzero_si256()),
+        _mm256_set1_epi64x(-1),
+    ));
+    // SAFETY: p0..p0 + 4 is inside the image and x0..x0 + 4 inside the row.
+    unsafe {
+        let vp = _mm256_loadu_pd(var.as_ptr().add(p0));
+        let rc = _mm256_blendv_pd(cp, _mm256_div_pd(s, ws), pos);
+        let rv = _mm256_and_pd(_mm256_blendv_pd(vp, _mm256_div_pd(sv, _mm256_mul_pd(ws, ws)), pos), covered);
+        _mm256_storeu_pd(row.0.as_mut_ptr().add(x0), rc);
+        _mm256_storeu_pd(row.1.as_mut_ptr().add(x0), rv);
+        if let Some(cr) = px.cr {
+            let rp = _mm256_loadu_pd(cr.as_ptr().add(p0));
+            _mm256_storeu_pd(row.2.as_mut_ptr().add(x0), _mm256_blendv_pd(rp, _mm256_div_pd(sr, ws), pos));
         }
     }
-    n4
 }
 
 #[cfg(test)]

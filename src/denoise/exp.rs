@@ -211,12 +211,10 @@ mod tests {
             return;
         }
         // Spread over SVGF's range, −746..0 (x = −|d| / s), and past it both ways.
-        let mut s = 0x2545f4914f6cdd1du64;
+        let mut k = 0u64;
         let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
+            k += 1;
+            (crate::sampling::hash::hash(0x2545f4914f6cdd1d, k) >> 11) as f64 / (1u64 << 53) as f64
         };
         let mut checked = 0;
         for k in 0..500_000 {

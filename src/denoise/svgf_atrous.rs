@@ -362,12 +362,10 @@ mod tests {
         // and past exp's underflow), an uncovered pixel every 13th, normals that cut some taps to 0.
         let (w, h) = (37u32, 23u32);
         let n = (w * h) as usize;
-        let mut s = 0x853c49e6748fea9bu64;
+        let mut k = 0u64;
         let mut next = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
+            k += 1;
+            (crate::sampling::hash::hash(0x853c49e6748fea9b, k) >> 11) as f64 / (1u64 << 53) as f64
         };
         let depth: Vec<f32> = (0..n).map(|i| 1.0 + 0.02 * (i % 5) as f32).collect();
         let normal: Vec<Vec3> =
@@ -392,9 +390,30 @@ mod tests {
                 _ => next(),
             })
             .collect();
-        let var: Vec<f64> = (0..n).map(|_| 10f64.powf(-12.0 * next())).collect();
+        // Rows 0-7 at a variance of 1e-8 (s = 4e-4: a difference of 0.2-0.3 gives −|d|/s in
+        // glibc's special case), rows 8-15 at 1 (s = 4: one ulp of 0.5 gives |x| below 2⁻⁵⁴).
+        let var: Vec<f64> = (0..n)
+            .map(|i| match i / w as usize {
+                0..8 => 1e-8,
+                8..16 => 1.0,
+                _ => 10f64.powf(-12.0 * next()),
+            })
+            .collect();
         let cr: Vec<f64> = (0..n).map(|_| next()).collect();
         let guide = Guide::new(&gb, 1.0, 128.0);
+        // Those cases are there: pass 0's taps (of weight > 0) by −|d|/s.
+        let (mut special, mut tiny) = (0, 0);
+        let gvar = prefilter(&guide, &var);
+        let mut taps: Taps = [(0, 0.0); 25];
+        for p in (0..n).filter(|&p| guide.is_covered(p)) {
+            let k = guide.atrous_taps((p % w as usize) as i64, (p / w as usize) as i64, 0, &mut taps);
+            for &(q, _) in taps[..k].iter().filter(|t| t.1 > 0.0) {
+                let x = -(c[p] - c[q]).abs() / (4.0 * gvar[p].sqrt() + LUMINANCE_EPS);
+                special += (-746.0..-512.0).contains(&x) as usize;
+                tiny += (x != 0.0 && x.abs() < 2f64.powi(-54)) as usize;
+            }
+        }
+        assert!(special > 20 && tiny > 20, "{special} in 512..746, {tiny} below 2^-54");
         for it in 0..3 {
             for eps in [Eps { relative: false, floor: 0.0 }, Eps { relative: true, floor: 1e-9 }] {
                 for cr in [None, Some(&cr[..])] {

@@ -345,7 +345,6 @@ unsafe fn group<const FULL: bool>(
 mod tests {
     use super::*;
     use crate::denoise::taps::{TapCache, with_cache};
-    use crate::image::Image;
     use crate::render::GBuffer;
     use glam::Vec3;
     use std::sync::Arc;
@@ -375,14 +374,7 @@ mod tests {
                 })
                 .collect();
         let coverage: Vec<f32> = (0..n).map(|i| if i % 13 == 5 { 0.0 } else { 1.0 }).collect();
-        let gb = GBuffer {
-            width: w,
-            height: h,
-            depth: Image::from_vec(w, h, depth),
-            normal,
-            coverage: Image::from_vec(w, h, coverage),
-            primitive: Vec::new(),
-        };
+        let gb = GBuffer::synthetic(w, h, depth, normal, coverage);
         let c: Vec<f64> = (0..n)
             .map(|i| match i % 4 {
                 0 => 0.5,

@@ -257,7 +257,6 @@ fn build(guide: &Guide, iteration: u32) -> Table {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::image::Image;
     use crate::render::GBuffer;
     use glam::Vec3;
 
@@ -268,14 +267,7 @@ mod tests {
         let normal: Vec<Vec3> =
             (0..n).map(|i| Vec3::new(0.1 * ((i % 5) as f32 - 2.0), 0.0, 1.0).normalize()).collect();
         let coverage: Vec<f32> = (0..n).map(|i| if i % 11 == 3 { 0.0 } else { 1.0 }).collect();
-        GBuffer {
-            width: w,
-            height: h,
-            depth: Image::from_vec(w, h, depth),
-            normal,
-            coverage: Image::from_vec(w, h, coverage),
-            primitive: Vec::new(),
-        }
+        GBuffer::synthetic(w, h, depth, normal, coverage)
     }
 
     #[test]

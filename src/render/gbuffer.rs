@@ -37,6 +37,30 @@ pub struct GBuffer {
 pub const NO_PRIMITIVE: u32 = u32::MAX;
 
 impl GBuffer {
+    /// A synthetic G-buffer of `width` × `height` pixels from per-pixel depth, normals and coverage
+    /// (row-major), without primitive ids: what a filter's test builds.
+    pub fn synthetic(
+        width: u32,
+        height: u32,
+        depth: Vec<f32>,
+        normal: Vec<Vec3>,
+        coverage: Vec<f32>,
+    ) -> Self {
+        assert!(
+            normal.len() == (width * height) as usize,
+            "G-buffer: {} normals for {width}x{height} pixels",
+            normal.len()
+        );
+        Self {
+            width,
+            height,
+            depth: Image::from_vec(width, height, depth),
+            normal,
+            coverage: Image::from_vec(width, height, coverage),
+            primitive: Vec::new(),
+        }
+    }
+
     pub fn is_covered(&self, i: usize) -> bool {
         crate::image::covered(&self.coverage, i)
     }
